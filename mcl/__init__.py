@@ -1,0 +1,48 @@
+"""mcl — the PLCopen motion library of the Teco MotionControlLib (GT-x75x servo modules).
+
+Function blocks keep PLCopen's and Teco's names; see SPEC.md for the behaviour contract.
+``mcl`` imports neither mujoco nor viser: it drives anything that implements :class:`AxisIO`.
+"""
+
+from mcl.administrative import (
+    GT_Analog,
+    GT_AxErrStringCZ,
+    GT_AxErrStringEN,
+    GT_AxStatusString,
+    GT_SetConstant,
+    GT_SInfo,
+    MC_Power,
+    MC_ReadActualPosition,
+    MC_ReadAxisError,
+    MC_ReadStatus,
+    MC_Reset,
+)
+from mcl.axis import Axis, AxisConfig
+from mcl.enums import AxisState, GroupState, MC_BufferMode, MC_Direction, MC_SwitchMode
+from mcl.errors import ErrorID, error_text
+from mcl.io import AxisIO
+from mcl.module import Module
+from mcl.motion import (
+    GT_EStop,
+    GT_Jog,
+    GT_MoveAbsBlock,
+    MC_Halt,
+    MC_MoveAbsolute,
+    MC_MoveAdditive,
+    MC_MoveRelative,
+    MC_MoveVelocity,
+    MC_Stop,
+)
+from mcl.runtime import ConditionTimeout, Plant, Runtime
+from mcl.servo import ServoConstants
+from mcl.simaxis import SimAxis, SimAxisParams, SimPlant
+
+__all__ = [
+    "Axis", "AxisConfig", "AxisIO", "AxisState", "ConditionTimeout", "ErrorID", "GT_Analog",
+    "GT_AxErrStringCZ", "GT_AxErrStringEN", "GT_AxStatusString", "GT_EStop", "GT_Jog",
+    "GT_MoveAbsBlock", "GT_SInfo", "GT_SetConstant", "GroupState", "MC_BufferMode",
+    "MC_Direction", "MC_Halt", "MC_MoveAbsolute", "MC_MoveAdditive", "MC_MoveRelative",
+    "MC_MoveVelocity", "MC_Power", "MC_ReadActualPosition", "MC_ReadAxisError",
+    "MC_ReadStatus", "MC_Reset", "MC_Stop", "MC_SwitchMode", "Module", "Plant", "Runtime",
+    "ServoConstants", "SimAxis", "SimAxisParams", "SimPlant", "error_text",
+]

@@ -1,0 +1,225 @@
+"""Single-axis administrative function blocks (SPEC §5 "Single axis, administrative"; seed §3)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+
+from mcl.command import Status
+from mcl.enums import AxisState
+from mcl.errors import ErrorID, error_text
+from mcl.fb import EnableFB, ExecuteFB, non_negative, number, positive
+from mcl.servo import ServoConstants, dac_code_volts
+
+
+class GT_SetConstant(ExecuteFB):
+    """Writes the servo constants of the axis (seed §3.1); ``Ka`` is this library's extension.
+
+    Inputs: Kp [V/u], Ki [V/(u·s)], Kd [V·s/u], Ff [-], Kc [1/s], Vmax [u/s at 10 V],
+    LimPos, LimNeg [u] (LimPos <= LimNeg: no software limits), Ki1 [V/(u·s)], Filter [ms],
+    Ka [s]. Vmax must be > 0, gains and Filter >= 0, all finite; else EParam.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {
+        "Kp": 0.0, "Ki": 0.0, "Kd": 0.0, "Ff": 1.0, "Kc": 0.0, "Vmax": 0.0,
+        "LimPos": 0.0, "LimNeg": 0.0, "Ki1": 0.0, "Filter": 0.0, "Ka": 0.0,
+    }
+
+    def _begin(self) -> int:
+        values = {name: number(getattr(self, name)) for name in ServoConstants.__slots__}
+        if not positive(values["Vmax"]):
+            return ErrorID.EParam
+        if not all(non_negative(values[n]) for n in ("Kp", "Ki", "Kd", "Ff", "Kc", "Ki1",
+                                                     "Filter", "Ka")):
+            return ErrorID.EParam
+        if not (math.isfinite(values["LimPos"]) and math.isfinite(values["LimNeg"])):
+            return ErrorID.EParam
+        self.axis.set_constants(ServoConstants(**values))
+        return 0
+
+
+class MC_Power(EnableFB):
+    """Switches the drive on and closes the position loop (seed §3.2).
+
+    Inputs: Enable (level), SpeedMode (0 closed position loop, 1 open loop: output voltage =
+    model velocity × 10 V / Vmax), BufferMode (accepted for compatibility).
+    Outputs: Status (loop closed, axis not Disabled), Error, ErrorID. Enable=TRUE from Disabled
+    clears the axis' Ref flag.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"SpeedMode": 0, "BufferMode": 0}
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Status = False
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan: the axis follows Enable."""
+        self._take_inputs(inputs)
+        axis = self.axis
+        enable = bool(self.Enable)
+        error = 0
+        if enable and axis.constants is None:
+            error = ErrorID.Econst
+        elif enable and number(self.SpeedMode) not in (0.0, 1.0):
+            error = ErrorID.EParam
+        else:
+            axis.power(enable, int(number(self.SpeedMode)) if enable else 0)
+        self.Status = axis.loop_closed and axis.state != AxisState.Disabled
+        self.Error = bool(error)
+        self.ErrorID = error
+        self.Valid = self.Status
+
+
+class MC_ReadStatus(EnableFB):
+    """Publishes the axis state as flags (seed §3.3)."""
+
+    FLAGS: ClassVar[tuple[str, ...]] = tuple(state.name for state in AxisState)
+
+    def __init__(self) -> None:
+        super().__init__()
+        for name in self.FLAGS:
+            setattr(self, name, False)
+        self.Ref = False
+
+    def _evaluate(self) -> int:
+        state = self.axis.state
+        for s in AxisState:
+            setattr(self, s.name, s == state)
+        self.Ref = self.axis.Ref
+        return 0
+
+    def _disable(self) -> None:
+        for name in self.FLAGS:
+            setattr(self, name, False)
+        self.Ref = False
+
+
+class MC_ReadAxisError(EnableFB):
+    """Publishes the axis error (seed §3.4): ``AxisErrorID``; ``Error`` = the axis has an error."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.AxisErrorID = 0
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan."""
+        super().__call__(**inputs)
+        if self.Enable:
+            self.AxisErrorID = self.axis.AxErrorID
+            self.Error = self.AxisErrorID != 0
+            self.ErrorID = 0
+        else:
+            self.AxisErrorID = 0
+
+    def _evaluate(self) -> int:
+        return 0
+
+
+class MC_Reset(ExecuteFB):
+    """Clears the axis errors; ErrorStop → StandStill (Disabled if the error opened the loop).
+
+    Done once the state is reached (after the error stop ramp has finished).
+    """
+
+    def _begin(self) -> int:
+        return 0
+
+    def _poll(self) -> Status | None:
+        return Status.Done if self.axis.reset() else None
+
+
+class MC_ReadActualPosition(EnableFB):
+    """Publishes the actual position ``Position`` [u] (seed §3.6)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Position = 0.0
+
+    def _evaluate(self) -> int:
+        self.Position = self.axis.POS
+        return 0
+
+    def _disable(self) -> None:
+        self.Position = 0.0
+
+
+class GT_Analog(ExecuteFB):
+    """Writes the DAC directly while the axis is Disabled, for drive set-up (seed §3.15).
+
+    Inputs: Analog (INT −4095..4095: −4095 → +10.5 V, +4095 → −10.5 V, as the seed documents),
+    Par (0 = write, 1 = end). Not Disabled → EpowerOff 13. MC_Power also ends it.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Analog": 0, "Par": 0}
+
+    def _begin(self) -> int:
+        axis = self.axis
+        analog, par = number(self.Analog), number(self.Par)
+        if par not in (0.0, 1.0) or not math.isfinite(analog) or abs(analog) > 4095:
+            return ErrorID.EParam
+        if axis.state != AxisState.Disabled:
+            return ErrorID.EpowerOff
+        axis.set_analog(None if par == 1.0 else dac_code_volts(int(analog)))
+        return 0
+
+
+class GT_SInfo(ExecuteFB):
+    """Selects what OPT1n / OPT2n of the AXIS_REF show (seed §3.19).
+
+    20 model position, 21 model velocity, 22 encoder status, 23 following error,
+    24 position captured at InSync. Other selectors → EParam.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"What1": 20, "What2": 21}
+
+    def _begin(self) -> int:
+        what = (number(self.What1), number(self.What2))
+        if any(w not in (20.0, 21.0, 22.0, 23.0, 24.0) for w in what):
+            return ErrorID.EParam
+        self.axis.opt_select = (int(what[0]), int(what[1]))
+        return 0
+
+
+class GT_AxStatusString(EnableFB):
+    """The axis state as text in ``StatStr`` (seed §3.16)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.StatStr = ""
+
+    def _evaluate(self) -> int:
+        self.StatStr = self.axis.state.name
+        return 0
+
+    def _disable(self) -> None:
+        self.StatStr = ""
+
+
+class GT_AxErrStringEN(EnableFB):
+    """The active axis error as English text in ``ErrStr``; ``Error`` = an axis error is active."""
+
+    LANGUAGE: ClassVar[str] = "en"
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.ErrStr = ""
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan."""
+        super().__call__(**inputs)
+        if self.Enable:
+            code = self.axis.AxErrorID
+            self.ErrStr = error_text(code, self.LANGUAGE) if code else ""
+            self.Error = code != 0
+        else:
+            self.ErrStr = ""
+
+    def _evaluate(self) -> int:
+        return 0
+
+
+class GT_AxErrStringCZ(GT_AxErrStringEN):
+    """The active axis error as Czech text in ``ErrStr``; ``Error`` = an axis error is active."""
+
+    LANGUAGE: ClassVar[str] = "cz"

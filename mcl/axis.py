@@ -1,0 +1,575 @@
+"""The axis: AXIS_REF, its state machine, command queue and servo cycle (SPEC §2, §4, §7).
+
+Function blocks talk to an :class:`Axis` through a few methods (``submit``, ``power``, ``reset``,
+``check_ready`` ...); the runtime calls :meth:`Axis.servo_cycle` once per servo period. Positions
+are in user units (u = mm or degrees), velocities in u/s, time in seconds.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from mcl.command import Command, Halt, Hold, MoveTo, MoveVelocity, Status, Stop, blend_velocity
+from mcl.enums import AxisState, MC_BufferMode, MC_Direction
+from mcl.errors import ErrorID
+from mcl.io import AxisIO
+from mcl.servo import Regulator, ServoConstants
+from mcl.trajectory import Limits, PlanningError
+
+if TYPE_CHECKING:
+    from mcl.module import Module
+
+
+@dataclass(frozen=True, slots=True)
+class AxisConfig:
+    """Machine data of one axis: what the module knows besides the GT_SetConstant constants.
+
+    Attributes:
+        resolution: travel per encoder count [u/count].
+        dev_max: following-error limit DevMax [u]; beyond it ERRPOS 2001 opens the loop.
+        in_position: in-position window [u] (settling integral Ki1, group InPosition).
+        acceleration, deceleration: defaults when an FB passes 0 [u/s²].
+        jerk: default jerk when an FB passes 0 [u/s³]; 0 = not jerk-limited.
+        max_acceleration, max_deceleration: maxima; larger FB inputs are clamped [u/s²].
+            ``max_deceleration`` is also the "maximum ramp" of error and power-off stops.
+        max_jerk: maximum jerk [u/s³]; 0 = unlimited.
+        modulo: period of a rotary (modulo) axis [u]; 0 = linear axis.
+        servo_period: servo cycle [s].
+    """
+
+    resolution: float = 0.001
+    dev_max: float = 2.0
+    in_position: float = 0.005
+    acceleration: float = 1000.0
+    deceleration: float = 1000.0
+    jerk: float = 0.0
+    max_acceleration: float = 20000.0
+    max_deceleration: float = 20000.0
+    max_jerk: float = 0.0
+    modulo: float = 0.0
+    servo_period: float = 0.001
+
+    def __post_init__(self) -> None:
+        for name in ("resolution", "dev_max", "in_position", "acceleration", "deceleration",
+                     "max_acceleration", "max_deceleration", "servo_period"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"AxisConfig.{name} must be a finite number > 0, got {value!r}")
+        for name in ("jerk", "max_jerk", "modulo"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f"AxisConfig.{name} must be a finite number >= 0, got {value!r}")
+
+
+def _sign(x: float) -> float:
+    return 1.0 if x > 0.0 else -1.0 if x < 0.0 else 0.0
+
+
+class Axis:
+    """AXIS_REF of one servo axis of a GT-x75x module.
+
+    Public fields a PLC program may read (SPEC §2): ``AxErrorID``, ``POS`` (actual position [u]),
+    ``VEL`` (actual velocity, filtered [u/s]), ``OPT1n``, ``OPT2n`` (selected by GT_SInfo).
+    Besides: ``state``, ``Ref``, ``name``.
+
+    Args:
+        io: the axis channel (simulated axis, MuJoCo plant, ...).
+        config: machine data.
+        name: the axis' name in messages and traces.
+    """
+
+    def __init__(self, io: AxisIO, config: AxisConfig | None = None, name: str = "axis") -> None:
+        self.io = io
+        self.config = config = config if config is not None else AxisConfig()
+        self.name = name
+        self.servo_period = config.servo_period
+        self.module: Module | None = None
+        self.group: object | None = None
+        """The AxesGroup this axis belongs to (None: single axis)."""
+
+        self.AxErrorID = 0
+        self.POS = 0.0
+        self.VEL = 0.0
+        self.state = AxisState.Disabled
+        self.Ref = False
+        self.opt_select = (20, 21)
+        """GT_SInfo selection of OPT1n and OPT2n."""
+
+        self.constants: ServoConstants | None = None
+        self.regulator: Regulator | None = None
+        self.speed_mode = 0
+        self.loop_closed = False
+        self.analog_volts: float | None = None
+        """GT_Analog: the DAC value written directly while Disabled [V] (None: inactive)."""
+        self.volts = 0.0
+        """Analog command written in the last servo cycle [V]."""
+
+        self.offset = 0.0
+        """Coordinate offset: actual position = counts · resolution + offset [u]."""
+        self.actual = io.counts * config.resolution
+        """Actual position, continuous (not wrapped on modulo axes) [u]."""
+        self.sp_pos = self.actual
+        self.sp_vel = 0.0
+        self.sp_acc = 0.0
+        self.t_sp = 0.0
+        """Time of the model state (sp_pos, sp_vel, sp_acc) [s]."""
+        self.following_error = 0.0
+        self.captured = 0.0
+        """Position captured at InSync [u] (GT_SInfo 24)."""
+
+        self.active: Command | None = None
+        self.queue: deque[Command] = deque()
+        self._stop: Stop | None = None
+        self._powering_off = False
+        self._pos_prev = self.actual
+        self._vel_alpha = 1.0
+        self._lim_prev = (io.lim_pos, io.lim_neg)
+
+    # ------------------------------------------------------------------ public read-outs
+    @property
+    def OPT1n(self) -> float:
+        """Optional value 1 (GT_SInfo What1; default 20 = model position)."""
+        return self.optional(self.opt_select[0])
+
+    @property
+    def OPT2n(self) -> float:
+        """Optional value 2 (GT_SInfo What2; default 21 = model velocity)."""
+        return self.optional(self.opt_select[1])
+
+    def optional(self, what: int) -> float:
+        """Value of a GT_SInfo selector: 20 model position [u], 21 model velocity [u/s],
+        22 encoder status (bits: 0 index, 1 LIM+, 2 LIM−, 3 REF, 4 TP), 23 following error [u],
+        24 position captured at InSync [u]."""
+        if what == 20:
+            return self._wrap(self.sp_pos)
+        if what == 21:
+            return self.sp_vel
+        if what == 22:
+            io = self.io
+            return float(io.index | io.lim_pos << 1 | io.lim_neg << 2 | io.ref << 3 | io.tp << 4)
+        if what == 23:
+            return self.following_error
+        if what == 24:
+            return self.captured
+        raise ValueError(f"GT_SInfo selector must be 20..24, got {what}")
+
+    @property
+    def moving(self) -> bool:
+        """The model is in motion."""
+        return self.sp_vel != 0.0 or self.sp_acc != 0.0
+
+    def _wrap(self, position: float) -> float:
+        m = self.config.modulo
+        return position % m if m else position
+
+    # ------------------------------------------------------------------ configuration
+    def set_constants(self, constants: ServoConstants) -> None:
+        """Write the servo constants (GT_SetConstant); the regulator restarts from zero."""
+        self.constants = constants
+        previous = self.regulator
+        self.regulator = Regulator(constants, self.servo_period)
+        if previous is not None:
+            self.regulator.carry_over(previous)
+        tau = constants.Filter * 1e-3
+        self._vel_alpha = self.servo_period / (self.servo_period + tau)
+
+    def limits(self, velocity: float, acceleration: float, deceleration: float,
+               jerk: float) -> Limits:
+        """Motion limits from FB inputs: 0 means the axis default, values above the maxima are
+        clamped (SPEC §1, §3). Inputs must already be validated (finite, velocity > 0, others >= 0)."""
+        c = self.config
+        assert self.constants is not None
+        acc = acceleration if acceleration > 0.0 else c.acceleration
+        dec = deceleration if deceleration > 0.0 else c.deceleration
+        j = jerk if jerk > 0.0 else c.jerk
+        if c.max_jerk > 0.0:
+            j = min(j, c.max_jerk) if j > 0.0 else c.max_jerk
+        return Limits(
+            velocity=min(velocity, self.constants.Vmax),
+            acceleration=min(acc, c.max_acceleration),
+            deceleration=min(dec, c.max_deceleration),
+            jerk=j if j > 0.0 else math.inf,
+        )
+
+    def max_ramp(self) -> Limits:
+        """The axis' fastest stop (error stops, power-off)."""
+        c = self.config
+        vmax = self.constants.Vmax if self.constants else 1.0
+        jerk = c.max_jerk if c.max_jerk > 0.0 else math.inf
+        return Limits(vmax, c.max_deceleration, c.max_deceleration, jerk)
+
+    # ------------------------------------------------------------------ checks for FBs
+    def check_ready(self, *, stopping_ok: bool = False, homing_ok: bool = False,
+                    group_ok: bool = False) -> int:
+        """Error code that forbids a motion command now (0 = none), SPEC §2/§3 order:
+        constants, power, ErrorStop, Stopping, group membership, Homing."""
+        if self.constants is None:
+            return ErrorID.Econst
+        state = self.state
+        if state == AxisState.Disabled:
+            return ErrorID.Epower
+        if state == AxisState.ErrorStop:
+            return ErrorID.Eerrstop
+        if state == AxisState.Stopping and not stopping_ok:
+            return ErrorID.EAxStop
+        if self.group is not None and not group_ok:
+            return ErrorID.EGroupMember
+        if state == AxisState.Homing and not homing_ok:
+            return ErrorID.Ehome
+        return 0
+
+    def check_target(self, target: float) -> int:
+        """``Ecil`` 8 when the target lies beyond an active software limit (only with Ref)."""
+        c = self.constants
+        if (c is not None and self.Ref and c.sw_limits_active and not self.config.modulo
+                and not c.LimNeg <= target <= c.LimPos):
+            return ErrorID.Ecil
+        return 0
+
+    def velocity_too_low(self, velocity: float) -> bool:
+        """Below 1 % of the axis reference velocity Vmax (SPEC §3 → EParam)."""
+        return self.constants is not None and velocity < 0.01 * self.constants.Vmax
+
+    # ------------------------------------------------------------------ positions
+    def last_target(self) -> float:
+        """Where the commanded motion ends: the last queued/active target, else the model position."""
+        for cmd in reversed((self.active, *self.queue)):
+            if cmd is not None and cmd.target is not None:
+                return cmd.target
+        return self.sp_pos
+
+    def modulo_target(self, position: float, direction: int, start: float) -> float:
+        """Continuous model target for an absolute position on a modulo axis.
+
+        Args:
+            position: target within one period [u] (wrapped if outside).
+            direction: an ``MC_Direction`` value: positive, negative, shortest or current.
+            start: where the motion starts (continuous) [u].
+        """
+        m = self.config.modulo
+        base = start - start % m + position % m
+        ahead = base if base >= start else base + m
+        behind = ahead - m if ahead - m <= start else ahead - 2 * m
+        if direction == MC_Direction.MC_Current and self.sp_vel != 0.0:
+            direction = MC_Direction.MC_Positive if self.sp_vel > 0 else MC_Direction.MC_Negative
+        if direction == MC_Direction.MC_Positive:
+            return ahead
+        if direction == MC_Direction.MC_Negative:
+            return behind
+        return ahead if ahead - start <= start - behind else behind
+
+    def rebase(self, delta: float) -> None:
+        """Shift the coordinate system by ``delta`` [u] (homing): actual and model move together."""
+        self.offset += delta
+        self.actual += delta
+        self._pos_prev += delta
+        self.sp_pos += delta
+        self.POS = self._wrap(self.actual)
+
+    # ------------------------------------------------------------------ commands
+    def submit(self, cmd: Command) -> None:
+        """Hand a validated motion command to the axis according to its BufferMode (SPEC §4).
+
+        Aborting: starts now (the active command and the queue report Aborted). Buffered and
+        blending: queued behind the active command; a blending mode re-plans the active command
+        so that it ends at its target with the blending velocity. A command that cannot be planned
+        ends with Error ``EParam`` and leaves the axis as it was.
+        """
+        cmd.status = Status.Queued
+        if cmd.buffer_mode == MC_BufferMode.Aborting or (self.active is None and not self.queue):
+            standstill = self.state == AxisState.StandStill
+            p0 = self.actual if standstill else self.sp_pos  # zero the residual loop error
+            try:
+                self._start(cmd, p0, self.sp_vel, self.sp_acc, self.t_sp, successor=None)
+            except PlanningError:
+                cmd.status = Status.Error
+                cmd.error_id = ErrorID.EParam
+                return
+            self._abort_all(except_cmd=cmd)
+            self.sp_pos = p0
+            self.active = cmd
+            self.state = cmd.state
+            return
+        self.queue.append(cmd)
+        if len(self.queue) == 1 and self.active is not None:
+            self._replan_for_successor(self.active)
+
+    def start_position(self, buffer_mode: MC_BufferMode) -> float:
+        """Where a new command of ``buffer_mode`` starts: the model position when it aborts, the
+        end of the last queued motion when it is buffered [u]."""
+        if buffer_mode == MC_BufferMode.Aborting or (self.active is None and not self.queue):
+            return self.actual if self.state == AxisState.StandStill else self.sp_pos
+        return self.last_target()
+
+    def _start(self, cmd: Command, p: float, v: float, a: float, t0: float,
+               successor: Command | None) -> None:
+        """Activate ``cmd`` from the model state at ``t0``; it ends at the blending velocity
+        toward ``successor``."""
+        v_end = self._handover_velocity(cmd, successor) if successor is not None else 0.0
+        cmd.t0 = t0
+        cmd.start(self, p, v, a, v_end)
+        cmd.status = Status.Active
+
+    def _handover_velocity(self, first: Command, second: Command) -> float:
+        if not first.blendable or first.target is None:
+            return 0.0
+        end = first.target
+        here = self.sp_pos if first is self.active else self.last_before(first)
+        if isinstance(second, MoveVelocity):
+            direction2 = _sign(second.commanded)
+        else:
+            direction2 = _sign(second.target - end) if second.target is not None else 0.0
+        return blend_velocity(second.buffer_mode, first.velocity, second.velocity,
+                              _sign(end - here), direction2)
+
+    def last_before(self, cmd: Command) -> float:
+        """End position of the command queued before ``cmd`` (its start position) [u]."""
+        previous = self.sp_pos
+        for other in (self.active, *self.queue):
+            if other is cmd:
+                break
+            if other is not None and other.target is not None:
+                previous = other.target
+        return previous
+
+    def _replan_for_successor(self, cmd: Command) -> None:
+        if not isinstance(cmd, MoveTo) or not self.queue:
+            return
+        v_end = self._handover_velocity(cmd, self.queue[0])
+        if v_end == 0.0:
+            return
+        try:
+            cmd.plan(self.sp_pos, self.sp_vel, self.sp_acc, v_end)
+        except PlanningError:
+            return  # keeps its plan: the successor then starts from standstill
+        cmd.t0 = self.t_sp
+
+    def _abort_all(self, except_cmd: Command | None = None, status: Status = Status.Aborted,
+                   error_id: int = 0) -> None:
+        for cmd in (self.active, *self.queue):
+            if cmd is not None and cmd is not except_cmd and cmd.busy:
+                cmd.status = status
+                cmd.error_id = error_id
+        self.queue.clear()
+        self.active = None
+
+    def cancel(self, cmd: Command) -> None:
+        """Withdraw a command of an FB that was restarted (no Done/Aborted will be reported)."""
+        if cmd in self.queue:
+            self.queue.remove(cmd)
+        cmd.status = Status.Aborted
+
+    # ------------------------------------------------------------------ power, reset, errors
+    def power(self, enable: bool, speed_mode: int = 0) -> None:
+        """MC_Power, level-sensitive: close or open the loop (SPEC §2)."""
+        if enable:
+            if self.state == AxisState.Disabled and not self._powering_off:
+                self.analog_volts = None
+                self.speed_mode = speed_mode
+                self.Ref = False
+                self._close_loop()
+                if self.AxErrorID:
+                    self.state = AxisState.ErrorStop
+                    self._hold(AxisState.ErrorStop)
+                else:
+                    self.state = AxisState.StandStill
+            return
+        if self.state == AxisState.Disabled or self._powering_off:
+            return
+        self._abort_all()
+        if self.moving and self.loop_closed:
+            self._powering_off = True
+            self._ramp_down(AxisState.Stopping)
+        else:
+            self._open_loop()
+
+    def _close_loop(self) -> None:
+        assert self.regulator is not None
+        self.regulator.reset()
+        self.loop_closed = True
+        self.sp_pos, self.sp_vel, self.sp_acc = self.actual, 0.0, 0.0
+
+    def _open_loop(self) -> None:
+        self._stop = None
+        self.loop_closed = False
+        self._powering_off = False
+        self.active = None
+        self.queue.clear()
+        self.state = AxisState.Disabled
+        self.sp_vel = self.sp_acc = 0.0
+
+    def _hold(self, state: AxisState) -> None:
+        hold = Hold(self.sp_pos, state)
+        hold.t0 = self.t_sp
+        hold.status = Status.Active
+        self.active = hold
+
+    def _ramp_down(self, state: AxisState) -> None:
+        ramp = Halt(MC_BufferMode.Aborting, self.max_ramp())
+        ramp.state = state
+        self._start(ramp, self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp, successor=None)
+        self.active = ramp
+        self.state = state
+
+    def fault(self, code: int, open_loop: bool = False) -> None:
+        """Axis error: latch ``code`` in AxErrorID, end all commands with it, go to ErrorStop.
+
+        Args:
+            code: the error (2001 following error, 2004/2005 limit switches, ...).
+            open_loop: open the position loop (drive disabled) instead of a stop ramp.
+        """
+        if self.state in (AxisState.ErrorStop, AxisState.Disabled):
+            return
+        self.AxErrorID = int(code)
+        self._stop = None
+        self._abort_all(status=Status.Error, error_id=int(code))
+        self._powering_off = False
+        self.state = AxisState.ErrorStop
+        if open_loop:
+            self.loop_closed = False
+            self.sp_vel = self.sp_acc = 0.0
+        else:
+            self._ramp_down(AxisState.ErrorStop)
+
+    def reset(self) -> bool:
+        """MC_Reset: clear the axis error; ErrorStop → StandStill (Disabled if the loop opened).
+
+        Returns:
+            True once done; False while the error stop ramp is still running.
+        """
+        if self.state == AxisState.ErrorStop:
+            if self.active is not None and not isinstance(self.active, Hold):
+                return False
+            self.AxErrorID = 0
+            self.active = None
+            if self.loop_closed:
+                self.sp_vel = self.sp_acc = 0.0
+                self.state = AxisState.StandStill
+            else:
+                self.state = AxisState.Disabled
+            return True
+        if self.state == AxisState.Disabled:
+            self.AxErrorID = 0
+        return True
+
+    def emergency_stop(self) -> None:
+        """GT_EStop on this axis: immediate stop, loop open, brake on, errors cleared, Disabled."""
+        self._abort_all()
+        self.AxErrorID = 0
+        self.analog_volts = None
+        self._open_loop()
+
+    def begin_stop(self, cmd: Stop) -> None:
+        """MC_Stop: aborts everything, ramps down and holds the axis in Stopping."""
+        self._stop = cmd
+        self.submit(cmd)
+
+    def set_analog(self, volts: float | None) -> None:
+        """GT_Analog: drive the DAC directly while Disabled (None ends it)."""
+        self.analog_volts = volts
+
+    # ------------------------------------------------------------------ servo cycle
+    def servo_cycle(self, t: float) -> None:
+        """One servo cycle at time ``t`` [s]: measure, set point, supervise, regulate, output."""
+        io = self.io
+        config = self.config
+        actual = io.counts * config.resolution + self.offset
+        self.actual = actual
+        self.VEL += ((actual - self._pos_prev) / self.servo_period - self.VEL) * self._vel_alpha
+        self._pos_prev = actual
+        self.POS = actual % config.modulo if config.modulo else actual
+
+        if not self.loop_closed:
+            self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = actual, 0.0, 0.0, t
+            self.following_error = 0.0
+            volts = self.analog_volts
+            self.volts = volts if volts is not None else 0.0
+            io.write(self.volts, volts is not None)
+            self._lim_prev = (io.lim_pos, io.lim_neg)
+            return
+
+        cmd = self.active
+        if cmd is None:
+            p, v, a = self.sp_pos, 0.0, 0.0
+        else:
+            p, v, a = cmd.setpoint(self, t - cmd.t0)
+            if cmd.signal and (self.queue or cmd.finished()):
+                p, v, a = self._handover(cmd, t)
+        self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = p, v, a, t
+        if self._stop is not None and self.state == AxisState.Stopping and self.active is None:
+            if not self._stop.hold:
+                self._stop = None
+                self.state = AxisState.StandStill
+
+        e = p - actual
+        self.following_error = e
+        self._supervise(e, v, actual, io.lim_pos, io.lim_neg)
+        if not self.loop_closed:  # opened by the supervision
+            self.volts = 0.0
+            io.write(0.0, False)
+            return
+        regulator = self.regulator
+        assert regulator is not None
+        if self.speed_mode:
+            self.volts = regulator.open_loop(self.sp_vel)
+        else:
+            settle = self.sp_vel == 0.0 and abs(e) > config.in_position
+            self.volts = regulator.output(e, self.sp_vel, self.sp_acc, settle)
+        io.write(self.volts, True)
+
+    def _handover(self, cmd: Command, t: float) -> tuple[float, float, float]:
+        """``cmd`` reached its activating signal: report it and start the successor (if any)."""
+        profile = getattr(cmd, "profile", None)
+        t_end = cmd.t0 + (profile.duration if profile is not None else t - cmd.t0)
+        pe, ve, ae = cmd.setpoint(self, t_end - cmd.t0)
+        cmd.status = Status.Done if cmd.finished() else Status.Aborted
+        while self.queue:
+            nxt = self.queue.popleft()
+            try:
+                self._start(nxt, pe, ve, ae, t_end, self.queue[0] if self.queue else None)
+            except PlanningError:
+                nxt.status, nxt.error_id = Status.Error, ErrorID.EParam
+                continue
+            self.active = nxt
+            self.state = nxt.state
+            return nxt.setpoint(self, t - t_end)
+        self.active = None
+        if ve != 0.0:  # a blending successor failed to start: stop on the maximum ramp
+            self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = pe, ve, ae, t_end
+            self._ramp_down(AxisState.DiscreteMotion)
+            assert self.active is not None
+            return self.active.setpoint(self, t - t_end)
+        if self._powering_off:
+            self._open_loop()
+        elif self.state == AxisState.ErrorStop:
+            self._hold(AxisState.ErrorStop)
+        elif self.state != AxisState.Stopping:
+            self.state = AxisState.StandStill
+        return pe, 0.0, 0.0
+
+    def _supervise(self, e: float, v: float, actual: float, lim_pos: bool, lim_neg: bool) -> None:
+        """Following error, limit switches and software limits (SPEC §7 "Supervision")."""
+        prev_pos, prev_neg = self._lim_prev
+        self._lim_prev = (lim_pos, lim_neg)
+        if self.state == AxisState.ErrorStop:
+            return
+        if abs(e) > self.config.dev_max and not self.speed_mode:
+            self.fault(ErrorID.ERRPOS, open_loop=True)
+            return
+        active = self.active
+        if active is None or not active.ignores_limit_switches:
+            if lim_pos and (v > 0.0 or not prev_pos):
+                self.fault(ErrorID.ERRLIP)
+                return
+            if lim_neg and (v < 0.0 or not prev_neg):
+                self.fault(ErrorID.ERRLIN)
+                return
+        c = self.constants
+        if self.Ref and c is not None and c.sw_limits_active and not self.config.modulo:
+            if actual > c.LimPos and v > 0.0:
+                self.fault(ErrorID.ERRSWP)
+            elif actual < c.LimNeg and v < 0.0:
+                self.fault(ErrorID.ERRSWN)

@@ -1,0 +1,193 @@
+"""Motion commands: the job tickets that function blocks hand to an axis.
+
+A command is created on the rising ``Execute`` edge of a motion FB, queued on the axis according to
+its BufferMode, and then owned by the axis: every servo cycle the active command produces the
+model position, velocity and acceleration. The FB only reads the ticket's ``status``,
+``signal`` and ``error_id`` to drive its outputs (SPEC §3), so an FB never touches the servo loop.
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+from typing import TYPE_CHECKING
+
+from mcl import trajectory
+from mcl.enums import AxisState, MC_BufferMode
+from mcl.trajectory import Limits, Profile
+
+if TYPE_CHECKING:
+    from mcl.axis import Axis
+
+
+class Status(IntEnum):
+    """Life cycle of a command."""
+
+    Queued = 0
+    Active = 1
+    Done = 2
+    Aborted = 3
+    Error = 4
+
+
+class Command:
+    """Base of every motion command.
+
+    Attributes:
+        state: the axis state while this command is active.
+        buffer_mode: how it takes over the axis.
+        status: life cycle, written by the axis.
+        signal: the activating output reached (Done, InVelocity, ...): a buffered successor may
+            start now (SPEC §4, Tab. 2.4).
+        error_id: the error that ended the command (0 = none).
+        velocity: commanded speed, for blending [u/s]; 0 for commands that cannot be blended.
+        target: end position [u]; None for commands that do not end at a position.
+        t0: simulated time at which the command's profile starts [s].
+    """
+
+    state = AxisState.DiscreteMotion
+    blendable = False
+    ignores_limit_switches = False
+
+    def __init__(self, buffer_mode: MC_BufferMode = MC_BufferMode.Aborting) -> None:
+        self.buffer_mode = buffer_mode
+        self.status = Status.Queued
+        self.signal = False
+        self.error_id = 0
+        self.velocity = 0.0
+        self.target: float | None = None
+        self.t0 = 0.0
+
+    @property
+    def busy(self) -> bool:
+        """Queued or active."""
+        return self.status <= Status.Active
+
+    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        """Take over the axis from the model state (p, v, a); ``v_end``: blending velocity [u/s].
+
+        Raises:
+            trajectory.PlanningError: the motion cannot be planned.
+        """
+        raise NotImplementedError
+
+    def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
+        """Model position, velocity, acceleration ``t`` seconds after ``t0``; may set ``signal``."""
+        raise NotImplementedError
+
+    def finished(self) -> bool:
+        """The command ends (reports Done) once its signal is reached."""
+        return self.signal
+
+
+class ProfileCommand(Command):
+    """A command that follows one planned profile."""
+
+    def __init__(self, buffer_mode: MC_BufferMode, limits: Limits) -> None:
+        super().__init__(buffer_mode)
+        self.limits = limits
+        self.velocity = limits.velocity
+        self.profile: Profile | None = None
+
+    def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
+        profile = self.profile
+        assert profile is not None
+        if t >= profile.duration:
+            self.signal = True
+        return profile.at(t)
+
+
+class MoveTo(ProfileCommand):
+    """Discrete move to an absolute model target (MoveAbsolute/Relative/Additive, AbsBlock)."""
+
+    blendable = True
+
+    def __init__(self, buffer_mode: MC_BufferMode, limits: Limits, target: float) -> None:
+        super().__init__(buffer_mode, limits)
+        self.target = target
+
+    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        self.plan(p, v, a, v_end)
+
+    def plan(self, p: float, v: float, a: float, v_end: float) -> None:
+        """(Re)plan from the model state to the target, ending with ``v_end`` [u/s]."""
+        assert self.target is not None
+        if v_end == 0.0:
+            self.profile = trajectory.move_to(p, v, a, self.target, self.limits)
+        else:
+            self.profile = trajectory.blend_to(p, v, a, self.target, self.limits, v_end)
+
+
+class MoveVelocity(ProfileCommand):
+    """Never-ending motion at a velocity; ``signal`` = InVelocity."""
+
+    state = AxisState.ContinuousMotion
+
+    def __init__(self, buffer_mode: MC_BufferMode, limits: Limits, velocity: float) -> None:
+        super().__init__(buffer_mode, limits)
+        self.commanded = velocity
+        self.velocity = abs(velocity)
+
+    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        self.profile = trajectory.velocity_to(p, v, a, self.commanded, self.limits)
+
+    def finished(self) -> bool:
+        return False
+
+
+class Halt(ProfileCommand):
+    """Ramp to standstill in DiscreteMotion; may be aborted (MC_Halt)."""
+
+    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        self.profile = trajectory.stop(p, v, a, self.limits.deceleration, self.limits.jerk)
+
+
+class Stop(Halt):
+    """Ramp to standstill in Stopping; holds the axis there while the FB's Execute is TRUE."""
+
+    state = AxisState.Stopping
+
+    def __init__(self, limits: Limits) -> None:
+        super().__init__(MC_BufferMode.Aborting, limits)
+        self.hold = True
+        """Mirrors the FB's Execute: the axis leaves Stopping when done and not held."""
+
+
+class Hold(Command):
+    """Keeps the model at a position with zero velocity (e.g. after a stop ramp)."""
+
+    def __init__(self, position: float, state: AxisState) -> None:
+        super().__init__()
+        self.position = position
+        self.state = state
+
+    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        self.position = p
+
+    def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
+        return self.position, 0.0, 0.0
+
+    def finished(self) -> bool:
+        return False
+
+
+def blend_velocity(mode: MC_BufferMode, v1: float, v2: float, direction1: float,
+                   direction2: float) -> float:
+    """Signed velocity at which a first motion hands over to a blending second one (SPEC §4) [u/s].
+
+    Args:
+        mode: the second command's BufferMode.
+        v1, v2: commanded speeds of the first and the second motion [u/s].
+        direction1, direction2: +1/−1/0, directions of the two motions; a reversal (or a motion
+            of zero length) hands over at standstill.
+    """
+    if mode < MC_BufferMode.BlendingLow or direction1 == 0.0 or direction1 != direction2:
+        return 0.0
+    if mode == MC_BufferMode.BlendingLow:
+        speed = min(v1, v2)
+    elif mode == MC_BufferMode.BlendingPrevious:
+        speed = v1
+    elif mode == MC_BufferMode.BlendingNext:
+        speed = v2
+    else:
+        speed = max(v1, v2)
+    return direction1 * speed

@@ -1,0 +1,74 @@
+"""Incremental encoder with hardware index latch (SPEC §7 "Encoders").
+
+Shared by every plant (simulated axes, MuJoCo): it turns a physical position into the counter,
+index level and latched index count that :class:`mcl.io.AxisIO` exposes.
+"""
+
+from __future__ import annotations
+
+import math
+
+
+class IncrementalEncoder:
+    """Quantizes a position [m] into counts and latches the index pulse NI like the module's FPGA.
+
+    The index pulse is high while the absolute count modulo ``counts_per_rev`` is below
+    ``index_width``: once per motor revolution. Its rising edge is latched exactly (no sampling
+    jitter): moving forward at the first count of the window, moving backward at the last.
+    The counter starts at 0 at ``origin`` (the position at power-up of the module), so the axis
+    coordinate means nothing until the axis is homed.
+
+    Args:
+        resolution: travel per count [m].
+        counts_per_rev: counts per motor revolution (lead / resolution).
+        origin: physical position [m] where the counter reads 0.
+        index_width: width of the index pulse [counts].
+    """
+
+    __slots__ = ("_inv_res", "_n", "_width", "_origin", "_abs",
+                 "counts", "index", "index_count", "index_seq")
+
+    def __init__(self, resolution: float, counts_per_rev: int, origin: float = 0.0,
+                 index_width: int = 1) -> None:
+        if not resolution > 0.0:
+            raise ValueError(f"encoder resolution must be > 0 m/count, got {resolution}")
+        if counts_per_rev < 1 or not 1 <= index_width < counts_per_rev:
+            raise ValueError(
+                f"need counts_per_rev >= 1 and 1 <= index_width < counts_per_rev, got "
+                f"{counts_per_rev} and {index_width}")
+        self._inv_res = 1.0 / resolution
+        self._n = int(counts_per_rev)
+        self._width = int(index_width)
+        self._origin = self._absolute(origin)
+        self._abs = self._origin
+        self.counts = 0
+        self.index = self._abs % self._n < self._width
+        self.index_count = 0
+        self.index_seq = 0
+
+    def _absolute(self, position: float) -> int:
+        # the small bias keeps exact multiples of the resolution on their own count
+        return math.floor(position * self._inv_res + 1e-9)
+
+    def update(self, position: float) -> None:
+        """Advance the counter to ``position`` [m], latching an index edge passed on the way."""
+        c = self._absolute(position)
+        prev = self._abs
+        if c == prev:
+            return
+        n, width = self._n, self._width
+        if c > prev:
+            edge = (c // n) * n  # first count of the last window entered from below
+            if edge > prev:
+                self._latch(edge)
+        else:
+            edge = ((prev - width) // n) * n + width - 1  # last count of a window entered from above
+            if c <= edge < prev:
+                self._latch(edge)
+        self._abs = c
+        self.counts = c - self._origin
+        self.index = c % n < width
+
+    def _latch(self, absolute_count: int) -> None:
+        self.index_count = absolute_count - self._origin
+        self.index_seq += 1

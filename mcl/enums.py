@@ -1,0 +1,72 @@
+"""Enumerations of the PLCopen / Teco interface (SPEC §2, §4, §5, §6)."""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+
+class MC_BufferMode(IntEnum):
+    """When a motion command takes over the axis (SPEC §4; Teco/PLCopen numbering)."""
+
+    Aborting = 0
+    Buffered = 1
+    BlendingLow = 2
+    BlendingPrevious = 3
+    BlendingNext = 4
+    BlendingHigh = 5
+
+
+class MC_Direction(IntEnum):
+    """Direction of a move (modulo axes, MoveVelocity) or start direction of a homing search."""
+
+    MC_Positive = 1
+    MC_Shortest = 2
+    MC_Negative = 3
+    MC_Current = 4
+    MC_SwitchPositive = 5
+    MC_SwitchNegative = 6
+
+
+class MC_SwitchMode(IntEnum):
+    """Switch condition that ends a homing search (SPEC §6, Tab. 6.2)."""
+
+    MC_On = 0
+    MC_Off = 1
+    MC_EdgeOn = 2
+    MC_EdgeOff = 3
+    MC_EdgeSwitchPositive = 4
+    MC_EdgeSwitchNegative = 5
+
+
+class AxisState(IntEnum):
+    """The eight states of a single axis (SPEC §2, Obr. 2.1)."""
+
+    Disabled = 0
+    StandStill = 1
+    Homing = 2
+    DiscreteMotion = 3
+    ContinuousMotion = 4
+    SynchronizedMotion = 5
+    Stopping = 6
+    ErrorStop = 7
+
+
+class GroupState(IntEnum):
+    """The states of an axes group (SPEC §5, Obr. 2.2)."""
+
+    GroupDisabled = 0
+    GroupStandby = 1
+    GroupMoving = 2
+    GroupHoming = 3
+    GroupStopping = 4
+    GroupErrorStop = 5
+
+
+MOTION_STATES = frozenset(
+    {
+        AxisState.DiscreteMotion,
+        AxisState.ContinuousMotion,
+        AxisState.SynchronizedMotion,
+    }
+)
+"""States in which a new motion command may take over the axis (besides StandStill)."""

@@ -1,0 +1,82 @@
+"""Error codes of the MotionControlLib and their texts (SPEC §8, seed 000 chapter 7.1)."""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+
+class ErrorID(IntEnum):
+    """Error codes reported in ``ErrorID`` of a function block or ``AxErrorID`` of an axis."""
+
+    NoError = 0
+    ETime = 1
+    EDistance = 2
+    EDev = 3
+    EBlending = 4
+    EParam = 5
+    EAxStop = 6
+    EAxis = 7
+    Ecil = 8
+    Ehome = 9
+    Epower = 10
+    Eerrstop = 11
+    Econst = 12
+    EpowerOff = 13
+    EGroupMember = 1000
+    EGroupFull = 1001
+    ENotGroupMember = 1003
+    EInOtherGroup = 1004
+    EGroupEmpty = 1005
+    ERRPOS = 2001
+    ERRLIP = 2004
+    ERRLIN = 2005
+    ERRSWP = 2006
+    ERRSWN = 2007
+    ERRPOSG = 8001
+
+
+_TEXTS: dict[int, tuple[str, str]] = {
+    0: ("no error", "bez chyby"),
+    1: ("time limit exceeded", "time limit"),
+    2: ("distance limit exceeded", "distance limit"),
+    3: ("following error limit exceeded", "polohová odchylka limit"),
+    4: ("blending not possible", "nejde udělat blending"),
+    5: ("invalid command parameter", "chybný parametr příkazu"),
+    6: ("axis is stopped by MC_Stop", "osa je ve stopu příkazem MC_Stop"),
+    7: ("hard axis error – error stop", "tvrdá chyba osy - errorstop"),
+    8: ("target beyond SW limit", "cíl osy je za SW limitou"),
+    9: ("axis not referenced", "osa není v referenci"),
+    10: ("axis not powered", "osa není power on"),
+    11: ("axis is in ErrorStop", "osa je v stavu ErrorStop"),
+    12: ("constants not set", "nejsou zadány konstanty"),
+    13: ("axis is powered", "osa je power on"),
+    1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
+    1001: ("group full", "Group je plná, nelze již přidat osu"),
+    1003: ("axis is not a group member", "osa není členem Group"),
+    1004: ("axis already in another group", "osa už je členem Group, nelze ji přidat do jiné Group"),
+    1005: ("group has no axes", "Group už nemá žádné osy"),
+    2001: ("following error exceeded", "překročení polohové odchylky"),
+    2004: ("positive limit switch LIM+ reached", "osa najela na pozitivní limitu LIM+"),
+    2005: ("negative limit switch LIM− reached", "osa najela na negativní limitu LIM-"),
+    2006: ("positive SW limit reached", "osa najela na pozitivní SW limitu"),
+    2007: ("negative SW limit reached", "osa najela na negativní SW limitu"),
+    8001: ("group member exceeded its following error", "osa v grupe překročila polohovou odchylku"),
+}
+
+
+def error_text(code: int, language: str = "en") -> str:
+    """The text of an error code.
+
+    Args:
+        code: an :class:`ErrorID` value.
+        language: ``"en"`` for English, ``"cz"`` for Czech.
+
+    Returns:
+        The text; an unknown code gives ``"unknown error <code>"`` / ``"neznámá chyba <code>"``.
+    """
+    if language not in ("en", "cz"):
+        raise ValueError(f"language must be 'en' or 'cz', not {language!r}")
+    texts = _TEXTS.get(int(code))
+    if texts is None:
+        return f"unknown error {code}" if language == "en" else f"neznámá chyba {code}"
+    return texts[0] if language == "en" else texts[1]

@@ -1,0 +1,263 @@
+"""Function-block base semantics shared by every block (SPEC §3, Tab. 2.3 of seed 000).
+
+A function block is called once per PLC scan with keyword inputs: ``fb(Axis=X, Execute=True,
+Position=10.0)``. Inputs that are not passed keep the value of the previous call (rule 4); an
+unknown input name is a programming mistake and raises ``TypeError`` naming the valid ones.
+Problems of a running block are reported through ``Error``/``ErrorID`` only (rule 9).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+
+from mcl.axis import Axis
+from mcl.command import Command, Status
+from mcl.enums import MC_BufferMode
+from mcl.errors import ErrorID
+
+
+def number(value: Any) -> float:
+    """An input as float; anything that is not a real number becomes NaN (→ EParam)."""
+    if isinstance(value, bool):
+        return float(value)
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def positive(value: float) -> bool:
+    """Finite and > 0."""
+    return math.isfinite(value) and value > 0.0
+
+
+def non_negative(value: float) -> bool:
+    """Finite and >= 0."""
+    return math.isfinite(value) and value >= 0.0
+
+
+class FunctionBlock:
+    """Base: declared inputs with defaults, kept between calls; the in-out ``Axis``."""
+
+    INPUTS: ClassVar[dict[str, Any]] = {}
+    """Input name → initial value; subclasses add theirs (merged along the class hierarchy)."""
+    AXIS_INPUTS: ClassVar[tuple[str, ...]] = ("Axis",)
+
+    _all_inputs: ClassVar[dict[str, Any]]
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        merged: dict[str, Any] = {}
+        for klass in reversed(cls.__mro__):
+            merged.update(klass.__dict__.get("INPUTS", {}))
+        cls._all_inputs = merged
+
+    def __init__(self) -> None:
+        for name, value in self._all_inputs.items():
+            setattr(self, name, value)
+        for name in self.AXIS_INPUTS:
+            setattr(self, name, None)
+
+    def _take_inputs(self, inputs: dict[str, Any]) -> None:
+        for name, value in inputs.items():
+            if name in self._all_inputs:
+                setattr(self, name, value)
+            elif name in self.AXIS_INPUTS:
+                if value is not None:
+                    self._check_axis_type(name, value)
+                    setattr(self, name, value)
+            else:
+                valid = ", ".join([*self.AXIS_INPUTS, *self._all_inputs])
+                raise TypeError(f"{type(self).__name__} has no input {name!r}; inputs: {valid}")
+
+    def _check_axis_type(self, name: str, value: Any) -> None:
+        if not isinstance(value, Axis):
+            raise TypeError(f"{type(self).__name__}.{name} must be an mcl.Axis, "
+                            f"got {type(value).__name__}")
+
+    @property
+    def axis(self) -> Axis:
+        """The connected axis; a block called without ever getting one is a programming error."""
+        axis = getattr(self, self.AXIS_INPUTS[0])
+        if axis is None:
+            raise TypeError(f"{type(self).__name__} needs {self.AXIS_INPUTS[0]}=<mcl.Axis>")
+        assert isinstance(axis, Axis)
+        return axis
+
+
+class ExecuteFB(FunctionBlock):
+    """Edge-triggered block: Execute, Done, Busy, Error, ErrorID (SPEC §3 rules 2–7).
+
+    Subclasses implement :meth:`_begin` (on the rising edge: validate the sampled inputs, start
+    the work, return an error code or 0) and :meth:`_poll` (every call while busy: return the final
+    status once reached, else None).
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Execute": False}
+    DONE_NAME: ClassVar[str] = "Done"
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Done = False
+        self.Busy = False
+        self.Error = False
+        self.ErrorID = 0
+        self._prev_execute = False
+        self._final: Status | None = None
+        self._final_error = 0
+        self._final_shown = False
+        self._running = False
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan of the block."""
+        self._take_inputs(inputs)
+        execute = bool(self.Execute)
+        if execute and not self._prev_execute:
+            self._restart()
+        self._prev_execute = execute
+        if self._running:
+            final = self._poll()
+            if final is not None:
+                self._finish(final, self._error_of_poll())
+        self._show(execute)
+
+    def _restart(self) -> None:
+        if self._running:
+            self._withdraw()
+        self._final, self._final_error, self._final_shown = None, 0, False
+        self._running = True
+        error = self._begin()
+        if error:
+            self._finish(Status.Error, error)
+
+    def _finish(self, final: Status, error: int = 0) -> None:
+        self._running = False
+        self._final, self._final_error, self._final_shown = final, error, False
+
+    def _show(self, execute: bool) -> None:
+        """Drive the outputs; a final state stays while Execute is TRUE, else for one call."""
+        final = self._final
+        visible = final is not None and (execute or not self._final_shown)
+        if final is not None:
+            self._final_shown = True
+        self.Busy = self._running
+        self.Done = visible and final == Status.Done
+        self.Error = visible and final == Status.Error
+        self.ErrorID = self._final_error if self.Error else 0
+        self._show_more(visible, final)
+
+    def _show_more(self, visible: bool, final: Status | None) -> None:
+        """Extra outputs of a subclass (Active, CommandAborted, ...)."""
+
+    def _begin(self) -> int:
+        raise NotImplementedError
+
+    def _poll(self) -> Status | None:
+        return Status.Done
+
+    def _error_of_poll(self) -> int:
+        return 0
+
+    def _withdraw(self) -> None:
+        """A new edge arrived while busy: forget the previous job (rule 7)."""
+
+
+class MotionFB(ExecuteFB):
+    """A motion block: hands a :class:`Command` to the axis; Active, CommandAborted/Aborted.
+
+    Subclasses implement :meth:`_command` (validate the sampled inputs and return the command or
+    an error code); the axis reports back through the command's status.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"BufferMode": MC_BufferMode.Aborting}
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Active = False
+        self.CommandAborted = False
+        self._cmd: Command | None = None
+
+    @property
+    def Aborted(self) -> bool:
+        """Teco's name of ``CommandAborted``."""
+        return self.CommandAborted
+
+    def _buffer_mode(self) -> MC_BufferMode | None:
+        try:
+            return MC_BufferMode(int(self.BufferMode))
+        except (TypeError, ValueError, OverflowError):
+            return None
+
+    def _begin(self) -> int:
+        mode = self._buffer_mode()
+        if mode is None:
+            return ErrorID.EParam
+        result = self._command(mode)
+        if isinstance(result, int):
+            return result
+        self._submit(result)
+        if result.status == Status.Error:
+            return result.error_id
+        self._cmd = result
+        return 0
+
+    def _submit(self, cmd: Command) -> None:
+        self.axis.submit(cmd)
+
+    def _command(self, mode: MC_BufferMode) -> Command | int:
+        raise NotImplementedError
+
+    def _poll(self) -> Status | None:
+        cmd = self._cmd
+        if cmd is None or cmd.busy:
+            return None
+        return cmd.status
+
+    def _error_of_poll(self) -> int:
+        return self._cmd.error_id if self._cmd is not None else 0
+
+    def _withdraw(self) -> None:
+        if self._cmd is not None and self._cmd.status == Status.Queued:
+            self.axis.cancel(self._cmd)
+        self._cmd = None
+
+    def _show_more(self, visible: bool, final: Status | None) -> None:
+        cmd = self._cmd
+        self.Active = self._running and cmd is not None and cmd.status == Status.Active
+        self.CommandAborted = visible and final == Status.Aborted
+
+
+class EnableFB(FunctionBlock):
+    """Level-sensitive block: Enable, Valid, Error, ErrorID (SPEC §3 rule 10).
+
+    Subclasses implement :meth:`_evaluate`, called every scan while Enable is TRUE, which
+    refreshes the outputs and returns an error code (0 = valid).
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Enable": False}
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Valid = False
+        self.Error = False
+        self.ErrorID = 0
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan of the block."""
+        self._take_inputs(inputs)
+        if self.Enable:
+            error = self._evaluate()
+            self.Valid = not error
+            self.Error = bool(error)
+            self.ErrorID = error
+        else:
+            self._disable()
+            self.Valid = self.Error = False
+            self.ErrorID = 0
+
+    def _evaluate(self) -> int:
+        raise NotImplementedError
+
+    def _disable(self) -> None:
+        """Enable is FALSE: reset the block's own outputs."""

@@ -1,0 +1,371 @@
+"""Single-axis motion function blocks (SPEC §5 "Single axis, motion"; seed §3.7–3.14)."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any, ClassVar
+
+from mcl.command import Command, Halt, MoveTo, MoveVelocity, Status, Stop
+from mcl.enums import AxisState, MC_BufferMode, MC_Direction
+from mcl.errors import ErrorID
+from mcl.fb import FunctionBlock, MotionFB, non_negative, number, positive
+from mcl.trajectory import Limits
+
+if TYPE_CHECKING:
+    from mcl.axis import Axis
+
+
+def motion_limits(axis: Axis, velocity: Any, acceleration: Any, deceleration: Any,
+                  jerk: Any) -> Limits | int:
+    """Validated limits of a motion FB (SPEC §3 parameter checks), or ``EParam``.
+
+    Velocity must be > 0 and at least 1 % of Vmax; Acceleration, Deceleration, Jerk >= 0
+    (0 = axis default); values above the axis maxima are clamped; an acceleration or
+    deceleration too small to reach or leave the velocity within 100 s is refused.
+    """
+    v, a, d, j = number(velocity), number(acceleration), number(deceleration), number(jerk)
+    if not positive(v) or axis.velocity_too_low(v):
+        return ErrorID.EParam
+    if not (non_negative(a) and non_negative(d) and non_negative(j)):
+        return ErrorID.EParam
+    limits = axis.limits(v, a, d, j)
+    if limits.acceleration * 100.0 < limits.velocity or limits.deceleration * 100.0 < limits.velocity:
+        return ErrorID.EParam
+    return limits
+
+
+def stop_limits(axis: Axis, deceleration: Any, jerk: Any) -> Limits | int:
+    """Validated limits of a stop ramp (Deceleration, Jerk >= 0; 0 = default), or ``EParam``."""
+    d, j = number(deceleration), number(jerk)
+    if not (non_negative(d) and non_negative(j)):
+        return ErrorID.EParam
+    assert axis.constants is not None
+    return axis.limits(axis.constants.Vmax, d, d, j)
+
+
+class _MoveFB(MotionFB):
+    """Common inputs of the moves: Velocity, Acceleration, Deceleration, Jerk."""
+
+    INPUTS: ClassVar[dict[str, Any]] = {
+        "Velocity": 0.0, "Acceleration": 0.0, "Deceleration": 0.0, "Jerk": 0.0,
+    }
+    NEEDS_REF: ClassVar[bool] = False
+
+    def _command(self, mode: MC_BufferMode) -> Command | int:
+        axis = self.axis
+        error = axis.check_ready()
+        if error:
+            return error
+        limits = motion_limits(axis, self.Velocity, self.Acceleration, self.Deceleration,
+                               self.Jerk)
+        if isinstance(limits, int):
+            return limits
+        target = self._target(mode)
+        if target is None:
+            return ErrorID.EParam
+        if self.NEEDS_REF and not axis.Ref:
+            return ErrorID.Ehome
+        error = axis.check_target(target)
+        if error:
+            return error
+        return self._make(mode, limits, target)
+
+    def _target(self, mode: MC_BufferMode) -> float | None:
+        raise NotImplementedError
+
+    def _make(self, mode: MC_BufferMode, limits: Limits, target: float) -> Command | int:
+        return MoveTo(mode, limits, target)
+
+
+class MC_MoveAbsolute(_MoveFB):
+    """Move to an absolute ``Position`` [u] (seed §3.8); needs Ref.
+
+    ``Direction`` matters only on a modulo axis: MC_Positive, MC_Negative, MC_Shortest or
+    MC_Current (the current direction of motion, else shortest).
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Position": 0.0, "Direction": MC_Direction.MC_Shortest}
+    NEEDS_REF: ClassVar[bool] = True
+
+    def _target(self, mode: MC_BufferMode) -> float | None:
+        position = number(self.Position)
+        if not math.isfinite(position):
+            return None
+        axis = self.axis
+        if not axis.config.modulo:
+            return position
+        direction = number(self.Direction)
+        if direction not in (1.0, 2.0, 3.0, 4.0):
+            return None
+        return axis.modulo_target(position, int(direction), axis.start_position(mode))
+
+
+class MoveToBlock(MoveTo):
+    """MoveTo that stops early on ExtStop or when the following error exceeds TorqueLimit."""
+
+    blendable = False
+
+    def __init__(self, buffer_mode: MC_BufferMode, limits: Limits, target: float,
+                 torque_limit: float, ramp: Limits) -> None:
+        super().__init__(buffer_mode, limits, target)
+        self.torque_limit = torque_limit
+        self.ramp = ramp
+        self.ext_stop = False
+        self.stopping = False
+
+    def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
+        p, v, a = super().setpoint(axis, t)
+        blocked = 0.0 < self.torque_limit < abs(axis.following_error)
+        if not self.stopping and not self.signal and (self.ext_stop or blocked):
+            from mcl import trajectory
+
+            self.stopping = True
+            self.profile = trajectory.stop(p, v, a, self.ramp.deceleration, self.ramp.jerk)
+            self.t0 += t
+            return p, v, a
+        return p, v, a
+
+
+class GT_MoveAbsBlock(MC_MoveAbsolute):
+    """MoveAbsolute that stops at a mechanical block or on ``ExtStop`` (seed §3.9).
+
+    ``ExtStop`` (level, read every scan) stops at once on the axis' maximum ramp, e.g. from a
+    pressure comparison; a following error above ``TorqueLimit`` (> 0; 0 = off) [u] stops the
+    motion without opening the loop. Done at standstill.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"ExtStop": False, "TorqueLimit": 0.0}
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan; ExtStop is passed to the running command every scan."""
+        super().__call__(**inputs)
+        if isinstance(self._cmd, MoveToBlock) and self._cmd.busy:
+            self._cmd.ext_stop = bool(self.ExtStop)
+
+    def _make(self, mode: MC_BufferMode, limits: Limits, target: float) -> Command | int:
+        torque = number(self.TorqueLimit)
+        if not non_negative(torque):
+            return ErrorID.EParam
+        cmd = MoveToBlock(mode, limits, target, torque, self.axis.max_ramp())
+        cmd.ext_stop = bool(self.ExtStop)
+        return cmd
+
+
+class MC_MoveRelative(_MoveFB):
+    """Move by ``Distance`` [u] from the actual position at the edge (seed §3.10).
+
+    The residual loop error is zeroed first; no Ref needed (SW limits only checked with Ref).
+    Buffered, the distance counts from the end of the preceding motion.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Distance": 0.0}
+
+    def _target(self, mode: MC_BufferMode) -> float | None:
+        distance = number(self.Distance)
+        if not math.isfinite(distance):
+            return None
+        axis = self.axis
+        if mode == MC_BufferMode.Aborting or axis.active is None:
+            return axis.actual + distance
+        return axis.start_position(mode) + distance
+
+
+class MC_MoveAdditive(_MoveFB):
+    """Move by ``Distance`` [u] added to the last commanded target (seed §3.12, seed 004).
+
+    In DiscreteMotion (and when buffered) the target is the last commanded target + Distance,
+    otherwise the actual position + Distance. No Ref needed.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Distance": 0.0}
+
+    def _target(self, mode: MC_BufferMode) -> float | None:
+        distance = number(self.Distance)
+        if not math.isfinite(distance):
+            return None
+        axis = self.axis
+        if axis.state == AxisState.DiscreteMotion or (
+                mode != MC_BufferMode.Aborting and axis.active is not None):
+            return axis.last_target() + distance
+        return axis.actual + distance
+
+
+class MC_MoveVelocity(MotionFB):
+    """Never-ending motion at ``Velocity`` [u/s] in ``Direction`` (seed §3.11).
+
+    ``InVelocity`` once the velocity is reached; ends only when another command takes over.
+    Direction: MC_Positive, MC_Negative or MC_Current (the current direction, positive at rest).
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {
+        "Velocity": 0.0, "Acceleration": 0.0, "Deceleration": 0.0, "Jerk": 0.0,
+        "Direction": MC_Direction.MC_Positive,
+    }
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.InVelocity = False
+
+    def _command(self, mode: MC_BufferMode) -> Command | int:
+        axis = self.axis
+        error = axis.check_ready()
+        if error:
+            return error
+        limits = motion_limits(axis, self.Velocity, self.Acceleration, self.Deceleration,
+                               self.Jerk)
+        if isinstance(limits, int):
+            return limits
+        direction = number(self.Direction)
+        if direction == MC_Direction.MC_Current:
+            direction = MC_Direction.MC_Negative if axis.sp_vel < 0.0 else MC_Direction.MC_Positive
+        if direction not in (MC_Direction.MC_Positive, MC_Direction.MC_Negative):
+            return ErrorID.EParam
+        sign = 1.0 if direction == MC_Direction.MC_Positive else -1.0
+        return MoveVelocity(mode, limits, sign * limits.velocity)
+
+    def _show_more(self, visible: bool, final: Status | None) -> None:
+        super()._show_more(visible, final)
+        cmd = self._cmd
+        self.InVelocity = (self._running and bool(self.Execute) and cmd is not None
+                           and cmd.status == Status.Active and cmd.signal)
+
+
+class MC_Halt(MotionFB):
+    """Ramp to standstill with ``Deceleration`` [u/s²] and ``Jerk``; DiscreteMotion, abortable.
+
+    Beyond the seed (PLCopen Part 1); Done at standstill, the axis then goes to StandStill.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Deceleration": 0.0, "Jerk": 0.0}
+
+    def _command(self, mode: MC_BufferMode) -> Command | int:
+        axis = self.axis
+        error = axis.check_ready(homing_ok=True)
+        if error:
+            return error
+        limits = stop_limits(axis, self.Deceleration, self.Jerk)
+        if isinstance(limits, int):
+            return limits
+        return Halt(mode, limits)
+
+
+class MC_Stop(MotionFB):
+    """Stop the axis (seed §3.13): Stopping until Done AND NOT Execute.
+
+    While Execute is TRUE no other motion command is accepted (EAxStop 6).
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Deceleration": 0.0, "Jerk": 0.0}
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan; the axis leaves Stopping once Done and Execute is FALSE."""
+        super().__call__(**inputs)
+        if isinstance(self._cmd, Stop):
+            self._cmd.hold = bool(self.Execute)
+
+    def _command(self, mode: MC_BufferMode) -> Command | int:
+        axis = self.axis
+        error = axis.check_ready(stopping_ok=True, homing_ok=True)
+        if error:
+            return error
+        limits = stop_limits(axis, self.Deceleration, self.Jerk)
+        if isinstance(limits, int):
+            return limits
+        return Stop(limits)
+
+    def _submit(self, cmd: Command) -> None:
+        assert isinstance(cmd, Stop)
+        self.axis.begin_stop(cmd)
+
+
+class GT_Jog(FunctionBlock):
+    """Hold-to-run jogging (seed §3.7): while Enable, JogPos / JogNeg move the axis.
+
+    Inputs (read every scan): Enable, JogPos, JogNeg, JogVelo [u/s], JogAcc, JogDec [u/s²],
+    JogJerk [u/s³]. Built on a velocity move; releasing the button ramps down with JogDec on an
+    abortable halt, so a new press takes over at once. No Ref needed. Outputs: Busy (a jog motion
+    is running), Error, ErrorID.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {
+        "Enable": False, "JogPos": False, "JogNeg": False, "JogVelo": 0.0, "JogAcc": 0.0,
+        "JogDec": 0.0, "JogJerk": 0.0,
+    }
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Busy = False
+        self.Error = False
+        self.ErrorID = 0
+        self._direction = 0
+        self._cmd: Command | None = None
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan."""
+        self._take_inputs(inputs)
+        axis = self.axis
+        want = 0
+        if self.Enable and bool(self.JogPos) != bool(self.JogNeg):
+            want = 1 if self.JogPos else -1
+        if want != self._direction:
+            self._direction = want
+            self.Error, self.ErrorID = False, 0
+            if want:
+                self._move(axis, want)
+            elif self._cmd is not None and self._cmd.busy:
+                limits = stop_limits(axis, self.JogDec, self.JogJerk)
+                if isinstance(limits, int):
+                    limits = axis.max_ramp()
+                self._cmd = Halt(MC_BufferMode.Aborting, limits)
+                axis.submit(self._cmd)
+        if not self.Enable:
+            self.Error, self.ErrorID = False, 0
+        self.Busy = self._cmd is not None and self._cmd.busy
+
+    def _move(self, axis: Axis, direction: int) -> None:
+        error = axis.check_ready()
+        limits: Limits | int = error
+        if not error:
+            limits = motion_limits(axis, self.JogVelo, self.JogAcc, self.JogDec, self.JogJerk)
+        if isinstance(limits, int):
+            self.Error, self.ErrorID = True, limits
+            return
+        cmd = MoveVelocity(MC_BufferMode.Aborting, limits, direction * limits.velocity)
+        axis.submit(cmd)
+        if cmd.status == Status.Error:
+            self.Error, self.ErrorID = True, cmd.error_id
+            return
+        self._cmd = cmd
+
+
+class GT_EStop(FunctionBlock):
+    """Emergency stop of every axis of the module (seed §3.14).
+
+    On the rising edge of Enable: all axes stop at once, loops open, brakes engage, errors are
+    cleared, every axis goes Disabled. ``Done`` while Enable is TRUE and all axes are Disabled.
+    """
+
+    INPUTS: ClassVar[dict[str, Any]] = {"Enable": False}
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Done = False
+        self._prev = False
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan."""
+        self._take_inputs(inputs)
+        axis = self.axis
+        axes = axis.module.axes if axis.module is not None else [axis]
+        enable = bool(self.Enable)
+        if enable and not self._prev:
+            for member in axes:
+                member.emergency_stop()
+        self._prev = enable
+        self.Done = enable and all(m.state == AxisState.Disabled for m in axes)
+
+
+__all__ = [
+    "GT_EStop", "GT_Jog", "GT_MoveAbsBlock", "MC_Halt", "MC_MoveAbsolute", "MC_MoveAdditive",
+    "MC_MoveRelative", "MC_MoveVelocity", "MC_Stop",
+]

@@ -1,0 +1,117 @@
+"""Lockstep runtime: physics steps, servo cycles and PLC cycles on simulated time (DESIGN "Data flow").
+
+No wall clock: a scenario is deterministic and runs as fast as the CPU allows. Each period is an
+integer multiple of the plant's timestep, checked at construction. Within one tick the PLC program
+runs first (FB calls queue commands), then the servo cycle of every axis (read inputs, setpoint,
+regulator, write volts), then the plant integrates one timestep.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import Protocol
+
+from mcl.axis import Axis
+
+
+class Plant(Protocol):
+    """What the runtime steps: simulated axes or a MuJoCo model."""
+
+    timestep: float
+    """Integration step [s]."""
+    time: float
+    """Simulated time [s]."""
+
+    def step(self) -> None:
+        """Advance the plant by one timestep."""
+        ...
+
+
+class ConditionTimeout(TimeoutError):
+    """``until`` did not become true within the simulated ``timeout``."""
+
+
+def ticks_per(period: float, timestep: float, what: str) -> int:
+    """How many timesteps make one ``period``; raises ValueError unless an integer multiple."""
+    if not period > 0.0:
+        raise ValueError(f"{what} must be > 0 s, got {period}")
+    n = round(period / timestep)
+    if n < 1 or abs(n * timestep - period) > 1e-9 * period:
+        raise ValueError(
+            f"{what} {period * 1e3:g} ms is not an integer multiple of the physics timestep "
+            f"{timestep * 1e3:g} ms; use e.g. {max(n, 1) * timestep * 1e3:g} ms")
+    return n
+
+
+class Runtime:
+    """Runs a PLC program against axes on a plant, all in lockstep.
+
+    Args:
+        plant: what integrates the physics.
+        axes: the axes whose servo cycles run here; their ``servo_period`` must be a multiple
+            of the plant timestep.
+        plc_period: PLC cycle [s], an integer multiple of the servo period.
+    """
+
+    def __init__(self, plant: Plant, axes: Iterable[Axis], plc_period: float = 0.002) -> None:
+        self.plant = plant
+        self.axes = list(axes)
+        if not self.axes:
+            raise ValueError("a runtime needs at least one axis")
+        servo_period = self.axes[0].servo_period
+        if any(abs(ax.servo_period - servo_period) > 1e-12 for ax in self.axes):
+            raise ValueError("all axes of a runtime must share one servo period")
+        self._servo_ticks = ticks_per(servo_period, plant.timestep, "servo period")
+        servo_per_plc = ticks_per(plc_period, servo_period, "PLC period")
+        self._plc_ticks = self._servo_ticks * servo_per_plc
+        self.plc_period = plc_period
+        self.servo_period = servo_period
+        self._tick = 0
+        self.observers: list[Callable[[float], None]] = []
+        """Called after every servo cycle with the time [s] (e.g. a trace recorder)."""
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self._tick * self.plant.timestep
+
+    def run(self, program: Callable[[], None] | None = None,
+            until: Callable[[], bool] | None = None, timeout: float = 10.0) -> float:
+        """Run PLC cycles until ``until()`` is true (checked after every PLC cycle) or for ``timeout``.
+
+        Args:
+            program: one PLC scan (calls FB instances); None runs no program.
+            until: stop condition; None runs for exactly ``timeout`` seconds.
+            timeout: simulated seconds at most.
+
+        Returns:
+            The simulated seconds that elapsed.
+
+        Raises:
+            ConditionTimeout: ``until`` was given and did not become true in time.
+        """
+        plant, axes = self.plant, self.axes
+        servo_ticks, plc_ticks = self._servo_ticks, self._plc_ticks
+        dt = plant.timestep
+        start = self._tick
+        end = start + round(timeout / dt)
+        observers = self.observers
+        tick = self._tick
+        while tick < end:
+            plc_cycle = tick % plc_ticks == 0
+            if plc_cycle and program is not None:
+                program()
+            if tick % servo_ticks == 0:
+                t = tick * dt
+                for axis in axes:
+                    axis.servo_cycle(t)
+                for observe in observers:
+                    observe(t)
+            plant.step()
+            tick += 1
+            self._tick = tick
+            if plc_cycle and until is not None and until():
+                return (tick - start) * dt
+        if until is not None and not until():
+            raise ConditionTimeout(f"condition not met within {timeout:g} s of simulated time")
+        return (tick - start) * dt

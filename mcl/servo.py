@@ -1,0 +1,125 @@
+"""Servo core of one GT-x75x axis: position regulator and DAC (SPEC §7).
+
+``u = Kp·e + Ki·∫e + Kd·ė + (10 V/Vmax)·(Ff·v + Ka·a)``, with back-calculation anti-windup
+(``Kc``) when the 12-bit DAC output saturates at ±10 V, and ``Ki1`` integral action that only
+works while the model stands still and the axis is outside its in-position window.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+DAC_CODES = 4095
+"""Largest DAC code; ±4095 ↔ ±10.5 V."""
+DAC_FULL_SCALE = 10.5
+"""Voltage at the largest DAC code [V]."""
+VOLT_LIMIT = 10.0
+"""Clip of the analog command in closed loop [V]."""
+_VOLTS_PER_CODE = DAC_FULL_SCALE / DAC_CODES
+
+
+def dac(volts: float) -> float:
+    """Quantize a voltage to the 12-bit DAC (±4095 ↔ ±10.5 V) and clip it to ±10 V [V]."""
+    if volts >= VOLT_LIMIT:
+        volts = VOLT_LIMIT
+    elif volts <= -VOLT_LIMIT:
+        volts = -VOLT_LIMIT
+    return round(volts / _VOLTS_PER_CODE) * _VOLTS_PER_CODE
+
+
+def dac_code_volts(code: int) -> float:
+    """Voltage of a raw DAC code as GT_Analog writes it: −4095 → +10.5 V, +4095 → −10.5 V.
+
+    The seed documents this inverted mapping for GT_Analog; it is kept as documented.
+    """
+    code = max(-DAC_CODES, min(DAC_CODES, int(code)))
+    return -code * _VOLTS_PER_CODE
+
+
+@dataclass(slots=True)
+class ServoConstants:
+    """Constants written by GT_SetConstant (seed 000 §3.1), in user units.
+
+    Attributes:
+        Kp: proportional gain [V/u].
+        Ki: integral gain [V/(u·s)].
+        Kd: derivative gain [V·s/u].
+        Ff: velocity feed-forward [-] (1.0 = the full model velocity).
+        Kc: anti-windup back-calculation gain [1/s].
+        Vmax: axis velocity at 10 V, also the axis' maximum velocity [u/s].
+        LimPos: positive software limit [u]; LimPos <= LimNeg disables both.
+        LimNeg: negative software limit [u].
+        Ki1: settling integral gain, active at model standstill outside the window [V/(u·s)].
+        Filter: time constant of the low-pass on the measured velocity VEL [ms].
+        Ka: acceleration feed-forward [s]: the drive's lag plus half a servo period
+            (beyond the seed; it keeps the following error small while accelerating).
+    """
+
+    Kp: float = 0.0
+    Ki: float = 0.0
+    Kd: float = 0.0
+    Ff: float = 1.0
+    Kc: float = 0.0
+    Vmax: float = 0.0
+    LimPos: float = 0.0
+    LimNeg: float = 0.0
+    Ki1: float = 0.0
+    Filter: float = 0.0
+    Ka: float = 0.0
+
+    @property
+    def sw_limits_active(self) -> bool:
+        """Whether the software limits are set (LimPos above LimNeg)."""
+        return self.LimPos > self.LimNeg
+
+
+class Regulator:
+    """Discrete PID position regulator with feed-forward, anti-windup and DAC output."""
+
+    __slots__ = ("c", "period", "_ff", "_integral", "_e_prev")
+
+    def __init__(self, constants: ServoConstants, period: float) -> None:
+        """Args: constants: the axis' servo constants; period: servo period [s]."""
+        self.c = constants
+        self.period = period
+        self._ff = 10.0 / constants.Vmax if constants.Vmax > 0.0 else 0.0
+        self._integral = 0.0
+        self._e_prev = 0.0
+
+    def reset(self) -> None:
+        """Clear the integrator and the derivative memory (loop (re)closed)."""
+        self._integral = 0.0
+        self._e_prev = 0.0
+
+    def carry_over(self, other: Regulator) -> None:
+        """Take over the integrator of the regulator this one replaces (no bump on new constants)."""
+        self._integral = other._integral
+        self._e_prev = other._e_prev
+
+    def output(self, e: float, v_model: float, a_model: float, settle: bool) -> float:
+        """One regulator step.
+
+        Args:
+            e: following error, model minus actual position [u].
+            v_model: model velocity [u/s].
+            a_model: model acceleration [u/s²].
+            settle: the model stands still and the axis is outside its in-position window
+                (enables ``Ki1``).
+
+        Returns:
+            The quantized analog command [V], within ±10 V.
+        """
+        c = self.c
+        period = self.period
+        ff = self._ff
+        u = (c.Kp * e + self._integral + c.Kd * (e - self._e_prev) / period
+             + ff * (c.Ff * v_model + c.Ka * a_model))
+        out = dac(u)
+        ki = c.Ki + c.Ki1 if settle else c.Ki
+        self._integral += period * (ki * e + c.Kc * (out - u))
+        self._e_prev = e
+        return out
+
+    def open_loop(self, v_model: float) -> float:
+        """SpeedMode 1: the analog command proportional to the model velocity [V]."""
+        return dac(self._ff * v_model)

@@ -1,0 +1,204 @@
+"""Time-optimal, jerk-limited 1-D motion profiles (SPEC §7 "Trajectory generation", §4 blending).
+
+The only module that imports ruckig. Profiles are planned once per command (or re-planned when a
+blending command arrives) and then sampled every servo cycle. Units are the caller's user units
+(mm, mm/s, mm/s², mm/s³); time in seconds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import ruckig
+
+
+class PlanningError(ValueError):
+    """The requested motion cannot be planned (invalid limits or state); maps to ``EParam``."""
+
+
+@dataclass(frozen=True, slots=True)
+class Limits:
+    """Kinematic limits of one motion, all positive.
+
+    Attributes:
+        velocity: maximum speed [u/s].
+        acceleration: maximum acceleration, used when speeding up [u/s²].
+        deceleration: maximum deceleration, used when slowing down [u/s²].
+        jerk: maximum jerk [u/s³]; ``math.inf`` plans acceleration-limited profiles.
+    """
+
+    velocity: float
+    acceleration: float
+    deceleration: float
+    jerk: float = math.inf
+
+
+class Profile:
+    """A planned motion: position, velocity and acceleration as functions of time.
+
+    Made of one or more ruckig trajectories laid end to end; past its duration the profile
+    continues at its final velocity (used for blending and velocity moves).
+    """
+
+    __slots__ = ("_pieces", "duration", "end_position", "end_velocity")
+
+    def __init__(self, pieces: list[tuple[float, Any, float]]) -> None:
+        """Args: pieces: ``(start time [s], ruckig.Trajectory, position offset [u])`` in order."""
+        self._pieces = pieces
+        t0, last, offset = pieces[-1]
+        self.duration: float = t0 + last.duration
+        p, v, _ = last.at_time(last.duration)
+        self.end_position: float = p[0] + offset
+        self.end_velocity: float = v[0]
+
+    def at(self, t: float) -> tuple[float, float, float]:
+        """Position [u], velocity [u/s] and acceleration [u/s²] at ``t`` seconds after the start."""
+        pieces = self._pieces
+        i = len(pieces) - 1
+        while i and t < pieces[i][0]:
+            i -= 1
+        t0, traj, offset = pieces[i]
+        p, v, a = traj.at_time(t - t0)
+        return p[0] + offset, v[0], a[0]
+
+    def position_range(self) -> tuple[float, float]:
+        """Smallest and largest position the profile passes through [u]."""
+        lo, hi = math.inf, -math.inf
+        for _, traj, offset in self._pieces:
+            ext = traj.position_extrema[0]
+            lo = min(lo, ext.min + offset)
+            hi = max(hi, ext.max + offset)
+        return lo, hi
+
+
+_ruckig = ruckig.Ruckig(1)
+_input = ruckig.InputParameter(1)
+
+
+def _plan(interface: Any, p0: float, v0: float, a0: float, target: float, v_end: float,
+          v_max: float, acc_up: float, acc_down: float, jerk: float) -> Any:
+    inp = _input
+    inp.control_interface = interface
+    inp.current_position = [p0]
+    inp.current_velocity = [v0]
+    inp.current_acceleration = [a0]
+    inp.target_position = [target]
+    inp.target_velocity = [v_end]
+    inp.target_acceleration = [0.0]
+    inp.max_velocity = [v_max]
+    inp.max_acceleration = [acc_up]
+    inp.min_acceleration = [-acc_down]
+    inp.max_jerk = [jerk]
+    traj = ruckig.Trajectory(1)
+    try:
+        result = _ruckig.calculate(inp, traj)
+    except (RuntimeError, ValueError) as exc:  # ruckig.RuckigError derives from RuntimeError
+        raise PlanningError(str(exc).strip()) from exc
+    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
+        raise PlanningError(f"no trajectory: {result}")
+    return traj
+
+
+def move_to(p0: float, v0: float, a0: float, target: float, limits: Limits,
+            v_end: float = 0.0) -> Profile:
+    """Time-optimal motion from the state (p0, v0, a0) to ``target``, arriving with ``v_end``.
+
+    Speeding up uses ``limits.acceleration``, slowing down ``limits.deceleration`` (in the
+    direction of the target). ``|v_end|`` must not exceed ``limits.velocity``.
+
+    Raises:
+        PlanningError: non-finite or inconsistent inputs.
+    """
+    direction = 1.0 if target > p0 or (target == p0 and v0 >= 0.0) else -1.0
+    acc, dec = limits.acceleration, limits.deceleration
+    up, down = (acc, dec) if direction > 0 else (dec, acc)
+    traj = _plan(ruckig.ControlInterface.Position, p0, v0, a0, target, v_end,
+                 limits.velocity, up, down, limits.jerk)
+    return Profile([(0.0, traj, 0.0)])
+
+
+def velocity_to(p0: float, v0: float, a0: float, v_target: float, limits: Limits) -> Profile:
+    """Time-optimal change of velocity to ``v_target`` (never ends: continues at ``v_target``).
+
+    Speeding up uses ``limits.acceleration``, slowing down ``limits.deceleration``.
+    """
+    acc, dec = limits.acceleration, limits.deceleration
+    if v_target >= v0:  # positive acceleration: speeding up if already moving forward
+        up, down = (acc if v0 >= 0.0 else dec), max(acc, dec)
+    else:
+        up, down = max(acc, dec), (acc if v0 <= 0.0 else dec)
+    traj = _plan(ruckig.ControlInterface.Velocity, p0, v0, a0, 0.0, v_target,
+                 max(limits.velocity, abs(v_target), abs(v0)), up, down, limits.jerk)
+    return Profile([(0.0, traj, 0.0)])
+
+
+def stop(p0: float, v0: float, a0: float, deceleration: float, jerk: float) -> Profile:
+    """Ramp to standstill with the given deceleration [u/s²] and jerk [u/s³]."""
+    return velocity_to(p0, v0, a0, 0.0, Limits(abs(v0) + 1.0, deceleration, deceleration, jerk))
+
+
+def _stays_between(profile: Profile, a: float, b: float) -> bool:
+    lo, hi = profile.position_range()
+    tol = 1e-9 * max(1.0, abs(a), abs(b))
+    return lo >= min(a, b) - tol and hi <= max(a, b) + tol
+
+
+def _ramp_then_arrive(p0: float, v0: float, a0: float, target: float, limits: Limits,
+                      v_end: float) -> Profile | None:
+    """Cruise at ``limits.velocity``, then speed up to ``|v_end| > velocity`` ending at target."""
+    direction = math.copysign(1.0, v_end)
+    cruise = direction * limits.velocity
+    ramp = _plan(ruckig.ControlInterface.Velocity, 0.0, cruise, 0.0, 0.0, v_end, abs(v_end),
+                 limits.acceleration, limits.acceleration, limits.jerk)
+    ramp_length = ramp.at_time(ramp.duration)[0][0]
+    approach_target = target - ramp_length
+    try:
+        approach = move_to(p0, v0, a0, approach_target, limits, v_end=cruise)
+    except PlanningError:
+        return None
+    if not _stays_between(approach, p0, approach_target):
+        return None
+    return Profile([(0.0, approach._pieces[0][1], 0.0),
+                    (approach.duration, ramp, approach_target)])
+
+
+def blend_to(p0: float, v0: float, a0: float, target: float, limits: Limits,
+             v_end: float) -> Profile:
+    """Motion to ``target`` that ends with ``v_end`` when reachable, never overshooting the target.
+
+    Used when a blending command waits behind the current one (SPEC §4). When ``|v_end|`` exceeds
+    the motion's own velocity, the axis cruises at its velocity and speeds up just before the
+    target. When the command came too late to reach ``v_end``, the motion still ends exactly at the
+    target and switches at the nearest reachable velocity (REXYGEN variant 3).
+
+    Raises:
+        PlanningError: even ending at standstill is impossible without overshooting (the axis is
+            already too fast for the remaining distance), or the inputs are invalid.
+    """
+
+    def feasible(v: float) -> Profile | None:
+        if abs(v) > limits.velocity:
+            return _ramp_then_arrive(p0, v0, a0, target, limits, v)
+        try:
+            profile = move_to(p0, v0, a0, target, limits, v_end=v)
+        except PlanningError:
+            return None
+        return profile if _stays_between(profile, p0, target) else None
+
+    best = feasible(v_end)
+    if best is not None:
+        return best
+    lo, hi = 0.0, v_end
+    best = feasible(lo)
+    if best is None:
+        raise PlanningError("cannot reach the target without overshooting it")
+    for _ in range(24):
+        mid = 0.5 * (lo + hi)
+        candidate = feasible(mid)
+        if candidate is None:
+            hi = mid
+        else:
+            lo, best = mid, candidate
+    return best
