@@ -20,17 +20,25 @@ class GT_SetConstant(ExecuteFB):
     Ka [s]. Vmax must be > 0, gains and Filter >= 0, all finite; else EParam.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {
-        "Kp": 0.0, "Ki": 0.0, "Kd": 0.0, "Ff": 1.0, "Kc": 0.0, "Vmax": 0.0,
-        "LimPos": 0.0, "LimNeg": 0.0, "Ki1": 0.0, "Filter": 0.0, "Ka": 0.0,
-    }
+    Kp: float = 0.0
+    Ki: float = 0.0
+    Kd: float = 0.0
+    Ff: float = 1.0
+    Kc: float = 0.0
+    Vmax: float = 0.0
+    LimPos: float = 0.0
+    LimNeg: float = 0.0
+    Ki1: float = 0.0
+    Filter: float = 0.0
+    Ka: float = 0.0
 
     def _begin(self) -> int:
         values = {name: number(getattr(self, name)) for name in ServoConstants.__slots__}
         if not positive(values["Vmax"]):
             return ErrorID.EParam
-        if not all(non_negative(values[n]) for n in ("Kp", "Ki", "Kd", "Ff", "Kc", "Ki1",
-                                                     "Filter", "Ka")):
+        if not all(
+            non_negative(values[n]) for n in ("Kp", "Ki", "Kd", "Ff", "Kc", "Ki1", "Filter", "Ka")
+        ):
             return ErrorID.EParam
         if not (math.isfinite(values["LimPos"]) and math.isfinite(values["LimNeg"])):
             return ErrorID.EParam
@@ -47,7 +55,8 @@ class MC_Power(EnableFB):
     clears the axis' Ref flag.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"SpeedMode": 0, "BufferMode": 0}
+    SpeedMode: int = 0
+    BufferMode: int = 0
 
     def __init__(self) -> None:
         super().__init__()
@@ -151,7 +160,8 @@ class GT_Analog(ExecuteFB):
     Par (0 = write, 1 = end). Not Disabled → EpowerOff 13. MC_Power also ends it.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Analog": 0, "Par": 0}
+    Analog: int = 0
+    Par: int = 0
 
     def _begin(self) -> int:
         axis = self.axis
@@ -171,7 +181,8 @@ class GT_SInfo(ExecuteFB):
     24 position captured at InSync. Other selectors → EParam.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"What1": 20, "What2": 21}
+    What1: int = 20
+    What2: int = 21
 
     def _begin(self) -> int:
         what = (number(self.What1), number(self.What2))

@@ -53,8 +53,16 @@ class AxisConfig:
     servo_period: float = 0.001
 
     def __post_init__(self) -> None:
-        for name in ("resolution", "dev_max", "in_position", "acceleration", "deceleration",
-                     "max_acceleration", "max_deceleration", "servo_period"):
+        for name in (
+            "resolution",
+            "dev_max",
+            "in_position",
+            "acceleration",
+            "deceleration",
+            "max_acceleration",
+            "max_deceleration",
+            "servo_period",
+        ):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"AxisConfig.{name} must be a finite number > 0, got {value!r}")
@@ -176,10 +184,11 @@ class Axis:
         tau = constants.Filter * 1e-3
         self._vel_alpha = self.servo_period / (self.servo_period + tau)
 
-    def limits(self, velocity: float, acceleration: float, deceleration: float,
-               jerk: float) -> Limits:
+    def limits(
+        self, velocity: float, acceleration: float, deceleration: float, jerk: float
+    ) -> Limits:
         """Motion limits from FB inputs: 0 means the axis default, values above the maxima are
-        clamped (SPEC §1, §3). Inputs must already be validated (finite, velocity > 0, others >= 0)."""
+        clamped (SPEC §1, §3). Inputs must be validated (finite, velocity > 0, others >= 0)."""
         c = self.config
         assert self.constants is not None
         acc = acceleration if acceleration > 0.0 else c.acceleration
@@ -202,8 +211,9 @@ class Axis:
         return Limits(vmax, c.max_deceleration, c.max_deceleration, jerk)
 
     # ------------------------------------------------------------------ checks for FBs
-    def check_ready(self, *, stopping_ok: bool = False, homing_ok: bool = False,
-                    group_ok: bool = False) -> int:
+    def check_ready(
+        self, *, stopping_ok: bool = False, homing_ok: bool = False, group_ok: bool = False
+    ) -> int:
         """Error code that forbids a motion command now (0 = none), SPEC §2/§3 order:
         constants, power, ErrorStop, Stopping, group membership, Homing."""
         if self.constants is None:
@@ -224,8 +234,13 @@ class Axis:
     def check_target(self, target: float) -> int:
         """``Ecil`` 8 when the target lies beyond an active software limit (only with Ref)."""
         c = self.constants
-        if (c is not None and self.Ref and c.sw_limits_active and not self.config.modulo
-                and not c.LimNeg <= target <= c.LimPos):
+        if (
+            c is not None
+            and self.Ref
+            and c.sw_limits_active
+            and not self.config.modulo
+            and not c.LimNeg <= target <= c.LimPos
+        ):
             return ErrorID.Ecil
         return 0
 
@@ -235,7 +250,7 @@ class Axis:
 
     # ------------------------------------------------------------------ positions
     def last_target(self) -> float:
-        """Where the commanded motion ends: the last queued/active target, else the model position."""
+        """Where the commanded motion ends: the last queued/active target, else the model [u]."""
         for cmd in reversed((self.active, *self.queue)):
             if cmd is not None and cmd.target is not None:
                 return cmd.target
@@ -304,8 +319,9 @@ class Axis:
             return self.actual if self.state == AxisState.StandStill else self.sp_pos
         return self.last_target()
 
-    def _start(self, cmd: Command, p: float, v: float, a: float, t0: float,
-               successor: Command | None) -> None:
+    def _start(
+        self, cmd: Command, p: float, v: float, a: float, t0: float, successor: Command | None
+    ) -> None:
         """Activate ``cmd`` from the model state at ``t0``; it ends at the blending velocity
         toward ``successor``."""
         v_end = self._handover_velocity(cmd, successor) if successor is not None else 0.0
@@ -322,8 +338,9 @@ class Axis:
             direction2 = _sign(second.commanded)
         else:
             direction2 = _sign(second.target - end) if second.target is not None else 0.0
-        return blend_velocity(second.buffer_mode, first.velocity, second.velocity,
-                              _sign(end - here), direction2)
+        return blend_velocity(
+            second.buffer_mode, first.velocity, second.velocity, _sign(end - here), direction2
+        )
 
     def last_before(self, cmd: Command) -> float:
         """End position of the command queued before ``cmd`` (its start position) [u]."""
@@ -347,8 +364,9 @@ class Axis:
             return  # keeps its plan: the successor then starts from standstill
         cmd.t0 = self.t_sp
 
-    def _abort_all(self, except_cmd: Command | None = None, status: Status = Status.Aborted,
-                   error_id: int = 0) -> None:
+    def _abort_all(
+        self, except_cmd: Command | None = None, status: Status = Status.Aborted, error_id: int = 0
+    ) -> None:
         for cmd in (self.active, *self.queue):
             if cmd is not None and cmd is not except_cmd and cmd.busy:
                 cmd.status = status
@@ -499,9 +517,10 @@ class Axis:
             if cmd.signal and (self.queue or cmd.finished()):
                 p, v, a = self._handover(cmd, t)
         self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = p, v, a, t
-        if self._stop is not None and self.state == AxisState.Stopping and self.active is None:
-            if not self._stop.hold:
-                self._stop = None
+        stop = self._stop
+        if stop is not None and not stop.hold and self.active is None:
+            self._stop = None
+            if self.state == AxisState.Stopping:
                 self.state = AxisState.StandStill
 
         e = p - actual

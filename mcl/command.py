@@ -170,8 +170,9 @@ class Hold(Command):
         return False
 
 
-def blend_velocity(mode: MC_BufferMode, v1: float, v2: float, direction1: float,
-                   direction2: float) -> float:
+def blend_velocity(
+    mode: MC_BufferMode, v1: float, v2: float, direction1: float, direction2: float
+) -> float:
     """Signed velocity at which a first motion hands over to a blending second one (SPEC §4) [u/s].
 
     Args:

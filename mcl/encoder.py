@@ -25,17 +25,28 @@ class IncrementalEncoder:
         index_width: width of the index pulse [counts].
     """
 
-    __slots__ = ("_inv_res", "_n", "_width", "_origin", "_abs",
-                 "counts", "index", "index_count", "index_seq")
+    __slots__ = (
+        "_abs",
+        "_inv_res",
+        "_n",
+        "_origin",
+        "_width",
+        "counts",
+        "index",
+        "index_count",
+        "index_seq",
+    )
 
-    def __init__(self, resolution: float, counts_per_rev: int, origin: float = 0.0,
-                 index_width: int = 1) -> None:
+    def __init__(
+        self, resolution: float, counts_per_rev: int, origin: float = 0.0, index_width: int = 1
+    ) -> None:
         if not resolution > 0.0:
             raise ValueError(f"encoder resolution must be > 0 m/count, got {resolution}")
         if counts_per_rev < 1 or not 1 <= index_width < counts_per_rev:
             raise ValueError(
                 f"need counts_per_rev >= 1 and 1 <= index_width < counts_per_rev, got "
-                f"{counts_per_rev} and {index_width}")
+                f"{counts_per_rev} and {index_width}"
+            )
         self._inv_res = 1.0 / resolution
         self._n = int(counts_per_rev)
         self._width = int(index_width)
@@ -62,7 +73,9 @@ class IncrementalEncoder:
             if edge > prev:
                 self._latch(edge)
         else:
-            edge = ((prev - width) // n) * n + width - 1  # last count of a window entered from above
+            edge = (
+                ((prev - width) // n) * n + width - 1
+            )  # last count of a window entered from above
             if c <= edge < prev:
                 self._latch(edge)
         self._abs = c

@@ -53,14 +53,20 @@ _TEXTS: dict[int, tuple[str, str]] = {
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),
-    1004: ("axis already in another group", "osa už je členem Group, nelze ji přidat do jiné Group"),
+    1004: (
+        "axis already in another group",
+        "osa už je členem Group, nelze ji přidat do jiné Group",
+    ),
     1005: ("group has no axes", "Group už nemá žádné osy"),
     2001: ("following error exceeded", "překročení polohové odchylky"),
     2004: ("positive limit switch LIM+ reached", "osa najela na pozitivní limitu LIM+"),
     2005: ("negative limit switch LIM− reached", "osa najela na negativní limitu LIM-"),
     2006: ("positive SW limit reached", "osa najela na pozitivní SW limitu"),
     2007: ("negative SW limit reached", "osa najela na negativní SW limitu"),
-    8001: ("group member exceeded its following error", "osa v grupe překročila polohovou odchylku"),
+    8001: (
+        "group member exceeded its following error",
+        "osa v grupe překročila polohovou odchylku",
+    ),
 }
 
 

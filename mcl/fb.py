@@ -8,6 +8,7 @@ Problems of a running block are reported through ``Error``/``ErrorID`` only (rul
 
 from __future__ import annotations
 
+import inspect
 import math
 from typing import Any, ClassVar
 
@@ -40,17 +41,25 @@ def non_negative(value: float) -> bool:
 class FunctionBlock:
     """Base: declared inputs with defaults, kept between calls; the in-out ``Axis``."""
 
-    INPUTS: ClassVar[dict[str, Any]] = {}
-    """Input name → initial value; subclasses add theirs (merged along the class hierarchy)."""
     AXIS_INPUTS: ClassVar[tuple[str, ...]] = ("Axis",)
+    """The in-out axis references (``Axis``; ``Master``/``Slave`` for gearing)."""
 
-    _all_inputs: ClassVar[dict[str, Any]]
+    _all_inputs: ClassVar[dict[str, Any]] = {}
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
+        """Collect the inputs: public annotated class attributes with an initial value (not
+        ClassVar), merged along the class hierarchy."""
         super().__init_subclass__(**kwargs)
         merged: dict[str, Any] = {}
         for klass in reversed(cls.__mro__):
-            merged.update(klass.__dict__.get("INPUTS", {}))
+            for name, hint in inspect.get_annotations(klass).items():
+                if (
+                    name in klass.__dict__
+                    and not name.startswith("_")
+                    and not str(hint).startswith("ClassVar")
+                    and name not in cls.AXIS_INPUTS
+                ):
+                    merged[name] = klass.__dict__[name]
         cls._all_inputs = merged
 
     def __init__(self) -> None:
@@ -73,8 +82,9 @@ class FunctionBlock:
 
     def _check_axis_type(self, name: str, value: Any) -> None:
         if not isinstance(value, Axis):
-            raise TypeError(f"{type(self).__name__}.{name} must be an mcl.Axis, "
-                            f"got {type(value).__name__}")
+            raise TypeError(
+                f"{type(self).__name__}.{name} must be an mcl.Axis, got {type(value).__name__}"
+            )
 
     @property
     def axis(self) -> Axis:
@@ -94,7 +104,7 @@ class ExecuteFB(FunctionBlock):
     status once reached, else None).
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Execute": False}
+    Execute: bool = False
     DONE_NAME: ClassVar[str] = "Done"
 
     def __init__(self) -> None:
@@ -170,7 +180,7 @@ class MotionFB(ExecuteFB):
     an error code); the axis reports back through the command's status.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"BufferMode": MC_BufferMode.Aborting}
+    BufferMode: int = MC_BufferMode.Aborting
 
     def __init__(self) -> None:
         super().__init__()
@@ -235,7 +245,7 @@ class EnableFB(FunctionBlock):
     refreshes the outputs and returns an error code (0 = valid).
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Enable": False}
+    Enable: bool = False
 
     def __init__(self) -> None:
         super().__init__()

@@ -15,8 +15,9 @@ if TYPE_CHECKING:
     from mcl.axis import Axis
 
 
-def motion_limits(axis: Axis, velocity: Any, acceleration: Any, deceleration: Any,
-                  jerk: Any) -> Limits | int:
+def motion_limits(
+    axis: Axis, velocity: Any, acceleration: Any, deceleration: Any, jerk: Any
+) -> Limits | int:
     """Validated limits of a motion FB (SPEC §3 parameter checks), or ``EParam``.
 
     Velocity must be > 0 and at least 1 % of Vmax; Acceleration, Deceleration, Jerk >= 0
@@ -29,7 +30,10 @@ def motion_limits(axis: Axis, velocity: Any, acceleration: Any, deceleration: An
     if not (non_negative(a) and non_negative(d) and non_negative(j)):
         return ErrorID.EParam
     limits = axis.limits(v, a, d, j)
-    if limits.acceleration * 100.0 < limits.velocity or limits.deceleration * 100.0 < limits.velocity:
+    if (
+        limits.acceleration * 100.0 < limits.velocity
+        or limits.deceleration * 100.0 < limits.velocity
+    ):
         return ErrorID.EParam
     return limits
 
@@ -46,9 +50,10 @@ def stop_limits(axis: Axis, deceleration: Any, jerk: Any) -> Limits | int:
 class _MoveFB(MotionFB):
     """Common inputs of the moves: Velocity, Acceleration, Deceleration, Jerk."""
 
-    INPUTS: ClassVar[dict[str, Any]] = {
-        "Velocity": 0.0, "Acceleration": 0.0, "Deceleration": 0.0, "Jerk": 0.0,
-    }
+    Velocity: float = 0.0
+    Acceleration: float = 0.0
+    Deceleration: float = 0.0
+    Jerk: float = 0.0
     NEEDS_REF: ClassVar[bool] = False
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
@@ -56,8 +61,7 @@ class _MoveFB(MotionFB):
         error = axis.check_ready()
         if error:
             return error
-        limits = motion_limits(axis, self.Velocity, self.Acceleration, self.Deceleration,
-                               self.Jerk)
+        limits = motion_limits(axis, self.Velocity, self.Acceleration, self.Deceleration, self.Jerk)
         if isinstance(limits, int):
             return limits
         target = self._target(mode)
@@ -84,7 +88,8 @@ class MC_MoveAbsolute(_MoveFB):
     MC_Current (the current direction of motion, else shortest).
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Position": 0.0, "Direction": MC_Direction.MC_Shortest}
+    Position: float = 0.0
+    Direction: int = MC_Direction.MC_Shortest
     NEEDS_REF: ClassVar[bool] = True
 
     def _target(self, mode: MC_BufferMode) -> float | None:
@@ -105,8 +110,14 @@ class MoveToBlock(MoveTo):
 
     blendable = False
 
-    def __init__(self, buffer_mode: MC_BufferMode, limits: Limits, target: float,
-                 torque_limit: float, ramp: Limits) -> None:
+    def __init__(
+        self,
+        buffer_mode: MC_BufferMode,
+        limits: Limits,
+        target: float,
+        torque_limit: float,
+        ramp: Limits,
+    ) -> None:
         super().__init__(buffer_mode, limits, target)
         self.torque_limit = torque_limit
         self.ramp = ramp
@@ -134,7 +145,8 @@ class GT_MoveAbsBlock(MC_MoveAbsolute):
     motion without opening the loop. Done at standstill.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"ExtStop": False, "TorqueLimit": 0.0}
+    ExtStop: bool = False
+    TorqueLimit: float = 0.0
 
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan; ExtStop is passed to the running command every scan."""
@@ -158,7 +170,7 @@ class MC_MoveRelative(_MoveFB):
     Buffered, the distance counts from the end of the preceding motion.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Distance": 0.0}
+    Distance: float = 0.0
 
     def _target(self, mode: MC_BufferMode) -> float | None:
         distance = number(self.Distance)
@@ -177,7 +189,7 @@ class MC_MoveAdditive(_MoveFB):
     otherwise the actual position + Distance. No Ref needed.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Distance": 0.0}
+    Distance: float = 0.0
 
     def _target(self, mode: MC_BufferMode) -> float | None:
         distance = number(self.Distance)
@@ -185,7 +197,8 @@ class MC_MoveAdditive(_MoveFB):
             return None
         axis = self.axis
         if axis.state == AxisState.DiscreteMotion or (
-                mode != MC_BufferMode.Aborting and axis.active is not None):
+            mode != MC_BufferMode.Aborting and axis.active is not None
+        ):
             return axis.last_target() + distance
         return axis.actual + distance
 
@@ -197,10 +210,11 @@ class MC_MoveVelocity(MotionFB):
     Direction: MC_Positive, MC_Negative or MC_Current (the current direction, positive at rest).
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {
-        "Velocity": 0.0, "Acceleration": 0.0, "Deceleration": 0.0, "Jerk": 0.0,
-        "Direction": MC_Direction.MC_Positive,
-    }
+    Velocity: float = 0.0
+    Acceleration: float = 0.0
+    Deceleration: float = 0.0
+    Jerk: float = 0.0
+    Direction: int = MC_Direction.MC_Positive
 
     def __init__(self) -> None:
         super().__init__()
@@ -211,8 +225,7 @@ class MC_MoveVelocity(MotionFB):
         error = axis.check_ready()
         if error:
             return error
-        limits = motion_limits(axis, self.Velocity, self.Acceleration, self.Deceleration,
-                               self.Jerk)
+        limits = motion_limits(axis, self.Velocity, self.Acceleration, self.Deceleration, self.Jerk)
         if isinstance(limits, int):
             return limits
         direction = number(self.Direction)
@@ -226,8 +239,13 @@ class MC_MoveVelocity(MotionFB):
     def _show_more(self, visible: bool, final: Status | None) -> None:
         super()._show_more(visible, final)
         cmd = self._cmd
-        self.InVelocity = (self._running and bool(self.Execute) and cmd is not None
-                           and cmd.status == Status.Active and cmd.signal)
+        self.InVelocity = (
+            self._running
+            and bool(self.Execute)
+            and cmd is not None
+            and cmd.status == Status.Active
+            and cmd.signal
+        )
 
 
 class MC_Halt(MotionFB):
@@ -236,7 +254,8 @@ class MC_Halt(MotionFB):
     Beyond the seed (PLCopen Part 1); Done at standstill, the axis then goes to StandStill.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Deceleration": 0.0, "Jerk": 0.0}
+    Deceleration: float = 0.0
+    Jerk: float = 0.0
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         axis = self.axis
@@ -255,7 +274,8 @@ class MC_Stop(MotionFB):
     While Execute is TRUE no other motion command is accepted (EAxStop 6).
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Deceleration": 0.0, "Jerk": 0.0}
+    Deceleration: float = 0.0
+    Jerk: float = 0.0
 
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan; the axis leaves Stopping once Done and Execute is FALSE."""
@@ -287,10 +307,13 @@ class GT_Jog(FunctionBlock):
     is running), Error, ErrorID.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {
-        "Enable": False, "JogPos": False, "JogNeg": False, "JogVelo": 0.0, "JogAcc": 0.0,
-        "JogDec": 0.0, "JogJerk": 0.0,
-    }
+    Enable: bool = False
+    JogPos: bool = False
+    JogNeg: bool = False
+    JogVelo: float = 0.0
+    JogAcc: float = 0.0
+    JogDec: float = 0.0
+    JogJerk: float = 0.0
 
     def __init__(self) -> None:
         super().__init__()
@@ -345,7 +368,7 @@ class GT_EStop(FunctionBlock):
     cleared, every axis goes Disabled. ``Done`` while Enable is TRUE and all axes are Disabled.
     """
 
-    INPUTS: ClassVar[dict[str, Any]] = {"Enable": False}
+    Enable: bool = False
 
     def __init__(self) -> None:
         super().__init__()
@@ -366,6 +389,13 @@ class GT_EStop(FunctionBlock):
 
 
 __all__ = [
-    "GT_EStop", "GT_Jog", "GT_MoveAbsBlock", "MC_Halt", "MC_MoveAbsolute", "MC_MoveAdditive",
-    "MC_MoveRelative", "MC_MoveVelocity", "MC_Stop",
+    "GT_EStop",
+    "GT_Jog",
+    "GT_MoveAbsBlock",
+    "MC_Halt",
+    "MC_MoveAbsolute",
+    "MC_MoveAdditive",
+    "MC_MoveRelative",
+    "MC_MoveVelocity",
+    "MC_Stop",
 ]

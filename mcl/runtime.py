@@ -1,4 +1,4 @@
-"""Lockstep runtime: physics steps, servo cycles and PLC cycles on simulated time (DESIGN "Data flow").
+"""Lockstep runtime: physics steps, servo and PLC cycles on simulated time (DESIGN "Data flow").
 
 No wall clock: a scenario is deterministic and runs as fast as the CPU allows. Each period is an
 integer multiple of the plant's timestep, checked at construction. Within one tick the PLC program
@@ -39,7 +39,8 @@ def ticks_per(period: float, timestep: float, what: str) -> int:
     if n < 1 or abs(n * timestep - period) > 1e-9 * period:
         raise ValueError(
             f"{what} {period * 1e3:g} ms is not an integer multiple of the physics timestep "
-            f"{timestep * 1e3:g} ms; use e.g. {max(n, 1) * timestep * 1e3:g} ms")
+            f"{timestep * 1e3:g} ms; use e.g. {max(n, 1) * timestep * 1e3:g} ms"
+        )
     return n
 
 
@@ -75,9 +76,13 @@ class Runtime:
         """Simulated time [s]."""
         return self._tick * self.plant.timestep
 
-    def run(self, program: Callable[[], None] | None = None,
-            until: Callable[[], bool] | None = None, timeout: float = 10.0) -> float:
-        """Run PLC cycles until ``until()`` is true (checked after every PLC cycle) or for ``timeout``.
+    def run(
+        self,
+        program: Callable[[], None] | None = None,
+        until: Callable[[], bool] | None = None,
+        timeout: float = 10.0,
+    ) -> float:
+        """Run PLC cycles until ``until()`` is true (checked every PLC cycle) or for ``timeout``.
 
         Args:
             program: one PLC scan (calls FB instances); None runs no program.

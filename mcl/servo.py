@@ -76,7 +76,7 @@ class ServoConstants:
 class Regulator:
     """Discrete PID position regulator with feed-forward, anti-windup and DAC output."""
 
-    __slots__ = ("c", "period", "_ff", "_integral", "_e_prev")
+    __slots__ = ("_e_prev", "_ff", "_integral", "c", "period")
 
     def __init__(self, constants: ServoConstants, period: float) -> None:
         """Args: constants: the axis' servo constants; period: servo period [s]."""
@@ -92,7 +92,7 @@ class Regulator:
         self._e_prev = 0.0
 
     def carry_over(self, other: Regulator) -> None:
-        """Take over the integrator of the regulator this one replaces (no bump on new constants)."""
+        """Take over the integrator of the regulator this one replaces (no bump)."""
         self._integral = other._integral
         self._e_prev = other._e_prev
 
@@ -112,8 +112,12 @@ class Regulator:
         c = self.c
         period = self.period
         ff = self._ff
-        u = (c.Kp * e + self._integral + c.Kd * (e - self._e_prev) / period
-             + ff * (c.Ff * v_model + c.Ka * a_model))
+        u = (
+            c.Kp * e
+            + self._integral
+            + c.Kd * (e - self._e_prev) / period
+            + ff * (c.Ff * v_model + c.Ka * a_model)
+        )
         out = dac(u)
         ki = c.Ki + c.Ki1 if settle else c.Ki
         self._integral += period * (ki * e + c.Kc * (out - u))

@@ -10,10 +10,13 @@ boundary to the axis' user units.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+from mcl.axis import Axis, AxisConfig
 from mcl.encoder import IncrementalEncoder
+from mcl.module import Module
+from mcl.runtime import Runtime
 
 
 @dataclass(frozen=True, slots=True)
@@ -32,7 +35,7 @@ class SimAxisParams:
         brake_force: holding force of the brake engaged while the drive is disabled [N]; 0 = none.
         stop_neg, stop_pos: hard stops [m].
         stop_stiffness: end-stop stiffness [N/m].
-        lim_neg, lim_pos: LIM− is actuated at or below ``lim_neg``, LIM+ at or above ``lim_pos`` [m].
+        lim_neg, lim_pos: LIM− actuated at or below ``lim_neg``, LIM+ at or above ``lim_pos`` [m].
         ref_low, ref_high: REF is actuated between these positions [m].
         lead: travel per motor revolution (one index pulse each) [m].
         resolution: travel per encoder count [m].
@@ -100,7 +103,7 @@ class SimAxis:
         self.enabled = enable
 
     def step(self, dt: float) -> None:
-        """Integrate the axis over ``dt`` seconds (semi-implicit Euler, friction at velocity level)."""
+        """Integrate over ``dt`` seconds (semi-implicit Euler, friction at velocity level)."""
         p = self.params
         v = self.v
         if self.enabled:
@@ -165,3 +168,52 @@ class SimPlant:
             axis.step(dt)
         self._ticks += 1
         self.time = self._ticks * dt
+
+
+class SimMachine:
+    """Simulated axes wired to mcl axes on one module, with their lockstep runtime.
+
+    The same surface as a MuJoCo scene: ``machine.axes["X"]``, ``machine.run(program, until,
+    timeout)``, ``machine.time``.
+
+    Args:
+        axes: axis name → physical data of its simulated axis.
+        config: machine data shared by the axes (resolution must match the simulated encoder).
+        timestep: plant integration step [s].
+        plc_period: PLC cycle [s].
+    """
+
+    def __init__(
+        self,
+        axes: dict[str, SimAxisParams] | None = None,
+        config: AxisConfig | None = None,
+        timestep: float = 0.0005,
+        plc_period: float = 0.002,
+    ) -> None:
+        params = axes if axes is not None else {"X": SimAxisParams()}
+        config = config if config is not None else AxisConfig()
+        self.sims = {name: SimAxis(p) for name, p in params.items()}
+        for name, p in params.items():
+            if abs(p.resolution * 1000.0 - config.resolution) > 1e-12:
+                raise ValueError(
+                    f"axis {name!r}: AxisConfig.resolution {config.resolution} mm must equal the "
+                    f"simulated encoder's {p.resolution * 1000.0} mm per count"
+                )
+        self.plant = SimPlant(list(self.sims.values()), timestep)
+        self.axes = {name: Axis(sim, config, name) for name, sim in self.sims.items()}
+        self.module = Module(self.axes.values())
+        self.runtime = Runtime(self.plant, self.axes.values(), plc_period)
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self.runtime.time
+
+    def run(
+        self,
+        program: Callable[[], None] | None = None,
+        until: Callable[[], bool] | None = None,
+        timeout: float = 10.0,
+    ) -> float:
+        """Run PLC cycles; see :meth:`mcl.runtime.Runtime.run`."""
+        return self.runtime.run(program, until, timeout)

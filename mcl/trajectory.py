@@ -77,8 +77,18 @@ _ruckig = ruckig.Ruckig(1)
 _input = ruckig.InputParameter(1)
 
 
-def _plan(interface: Any, p0: float, v0: float, a0: float, target: float, v_end: float,
-          v_max: float, acc_up: float, acc_down: float, jerk: float) -> Any:
+def _plan(
+    interface: Any,
+    p0: float,
+    v0: float,
+    a0: float,
+    target: float,
+    v_end: float,
+    v_max: float,
+    acc_up: float,
+    acc_down: float,
+    jerk: float,
+) -> Any:
     inp = _input
     inp.control_interface = interface
     inp.current_position = [p0]
@@ -101,8 +111,9 @@ def _plan(interface: Any, p0: float, v0: float, a0: float, target: float, v_end:
     return traj
 
 
-def move_to(p0: float, v0: float, a0: float, target: float, limits: Limits,
-            v_end: float = 0.0) -> Profile:
+def move_to(
+    p0: float, v0: float, a0: float, target: float, limits: Limits, v_end: float = 0.0
+) -> Profile:
     """Time-optimal motion from the state (p0, v0, a0) to ``target``, arriving with ``v_end``.
 
     Speeding up uses ``limits.acceleration``, slowing down ``limits.deceleration`` (in the
@@ -114,8 +125,18 @@ def move_to(p0: float, v0: float, a0: float, target: float, limits: Limits,
     direction = 1.0 if target > p0 or (target == p0 and v0 >= 0.0) else -1.0
     acc, dec = limits.acceleration, limits.deceleration
     up, down = (acc, dec) if direction > 0 else (dec, acc)
-    traj = _plan(ruckig.ControlInterface.Position, p0, v0, a0, target, v_end,
-                 limits.velocity, up, down, limits.jerk)
+    traj = _plan(
+        ruckig.ControlInterface.Position,
+        p0,
+        v0,
+        a0,
+        target,
+        v_end,
+        limits.velocity,
+        up,
+        down,
+        limits.jerk,
+    )
     return Profile([(0.0, traj, 0.0)])
 
 
@@ -129,8 +150,18 @@ def velocity_to(p0: float, v0: float, a0: float, v_target: float, limits: Limits
         up, down = (acc if v0 >= 0.0 else dec), max(acc, dec)
     else:
         up, down = max(acc, dec), (acc if v0 <= 0.0 else dec)
-    traj = _plan(ruckig.ControlInterface.Velocity, p0, v0, a0, 0.0, v_target,
-                 max(limits.velocity, abs(v_target), abs(v0)), up, down, limits.jerk)
+    traj = _plan(
+        ruckig.ControlInterface.Velocity,
+        p0,
+        v0,
+        a0,
+        0.0,
+        v_target,
+        max(limits.velocity, abs(v_target), abs(v0)),
+        up,
+        down,
+        limits.jerk,
+    )
     return Profile([(0.0, traj, 0.0)])
 
 
@@ -145,13 +176,24 @@ def _stays_between(profile: Profile, a: float, b: float) -> bool:
     return lo >= min(a, b) - tol and hi <= max(a, b) + tol
 
 
-def _ramp_then_arrive(p0: float, v0: float, a0: float, target: float, limits: Limits,
-                      v_end: float) -> Profile | None:
+def _ramp_then_arrive(
+    p0: float, v0: float, a0: float, target: float, limits: Limits, v_end: float
+) -> Profile | None:
     """Cruise at ``limits.velocity``, then speed up to ``|v_end| > velocity`` ending at target."""
     direction = math.copysign(1.0, v_end)
     cruise = direction * limits.velocity
-    ramp = _plan(ruckig.ControlInterface.Velocity, 0.0, cruise, 0.0, 0.0, v_end, abs(v_end),
-                 limits.acceleration, limits.acceleration, limits.jerk)
+    ramp = _plan(
+        ruckig.ControlInterface.Velocity,
+        0.0,
+        cruise,
+        0.0,
+        0.0,
+        v_end,
+        abs(v_end),
+        limits.acceleration,
+        limits.acceleration,
+        limits.jerk,
+    )
     ramp_length = ramp.at_time(ramp.duration)[0][0]
     approach_target = target - ramp_length
     try:
@@ -160,12 +202,12 @@ def _ramp_then_arrive(p0: float, v0: float, a0: float, target: float, limits: Li
         return None
     if not _stays_between(approach, p0, approach_target):
         return None
-    return Profile([(0.0, approach._pieces[0][1], 0.0),
-                    (approach.duration, ramp, approach_target)])
+    return Profile([(0.0, approach._pieces[0][1], 0.0), (approach.duration, ramp, approach_target)])
 
 
-def blend_to(p0: float, v0: float, a0: float, target: float, limits: Limits,
-             v_end: float) -> Profile:
+def blend_to(
+    p0: float, v0: float, a0: float, target: float, limits: Limits, v_end: float
+) -> Profile:
     """Motion to ``target`` that ends with ``v_end`` when reachable, never overshooting the target.
 
     Used when a blending command waits behind the current one (SPEC §4). When ``|v_end|`` exceeds
