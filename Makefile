@@ -2,7 +2,7 @@
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 UV     := python3 -m uv
-SCENE  ?= gantry
+SCENE  ?= single_axis
 
 .PHONY: setup run test lint typecheck pytest bench clean
 

@@ -545,18 +545,20 @@ class Axis:
         t_end = cmd.t0 + (profile.duration if profile is not None else t - cmd.t0)
         pe, ve, ae = cmd.setpoint(self, t_end - cmd.t0)
         cmd.status = Status.Done if cmd.finished() else Status.Aborted
+        failed = False
         while self.queue:
             nxt = self.queue.popleft()
             try:
                 self._start(nxt, pe, ve, ae, t_end, self.queue[0] if self.queue else None)
             except PlanningError:
                 nxt.status, nxt.error_id = Status.Error, ErrorID.EParam
+                failed = True
                 continue
             self.active = nxt
             self.state = nxt.state
             return nxt.setpoint(self, t - t_end)
         self.active = None
-        if ve != 0.0:  # a blending successor failed to start: stop on the maximum ramp
+        if failed and ve != 0.0:  # a blending successor failed to start: stop on the max ramp
             self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = pe, ve, ae, t_end
             self._ramp_down(AxisState.DiscreteMotion)
             assert self.active is not None

@@ -171,7 +171,7 @@ class SimPlant:
 
 
 class SimMachine:
-    """Simulated axes wired to mcl axes on one module, with their lockstep runtime.
+    """Simulated axes wired to mcl axes (six to a module), with their lockstep runtime.
 
     The same surface as a MuJoCo scene: ``machine.axes["X"]``, ``machine.run(program, until,
     timeout)``, ``machine.time``.
@@ -201,7 +201,12 @@ class SimMachine:
                 )
         self.plant = SimPlant(list(self.sims.values()), timestep)
         self.axes = {name: Axis(sim, config, name) for name, sim in self.sims.items()}
-        self.module = Module(self.axes.values())
+        members = list(self.axes.values())
+        self.modules = [
+            Module(members[i : i + Module.MAX_AXES])
+            for i in range(0, len(members), Module.MAX_AXES)
+        ]
+        """The axes in order, six to a servo module."""
         self.runtime = Runtime(self.plant, self.axes.values(), plc_period)
 
     @property

@@ -1,0 +1,81 @@
+"""Readable console reports of a running program: FB output edges, axis positions and states."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from typing import Any, Protocol
+
+import mcl
+
+SIGNALS = ("Status", "Done", "Busy", "Active", "InVelocity", "CommandAborted", "Error")
+
+
+class Machine(Protocol):
+    """What a report watches: named axes and a runtime with observers."""
+
+    @property
+    def axes(self) -> Mapping[str, mcl.Axis]:
+        """The machine's axes by name."""
+        ...
+
+    @property
+    def runtime(self) -> mcl.Runtime:
+        """The lockstep runtime (its observers are called every servo cycle)."""
+        ...
+
+
+class EdgeLog:
+    """Prints every edge of the watched FB outputs with the time and the axes' positions.
+
+    Args:
+        machine: a SimMachine or a scene.
+        out: where lines go (``print`` by default).
+    """
+
+    def __init__(self, machine: Machine, out: Callable[[str], None] = print) -> None:
+        self.machine = machine
+        self.out = out
+        self.blocks: dict[str, Any] = {}
+        self._last: dict[tuple[str, str], Any] = {}
+        self.peak_error = {name: 0.0 for name in machine.axes}
+        machine.runtime.observers.append(self._observe)
+
+    def watch(self, **blocks: Any) -> None:
+        """Add FB instances to watch, by name."""
+        self.blocks.update(blocks)
+
+    def title(self, text: str) -> None:
+        """Start a new section."""
+        self.out(f"\n== {text}")
+
+    def _axes(self) -> str:
+        return "  ".join(
+            f"{n}={a.POS:9.3f} mm {a.state.name}" for n, a in self.machine.axes.items()
+        )
+
+    def _observe(self, t: float) -> None:
+        for name, axis in self.machine.axes.items():
+            fe = abs(axis.following_error)
+            if fe > self.peak_error[name]:
+                self.peak_error[name] = fe
+        for name, block in self.blocks.items():
+            for signal in SIGNALS:
+                value = getattr(block, signal, None)
+                if value is None:
+                    continue
+                key = (name, signal)
+                if self._last.get(key, False) != value:
+                    self._last[key] = value
+                    edge = "↑" if value else "↓"
+                    extra = f" ErrorID={block.ErrorID}" if signal == "Error" and value else ""
+                    self.out(f"t={t:7.3f} s  {name}.{signal}{edge}{extra}   {self._axes()}")
+
+    def summary(self) -> None:
+        """Final positions, states and peak following errors."""
+        self.out("\n== summary")
+        for name, axis in self.machine.axes.items():
+            self.out(
+                f"{name}: POS {axis.POS:.4f} mm, state {axis.state.name}, "
+                f"AxErrorID {axis.AxErrorID}, peak following error "
+                f"{self.peak_error[name] * 1000:.1f} µm"
+            )

@@ -1,0 +1,225 @@
+"""The MJCF machine models honour the contract of models/README.md (names, numerics, physics)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+MODELS = Path(__file__).resolve().parent.parent / "models"
+GANTRY = MODELS / "gantry.xml"
+AXES = ("X", "Y", "Z")
+SWITCHES = ("lim_neg", "lim_pos", "ref")
+
+
+@pytest.fixture(scope="module")
+def model() -> mujoco.MjModel:
+    return mujoco.MjModel.from_xml_path(str(GANTRY))
+
+
+@pytest.fixture
+def data(model: mujoco.MjModel) -> mujoco.MjData:
+    d = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, d, model.key("home").id)
+    mujoco.mj_forward(model, d)
+    return d
+
+
+@pytest.fixture
+def fresh() -> mujoco.MjModel:
+    """A private model for tests that modify model fields (brake, disabled amplifier)."""
+    return mujoco.MjModel.from_xml_path(str(GANTRY))
+
+
+def num(model: mujoco.MjModel, name: str) -> np.ndarray:
+    return np.asarray(model.numeric(name).data, dtype=float)
+
+
+def switch_on(model: mujoco.MjModel, data: mujoco.MjData, axis: str, kind: str) -> bool:
+    """The switch formula of models/README.md, from site positions only."""
+    e = data.xaxis[model.joint(axis).id]
+    cam = data.site_xpos[model.site(f"{axis}_{kind}_cam").id]
+    sw = data.site_xpos[model.site(f"{axis}_{kind}").id]
+    lo, hi = num(model, f"{axis}_{kind}_window")
+    d = float((cam - sw) @ e)
+    return lo <= d <= hi
+
+
+def trip(model: mujoco.MjModel, axis: str, kind: str) -> float:
+    name = f"{axis}_ref_edge" if kind == "ref" else f"{axis}_{kind}_trip"
+    return float(num(model, name)[0])
+
+
+def place(model: mujoco.MjModel, data: mujoco.MjData, axis: str, q: float) -> None:
+    data.qpos[model.jnt_qposadr[model.joint(axis).id]] = q
+    mujoco.mj_forward(model, data)
+
+
+def run(model: mujoco.MjModel, data: mujoco.MjData, seconds: float) -> None:
+    mujoco.mj_step(model, data, nstep=round(seconds / model.opt.timestep))
+
+
+def test_contract_names_exist(model: mujoco.MjModel) -> None:
+    assert model.opt.timestep == pytest.approx(0.0005)
+    model.key("home")
+    model.site("tool")
+    for name in ("bridge", "carriage", "ram", "X_obstacle"):
+        model.body(name)
+    for name in ("floor", "X_bumper", "X_obstacle_geom", "tool_geom"):
+        model.geom(name)
+    model.sensor("tool_pos")
+    for ax in AXES:
+        assert model.joint(ax).type == mujoco.mjtJoint.mjJNT_SLIDE
+        assert model.jnt_limited[model.joint(ax).id]
+        model.actuator(f"{ax}_amp")
+        for kind in SWITCHES:
+            model.site(f"{ax}_{kind}")
+            model.site(f"{ax}_{kind}_cam")
+            model.geom(f"{ax}_{kind}_geom")
+            model.geom(f"{ax}_{kind}_cam_geom")
+            assert num(model, f"{ax}_{kind}_window").shape == (2,)
+        for end in ("neg", "pos"):
+            model.geom(f"{ax}_stop_{end}")
+            model.numeric(f"{ax}_lim_{end}_trip")
+        for suffix in ("pos", "vel", "force"):
+            model.sensor(f"{ax}_{suffix}")
+        for name in ("lead", "J", "counts_per_rev", "index_width", "vmax", "kamp", "ref_edge"):
+            assert num(model, f"{ax}_{name}").shape == (1,)
+        assert num(model, f"{ax}_travel").shape == (2,)
+    assert num(model, "Z_brake_force").shape == (1,)
+    for name in ("X_obstacle_blockpos", "X_obstacle_blockneg"):
+        assert num(model, name).shape == (3,)
+
+
+def test_home_keyframe(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    np.testing.assert_array_equal(data.qpos, 0.0)
+    np.testing.assert_array_equal(data.act, 0.0)
+    for ax in AXES:
+        lo, hi = num(model, f"{ax}_travel")
+        assert lo <= 0.0 <= hi
+    # At home X and Y sit below their REF edge (REF on), Z sits above its edge (REF off).
+    assert switch_on(model, data, "X", "ref") and switch_on(model, data, "Y", "ref")
+    assert not switch_on(model, data, "Z", "ref")
+    assert not any(switch_on(model, data, ax, k) for ax in AXES for k in ("lim_neg", "lim_pos"))
+
+
+def test_drive_parameters_are_consistent(model: mujoco.MjModel) -> None:
+    for ax in AXES:
+        j, a = model.joint(ax).id, model.actuator(f"{ax}_amp").id
+        lead, J = num(model, f"{ax}_lead")[0], num(model, f"{ax}_J")[0]
+        vmax, kamp = num(model, f"{ax}_vmax")[0], num(model, f"{ax}_kamp")[0]
+        armature = model.dof_armature[model.jnt_dofadr[j]]
+        assert armature == pytest.approx(J * (2 * math.pi / lead) ** 2)
+        assert num(model, f"{ax}_counts_per_rev")[0] * 1e-6 == pytest.approx(lead)
+        np.testing.assert_array_equal(model.actuator_ctrlrange[a], [-10.0, 10.0])
+        assert model.actuator_gainprm[a, 0] == pytest.approx(kamp * vmax / 10.0)
+        assert model.actuator_biasprm[a, 2] == pytest.approx(-kamp)
+        assert model.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_FILTER
+        assert model.actuator_forcelimited[a]
+        # the hard stops lie beyond the LIM trip points, which lie beyond the travel
+        lo, hi = model.jnt_range[j]
+        tlo, thi = num(model, f"{ax}_travel")
+        assert lo < trip(model, ax, "lim_neg") < tlo and thi < trip(model, ax, "lim_pos") < hi
+    # Z holds its weight with the drive at full force
+    weight = model.body_subtreemass[model.body("ram").id] * -model.opt.gravity[2]
+    assert model.actuator_forcerange[model.actuator("Z_amp").id, 1] > 10 * weight
+
+
+def test_switch_formula_at_joint_positions(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """The geometric formula equals the joint-coordinate form d = q - trip."""
+    for ax in AXES:
+        lo, hi = model.jnt_range[model.joint(ax).id]
+        lim_neg, lim_pos, ref = (trip(model, ax, k) for k in SWITCHES)
+        for q in np.linspace(lo, hi, 61):
+            place(model, data, ax, q)
+            for kind in SWITCHES:
+                e = data.xaxis[model.joint(ax).id]
+                cam = data.site_xpos[model.site(f"{ax}_{kind}_cam").id]
+                sw = data.site_xpos[model.site(f"{ax}_{kind}").id]
+                assert (cam - sw) @ e == pytest.approx(q - trip(model, ax, kind), abs=1e-9)
+        cases = [
+            (lo, True, False, True),
+            (lim_neg - 0.001, True, False, True),
+            (lim_neg + 0.001, False, False, True),
+            (ref - 0.001, False, False, True),
+            (ref + 0.001, False, False, False),
+            (lim_pos - 0.001, False, False, False),
+            (lim_pos + 0.001, False, True, False),
+            (hi, False, True, False),
+        ]
+        for q, want_neg, want_pos, want_ref in cases:
+            place(model, data, ax, q)
+            got = tuple(switch_on(model, data, ax, k) for k in SWITCHES)
+            assert got == (want_neg, want_pos, want_ref), (ax, q)
+
+
+def test_dog_geoms_match_switch_windows(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """What a viewer shows agrees with the formula: a switch is on iff its site is over its dog."""
+    for ax in AXES:
+        lo, hi = model.jnt_range[model.joint(ax).id]
+        for q in np.linspace(lo, hi, 97):
+            place(model, data, ax, q)
+            e = data.xaxis[model.joint(ax).id]
+            for kind in SWITCHES:
+                g = model.geom(f"{ax}_{kind}_cam_geom").id
+                half = np.abs(data.geom_xmat[g].reshape(3, 3).T @ e) @ model.geom_size[g]
+                s = (data.site_xpos[model.site(f"{ax}_{kind}").id] - data.geom_xpos[g]) @ e
+                if abs(abs(s) - half) > 1e-6:  # skip the edges themselves
+                    assert (abs(s) < half) == switch_on(model, data, ax, kind), (ax, kind, q)
+
+
+def test_brake_holds_z(fresh: mujoco.MjModel) -> None:
+    m = fresh
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key("home").id)
+    a, z = m.actuator("Z_amp").id, m.joint("Z").id
+    m.opt.disableactuator |= 1 << int(m.actuator_group[a])  # drive off
+    m.dof_frictionloss[m.jnt_dofadr[z]] = num(m, "Z_brake_force")[0]  # brake on
+    d.qpos[z] = -0.1
+    run(m, d, 2.0)
+    assert d.actuator_force[a] == 0.0
+    assert abs(d.qpos[z] + 0.1) < 1e-4
+    # and without the brake the ram falls
+    m.dof_frictionloss[m.jnt_dofadr[z]] = 40.0
+    run(m, d, 0.2)
+    assert d.qpos[z] < -0.1 - 1e-3
+
+
+def test_x_velocity_at_full_command(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    x = model.joint("X").id
+    place(model, data, "X", 0.1)
+    data.ctrl[model.actuator("X_amp").id] = 10.0
+    run(model, data, 0.2)
+    assert data.qvel[x] == pytest.approx(num(model, "X_vmax")[0], rel=0.05)
+
+
+def test_x_into_positive_stop_is_stable(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    x, a = model.joint("X").id, model.actuator("X_amp").id
+    hi = model.jnt_range[x, 1]
+    place(model, data, "X", hi - 0.05)
+    data.ctrl[a] = 10.0
+    worst = 0.0
+    for _ in range(20):
+        run(model, data, 0.1)
+        assert np.isfinite(data.qpos).all() and np.isfinite(data.qvel).all()
+        worst = max(worst, data.qpos[x] - hi)
+    assert worst < 0.002
+    assert abs(data.qvel[x]) < 1e-3
+    assert data.actuator_force[a] == pytest.approx(model.actuator_forcerange[a, 1])
+    assert switch_on(model, data, "X", "lim_pos")
+
+
+@pytest.mark.parametrize(("which", "volts", "q_block"), [("pos", 10.0, 0.5), ("neg", -10.0, 0.3)])
+def test_obstacle_blocks_x(fresh: mujoco.MjModel, which: str, volts: float, q_block: float) -> None:
+    m = fresh
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key("home").id)
+    shift = np.array([q_block, 0.0, 0.0])
+    m.body_pos[m.body("X_obstacle").id] = num(m, f"X_obstacle_block{which}") + shift
+    d.qpos[m.joint("X").id] = 0.4
+    d.ctrl[m.actuator("X_amp").id] = volts
+    run(m, d, 1.0)
+    assert d.qpos[m.joint("X").id] == pytest.approx(q_block, abs=0.002)
