@@ -2,8 +2,9 @@
 
 No wall clock: a scenario is deterministic and runs as fast as the CPU allows. Each period is an
 integer multiple of the plant's timestep, checked at construction. Within one tick the PLC program
-runs first (FB calls queue commands), then the servo cycle of every axis (read inputs, setpoint,
-regulator, write volts), then the plant integrates one timestep.
+runs first (FB calls queue commands), then, on servo ticks, the plant samples its inputs and every
+axis runs its servo cycle (read inputs, setpoint, regulator, write volts); then the plant integrates
+one timestep.
 """
 
 from __future__ import annotations
@@ -19,11 +20,18 @@ class Plant(Protocol):
 
     timestep: float
     """Integration step [s]."""
-    time: float
-    """Simulated time [s]."""
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        ...
 
     def step(self) -> None:
         """Advance the plant by one timestep."""
+        ...
+
+    def sense(self) -> None:
+        """Sample every axis' inputs for the servo cycle at the current instant."""
         ...
 
 
@@ -108,6 +116,7 @@ class Runtime:
                 program()
             if tick % servo_ticks == 0:
                 t = tick * dt
+                plant.sense()
                 for axis in axes:
                     axis.servo_cycle(t)
                 for observe in observers:

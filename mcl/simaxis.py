@@ -95,7 +95,7 @@ class SimAxis:
         p = self.params
         self.x = p.start
         self._encoder = IncrementalEncoder(p.resolution, round(p.lead / p.resolution), p.start)
-        self._sense()
+        self.sense()
 
     def write(self, volts: float, enable: bool) -> None:
         """Analog command [V] and drive enable (False: no force, brake engaged)."""
@@ -134,9 +134,9 @@ class SimAxis:
         if x > self.blocked_at:
             x, v = self.blocked_at, min(v, 0.0)
         self.x, self.v = x, v
-        self._sense()
 
-    def _sense(self) -> None:
+    def sense(self) -> None:
+        """Sample encoder and switches at the current position (the index latch stays exact)."""
         p, x = self.params, self.x
         enc = self._encoder
         enc.update(x)
@@ -168,6 +168,11 @@ class SimPlant:
             axis.step(dt)
         self._ticks += 1
         self.time = self._ticks * dt
+
+    def sense(self) -> None:
+        """Sample every axis' inputs."""
+        for axis in self.axes:
+            axis.sense()
 
 
 class SimMachine:
