@@ -20,6 +20,14 @@ from mcl.administrative import (
 from mcl.axis import Axis, AxisConfig
 from mcl.enums import AxisState, GroupState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.errors import ErrorID, error_text
+from mcl.homing import (
+    MC_FinishHoming,
+    MC_StepAbsSwitch,
+    MC_StepBlock,
+    MC_StepDirect,
+    MC_StepLimitSwitch,
+    MC_StepRefPulse,
+)
 from mcl.io import AxisIO
 from mcl.module import Module
 from mcl.motion import (
@@ -56,6 +64,7 @@ __all__ = [
     "GroupState",
     "MC_BufferMode",
     "MC_Direction",
+    "MC_FinishHoming",
     "MC_Halt",
     "MC_MoveAbsolute",
     "MC_MoveAdditive",
@@ -66,6 +75,11 @@ __all__ = [
     "MC_ReadAxisError",
     "MC_ReadStatus",
     "MC_Reset",
+    "MC_StepAbsSwitch",
+    "MC_StepBlock",
+    "MC_StepDirect",
+    "MC_StepLimitSwitch",
+    "MC_StepRefPulse",
     "MC_Stop",
     "MC_SwitchMode",
     "Module",

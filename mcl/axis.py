@@ -515,7 +515,7 @@ class Axis:
         else:
             p, v, a = cmd.setpoint(self, t - cmd.t0)
             if cmd.signal and (self.queue or cmd.finished()):
-                p, v, a = self._handover(cmd, t)
+                p, v, a = self._handover(cmd, t, p, v, a)
         self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = p, v, a, t
         stop = self._stop
         if stop is not None and not stop.hold and self.active is None:
@@ -523,6 +523,7 @@ class Axis:
             if self.state == AxisState.Stopping:
                 self.state = AxisState.StandStill
 
+        actual = self.actual  # a homing step may have just set the coordinate
         e = p - actual
         self.following_error = e
         self._supervise(e, v, actual, io.lim_pos, io.lim_neg)
@@ -539,11 +540,12 @@ class Axis:
             self.volts = regulator.output(e, self.sp_vel, self.sp_acc, settle)
         io.write(self.volts, True)
 
-    def _handover(self, cmd: Command, t: float) -> tuple[float, float, float]:
+    def _handover(
+        self, cmd: Command, t: float, p: float, v: float, a: float
+    ) -> tuple[float, float, float]:
         """``cmd`` reached its activating signal: report it and start the successor (if any)."""
-        profile = getattr(cmd, "profile", None)
-        t_end = cmd.t0 + (profile.duration if profile is not None else t - cmd.t0)
-        pe, ve, ae = cmd.setpoint(self, t_end - cmd.t0)
+        te, pe, ve, ae = cmd.handover_state(t - cmd.t0, p, v, a)
+        t_end = cmd.t0 + te
         cmd.status = Status.Done if cmd.finished() else Status.Aborted
         failed = False
         while self.queue:
@@ -567,8 +569,8 @@ class Axis:
             self._open_loop()
         elif self.state == AxisState.ErrorStop:
             self._hold(AxisState.ErrorStop)
-        elif self.state != AxisState.Stopping:
-            self.state = AxisState.StandStill
+        else:
+            self.state = cmd.end_state
         return pe, 0.0, 0.0
 
     def _supervise(self, e: float, v: float, actual: float, lim_pos: bool, lim_neg: bool) -> None:

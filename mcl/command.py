@@ -45,6 +45,8 @@ class Command:
     """
 
     state = AxisState.DiscreteMotion
+    end_state = AxisState.StandStill
+    """State of the axis when the command ends with nothing queued behind it."""
     blendable = False
     ignores_limit_switches = False
 
@@ -78,6 +80,16 @@ class Command:
         """The command ends (reports Done) once its signal is reached."""
         return self.signal
 
+    def handover_state(
+        self, t: float, p: float, v: float, a: float
+    ) -> tuple[float, float, float, float]:
+        """When (seconds after ``t0``) and in which model state the signal was reached.
+
+        ``t`` and (p, v, a) are the current servo instant and set point; a successor starts
+        from the returned state at the returned time, so blending is exact to the sub-cycle.
+        """
+        return t, p, v, a
+
 
 class ProfileCommand(Command):
     """A command that follows one planned profile."""
@@ -94,6 +106,13 @@ class ProfileCommand(Command):
         if t >= profile.duration:
             self.signal = True
         return profile.at(t)
+
+    def handover_state(
+        self, t: float, p: float, v: float, a: float
+    ) -> tuple[float, float, float, float]:
+        profile = self.profile
+        assert profile is not None
+        return (profile.duration, *profile.at(profile.duration))
 
 
 class MoveTo(ProfileCommand):
@@ -145,6 +164,7 @@ class Stop(Halt):
     """Ramp to standstill in Stopping; holds the axis there while the FB's Execute is TRUE."""
 
     state = AxisState.Stopping
+    end_state = AxisState.Stopping
 
     def __init__(self, limits: Limits) -> None:
         super().__init__(MC_BufferMode.Aborting, limits)
