@@ -1,4 +1,4 @@
-"""Trace recorder: what a commissioning engineer plots, per axis and servo cycle, with CSV export."""
+"""Trace recorder: what a commissioning engineer plots, per axis and servo cycle; CSV export."""
 
 from __future__ import annotations
 
