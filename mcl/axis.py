@@ -107,6 +107,7 @@ class Axis:
         """GT_SInfo selection of OPT1n and OPT2n."""
 
         self.constants: ServoConstants | None = None
+        self._sw_limits = False
         self.regulator: Regulator | None = None
         self.speed_mode = 0
         self.loop_closed = False
@@ -134,7 +135,10 @@ class Axis:
         self._powering_off = False
         self._pos_prev = self.actual
         self._vel_alpha = 1.0
-        self._lim_prev = (io.lim_pos, io.lim_neg)
+        self._lim_prev: tuple[bool, ...] = (
+            (io.lim_pos, io.lim_neg) if io.lim_pos or io.lim_neg else ()
+        )
+        """Limit switch levels of the last cycle; empty while both are off (fast path)."""
 
     # ------------------------------------------------------------------ public read-outs
     @property
@@ -177,6 +181,7 @@ class Axis:
     def set_constants(self, constants: ServoConstants) -> None:
         """Write the servo constants (GT_SetConstant); the regulator restarts from zero."""
         self.constants = constants
+        self._sw_limits = constants.sw_limits_active and not self.config.modulo
         previous = self.regulator
         self.regulator = Regulator(constants, self.servo_period)
         if previous is not None:
@@ -506,7 +511,7 @@ class Axis:
             volts = self.analog_volts
             self.volts = volts if volts is not None else 0.0
             io.write(self.volts, volts is not None)
-            self._lim_prev = (io.lim_pos, io.lim_neg)
+            self._lim_prev = (io.lim_pos, io.lim_neg) if io.lim_pos or io.lim_neg else ()
             return
 
         cmd = self.active
@@ -526,7 +531,15 @@ class Axis:
         actual = self.actual  # a homing step may have just set the coordinate
         e = p - actual
         self.following_error = e
-        self._supervise(e, v, actual, io.lim_pos, io.lim_neg)
+        lim_pos, lim_neg = io.lim_pos, io.lim_neg
+        if (
+            lim_pos
+            or lim_neg
+            or self._lim_prev
+            or abs(e) > config.dev_max
+            or (self._sw_limits and self.Ref)
+        ):
+            self._supervise(e, v, actual, lim_pos, lim_neg)
         if not self.loop_closed:  # opened by the supervision
             self.volts = 0.0
             io.write(0.0, False)
@@ -575,8 +588,8 @@ class Axis:
 
     def _supervise(self, e: float, v: float, actual: float, lim_pos: bool, lim_neg: bool) -> None:
         """Following error, limit switches and software limits (SPEC §7 "Supervision")."""
-        prev_pos, prev_neg = self._lim_prev
-        self._lim_prev = (lim_pos, lim_neg)
+        prev_pos, prev_neg = self._lim_prev or (False, False)
+        self._lim_prev = (lim_pos, lim_neg) if lim_pos or lim_neg else ()
         if self.state == AxisState.ErrorStop:
             return
         if abs(e) > self.config.dev_max and not self.speed_mode:

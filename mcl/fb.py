@@ -45,6 +45,7 @@ class FunctionBlock:
     """The in-out axis references (``Axis``; ``Master``/``Slave`` for gearing)."""
 
     _all_inputs: ClassVar[dict[str, Any]] = {}
+    _names: ClassVar[frozenset[str]] = frozenset()
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         """Collect the inputs: public annotated class attributes with an initial value (not
@@ -61,6 +62,7 @@ class FunctionBlock:
                 ):
                     merged[name] = klass.__dict__[name]
         cls._all_inputs = merged
+        cls._names = frozenset(merged) | frozenset(cls.AXIS_INPUTS)
 
     def __init__(self) -> None:
         for name, value in self._all_inputs.items():
@@ -69,16 +71,19 @@ class FunctionBlock:
             setattr(self, name, None)
 
     def _take_inputs(self, inputs: dict[str, Any]) -> None:
-        for name, value in inputs.items():
-            if name in self._all_inputs:
-                setattr(self, name, value)
-            elif name in self.AXIS_INPUTS:
-                if value is not None:
+        if not inputs.keys() <= self._names:
+            unknown = sorted(inputs.keys() - self._names)
+            valid = ", ".join([*self.AXIS_INPUTS, *self._all_inputs])
+            raise TypeError(f"{type(self).__name__} has no input {unknown[0]!r}; inputs: {valid}")
+        state = self.__dict__
+        for name in self.AXIS_INPUTS:
+            if name in inputs and inputs[name] is not state[name]:
+                value = inputs[name]
+                if value is None:  # an open in-out keeps its previous reference
+                    inputs = {k: v for k, v in inputs.items() if k != name}
+                else:
                     self._check_axis_type(name, value)
-                    setattr(self, name, value)
-            else:
-                valid = ", ".join([*self.AXIS_INPUTS, *self._all_inputs])
-                raise TypeError(f"{type(self).__name__} has no input {name!r}; inputs: {valid}")
+        state.update(inputs)
 
     def _check_axis_type(self, name: str, value: Any) -> None:
         if not isinstance(value, Axis):

@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 import mcl
+from scenes.procedures import HomingRecipe
 from scenes.scene import AxisSpec, Machine, Scene
 
 
@@ -37,6 +38,16 @@ AXES = {
     "Z": _spec(vmax=500.0, kp=3.0, ki=150.0, max_acc=20000.0),
 }
 """Commissioning data of the gantry axes (user units mm)."""
+
+HOMING = {
+    # REF is on below its edge: search away from it (SwitchNegative), stop where it goes off,
+    # then the next index pulse in the positive direction is the origin. SetPosition makes the
+    # coordinate equal the joint coordinate in mm (index pulses at 120, 90 and -20 mm).
+    "X": HomingRecipe(set_position=120.0),
+    "Y": HomingRecipe(set_position=90.0),
+    "Z": HomingRecipe(set_position=-20.0, search_velocity=25.0),
+}
+"""REF switch + index homing of each axis."""
 
 
 def build(start: dict[str, float] | None = None, **scene_options: Any) -> Scene:

@@ -109,6 +109,8 @@ class Scene:
         plc_period: float = 0.002,
         trace_every: int = 1,
     ) -> None:
+        self.name = "scene"
+        """The registry name (set by :func:`scenes.load`)."""
         self.machines = list(machines)
         self.model, self.data = compose(self.machines)
         wirings = [AxisWiring(f"{m.name}/{a}", f"{m.name}/") for m in self.machines for a in m.axes]
