@@ -329,38 +329,29 @@ class Axis:
     ) -> None:
         """Activate ``cmd`` from the model state at ``t0``; it ends at the blending velocity
         toward ``successor``."""
-        v_end = self._handover_velocity(cmd, successor) if successor is not None else 0.0
+        v_end = self._handover_velocity(cmd, successor, p) if successor is not None else 0.0
         cmd.t0 = t0
         cmd.start(self, p, v, a, v_end)
         cmd.status = Status.Active
 
-    def _handover_velocity(self, first: Command, second: Command) -> float:
+    def _handover_velocity(self, first: Command, second: Command, start: float) -> float:
+        """Signed velocity at which ``first`` (starting at ``start`` [u]) hands over to
+        ``second`` (SPEC §4)."""
         if not first.blendable or first.target is None:
             return 0.0
         end = first.target
-        here = self.sp_pos if first is self.active else self.last_before(first)
         if isinstance(second, MoveVelocity):
             direction2 = _sign(second.commanded)
         else:
             direction2 = _sign(second.target - end) if second.target is not None else 0.0
         return blend_velocity(
-            second.buffer_mode, first.velocity, second.velocity, _sign(end - here), direction2
+            second.buffer_mode, first.velocity, second.velocity, _sign(end - start), direction2
         )
-
-    def last_before(self, cmd: Command) -> float:
-        """End position of the command queued before ``cmd`` (its start position) [u]."""
-        previous = self.sp_pos
-        for other in (self.active, *self.queue):
-            if other is cmd:
-                break
-            if other is not None and other.target is not None:
-                previous = other.target
-        return previous
 
     def _replan_for_successor(self, cmd: Command) -> None:
         if not isinstance(cmd, MoveTo) or not self.queue:
             return
-        v_end = self._handover_velocity(cmd, self.queue[0])
+        v_end = self._handover_velocity(cmd, self.queue[0], self.sp_pos)
         if v_end == 0.0:
             return
         try:

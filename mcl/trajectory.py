@@ -53,6 +53,11 @@ class Profile:
         self.end_position: float = p[0] + offset
         self.end_velocity: float = v[0]
 
+    def then(self, other: Profile) -> Profile:
+        """This profile followed by ``other`` (which starts where this one ends)."""
+        offset = self.duration
+        return Profile(self._pieces + [(t0 + offset, traj, p) for t0, traj, p in other._pieces])
+
     def at(self, t: float) -> tuple[float, float, float]:
         """Position [u], velocity [u/s] and acceleration [u/s²] at ``t`` seconds after the start."""
         pieces = self._pieces
@@ -62,15 +67,6 @@ class Profile:
         t0, traj, offset = pieces[i]
         p, v, a = traj.at_time(t - t0)
         return p[0] + offset, v[0], a[0]
-
-    def position_range(self) -> tuple[float, float]:
-        """Smallest and largest position the profile passes through [u]."""
-        lo, hi = math.inf, -math.inf
-        for _, traj, offset in self._pieces:
-            ext = traj.position_extrema[0]
-            lo = min(lo, ext.min + offset)
-            hi = max(hi, ext.max + offset)
-        return lo, hi
 
 
 _ruckig = ruckig.Ruckig(1)
@@ -104,7 +100,7 @@ def _plan(
     traj = ruckig.Trajectory(1)
     try:
         result = _ruckig.calculate(inp, traj)
-    except (RuntimeError, ValueError) as exc:  # ruckig.RuckigError derives from RuntimeError
+    except (ruckig.RuckigError, RuntimeError, ValueError) as exc:
         raise PlanningError(str(exc).strip()) from exc
     if result not in (ruckig.Result.Working, ruckig.Result.Finished):
         raise PlanningError(f"no trajectory: {result}")
@@ -117,25 +113,31 @@ def move_to(
     """Time-optimal motion from the state (p0, v0, a0) to ``target``, arriving with ``v_end``.
 
     Speeding up uses ``limits.acceleration``, slowing down ``limits.deceleration`` (in the
-    direction of the target). ``|v_end|`` must not exceed ``limits.velocity``.
+    direction of the target). ``|v_end|`` must not exceed ``limits.velocity``. A start faster
+    than ``limits.velocity`` toward the target (a blend from a faster motion) first slows down to
+    it with the deceleration, then continues.
 
     Raises:
         PlanningError: non-finite or inconsistent inputs.
     """
     direction = 1.0 if target > p0 or (target == p0 and v0 >= 0.0) else -1.0
+    vmax = limits.velocity
+    if abs(a0) < 1e-9 * max(limits.acceleration, limits.deceleration):
+        a0 = 0.0  # numerical residue of a profile's end: would push v0 past its limit
+    if abs(v0) > vmax and v0 * direction > 0.0:
+        if abs(v0) <= vmax * (1.0 + 1e-9):  # numerically at the limit
+            v0 = math.copysign(vmax, v0)
+        else:
+            slow = velocity_to(p0, v0, a0, math.copysign(vmax, v0), limits)
+            if (target - slow.end_position) * direction > 0.0:
+                rest = move_to(
+                    slow.end_position, math.copysign(vmax, v0), 0.0, target, limits, v_end
+                )
+                return slow.then(rest)
     acc, dec = limits.acceleration, limits.deceleration
     up, down = (acc, dec) if direction > 0 else (dec, acc)
     traj = _plan(
-        ruckig.ControlInterface.Position,
-        p0,
-        v0,
-        a0,
-        target,
-        v_end,
-        limits.velocity,
-        up,
-        down,
-        limits.jerk,
+        ruckig.ControlInterface.Position, p0, v0, a0, target, v_end, vmax, up, down, limits.jerk
     )
     return Profile([(0.0, traj, 0.0)])
 
@@ -143,24 +145,32 @@ def move_to(
 def velocity_to(p0: float, v0: float, a0: float, v_target: float, limits: Limits) -> Profile:
     """Time-optimal change of velocity to ``v_target`` (never ends: continues at ``v_target``).
 
-    Speeding up uses ``limits.acceleration``, slowing down ``limits.deceleration``.
+    Slowing down uses ``limits.deceleration``, speeding up ``limits.acceleration``; a reversal
+    brakes to standstill first and then speeds up the other way.
     """
     acc, dec = limits.acceleration, limits.deceleration
-    if v_target >= v0:  # positive acceleration: speeding up if already moving forward
-        up, down = (acc if v0 >= 0.0 else dec), max(acc, dec)
-    else:
-        up, down = max(acc, dec), (acc if v0 <= 0.0 else dec)
+    vmax = max(limits.velocity, abs(v_target), abs(v0))
+    if v0 * v_target < 0.0:
+        brake = _plan(
+            ruckig.ControlInterface.Velocity, p0, v0, a0, 0.0, 0.0, vmax, dec, dec, limits.jerk
+        )
+        p1 = brake.at_time(brake.duration)[0][0]
+        rise = _plan(
+            ruckig.ControlInterface.Velocity,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            v_target,
+            vmax,
+            acc,
+            acc,
+            limits.jerk,
+        )
+        return Profile([(0.0, brake, 0.0), (brake.duration, rise, p1)])
+    rate = acc if abs(v_target) > abs(v0) else dec
     traj = _plan(
-        ruckig.ControlInterface.Velocity,
-        p0,
-        v0,
-        a0,
-        0.0,
-        v_target,
-        max(limits.velocity, abs(v_target), abs(v0)),
-        up,
-        down,
-        limits.jerk,
+        ruckig.ControlInterface.Velocity, p0, v0, a0, 0.0, v_target, vmax, rate, rate, limits.jerk
     )
     return Profile([(0.0, traj, 0.0)])
 
@@ -170,10 +180,21 @@ def stop(p0: float, v0: float, a0: float, deceleration: float, jerk: float) -> P
     return velocity_to(p0, v0, a0, 0.0, Limits(abs(v0) + 1.0, deceleration, deceleration, jerk))
 
 
-def _stays_between(profile: Profile, a: float, b: float) -> bool:
-    lo, hi = profile.position_range()
-    tol = 1e-9 * max(1.0, abs(a), abs(b))
-    return lo >= min(a, b) - tol and hi <= max(a, b) + tol
+def _monotonic(profile: Profile, start: float, target: float, samples: int = 200) -> bool:
+    """The profile moves from ``start`` to ``target`` without overshooting or backing up.
+
+    Checked on samples (ruckig's position extrema do not cover a reversal inside the range):
+    positions stay between start and target, the velocity never points backward.
+    """
+    direction = 1.0 if target >= start else -1.0
+    lo, hi = min(start, target), max(start, target)
+    tol = 1e-9 * max(1.0, abs(start), abs(target))
+    duration = profile.duration
+    for k in range(samples + 1):
+        p, v, _ = profile.at(duration * k / samples)
+        if p < lo - tol or p > hi + tol or v * direction < -1e-9:
+            return False
+    return True
 
 
 def _ramp_then_arrive(
@@ -200,9 +221,9 @@ def _ramp_then_arrive(
         approach = move_to(p0, v0, a0, approach_target, limits, v_end=cruise)
     except PlanningError:
         return None
-    if not _stays_between(approach, p0, approach_target):
+    if not _monotonic(approach, p0, approach_target):
         return None
-    return Profile([(0.0, approach._pieces[0][1], 0.0), (approach.duration, ramp, approach_target)])
+    return approach.then(Profile([(0.0, ramp, approach_target)]))
 
 
 def blend_to(
@@ -227,7 +248,7 @@ def blend_to(
             profile = move_to(p0, v0, a0, target, limits, v_end=v)
         except PlanningError:
             return None
-        return profile if _stays_between(profile, p0, target) else None
+        return profile if _monotonic(profile, p0, target) else None
 
     best = feasible(v_end)
     if best is not None:
