@@ -77,7 +77,7 @@ class MC_Power(EnableFB):
         self.Status = axis.loop_closed and axis.state != AxisState.Disabled
         self.Error = bool(error)
         self.ErrorID = error
-        self.Valid = self.Status
+        self.Valid = self.Status and not error
 
 
 class MC_ReadStatus(EnableFB):

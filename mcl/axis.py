@@ -301,15 +301,17 @@ class Axis:
         cmd.status = Status.Queued
         if cmd.buffer_mode == MC_BufferMode.Aborting or (self.active is None and not self.queue):
             standstill = self.state == AxisState.StandStill
-            p0 = self.actual if standstill else self.sp_pos  # zero the residual loop error
+            held = self.sp_pos
+            if standstill:
+                self.sp_pos = self.actual  # zero the residual loop error
             try:
-                self._start(cmd, p0, self.sp_vel, self.sp_acc, self.t_sp, successor=None)
+                self._start(cmd, self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp, successor=None)
             except PlanningError:
+                self.sp_pos = held
                 cmd.status = Status.Error
                 cmd.error_id = ErrorID.EParam
                 return
             self._abort_all(except_cmd=cmd)
-            self.sp_pos = p0
             self.active = cmd
             self.state = cmd.state
             return

@@ -84,6 +84,12 @@ class FunctionBlock:
                 else:
                     self._check_axis_type(name, value)
         state.update(inputs)
+        for name in self.AXIS_INPUTS:
+            if state[name] is None:
+                raise TypeError(
+                    f"{type(self).__name__} needs {name}=<the in-out reference>; "
+                    f"it was never connected"
+                )
 
     def _check_axis_type(self, name: str, value: Any) -> None:
         if not isinstance(value, Axis):
@@ -142,6 +148,7 @@ class ExecuteFB(FunctionBlock):
             self._withdraw()
         self._final, self._final_error, self._final_shown = None, 0, False
         self._running = True
+        self._command_started()
         error = self._begin()
         if error:
             self._finish(Status.Error, error)
@@ -164,6 +171,9 @@ class ExecuteFB(FunctionBlock):
 
     def _show_more(self, visible: bool, final: Status | None) -> None:
         """Extra outputs of a subclass (Active, CommandAborted, ...)."""
+
+    def _command_started(self) -> None:
+        """A rising edge of Execute starts a new job (reset per-job output memory here)."""
 
     def _begin(self) -> int:
         raise NotImplementedError

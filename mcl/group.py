@@ -192,6 +192,7 @@ class _Element:
         "length",
         "limits",
         "move",
+        "params",
         "profile",
         "start",
         "t0",
@@ -218,6 +219,8 @@ class _Element:
         self.move = move
         self.completes = completes
         """Reaching the end reports the ticket Done (False for the ramp that precedes a move)."""
+        self.params: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+        """FB inputs of a move: Velocity, Acceleration, Deceleration, Jerk (0 = default)."""
         self.profile: Profile | None = None
         self.t0 = 0.0
         self.blend_in: _Blend | None = None
@@ -268,16 +271,19 @@ class GroupMember(Command):
     def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
         self._last = p
 
-    def release(self) -> None:
-        """End the command at the next servo cycle, holding the last set point."""
+    def release(self, position: float | None = None) -> None:
+        """End the command at its next set point, which holds ``position`` [mm] (None: the last
+        set point)."""
+        if position is not None:
+            self._last = position
         self.signal = True
 
     def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
         if self.signal:
             return self._last, 0.0, 0.0
         p, v, a = self.group._setpoint(self.index, self.t0 + t)
-        if self.signal:  # released by this very evaluation: the path stands still
-            v = a = 0.0
+        if self.signal:  # released by this very evaluation: the path stands at its end
+            return self._last, 0.0, 0.0
         self._last = p
         return p, v, a
 
@@ -311,7 +317,9 @@ class AxesGroup:
 
     def __init__(self, name: str = "group", corner_tolerance: float = 0.05) -> None:
         if not (math.isfinite(corner_tolerance) and corner_tolerance > 0.0):
-            raise ValueError(f"corner_tolerance must be a finite number > 0, got {corner_tolerance}")
+            raise ValueError(
+                f"corner_tolerance must be a finite number > 0, got {corner_tolerance}"
+            )
         self.name = name
         self.corner_tolerance = corner_tolerance
         self.axes: list[Axis] = []
@@ -629,6 +637,7 @@ class AxesGroup:
         self._queue = deque(e for e in self._queue if e.ticket is not ticket)
         if ticket.status == Status.Queued:
             ticket.status = Status.Aborted
+        self._rechain(self._active)
         after = self._queue[0] if self._queue else None
         if after is not before:
             self._replan_active()
@@ -670,7 +679,21 @@ class AxesGroup:
         unit = [d / length for d in delta] if length > _EPS else [0.0] * len(delta)
         element = _Element(start, unit, length, self.path_limits(unit, *params), ticket, True)
         element.end = list(target)
+        element.params = params
         return element
+
+    def _rechain(self, previous: _Element | None) -> None:
+        """Let every queued move start where the element before it ends (after a withdrawal or
+        an unplanned stop ramp)."""
+        end = previous.end if previous is not None else None
+        queue: deque[_Element] = deque()
+        for element in self._queue:
+            if end is not None and element.move and element.start != end:
+                assert element.ticket is not None
+                element = self._move_element(element.ticket, list(end), element.end, element.params)
+            queue.append(element)
+            end = element.end
+        self._queue = queue
 
     def _ramp_element(
         self,
@@ -711,11 +734,15 @@ class AxesGroup:
                 if element.ticket is not None:
                     element.ticket.status = Status.Error
                     element.ticket.error_id = ErrorID.EParam
-                p, v, a = element.at(t0) if element.profile is not None else ([], [], [])
-                p = p or list(element.start)
-                v = v or [v0 * u for u in element.unit]
-                a = a or [a0 * u for u in element.unit]
-                element = self._ramp_element(p, v, a, element.limits, None)
+                unit = element.unit
+                p, v, a = (
+                    _along(element.start, unit, s0),
+                    [v0 * u for u in unit],
+                    [a0 * u for u in unit],
+                )
+                element = self._ramp_element(
+                    p, v, a, self.path_limits(unit, math.inf, 0, 0, 0), None
+                )
                 element.t0 = t0
         self._active = element
 
@@ -757,9 +784,7 @@ class AxesGroup:
         ):
             return trajectory.move_to(s0, v0, a0, element.length, limits), None
         u1, u2 = element.unit, nxt.unit
-        v_b = blend_velocity(
-            nxt.ticket.buffer_mode, limits.velocity, nxt.limits.velocity, 1.0, 1.0
-        )
+        v_b = blend_velocity(nxt.ticket.buffer_mode, limits.velocity, nxt.limits.velocity, 1.0, 1.0)
         v_b = min(v_b, self.path_limits(u1, v_b, 0, 0, 0).velocity)
         v_b = min(v_b, self.path_limits(u2, v_b, 0, 0, 0).velocity)
         budget = min(
@@ -852,7 +877,11 @@ class AxesGroup:
             unit = blend.u_out if blend is not None else element.unit
             speed = blend.speed if blend is not None else v_end
             ramp = self._ramp_element(
-                list(element.end), [speed * u for u in unit], [0.0] * len(unit), element.limits, None
+                list(element.end),
+                [speed * u for u in unit],
+                [0.0] * len(unit),
+                element.limits,
+                None,
             )
             ramp.blend_in = blend
             ramp.t0 = t_end
@@ -862,6 +891,10 @@ class AxesGroup:
             self._active = None
             self._end = list(element.end)
             return None
+        if nxt.move and nxt.start != element.end:
+            self._queue.appendleft(nxt)
+            self._rechain(element)
+            nxt = self._queue.popleft()
         nxt.blend_in = blend
         if nxt.ticket is not None and nxt.ticket.status == Status.Queued:
             nxt.ticket.status = Status.Active
@@ -886,7 +919,7 @@ class AxesGroup:
             if not self.stopping:
                 for i, member in enumerate(self._members):
                     if member is not None:
-                        member.release()
+                        member.release(self._p[i])
                         self._members[i] = None
         else:
             self._p, self._v, self._a = element.point(t)
@@ -900,7 +933,6 @@ class AxesGroup:
     def _engage(self) -> None:
         """Put every member under a GroupMember command (SynchronizedMotion)."""
         self._end = None
-        self._p = self._p if len(self._p) == len(self.axes) else [0.0] * len(self.axes)
         for i, axis in enumerate(self.axes):
             member = self._members[i]
             if member is None or not member.busy or member.signal:
@@ -938,6 +970,10 @@ class AxesGroup:
         t, p, v, a = self._t, list(self._p), list(self._v), list(self._a)
         unit = self._direction(v)
         remaining = [ax for ax, m in zip(self.axes, self._members, strict=True) if m is not None]
+        if not remaining:  # nobody left to follow the path
+            self._active = None
+            self._end = p
+            return
         limits = (
             self._max_ramp(unit, remaining)
             if max_ramp

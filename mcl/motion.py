@@ -219,6 +219,7 @@ class MC_MoveVelocity(MotionFB):
     def __init__(self) -> None:
         super().__init__()
         self.InVelocity = False
+        self._in_velocity_shown = False
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         axis = self.axis
@@ -236,16 +237,17 @@ class MC_MoveVelocity(MotionFB):
         sign = 1.0 if direction == MC_Direction.MC_Positive else -1.0
         return MoveVelocity(mode, limits, sign * limits.velocity)
 
+    def _command_started(self) -> None:
+        self._in_velocity_shown = False
+
     def _show_more(self, visible: bool, final: Status | None) -> None:
         super()._show_more(visible, final)
         cmd = self._cmd
-        self.InVelocity = (
-            self._running
-            and bool(self.Execute)
-            and cmd is not None
-            and cmd.status == Status.Active
-            and cmd.signal
-        )
+        reached = self._running and cmd is not None and cmd.status == Status.Active and cmd.signal
+        # rule 5: reset by the falling edge, but shown for one scan if reached after it
+        show = reached and (bool(self.Execute) or not self._in_velocity_shown)
+        self._in_velocity_shown = self._in_velocity_shown or show
+        self.InVelocity = show
 
 
 class MC_Halt(MotionFB):

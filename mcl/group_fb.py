@@ -1,0 +1,369 @@
+"""Function blocks of axes groups (SPEC §5 "Groups"; seed 000 chapter 5).
+
+Every block has the in-out ``AxesGroup`` (an :class:`mcl.group.AxesGroup`);
+MC_AddAxisToGroup also has ``Axis``. Positions and distances are lists with one value per member
+in the order the members were added [mm]; Velocity [mm/s], Acceleration, Deceleration [mm/s²] and
+Jerk [mm/s³] act along the path (0 = default, values above what a member allows are clamped).
+
+Beyond the seed: MC_GroupEnable, MC_GroupDisable, MC_GroupReset, MC_GroupStop,
+MC_MoveLinearRelative (PLCopen Part 4). A group that is not enabled refuses motion commands with
+``Epower`` 10; a member change while the group moves is refused with ``EParam`` 5.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any, ClassVar
+
+from mcl.axis import Axis
+from mcl.command import Status
+from mcl.enums import GroupState, MC_BufferMode
+from mcl.errors import ErrorID
+from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, non_negative, number, positive
+from mcl.group import AxesGroup, PathCommand
+
+
+def _vector(value: Any, size: int) -> list[float] | None:
+    """A list input as floats; None unless a sequence of ``size`` finite numbers."""
+    if isinstance(value, str | bytes) or not isinstance(value, Sequence):
+        return None
+    if len(value) != size:
+        return None
+    numbers = [number(x) for x in value]
+    return numbers if all(math.isfinite(x) for x in numbers) else None
+
+
+class _GroupBlock(FunctionBlock):
+    """The in-out ``AxesGroup`` of the group blocks."""
+
+    AXIS_INPUTS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
+
+    def _check_axis_type(self, name: str, value: Any) -> None:
+        expected: type = AxesGroup if name == "AxesGroup" else Axis
+        if not isinstance(value, expected):
+            raise TypeError(
+                f"{type(self).__name__}.{name} must be an mcl.{expected.__name__}, "
+                f"got {type(value).__name__}"
+            )
+
+    @property
+    def group(self) -> AxesGroup:
+        """The connected group; a block called without ever getting one is a programming error."""
+        group = getattr(self, "AxesGroup", None)
+        if group is None:
+            raise TypeError(f"{type(self).__name__} needs AxesGroup=<mcl.AxesGroup>")
+        assert isinstance(group, AxesGroup)
+        return group
+
+
+class MC_AddAxisToGroup(_GroupBlock, ExecuteFB):
+    """Adds ``Axis`` to ``AxesGroup`` (seed §5.1); members keep the order they were added in.
+
+    Errors: 1004 the axis already belongs to a group, 1001 the group is full (3 axes),
+    Eerrstop 11 in GroupErrorStop, EAxStop 6 in GroupStopping, EParam 5 while the group moves.
+    """
+
+    AXIS_INPUTS: ClassVar[tuple[str, ...]] = ("AxesGroup", "Axis")
+
+    def _begin(self) -> int:
+        axis = getattr(self, "Axis", None)
+        if axis is None:
+            raise TypeError(f"{type(self).__name__} needs Axis=<mcl.Axis>")
+        return self.group.add(axis)
+
+
+class MC_UngroupAllAxes(_GroupBlock, ExecuteFB):
+    """Removes every axis from the group (seed §5.2); Done once the group's motion has stopped,
+    the group is then GroupDisabled. Errors: 1005 the group has no axes; Eerrstop 11 in
+    GroupErrorStop (seed Obr. 2.2, note 4)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._error = 0
+
+    def _begin(self) -> int:
+        return self.group.check_ungroup()
+
+    def _poll(self) -> Status | None:
+        group = self.group
+        self._error = group.check_ungroup()
+        if self._error:
+            return Status.Error
+        if group.moving:
+            return None
+        group.ungroup()
+        return Status.Done
+
+    def _error_of_poll(self) -> int:
+        return self._error
+
+
+class MC_GroupEnable(_GroupBlock, ExecuteFB):
+    """GroupDisabled → GroupStandby (PLCopen Part 4); 1005 when the group has no axes."""
+
+    def _begin(self) -> int:
+        return self.group.enable()
+
+
+class MC_GroupDisable(_GroupBlock, ExecuteFB):
+    """→ GroupDisabled in every state but GroupErrorStop (Eerrstop 11) (PLCopen Part 4).
+
+    A running motion is aborted (its blocks report CommandAborted) and ramps to standstill along
+    the path with the default deceleration; Done once the group stands.
+    """
+
+    def _begin(self) -> int:
+        return self.group.disable()
+
+    def _poll(self) -> Status | None:
+        return None if self.group.moving else Status.Done
+
+
+class MC_GroupReset(_GroupBlock, ExecuteFB):
+    """Leaves GroupErrorStop (PLCopen Part 4): resets the members in ErrorStop (as MC_Reset),
+    clears GroupErrorID; Done once the group is out of GroupErrorStop (members whose error
+    opened the loop are then Disabled). 1005 when the group has no axes."""
+
+    def _begin(self) -> int:
+        return 0 if self.group.axes else ErrorID.EGroupEmpty
+
+    def _poll(self) -> Status | None:
+        return Status.Done if self.group.reset() else None
+
+
+class MC_GroupReadError(_GroupBlock, EnableFB):
+    """Publishes the group error (seed §5.3): Valid, Error, ErrorID, GroupErrorID."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.GroupErrorID = 0
+
+    def _evaluate(self) -> int:
+        group = self.group
+        group.update()
+        self.GroupErrorID = group.GroupErrorID
+        return 0
+
+    def _disable(self) -> None:
+        self.GroupErrorID = 0
+
+
+class MC_GroupReadStatus(_GroupBlock, EnableFB):
+    """Publishes the group state as flags (seed §5.4) and ``InPosition``: the group stands and
+    every member is within its in-position window of the end point of the last motion."""
+
+    FLAGS: ClassVar[tuple[str, ...]] = tuple(state.name for state in GroupState)
+
+    def __init__(self) -> None:
+        super().__init__()
+        for name in self.FLAGS:
+            setattr(self, name, False)
+        self.InPosition = False
+
+    def _evaluate(self) -> int:
+        group = self.group
+        state = group.state
+        for s in GroupState:
+            setattr(self, s.name, s == state)
+        self.InPosition = group.in_position()
+        return 0
+
+    def _disable(self) -> None:
+        for name in self.FLAGS:
+            setattr(self, name, False)
+        self.InPosition = False
+
+
+class MC_GroupReadActualPosition(_GroupBlock, EnableFB):
+    """Publishes the members' actual positions ``Position`` [mm] (seed §5.5), in member order;
+    1005 when the group has no axes."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Position: list[float] = []
+
+    def _evaluate(self) -> int:
+        group = self.group
+        if not group.axes:
+            self.Position = []
+            return ErrorID.EGroupEmpty
+        self.Position = [axis.POS for axis in group.axes]
+        return 0
+
+    def _disable(self) -> None:
+        self.Position = []
+
+
+class _GroupMotionFB(_GroupBlock, ExecuteFB):
+    """A group motion block: hands a :class:`PathCommand` to the group; Active, CommandAborted.
+
+    Subclasses implement :meth:`_submit` (validate the sampled inputs, hand the command over,
+    or return an error code).
+    """
+
+    BufferMode: int = MC_BufferMode.Aborting
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.Active = False
+        self.CommandAborted = False
+        self._ticket: PathCommand | None = None
+
+    @property
+    def Aborted(self) -> bool:
+        """Teco's name of ``CommandAborted``."""
+        return self.CommandAborted
+
+    def _begin(self) -> int:
+        try:
+            mode = MC_BufferMode(int(self.BufferMode))
+        except (TypeError, ValueError, OverflowError):
+            return ErrorID.EParam
+        ticket = PathCommand(mode)
+        error = self._submit(ticket)
+        if error:
+            return error
+        if ticket.status == Status.Error:
+            return ticket.error_id
+        self._ticket = ticket
+        return 0
+
+    def _submit(self, ticket: PathCommand) -> int:
+        raise NotImplementedError
+
+    def _poll(self) -> Status | None:
+        self.group.update()
+        ticket = self._ticket
+        if ticket is None or ticket.busy:
+            return None
+        return ticket.status
+
+    def _error_of_poll(self) -> int:
+        return self._ticket.error_id if self._ticket is not None else 0
+
+    def _withdraw(self) -> None:
+        if self._ticket is not None and self._ticket.status == Status.Queued:
+            self.group.cancel(self._ticket)
+        self._ticket = None
+
+    def _show_more(self, visible: bool, final: Status | None) -> None:
+        ticket = self._ticket
+        self.Active = self._running and ticket is not None and ticket.status == Status.Active
+        self.CommandAborted = visible and final == Status.Aborted
+
+
+class _MoveLinearFB(_GroupMotionFB):
+    """Common inputs of the linear moves: Velocity, Acceleration, Deceleration, Jerk (along the
+    path; 0 = default)."""
+
+    Velocity: float = 0.0
+    Acceleration: float = 0.0
+    Deceleration: float = 0.0
+    Jerk: float = 0.0
+    NEEDS_REF: ClassVar[bool] = False
+
+    def _submit(self, ticket: PathCommand) -> int:
+        group = self.group
+        error = group.check_ready()
+        if error:
+            return error
+        v, a = number(self.Velocity), number(self.Acceleration)
+        d, j = number(self.Deceleration), number(self.Jerk)
+        if not positive(v) or not (non_negative(a) and non_negative(d) and non_negative(j)):
+            return ErrorID.EParam
+        axes = group.axes
+        if any(axis.velocity_too_low(v) for axis in axes):
+            return ErrorID.EParam
+        limits = group.path_limits([0.0] * len(axes), v, a, d, j)
+        if min(limits.acceleration, limits.deceleration) * 100.0 < v:
+            return ErrorID.EParam
+        target = self._target(group, ticket.buffer_mode)
+        if target is None:
+            return ErrorID.EParam
+        if self.NEEDS_REF and not all(axis.Ref for axis in axes):
+            return ErrorID.Ehome
+        for axis, x in zip(axes, target, strict=True):
+            error = axis.check_target(x)
+            if error:
+                return error
+        group.submit_move(ticket, target, v, a, d, j)
+        return 0
+
+    def _target(self, group: AxesGroup, mode: MC_BufferMode) -> list[float] | None:
+        raise NotImplementedError
+
+
+class MC_MoveLinearAbsolute(_MoveLinearFB):
+    """Linear interpolation of the group to the absolute point ``Position`` [mm] (seed §5.6).
+
+    The tool point stays on the straight line from the start point; all buffer modes
+    (Blending*: the corner is rounded within the group's corner tolerance). Needs Ref on every
+    member (Ehome 9); a target beyond a member's SW limit → Ecil 8; a Position that is not a list
+    of finite numbers, one per member → EParam 5.
+    """
+
+    Position: Sequence[float] = ()
+    NEEDS_REF: ClassVar[bool] = True
+
+    def _target(self, group: AxesGroup, mode: MC_BufferMode) -> list[float] | None:
+        return _vector(self.Position, len(group.axes))
+
+
+class MC_MoveLinearRelative(_MoveLinearFB):
+    """Linear interpolation of the group by ``Distance`` [mm] (PLCopen Part 4).
+
+    The distance counts from the current path point when the move aborts (the actual positions
+    when the group stands), from the end of the last queued move otherwise. No Ref needed.
+    """
+
+    Distance: Sequence[float] = ()
+
+    def _target(self, group: AxesGroup, mode: MC_BufferMode) -> list[float] | None:
+        distance = _vector(self.Distance, len(group.axes))
+        if distance is None:
+            return None
+        start = group.start_point(mode)
+        return [s + d for s, d in zip(start, distance, strict=True)]
+
+
+class MC_GroupStop(_GroupMotionFB):
+    """Stops the group (PLCopen Part 4): the path velocity ramps to zero along the path with
+    ``Deceleration`` [mm/s²] and ``Jerk`` [mm/s³] (0 = default); GroupStopping until Done AND NOT
+    Execute, and no other group motion is accepted meanwhile (EAxStop 6)."""
+
+    Deceleration: float = 0.0
+    Jerk: float = 0.0
+
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan; the group leaves GroupStopping once Done and Execute is FALSE."""
+        super().__call__(**inputs)
+        if self._ticket is not None:
+            self._ticket.hold = bool(self.Execute)
+
+    def _submit(self, ticket: PathCommand) -> int:
+        group = self.group
+        error = group.check_ready(stopping_ok=True)
+        if error:
+            return error
+        d, j = number(self.Deceleration), number(self.Jerk)
+        if not (non_negative(d) and non_negative(j)):
+            return ErrorID.EParam
+        ticket.hold = bool(self.Execute)
+        group.submit_stop(ticket, d, j)
+        return 0
+
+
+__all__ = [
+    "MC_AddAxisToGroup",
+    "MC_GroupDisable",
+    "MC_GroupEnable",
+    "MC_GroupReadActualPosition",
+    "MC_GroupReadError",
+    "MC_GroupReadStatus",
+    "MC_GroupReset",
+    "MC_GroupStop",
+    "MC_MoveLinearAbsolute",
+    "MC_MoveLinearRelative",
+    "MC_UngroupAllAxes",
+]
