@@ -253,11 +253,19 @@ def blend_to(
     best = feasible(v_end)
     if best is not None:
         return best
-    lo, hi = 0.0, v_end
-    best = feasible(lo)
-    if best is None:
+    # The reachable end velocities need not form an interval starting at 0 (with a jerk limit
+    # a braking start can reach 0 and 80…99 mm/s but not 1…50): scan down from v_end on a grid,
+    # then refine between the first feasible point and the infeasible one above it.
+    steps = 32
+    for k in range(1, steps + 1):
+        lo = v_end * (1.0 - k / steps)
+        candidate = feasible(lo)
+        if candidate is not None:
+            break
+    else:
         raise PlanningError("cannot reach the target without overshooting it")
-    for _ in range(24):
+    best, hi = candidate, v_end * (1.0 - (k - 1) / steps)
+    for _ in range(16):
         mid = 0.5 * (lo + hi)
         candidate = feasible(mid)
         if candidate is None:
