@@ -430,12 +430,14 @@ class Axis:
         self.active = ramp
         self.state = state
 
-    def fault(self, code: int, open_loop: bool = False) -> None:
+    def fault(self, code: int, open_loop: bool = False, stop_pushing: bool = False) -> None:
         """Axis error: latch ``code`` in AxErrorID, end all commands with it, go to ErrorStop.
 
         Args:
             code: the error (2001 following error, 2004/2005 limit switches, ...).
             open_loop: open the position loop (drive disabled) instead of a stop ramp.
+            stop_pushing: hold the actual position with a cleared integrator instead of a ramp
+                (the axis is pressing against something, e.g. a homing TorqueLimit error).
         """
         if self.state in (AxisState.ErrorStop, AxisState.Disabled):
             return
@@ -447,8 +449,17 @@ class Axis:
         if open_loop:
             self.loop_closed = False
             self.sp_vel = self.sp_acc = 0.0
+        elif stop_pushing:
+            self._rest_at_actual()
+            self._hold(AxisState.ErrorStop)
         else:
             self._ramp_down(AxisState.ErrorStop)
+
+    def _rest_at_actual(self) -> None:
+        """Model at the actual position, at rest, integrator cleared: the drive stops pushing."""
+        self.sp_pos, self.sp_vel, self.sp_acc = self.actual, 0.0, 0.0
+        if self.regulator is not None:
+            self.regulator.reset()
 
     def reset(self) -> bool:
         """MC_Reset: clear the axis error; ErrorStop → StandStill (Disabled if the loop opened).
@@ -462,7 +473,7 @@ class Axis:
             self.AxErrorID = 0
             self.active = None
             if self.loop_closed:
-                self.sp_vel = self.sp_acc = 0.0
+                self._rest_at_actual()  # whatever the error left pushing is released
                 self.state = AxisState.StandStill
             else:
                 self.state = AxisState.Disabled
@@ -589,7 +600,8 @@ class Axis:
             self.fault(ErrorID.ERRPOS, open_loop=True)
             return
         active = self.active
-        if active is None or not active.ignores_limit_switches:
+        homing = self.state == AxisState.Homing  # not referenced: the search handles switches
+        if not homing and (active is None or not active.ignores_limit_switches):
             if lim_pos and (v > 0.0 or not prev_pos):
                 self.fault(ErrorID.ERRLIP)
                 return

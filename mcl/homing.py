@@ -85,8 +85,8 @@ class HomingStep(Command):
             return p, v, a
         error = self.supervision.violated(axis, t, self.origin)
         if error:
-            axis.fault(error)
-            return p, v, a
+            axis.fault(error, stop_pushing=error == ErrorID.EDev)
+            return axis.sp_pos, axis.sp_vel, axis.sp_acc
         return self.search(axis, t, p, v, a)
 
     def search(
@@ -107,11 +107,16 @@ class HomingStep(Command):
             return t, p, v, a
         return (self.tp + profile.duration, *profile.at(profile.duration))
 
-    def reverse(self, t: float, p: float, v: float, a: float) -> tuple[float, float, float]:
-        """Turn the search around."""
+    def reverse(
+        self, t: float, p: float, v: float, a: float, brake: Limits | None = None
+    ) -> tuple[float, float, float]:
+        """Turn the search around; ``brake``: the ramp to slow down with (default: the search's)."""
         self.direction = -self.direction
+        limits = self.limits
+        if brake is not None:
+            limits = Limits(limits.velocity, limits.acceleration, brake.deceleration, brake.jerk)
         return self.phase(
-            trajectory.velocity_to(p, v, a, self.direction * self.velocity, self.limits), t
+            trajectory.velocity_to(p, v, a, self.direction * self.velocity, limits), t
         )
 
 
@@ -187,7 +192,7 @@ class SwitchSearch(HomingStep):
                     return p, v, a
                 self._reversed_at_limit = True
                 self._level = None
-                return self.reverse(t, p, v, a)
+                return self.reverse(t, p, v, a, brake=axis.max_ramp())  # spare the hard stop
         return p, v, a
 
     def finish(self, axis: Axis, p: float) -> tuple[float, float, float]:

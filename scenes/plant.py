@@ -146,7 +146,7 @@ class MujocoAxisIO:
 
     def sense(self) -> None:
         """Sample encoder and switches at the current instant."""
-        q = self.data.qpos[self.qpos_adr]
+        q = float(self.data.qpos[self.qpos_adr])
         enc = self.encoder
         enc.update(q)
         self.counts = enc.counts
