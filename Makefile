@@ -2,7 +2,7 @@
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 UV     := python3 -m uv
-SCENE  ?= single_axis
+SCENE  ?= gantry
 
 .PHONY: setup run test lint typecheck pytest bench clean
 
@@ -31,6 +31,7 @@ test: lint typecheck pytest
 
 bench: setup
 	$(PY) -m tests.benchmarks.servo_cycle
+	$(PY) -m tests.benchmarks.gantry
 
 clean:
 	rm -rf $(VENV) .mypy_cache .ruff_cache

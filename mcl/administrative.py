@@ -68,12 +68,15 @@ class MC_Power(EnableFB):
         axis = self.axis
         enable = bool(self.Enable)
         error = 0
+        speed_mode = self.SpeedMode
+        if not (speed_mode == 0 or speed_mode == 1):  # fast path for the usual ints
+            speed_mode = number(speed_mode)
         if enable and axis.constants is None:
             error = ErrorID.Econst
-        elif enable and number(self.SpeedMode) not in (0.0, 1.0):
+        elif enable and speed_mode not in (0.0, 1.0):
             error = ErrorID.EParam
         else:
-            axis.power(enable, int(number(self.SpeedMode)) if enable else 0)
+            axis.power(enable, int(speed_mode) if enable else 0)
         self.Status = axis.loop_closed and axis.state != AxisState.Disabled
         self.Error = bool(error)
         self.ErrorID = error

@@ -129,11 +129,15 @@ class ExecuteFB(FunctionBlock):
         self._final_error = 0
         self._final_shown = False
         self._running = False
+        self._quiet = True
+        """Idle with every output FALSE: a scan with Execute FALSE changes nothing."""
 
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan of the block."""
         self._take_inputs(inputs)
         execute = bool(self.Execute)
+        if self._quiet and not execute:
+            return
         if execute and not self._prev_execute:
             self._restart()
         self._prev_execute = execute
@@ -142,6 +146,7 @@ class ExecuteFB(FunctionBlock):
             if final is not None:
                 self._finish(final, self._error_of_poll())
         self._show(execute)
+        self._quiet = not execute and not self._running and self._final is None
 
     def _restart(self) -> None:
         if self._running:
@@ -163,6 +168,8 @@ class ExecuteFB(FunctionBlock):
         visible = final is not None and (execute or not self._final_shown)
         if final is not None:
             self._final_shown = True
+            if not visible:
+                self._final = None  # shown and reset by the falling edge: consumed
         self.Busy = self._running
         self.Done = visible and final == Status.Done
         self.Error = visible and final == Status.Error

@@ -7,6 +7,7 @@ import importlib
 import sys
 
 DEMOS = {
+    "gantry": "scenes.gantry",
     "single_axis": "scenes.single_axis",
 }
 """Scene name → module whose ``main()`` runs its demo program."""

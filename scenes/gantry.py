@@ -7,10 +7,10 @@ half a servo period ≈ 7 ms, integral action for friction (and gravity on Z).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, ClassVar
 
 import mcl
-from scenes.procedures import HomingRecipe
+from scenes.procedures import HomeAxis, HomingRecipe
 from scenes.scene import AxisSpec, Machine, Scene
 
 
@@ -58,3 +58,152 @@ def build(start: dict[str, float] | None = None, **scene_options: Any) -> Scene:
         **scene_options: ``servo_period``, ``plc_period``, ``trace_every`` (see :class:`Scene`).
     """
     return Scene([Machine("gantry", "gantry.xml", AXES, start=start or {})], **scene_options)
+
+
+B = mcl.MC_BufferMode
+SAFE_Z = -40.0
+"""Travel height of the tool [mm] (Z coordinate; 0 = top)."""
+PICK = (250.0, 150.0, -220.0)
+PLACE = (750.0, 450.0, -220.0)
+PATH: tuple[tuple[tuple[tuple[float, float, float], mcl.MC_BufferMode], ...], ...] = (
+    # batch 1: over the part and down to it; the corner in the air is blended
+    (((PICK[0], PICK[1], SAFE_Z), B.Aborting), (PICK, B.BlendingLow)),
+    # batch 2 (after gripping): up, across, down to the place position, corners blended
+    (
+        ((PICK[0], PICK[1], SAFE_Z), B.Buffered),
+        ((PLACE[0], PLACE[1], SAFE_Z), B.BlendingLow),
+        (PLACE, B.BlendingLow),
+    ),
+    # batch 3 (after releasing): up and back to the parking position
+    (((PLACE[0], PLACE[1], SAFE_Z), B.Buffered), ((500.0, 300.0, SAFE_Z), B.BlendingLow)),
+)
+"""The pick-and-place path: batches of straight segments (end point [mm], BufferMode)."""
+PATH_VELOCITY = 200.0
+"""Path velocity [mm/s]."""
+DWELL = 0.3
+"""Gripper time at pick and place [s]."""
+
+
+class Demo:
+    """The gantry demo: power, home Z then X and Y (REF + index), group the axes, then a
+    pick-and-place cycle along straight lines (MC_MoveLinearAbsolute) with blended corners.
+
+    Call once per PLC cycle; ``step`` says what it is doing, ``done`` when finished.
+    """
+
+    STEPS = (
+        "power on",
+        "home Z",
+        "home X and Y",
+        "group X, Y, Z",
+        "move over the part",
+        "grip",
+        "carry to the place position",
+        "release",
+        "return to park",
+        "done",
+    )
+    BATCH_OF: ClassVar[dict[str, int]] = {
+        "move over the part": 0,
+        "carry to the place position": 1,
+        "return to park": 2,
+    }
+    """The step that runs each batch of PATH."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        self.axes = [scene.axes[n] for n in ("X", "Y", "Z")]
+        self.power = [mcl.MC_Power() for _ in self.axes]
+        self.home = {n: HomeAxis(scene.axes[n], HOMING[n]) for n in ("X", "Y", "Z")}
+        self.group = mcl.AxesGroup("gantry")
+        self.add = [mcl.MC_AddAxisToGroup() for _ in self.axes]
+        self.enable = mcl.MC_GroupEnable()
+        self.moves = [[mcl.MC_MoveLinearAbsolute() for _ in batch] for batch in PATH]
+        self.index = 0
+        self._timer = 0.0
+        self.error = ""
+        self._blocks = [
+            *self.home.values(),
+            *self.add,
+            self.enable,
+            *(m for ms in self.moves for m in ms),
+        ]
+
+    @property
+    def step(self) -> str:
+        """What the program is doing."""
+        return self.error or self.STEPS[self.index]
+
+    @property
+    def done(self) -> bool:
+        """The cycle is complete."""
+        return self.index == len(self.STEPS) - 1
+
+    def _next(self) -> None:
+        self.index += 1
+        self._timer = self.scene.time
+
+    def __call__(self) -> None:
+        """One PLC scan."""
+        step = self.STEPS[self.index]
+        for axis, power in zip(self.axes, self.power, strict=True):
+            power(Axis=axis, Enable=True)
+        self.home["Z"](Execute=step == "home Z")
+        for name in ("X", "Y"):
+            self.home[name](Execute=step == "home X and Y")
+        for axis, add in zip(self.axes, self.add, strict=True):
+            add(AxesGroup=self.group, Axis=axis, Execute=step == "group X, Y, Z")
+        self.enable(AxesGroup=self.group, Execute=step == "group X, Y, Z" and self.add[-1].Done)
+        batch_of = self.BATCH_OF
+        for b, (batch, moves) in enumerate(zip(PATH, self.moves, strict=True)):
+            for (position, mode), move in zip(batch, moves, strict=True):
+                move(
+                    AxesGroup=self.group,
+                    Execute=batch_of.get(step) == b,
+                    Position=position,
+                    Velocity=PATH_VELOCITY,
+                    Acceleration=2000.0,
+                    Deceleration=2000.0,
+                    Jerk=20000.0,
+                    BufferMode=mode,
+                )
+        for fb in self._blocks:
+            if fb.Error:
+                self.error = f"{step}: error {fb.ErrorID}"
+                return
+        dwell = self.scene.time - self._timer >= DWELL
+        if (
+            (step == "power on" and all(p.Status for p in self.power))
+            or (step == "home Z" and self.home["Z"].Done)
+            or (step == "home X and Y" and self.home["X"].Done and self.home["Y"].Done)
+            or (step == "group X, Y, Z" and self.enable.Done)
+            or (step in batch_of and self.moves[batch_of[step]][-1].Done)
+            or (step in ("grip", "release") and dwell)
+        ):
+            self._next()
+
+
+def main() -> None:
+    """Run the demo headless and print a report."""
+    from scenes.report import EdgeLog
+
+    scene = build(start={"X": 0.43, "Y": 0.27, "Z": -0.12})
+    program = Demo(scene)
+    log = EdgeLog(scene)
+    steps = [program.step]
+    log.title(program.step)
+
+    def scan() -> None:
+        program()
+        if program.step != steps[-1]:
+            steps.append(program.step)
+            log.title(f"t={scene.time:6.3f} s  {program.step}")
+
+    log.watch(
+        **{f"home{n}": h for n, h in program.home.items()},
+        **{f"move{b}.{i}": m for b, ms in enumerate(program.moves) for i, m in enumerate(ms)},
+    )
+    scene.run(scan, until=lambda: program.done or bool(program.error), timeout=120.0)
+    log.summary()
+    if program.error:
+        raise SystemExit(f"demo stopped: {program.error}")
