@@ -68,7 +68,7 @@ class MC_Power(EnableFB):
         axis = self.axis
         enable = bool(self.Enable)
         error = 0
-        speed_mode = self.SpeedMode
+        speed_mode: float = self.SpeedMode
         if not (speed_mode == 0 or speed_mode == 1):  # fast path for the usual ints
             speed_mode = number(speed_mode)
         if enable and axis.constants is None:

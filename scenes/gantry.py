@@ -122,7 +122,7 @@ class Demo:
         self.index = 0
         self._timer = 0.0
         self.error = ""
-        self._blocks = [
+        self._blocks: list[Any] = [
             *self.home.values(),
             *self.add,
             self.enable,
