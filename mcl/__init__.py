@@ -20,6 +20,20 @@ from mcl.administrative import (
 from mcl.axis import Axis, AxisConfig
 from mcl.enums import AxisState, GroupState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.errors import ErrorID, error_text
+from mcl.group import AxesGroup
+from mcl.group_fb import (
+    MC_AddAxisToGroup,
+    MC_GroupDisable,
+    MC_GroupEnable,
+    MC_GroupReadActualPosition,
+    MC_GroupReadError,
+    MC_GroupReadStatus,
+    MC_GroupReset,
+    MC_GroupStop,
+    MC_MoveLinearAbsolute,
+    MC_MoveLinearRelative,
+    MC_UngroupAllAxes,
+)
 from mcl.homing import (
     MC_FinishHoming,
     MC_StepAbsSwitch,
@@ -46,6 +60,7 @@ from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant
 
 __all__ = [
+    "AxesGroup",
     "Axis",
     "AxisConfig",
     "AxisIO",
@@ -62,12 +77,22 @@ __all__ = [
     "GT_SInfo",
     "GT_SetConstant",
     "GroupState",
+    "MC_AddAxisToGroup",
     "MC_BufferMode",
     "MC_Direction",
     "MC_FinishHoming",
+    "MC_GroupDisable",
+    "MC_GroupEnable",
+    "MC_GroupReadActualPosition",
+    "MC_GroupReadError",
+    "MC_GroupReadStatus",
+    "MC_GroupReset",
+    "MC_GroupStop",
     "MC_Halt",
     "MC_MoveAbsolute",
     "MC_MoveAdditive",
+    "MC_MoveLinearAbsolute",
+    "MC_MoveLinearRelative",
     "MC_MoveRelative",
     "MC_MoveVelocity",
     "MC_Power",
@@ -82,6 +107,7 @@ __all__ = [
     "MC_StepRefPulse",
     "MC_Stop",
     "MC_SwitchMode",
+    "MC_UngroupAllAxes",
     "Module",
     "Plant",
     "Runtime",

@@ -22,14 +22,26 @@ motions, each extended through the corner at ``v_b``::
 
     p(t) = q1(t) + σ(x)·(q2(t) − q1(t)),   x = (t − t_c + T/2) / T,   σ = 10x³ − 15x⁴ + 6x⁵
 
-so position, velocity and acceleration stay continuous and the path speed does not drop to zero.
-``T = 3.75·v_b·max_i(|Δu_i| / A_i)`` keeps the blend's extra acceleration of every axis within
-``A_i`` (the smaller path acceleration/deceleration of the two segments, at most the axis'
-``max_acceleration``); during the window an axis may thus see up to its segment acceleration plus
-``A_i``. ``v_b`` starts at the BufferMode's velocity and is lowered until the blended path stays
-within :attr:`AxesGroup.corner_tolerance` of the polyline (checked numerically over the window)
-and each window covers at most half of each adjacent segment; if that fails, or the corner is a
-reversal, the path stops at the corner.
+so position, velocity and acceleration stay continuous and the path speed does not drop to zero;
+the path passes the corner point itself at ``t_c``. ``T = 3.75·v_b·max_i(|Δu_i| / A_i)`` (``Δu`` =
+change of the unit direction) keeps the blend's own contribution to the acceleration of axis
+``i`` within ``A_i``, the smaller path acceleration/deceleration of the two segments (at most the
+axis' ``max_acceleration``); the window is lengthened if the sum with the segments' own
+acceleration would exceed an axis' ``max_acceleration``. ``v_b`` starts at the BufferMode's
+velocity (capped by every member's Vmax along both segments) and is lowered until the blended
+path stays within :attr:`AxesGroup.corner_tolerance` (default 0.05 mm) of the polyline,
+checked numerically over the window, and the window covers at most the second half of the
+first segment and the first half of the second. If no blending velocity fits, or the corner is
+a reversal (above about 177°), the path stops at the corner as with Buffered. Collinear
+segments hand over at ``v_b`` without a window.
+
+Aborting while moving: when the current velocity vector points along the new segment (each
+axis' velocity differs by at most what the path acceleration changes in one servo period) the
+segment starts with that velocity; otherwise the current motion first ramps to standstill along
+its own direction with the new command's Deceleration, then the segment starts from the stop
+point (the new block is Active during the ramp). MC_GroupStop, MC_GroupDisable and member faults
+ramp the path velocity to zero along the current direction of motion (inside a corner blend:
+along its tangent); a member fault uses the other members' fastest ramp (max_deceleration).
 """
 
 from __future__ import annotations
@@ -58,6 +70,9 @@ _BLEND_SAMPLES: Final = 32
 _BLEND_SHRINK: Final = 0.7
 """Factor that lowers the blending velocity while a blend does not fit."""
 _BLEND_TRIES: Final = 16
+_BLEND_STRETCH: Final = (1.0, 1.3, 1.7, 2.2)
+"""Longer blend windows tried while an axis would exceed its max_acceleration."""
+_FITS, _TOO_HARD, _NO_FIT = 0, 1, 2
 _MOTION_STATES: Final = frozenset(
     {AxisState.DiscreteMotion, AxisState.ContinuousMotion, AxisState.SynchronizedMotion}
 )
@@ -505,7 +520,8 @@ class AxesGroup:
         """Error code that forbids a group motion command now (0 = none).
 
         Order: 1005 no axes, Epower 10 group disabled, Eerrstop 11 GroupErrorStop, EAxStop 6
-        GroupStopping, then each member's :meth:`Axis.check_ready` (Econst, Epower, ...).
+        GroupStopping, then per member: 1003 when the axis no longer refers to this group, then
+        :meth:`Axis.check_ready` (Econst, Epower, ...).
         """
         if not self.axes:
             return ErrorID.EGroupEmpty
@@ -517,6 +533,8 @@ class AxesGroup:
         if state == GroupState.GroupStopping and not stopping_ok:
             return ErrorID.EAxStop
         for axis in self.axes:
+            if axis.group is not self:  # detached behind the group's back
+                return ErrorID.ENotGroupMember
             error = axis.check_ready(stopping_ok=stopping_ok, group_ok=True)
             if error:
                 return error
@@ -715,13 +733,14 @@ class AxesGroup:
 
     def _max_ramp(self, unit: Vector, axes: Sequence[Axis]) -> Limits:
         """The fastest stop along ``unit`` the given members allow (their max_deceleration)."""
-        dec = min((a.config.max_deceleration for a in axes), default=1.0)
-        jerk = math.inf
+        dec = jerk = math.inf
         for axis, u in zip(self.axes, unit, strict=True):
             if axis in axes and abs(u) > _EPS:
                 dec = min(dec, axis.config.max_deceleration / abs(u))
                 if axis.config.max_jerk > 0.0:
                     jerk = min(jerk, axis.config.max_jerk / abs(u))
+        if math.isinf(dec):  # nobody moves along ``unit``: any finite ramp will do
+            dec = min((a.config.max_deceleration for a in axes), default=1.0)
         return Limits(math.inf, dec, dec, jerk)
 
     def _begin(self, element: _Element, t0: float, s0: float, v0: float, a0: float) -> None:
@@ -805,10 +824,17 @@ class AxesGroup:
             speed = profile.end_velocity
             if speed <= _EPS:
                 break
-            half = 0.0 if straight else 1.875 * speed * k
-            blend = _Blend(element.end, u1, u2, speed, t0 + profile.duration, half, nxt)
-            if straight or self._blend_fits(element, nxt, profile, t0, blend, now):
-                return profile, blend
+            t_c = t0 + profile.duration
+            if straight:
+                return profile, _Blend(element.end, u1, u2, speed, t_c, 0.0, nxt)
+            for stretch in _BLEND_STRETCH:
+                half = 1.875 * speed * k * stretch
+                blend = _Blend(element.end, u1, u2, speed, t_c, half, nxt)
+                verdict = self._blend_fits(element, nxt, profile, t0, blend, now)
+                if verdict == _FITS:
+                    return profile, blend
+                if verdict != _TOO_HARD:
+                    break  # a longer window would only deviate more
             v_b = _BLEND_SHRINK * speed
         return trajectory.move_to(s0, v0, a0, element.length, limits), None
 
@@ -820,35 +846,45 @@ class AxesGroup:
         t0: float,
         blend: _Blend,
         now: float,
-    ) -> bool:
-        """The blend window starts in the future, after the element's own incoming blend, covers
-        at most the second half of ``element`` and the first half of ``nxt``, and keeps the path
-        within :attr:`corner_tolerance` of the polyline."""
+    ) -> int:
+        """Whether a blend window is acceptable: ``_FITS``, ``_TOO_HARD`` (an axis would exceed
+        its max_acceleration: try a longer window) or ``_NO_FIT``.
+
+        It fits when it starts in the future and after the element's own incoming blend, covers
+        at most the second half of ``element`` and the first half of ``nxt`` (the start of
+        ``nxt`` is estimated by planning it without its own successor), keeps the path within
+        :attr:`corner_tolerance` of the polyline and every axis within its max_acceleration.
+        """
         if blend.begin <= now or blend.begin < t0:
-            return False
+            return _NO_FIT
         if element.blend_in is not None and blend.begin < element.blend_in.end:
-            return False
+            return _NO_FIT
         if profile.at(blend.begin - t0)[0] < 0.5 * element.length:
-            return False
+            return _NO_FIT
         try:
             after = trajectory.move_to(0.0, blend.speed, 0.0, nxt.length, nxt.limits)
         except PlanningError:
-            return False
+            return _NO_FIT
         if after.at(blend.half)[0] > 0.5 * nxt.length:
-            return False
-        zero = [0.0] * len(element.unit)
+            return _NO_FIT
+        u1, u2 = element.unit, nxt.unit
         width = 2.0 * blend.half
+        tolerance = self.corner_tolerance
         worst = 0.0
+        too_hard = False
         for k in range(1, _BLEND_SAMPLES):
             t = blend.begin + width * k / _BLEND_SAMPLES
             if t <= blend.t_c:
-                s = profile.at(t - t0)[0]
-                q1 = _along(element.start, element.unit, s)
-                q2 = blend.line(nxt.unit, t)[0]
+                s, v, a = profile.at(t - t0)
+                p2, v2 = blend.line(u2, t)
+                q1 = (_along(element.start, u1, s), [v * u for u in u1], [a * u for u in u1])
+                q2 = (p2, v2, [0.0] * len(u2))
             else:
-                q1 = blend.line(element.unit, t)[0]
-                q2 = _along(nxt.start, nxt.unit, after.at(t - blend.t_c)[0])
-            p = blend.mix(t, (q1, zero, zero), (q2, zero, zero))[0]
+                p1, v1 = blend.line(u1, t)
+                s, v, a = after.at(t - blend.t_c)
+                q1 = (p1, v1, [0.0] * len(u1))
+                q2 = (_along(nxt.start, u2, s), [v * u for u in u2], [a * u for u in u2])
+            p, _, acc = blend.mix(t, q1, q2)
             worst = max(
                 worst,
                 min(
@@ -856,9 +892,12 @@ class AxesGroup:
                     distance_to_segment(p, nxt.start, nxt.end),
                 ),
             )
-            if worst > self.corner_tolerance:
-                return False
-        return True
+            if worst > tolerance:
+                return _NO_FIT
+            for axis, ai in zip(self.axes, acc, strict=True):
+                if abs(ai) > axis.config.max_acceleration:
+                    too_hard = True
+        return _TOO_HARD if too_hard else _FITS
 
     def _next(self, element: _Element) -> _Element | None:
         """``element`` reached its end: report it and start what follows (at the exact end time)."""

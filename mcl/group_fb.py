@@ -153,25 +153,32 @@ class MC_GroupReadStatus(_GroupBlock, EnableFB):
     """Publishes the group state as flags (seed §5.4) and ``InPosition``: the group stands and
     every member is within its in-position window of the end point of the last motion."""
 
-    FLAGS: ClassVar[tuple[str, ...]] = tuple(state.name for state in GroupState)
-
     def __init__(self) -> None:
         super().__init__()
-        for name in self.FLAGS:
-            setattr(self, name, False)
+        self.GroupDisabled = False
+        self.GroupStandby = False
+        self.GroupMoving = False
+        self.GroupHoming = False
+        self.GroupStopping = False
+        self.GroupErrorStop = False
         self.InPosition = False
 
     def _evaluate(self) -> int:
         group = self.group
-        state = group.state
-        for s in GroupState:
-            setattr(self, s.name, s == state)
+        self._flags(group.state)
         self.InPosition = group.in_position()
         return 0
 
+    def _flags(self, state: GroupState | None) -> None:
+        self.GroupDisabled = state == GroupState.GroupDisabled
+        self.GroupStandby = state == GroupState.GroupStandby
+        self.GroupMoving = state == GroupState.GroupMoving
+        self.GroupHoming = state == GroupState.GroupHoming
+        self.GroupStopping = state == GroupState.GroupStopping
+        self.GroupErrorStop = state == GroupState.GroupErrorStop
+
     def _disable(self) -> None:
-        for name in self.FLAGS:
-            setattr(self, name, False)
+        self._flags(None)
         self.InPosition = False
 
 
