@@ -115,7 +115,7 @@ class Demo:
         self.axes = [scene.axes[n] for n in ("X", "Y", "Z")]
         self.power = [mcl.MC_Power() for _ in self.axes]
         self.home = {n: HomeAxis(scene.axes[n], HOMING[n]) for n in ("X", "Y", "Z")}
-        self.group = mcl.AxesGroup("gantry")
+        self.group = mcl.AxesGroup("gantry", corner_tolerance=0.02)
         self.add = [mcl.MC_AddAxisToGroup() for _ in self.axes]
         self.enable = mcl.MC_GroupEnable()
         self.moves = [[mcl.MC_MoveLinearAbsolute() for _ in batch] for batch in PATH]
