@@ -335,32 +335,37 @@ class GT_Jog(FunctionBlock):
         if want != self._direction:
             self._direction = want
             self.Error, self.ErrorID = False, 0
-            if want:
-                self._move(axis, want)
-            elif self._cmd is not None and self._cmd.busy:
-                limits = stop_limits(axis, self.JogDec, self.JogJerk)
-                if isinstance(limits, int):
-                    limits = axis.max_ramp()
-                self._cmd = Halt(MC_BufferMode.Aborting, limits)
-                axis.submit(self._cmd)
+            if not (want and self._move(axis, want)):
+                self._release(axis)
         if not self.Enable:
             self.Error, self.ErrorID = False, 0
-        self.Busy = self._cmd is not None and self._cmd.busy
+        self.Busy = not self.Error and self._cmd is not None and self._cmd.busy
 
-    def _move(self, axis: Axis, direction: int) -> None:
+    def _release(self, axis: Axis) -> None:
+        """The button is let go (or the new press was refused): ramp a running jog down."""
+        if isinstance(self._cmd, MoveVelocity) and self._cmd.busy:
+            limits = stop_limits(axis, self.JogDec, self.JogJerk)
+            if isinstance(limits, int):
+                limits = axis.max_ramp()
+            self._cmd = Halt(MC_BufferMode.Aborting, limits)
+            axis.submit(self._cmd)
+
+    def _move(self, axis: Axis, direction: int) -> bool:
+        """Start jogging in ``direction``; False (and Error) when refused."""
         error = axis.check_ready()
         limits: Limits | int = error
         if not error:
             limits = motion_limits(axis, self.JogVelo, self.JogAcc, self.JogDec, self.JogJerk)
         if isinstance(limits, int):
             self.Error, self.ErrorID = True, limits
-            return
+            return False
         cmd = MoveVelocity(MC_BufferMode.Aborting, limits, direction * limits.velocity)
         axis.submit(cmd)
         if cmd.status == Status.Error:
             self.Error, self.ErrorID = True, cmd.error_id
-            return
+            return False
         self._cmd = cmd
+        return True
 
 
 class GT_EStop(FunctionBlock):

@@ -19,7 +19,12 @@ _VOLTS_PER_CODE = DAC_FULL_SCALE / DAC_CODES
 
 
 def dac(volts: float) -> float:
-    """Quantize a voltage to the 12-bit DAC (±4095 ↔ ±10.5 V) and clip it to ±10 V [V]."""
+    """Quantize a voltage to the 12-bit DAC (±4095 ↔ ±10.5 V) and clip it to ±10 V [V].
+
+    A non-finite request (a diverged regulator) outputs 0 V rather than crash the servo cycle.
+    """
+    if volts != volts:
+        return 0.0
     if volts >= VOLT_LIMIT:
         volts = VOLT_LIMIT
     elif volts <= -VOLT_LIMIT:
@@ -120,7 +125,8 @@ class Regulator:
         )
         out = dac(u)
         ki = c.Ki + c.Ki1 if settle else c.Ki
-        self._integral += period * (ki * e + c.Kc * (out - u))
+        # back-calculation, at most the whole excess per cycle (stable for any Kc)
+        self._integral += period * ki * e + min(1.0, c.Kc * period) * (out - u)
         self._e_prev = e
         return out
 
