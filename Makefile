@@ -9,7 +9,7 @@ SCENE  ?= gantry
 $(VENV)/.installed: pyproject.toml
 	@$(UV) --version >/dev/null 2>&1 || python3 -m pip install --quiet --disable-pip-version-check uv
 	$(UV) venv --quiet --allow-existing $(VENV)
-	VIRTUAL_ENV=$(VENV) $(UV) pip install --quiet -e ".[test]"
+	$(UV) pip install --quiet --python $(VENV)/bin/python -e ".[test]"
 	@touch $@
 
 setup: $(VENV)/.installed
