@@ -55,7 +55,7 @@ from mcl.motion import (
     MC_MoveVelocity,
     MC_Stop,
 )
-from mcl.runtime import ConditionTimeout, Plant, Runtime
+from mcl.runtime import ConditionTimeout, Machine, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant
 
@@ -108,6 +108,7 @@ __all__ = [
     "MC_Stop",
     "MC_SwitchMode",
     "MC_UngroupAllAxes",
+    "Machine",
     "Module",
     "Plant",
     "Runtime",

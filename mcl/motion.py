@@ -38,6 +38,14 @@ def motion_limits(
     return limits
 
 
+def ready_limits(
+    axis: Axis, velocity: Any, acceleration: Any, deceleration: Any, jerk: Any
+) -> Limits | int:
+    """The axis accepts a motion command now and its limits are valid: the limits, or the error
+    (:meth:`Axis.check_ready` first, then :func:`motion_limits`)."""
+    return axis.check_ready() or motion_limits(axis, velocity, acceleration, deceleration, jerk)
+
+
 def stop_limits(axis: Axis, deceleration: Any, jerk: Any) -> Limits | int:
     """Validated limits of a stop ramp (Deceleration, Jerk >= 0; 0 = default), or ``EParam``."""
     d, j = number(deceleration), number(jerk)
@@ -58,10 +66,7 @@ class _MoveFB(MotionFB):
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         axis = self.axis
-        error = axis.check_ready()
-        if error:
-            return error
-        limits = motion_limits(axis, self.Velocity, self.Acceleration, self.Deceleration, self.Jerk)
+        limits = ready_limits(axis, self.Velocity, self.Acceleration, self.Deceleration, self.Jerk)
         if isinstance(limits, int):
             return limits
         target = self._target(mode)
@@ -223,10 +228,7 @@ class MC_MoveVelocity(MotionFB):
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         axis = self.axis
-        error = axis.check_ready()
-        if error:
-            return error
-        limits = motion_limits(axis, self.Velocity, self.Acceleration, self.Deceleration, self.Jerk)
+        limits = ready_limits(axis, self.Velocity, self.Acceleration, self.Deceleration, self.Jerk)
         if isinstance(limits, int):
             return limits
         direction = number(self.Direction)
@@ -352,10 +354,7 @@ class GT_Jog(FunctionBlock):
 
     def _move(self, axis: Axis, direction: int) -> bool:
         """Start jogging in ``direction``; False (and Error) when refused."""
-        error = axis.check_ready()
-        limits: Limits | int = error
-        if not error:
-            limits = motion_limits(axis, self.JogVelo, self.JogAcc, self.JogDec, self.JogJerk)
+        limits = ready_limits(axis, self.JogVelo, self.JogAcc, self.JogDec, self.JogJerk)
         if isinstance(limits, int):
             self.Error, self.ErrorID = True, limits
             return False

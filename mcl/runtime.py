@@ -129,3 +129,27 @@ class Runtime:
         if until is not None and not until():
             raise ConditionTimeout(f"condition not met within {timeout:g} s of simulated time")
         return (tick - start) * dt
+
+
+class Machine:
+    """Named axes on a plant with their lockstep runtime: the surface scenarios program against.
+
+    Subclasses (:class:`mcl.SimMachine`, ``scenes.Scene``) set ``axes`` and ``runtime``.
+    """
+
+    axes: dict[str, Axis]
+    runtime: Runtime
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self.runtime.time
+
+    def run(
+        self,
+        program: Callable[[], None] | None = None,
+        until: Callable[[], bool] | None = None,
+        timeout: float = 10.0,
+    ) -> float:
+        """Run PLC cycles; see :meth:`Runtime.run`. Returns the simulated seconds."""
+        return self.runtime.run(program, until, timeout)

@@ -10,13 +10,13 @@ boundary to the axis' user units.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from mcl.axis import Axis, AxisConfig
 from mcl.encoder import IncrementalEncoder
 from mcl.module import Module
-from mcl.runtime import Runtime
+from mcl.runtime import Machine, Runtime
 
 
 @dataclass(frozen=True, slots=True)
@@ -175,7 +175,7 @@ class SimPlant:
             axis.sense()
 
 
-class SimMachine:
+class SimMachine(Machine):
     """Simulated axes wired to mcl axes (six to a module), with their lockstep runtime.
 
     The same surface as a MuJoCo scene: ``machine.axes["X"]``, ``machine.run(program, until,
@@ -213,17 +213,3 @@ class SimMachine:
         ]
         """The axes in order, six to a servo module."""
         self.runtime = Runtime(self.plant, self.axes.values(), plc_period)
-
-    @property
-    def time(self) -> float:
-        """Simulated time [s]."""
-        return self.runtime.time
-
-    def run(
-        self,
-        program: Callable[[], None] | None = None,
-        until: Callable[[], bool] | None = None,
-        timeout: float = 10.0,
-    ) -> float:
-        """Run PLC cycles; see :meth:`mcl.runtime.Runtime.run`."""
-        return self.runtime.run(program, until, timeout)

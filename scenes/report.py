@@ -2,26 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from typing import Any, Protocol
+from collections.abc import Callable
+from typing import Any
 
 import mcl
 
 SIGNALS = ("Status", "Done", "Busy", "Active", "InVelocity", "CommandAborted", "Error")
-
-
-class Machine(Protocol):
-    """What a report watches: named axes and a runtime with observers."""
-
-    @property
-    def axes(self) -> Mapping[str, mcl.Axis]:
-        """The machine's axes by name."""
-        ...
-
-    @property
-    def runtime(self) -> mcl.Runtime:
-        """The lockstep runtime (its observers are called every servo cycle)."""
-        ...
 
 
 class EdgeLog:
@@ -32,7 +18,7 @@ class EdgeLog:
         out: where lines go (``print`` by default).
     """
 
-    def __init__(self, machine: Machine, out: Callable[[str], None] = print) -> None:
+    def __init__(self, machine: mcl.Machine, out: Callable[[str], None] = print) -> None:
         self.machine = machine
         self.out = out
         self.blocks: dict[str, Any] = {}

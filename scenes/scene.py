@@ -92,7 +92,7 @@ def compose(machines: Sequence[Machine]) -> tuple[mujoco.MjModel, mujoco.MjData]
     return model, data
 
 
-class Scene:
+class Scene(mcl.Machine):
     """Machines in MuJoCo driven by mcl axes (one servo module per machine).
 
     Args:
@@ -138,11 +138,6 @@ class Scene:
         if trace_every:
             self.runtime.observers.append(self.trace)
 
-    @property
-    def time(self) -> float:
-        """Simulated time [s]."""
-        return self.runtime.time
-
     def io(self, axis: str) -> MujocoAxisIO:
         """The MuJoCo channel of an axis (joint position, amplifier, switches)."""
         io = self.axes[axis].io
@@ -152,15 +147,6 @@ class Scene:
     def joint_position(self, axis: str) -> float:
         """Ground-truth joint coordinate of an axis [m]."""
         return self.io(axis).position
-
-    def run(
-        self,
-        program: Callable[[], None] | None = None,
-        until: Callable[[], bool] | None = None,
-        timeout: float = 10.0,
-    ) -> float:
-        """Run PLC cycles; see :meth:`mcl.Runtime.run`. Returns the simulated seconds."""
-        return self.runtime.run(program, until, timeout)
 
 
 def _truth(io: mcl.AxisIO) -> Callable[[], float]:
