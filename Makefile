@@ -1,10 +1,12 @@
-# The two commands of the README: `make run` and `make test`.
+# The two commands of the README: `make run` (the viewer) and `make test`.
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 UV     := python3 -m uv
 SCENE  ?= gantry
+HOST   ?= 127.0.0.1
+PORT   ?= 8080
 
-.PHONY: setup run test lint typecheck pytest bench clean
+.PHONY: setup run demo test lint typecheck pytest bench clean
 
 $(VENV)/.installed: pyproject.toml
 	@$(UV) --version >/dev/null 2>&1 || python3 -m pip install --quiet --disable-pip-version-check uv
@@ -15,6 +17,9 @@ $(VENV)/.installed: pyproject.toml
 setup: $(VENV)/.installed
 
 run: setup
+	$(PY) -m viewer --scene $(SCENE) --host $(HOST) --port $(PORT)
+
+demo: setup
 	$(PY) -m scenes run $(SCENE)
 
 lint: setup
@@ -32,6 +37,7 @@ test: lint typecheck pytest
 bench: setup
 	$(PY) -m tests.benchmarks.servo_cycle
 	$(PY) -m tests.benchmarks.gantry
+	$(PY) -m tests.benchmarks.viewer
 
 clean:
 	rm -rf $(VENV) .mypy_cache .ruff_cache

@@ -2,8 +2,10 @@
 
 Every body that owns a rendered geom becomes a viser frame placed in world coordinates; its geoms
 are children of that frame in body-local coordinates (``geom_pos``/``geom_quat``). A per-frame
-:meth:`ModelScene.update` therefore only moves the frames of bodies that can move (bodies with a
-joint in their chain, mocap bodies and their children); static bodies are placed once.
+:meth:`ModelScene.update` compares the world pose of every body frame with the one last sent and
+moves only the frames whose pose changed: bodies with a joint in their chain and mocap bodies move
+all the time, and a jointless body that scenario code relocates through ``model.body_pos`` /
+``model.body_quat`` (e.g. the gantry's ``X_obstacle``) follows as soon as kinematics ran.
 
 Geom types map onto viser primitives as follows (all sizes in [m]):
 
@@ -210,7 +212,10 @@ class ModelScene:
         # and every body whose chain to it has no joint; mocap bodies are their own weld root).
         weld = np.asarray(model.body_weldid)
         moving: list[int] = []
-        moving_handles: list[viser.FrameHandle] = []
+        # Every body frame but the world's is compared each update: a static body only costs a
+        # comparison until model.body_pos/body_quat relocate it.
+        tracked: list[int] = []
+        tracked_handles: list[viser.FrameHandle] = []
 
         with server.atomic():
             self._root = server.scene.add_frame(prefix, show_axes=False)
@@ -231,17 +236,20 @@ class ModelScene:
                     wxyz=np.array(data.xquat[b], dtype=np.float64),
                 )
                 self._body_handles[body_name] = frame
-                if b != 0 and weld[b] != 0:
-                    moving.append(b)
-                    moving_handles.append(frame)
+                if b != 0:
+                    tracked.append(b)
+                    tracked_handles.append(frame)
+                    if weld[b] != 0:
+                        moving.append(b)
                 used_geom_nodes: set[str] = set()
                 for g in geoms_of_body[b]:
                     self._add_geom(g, node, used_geom_nodes)
 
         self._moving_ids = np.array(moving, dtype=np.intp)
-        self._moving_handles = moving_handles
-        self._sent_pos = np.array(data.xpos[self._moving_ids], dtype=np.float64)
-        self._sent_quat = np.array(data.xquat[self._moving_ids], dtype=np.float64)
+        self._tracked_ids = np.array(tracked, dtype=np.intp)
+        self._tracked_handles = tracked_handles
+        self._sent_pos = np.array(data.xpos[self._tracked_ids], dtype=np.float64)
+        self._sent_quat = np.array(data.xquat[self._tracked_ids], dtype=np.float64)
 
     # ----------------------------------------------------------------------------------- build
 
@@ -406,7 +414,8 @@ class ModelScene:
 
     @property
     def moving_body_ids(self) -> npt.NDArray[np.intp]:
-        """Ids of the bodies whose frames :meth:`update` moves (a copy)."""
+        """Ids of the bodies that move with the simulation: a joint in their chain, or mocap
+        (a copy). :meth:`update` also refreshes static bodies relocated through the model."""
         return self._moving_ids.copy()
 
     @property
@@ -448,12 +457,13 @@ class ModelScene:
     # ---------------------------------------------------------------------------------- update
 
     def update(self, data: mujoco.MjData) -> None:
-        """Send the poses of all moving bodies whose pose changed since the last call.
+        """Send the poses of all bodies whose world pose changed since the last call.
 
         Reads ``data.xpos``/``data.xquat``, so kinematics must be current (after ``mj_step``,
         ``mj_forward`` or ``mj_kinematics``); this also holds for mocap bodies, whose pose MuJoCo
-        copies from ``mocap_pos``/``mocap_quat`` during kinematics. All messages of one call are
-        sent inside ``server.atomic()`` so that a client applies them in the same frame.
+        copies from ``mocap_pos``/``mocap_quat`` during kinematics, and for jointless bodies moved
+        through ``model.body_pos``/``model.body_quat``. All messages of one call are sent inside
+        ``server.atomic()`` so that a client applies them in the same frame.
 
         Args:
             data: Simulation state of the model this scene was built from.
@@ -461,14 +471,31 @@ class ModelScene:
         Raises:
             ValueError: If ``data`` does not belong to a model with as many bodies.
         """
-        if data.xpos.shape[0] != self._model.nbody:
+        self.update_poses(data.xpos, data.xquat)
+
+    def update_poses(self, xpos: npt.NDArray[np.floating], xquat: npt.NDArray[np.floating]) -> None:
+        """Like :meth:`update`, from copies of ``data.xpos`` and ``data.xquat``.
+
+        Lets a simulation running in another thread hand over a consistent snapshot of the body
+        poses instead of its live ``MjData``.
+
+        Args:
+            xpos: World position of every body [m], shape (nbody, 3).
+            xquat: World orientation of every body (w, x, y, z), shape (nbody, 4).
+
+        Raises:
+            ValueError: If the arrays do not have one row per body of the model.
+        """
+        nbody = self._model.nbody
+        if xpos.shape != (nbody, 3) or xquat.shape != (nbody, 4):
             raise ValueError(
-                f"data has {data.xpos.shape[0]} bodies, the scene's model {self._model.nbody}"
+                f"expected poses of {nbody} bodies (shapes ({nbody}, 3) and ({nbody}, 4)), "
+                f"got {xpos.shape} and {xquat.shape}"
             )
-        if self._moving_ids.size == 0:
+        if self._tracked_ids.size == 0:
             return
-        pos = data.xpos[self._moving_ids]
-        quat = data.xquat[self._moving_ids]
+        pos = xpos[self._tracked_ids]
+        quat = xquat[self._tracked_ids]
         pos_changed = (pos != self._sent_pos).any(axis=1)
         quat_changed = (quat != self._sent_quat).any(axis=1)
         changed = np.flatnonzero(pos_changed | quat_changed)
@@ -477,7 +504,7 @@ class ModelScene:
         # Each handle setter costs ~20 us (viser compares with np.allclose and builds a
         # message), so only the components that changed are assigned: a body on a slide joint
         # costs one setter per frame.
-        handles = self._moving_handles
+        handles = self._tracked_handles
         with self._server.atomic():
             for k in changed:
                 handle = handles[k]
@@ -543,5 +570,6 @@ class ModelScene:
         self._geom_handles_by_id.clear()
         self._geom_ids.clear()
         self._body_handles.clear()
-        self._moving_handles = []
+        self._tracked_handles = []
+        self._tracked_ids = np.zeros(0, dtype=np.intp)
         self._moving_ids = np.zeros(0, dtype=np.intp)

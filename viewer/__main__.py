@@ -1,0 +1,150 @@
+"""Command line: ``python -m viewer [--scene NAME] [--host H] [--port P] [--speed S] [--no-demo]``.
+
+Starts the browser viewer on a scene (the gantry with its demo program by default), prints the
+address to open and runs until Ctrl-C. Binds 127.0.0.1 unless ``--host`` says otherwise; exits
+with status 2 and a message when the port is taken.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import signal
+import sys
+import threading
+from collections.abc import Sequence
+from types import FrameType
+
+import scenes
+from viewer.app import DEFAULT_HOST, DEFAULT_PORT, PortInUseError, Viewer
+
+EXIT_PORT_IN_USE = 2
+"""Exit status when the port is taken or the address cannot be served (also argparse's status
+for bad arguments)."""
+
+
+def parse_speed(text: str) -> float:
+    """A ``--speed`` value: a factor > 0 (``0.1`` … ``10``) or ``max`` (as fast as possible).
+
+    Raises:
+        argparse.ArgumentTypeError: If the text is neither.
+    """
+    if text.strip().lower() in ("max", "inf", "fast"):
+        return math.inf
+    try:
+        speed = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number > 0 or 'max', got {text!r}") from None
+    if not (speed > 0.0 and math.isfinite(speed)):
+        raise argparse.ArgumentTypeError(f"expected a number > 0 or 'max', got {text!r}")
+    return speed
+
+
+def parse_port(text: str) -> int:
+    """A ``--port`` value: 1 … 65535.
+
+    Raises:
+        argparse.ArgumentTypeError: If the text is not a port number.
+    """
+    try:
+        port = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a port number, got {text!r}") from None
+    if not 1 <= port <= 65535:
+        raise argparse.ArgumentTypeError(f"port must be 1 … 65535, got {port}")
+    return port
+
+
+def parser() -> argparse.ArgumentParser:
+    """The command line parser."""
+    p = argparse.ArgumentParser(
+        prog="python -m viewer",
+        description="Watch and operate a testbench scene live in the browser (3-D, per-axis "
+        "panels, live plot).",
+    )
+    p.add_argument(
+        "--scene",
+        default="gantry",
+        choices=sorted(scenes.SCENES),
+        help="scene to show first (default: gantry)",
+    )
+    p.add_argument(
+        "--host",
+        default=DEFAULT_HOST,
+        help=f"interface to bind (default: {DEFAULT_HOST}, this machine only; "
+        "0.0.0.0 exposes the viewer to the network)",
+    )
+    p.add_argument(
+        "--port", type=parse_port, default=DEFAULT_PORT, help=f"TCP port (default {DEFAULT_PORT})"
+    )
+    p.add_argument(
+        "--speed",
+        type=parse_speed,
+        default=1.0,
+        help="simulated seconds per wall second, e.g. 0.1 … 10, or 'max' (default 1)",
+    )
+    p.add_argument("--no-demo", action="store_true", help="do not start the scene's demo program")
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the viewer until Ctrl-C (or SIGTERM).
+
+    Args:
+        argv: Arguments without the program name (default: ``sys.argv[1:]``).
+
+    Returns:
+        Exit status: 0 after Ctrl-C, 2 if the port is taken.
+    """
+    args = parser().parse_args(argv)
+    try:
+        return serve(args)
+    except KeyboardInterrupt:  # while starting or stopping; the viewer cleans up after itself
+        print("viewer: interrupted", file=sys.stderr, flush=True)
+        return 0
+
+
+def serve(args: argparse.Namespace) -> int:
+    """Start the viewer as ``args`` say and serve until Ctrl-C or SIGTERM.
+
+    Args:
+        args: Parsed command line (see :func:`parser`).
+
+    Returns:
+        Exit status: 0 when stopped, 2 if the port is taken or the address cannot be served.
+    """
+    try:
+        viewer = Viewer(
+            args.scene, host=args.host, port=args.port, speed=args.speed, demo=not args.no_demo
+        )
+    except PortInUseError as exc:
+        print(f"error: {exc.strerror}", file=sys.stderr)
+        return EXIT_PORT_IN_USE
+    except OSError as exc:  # unknown host, another machine's address, privileged port
+        print(f"error: cannot serve on {args.host}:{args.port}: {exc}", file=sys.stderr)
+        return EXIT_PORT_IN_USE
+    done = threading.Event()
+
+    def on_terminate(signum: int, frame: FrameType | None) -> None:
+        done.set()
+
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, on_terminate) if in_main_thread else None
+    try:
+        print(f"viewer: {args.scene} at {viewer.url}  (Ctrl-C to stop)", flush=True)
+        if not args.no_demo and not viewer.session.demo_available():
+            print(f"viewer: scene {args.scene!r} has no demo program", flush=True)
+        while not done.wait(0.5):
+            pass
+    except KeyboardInterrupt:
+        pass
+    finally:
+        if in_main_thread:
+            signal.signal(signal.SIGTERM, previous)
+        print("viewer: stopping", flush=True)
+        viewer.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,712 @@
+"""A live simulation for the viewer: a scene run in its own thread, paced to the wall clock.
+
+The scene itself runs in lockstep on simulated time (``Scene.run``); this module is the only place
+that looks at the wall clock. The simulation thread runs PLC cycles whenever simulated time lags
+``speed`` × elapsed wall time, and sleeps otherwise; at ``speed = math.inf`` it runs as fast as the
+CPU allows. Each PLC cycle calls the scene's demo program (while it runs) and then the
+:class:`~viewer.operator.OperatorProgram`, which turns the operator's request flags into function
+block calls. Nothing else touches the simulation: the GUI only sets request flags and reads
+:class:`Snapshot` objects, immutable copies of what it shows, which the simulation thread publishes
+up to ``snapshot_hz`` times per wall second. A viewer therefore never blocks the simulation and
+cannot perturb it.
+
+Commands (pause, step, speed, reset, scene, demo) are queued and applied by the simulation thread
+between two PLC cycles, so they never race with a running cycle.
+"""
+
+from __future__ import annotations
+
+import importlib
+import logging
+import math
+import queue
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+import mcl
+import scenes
+from scenes import DemoProgram
+from scenes.procedures import HomingRecipe
+from scenes.scene import Scene
+from viewer.operator import AxisRequests, Clock, OperatorProgram
+
+log = logging.getLogger(__name__)
+
+DemoFactory = Callable[[Scene], DemoProgram]
+"""Makes the demo program of a loaded scene (``scenes.demo`` by default)."""
+
+MAX_LAG = 0.25
+"""Wall time [s] the simulation may fall behind before pacing gives up catching up (the
+real-time factor then drops below the speed instead of the simulation bursting)."""
+
+MAX_BATCH_WALL = 0.01
+"""Wall time [s] after which the simulation thread interrupts a run of PLC cycles to apply
+commands and publish a snapshot."""
+
+HISTORY_SECONDS = 4.0
+"""Simulated seconds of following error and volts kept for the live plot."""
+
+HISTORY_SAMPLE = 0.004
+"""Sampling period [s] of simulated time of the plot history (rounded to whole PLC cycles)."""
+
+
+@dataclass(frozen=True, slots=True)
+class AxisView:
+    """What the panel of one axis shows, copied between two PLC cycles.
+
+    Attributes:
+        name: Axis name in the scene (``"X"``).
+        joint: Name of the axis joint in the model (``"gantry/X"``); switch geoms are named
+            ``<joint>_lim_neg_geom``, ``<joint>_lim_pos_geom``, ``<joint>_ref_geom``.
+        position: Actual position ``POS`` [u] (mm on the gantry).
+        velocity: Actual velocity ``VEL`` [u/s].
+        following_error: Set point minus actual position [u].
+        volts: Analog command of the last servo cycle [V].
+        joint_position: Ground-truth joint coordinate [m] (NaN if the plant has none).
+        vmax: Velocity at 10 V [u/s] from the servo constants (NaN before they are set).
+        state: ``GT_AxStatusString.StatStr`` (empty before the first scan).
+        error: ``GT_AxErrStringEN.ErrStr`` (empty: no axis error).
+        error_id: ``AxErrorID``.
+        referenced: The axis has its reference (``Ref``).
+        powered: The axis is not Disabled.
+        lim_pos: LIM+ input.
+        lim_neg: LIM− input.
+        ref: REF input.
+        index: Encoder index pulse level.
+        power_request: Level the operator's MC_Power gets (``None``: not called).
+        jogging: Jog request of the last scan: +1, −1 or 0.
+        homing: The operator's homing procedure runs.
+        stopping: The operator's MC_Stop is executing.
+        message: Outcome of the operator's last command.
+    """
+
+    name: str
+    joint: str
+    position: float
+    velocity: float
+    following_error: float
+    volts: float
+    joint_position: float
+    vmax: float
+    state: str
+    error: str
+    error_id: int
+    referenced: bool
+    powered: bool
+    lim_pos: bool
+    lim_neg: bool
+    ref: bool
+    index: bool
+    power_request: bool | None
+    jogging: int
+    homing: bool
+    stopping: bool
+    message: str
+
+
+@dataclass(frozen=True, slots=True)
+class DemoView:
+    """State of the scene's demo program.
+
+    Attributes:
+        available: The scene has a demo program.
+        running: It is being called every PLC cycle.
+        done: It reported ``done``.
+        step: Its ``step`` text (empty before it first ran).
+        error: The exception that ended it, as text (empty: none).
+    """
+
+    available: bool
+    running: bool
+    done: bool
+    step: str
+    error: str
+
+
+@dataclass(frozen=True, slots=True)
+class Snapshot:
+    """Everything the viewer shows, copied by the simulation thread between two PLC cycles.
+
+    Attributes:
+        generation: Increments with every (re)built scene; a viewer rebuilds its scene nodes
+            when it changes.
+        scene: Registry name of the scene.
+        time: Simulated time [s].
+        wall: Wall clock [s] when the snapshot was taken.
+        model: The scene's compiled model (shared, not copied: the viewer only reads it).
+        qpos: Joint coordinates of every joint [m, rad], shape (nq,).
+        xpos: World position of every body [m], shape (nbody, 3).
+        xquat: World orientation of every body (w, x, y, z), shape (nbody, 4).
+        axes: Axis views by axis name, in the scene's order.
+        history: Per axis: sample times [s], following error [u], volts [V] of the last
+            :data:`HISTORY_SECONDS` of simulated time, oldest first.
+        paused: The simulation is paused.
+        speed: Requested speed: simulated seconds per wall second (``inf``: as fast as possible).
+        realtime_factor: Achieved simulated seconds per wall second over the last second.
+        demo: State of the demo program.
+        fault: Text of an exception that paused the simulation (empty: none).
+    """
+
+    generation: int
+    scene: str
+    time: float
+    wall: float
+    model: mujoco.MjModel
+    qpos: npt.NDArray[np.float64]
+    xpos: npt.NDArray[np.float64]
+    xquat: npt.NDArray[np.float64]
+    axes: Mapping[str, AxisView]
+    history: Mapping[str, tuple[npt.NDArray[np.float64], ...]]
+    paused: bool
+    speed: float
+    realtime_factor: float
+    demo: DemoView
+    fault: str
+
+
+class History:
+    """Ring buffer of following error and volts per axis, sampled every few PLC cycles.
+
+    Args:
+        axes: The axes by name.
+        length: Number of samples kept.
+    """
+
+    def __init__(self, axes: Mapping[str, mcl.Axis], length: int) -> None:
+        self._axes = list(axes.values())
+        self._names = list(axes)
+        self._length = max(int(length), 2)
+        self._t = np.zeros(self._length)
+        self._values = np.zeros((len(self._axes), 2, self._length))
+        self._next = 0
+        self._count = 0
+
+    def record(self, t: float) -> None:
+        """Store one sample taken at simulated time ``t`` [s]."""
+        k = self._next
+        self._t[k] = t
+        values = self._values
+        for i, axis in enumerate(self._axes):
+            values[i, 0, k] = axis.following_error
+            values[i, 1, k] = axis.volts
+        self._next = (k + 1) % self._length
+        self._count = min(self._count + 1, self._length)
+
+    def series(self) -> dict[str, tuple[npt.NDArray[np.float64], ...]]:
+        """Copies of the recorded samples, oldest first: ``{axis: (t, fe, volts)}``."""
+        n, k = self._count, self._next
+        order = np.arange(k - n, k) % self._length
+        t = self._t[order]
+        return {
+            name: (t, self._values[i, 0, order], self._values[i, 1, order])
+            for i, name in enumerate(self._names)
+        }
+
+
+def scene_module(name: str) -> Any:
+    """The module of a registered scene (``build``, ``Demo``, ``HOMING``; see ``scenes.SCENES``).
+
+    Raises:
+        KeyError: If the scene is not registered; the message lists the registered ones.
+    """
+    if name not in scenes.SCENES:
+        raise KeyError(f"unknown scene {name!r}; scenes: {sorted(scenes.SCENES)}")
+    return importlib.import_module(scenes.SCENES[name])
+
+
+class Session:
+    """A scene simulated live for the viewer; see the module docstring.
+
+    Example::
+
+        with Session("gantry", speed=1.0) as session:   # starts the simulation thread
+            session.requests("X").set_power(True)
+            snapshot = session.snapshot
+
+    Args:
+        scene: Registry name of the scene (``scenes.SCENES``).
+        speed: Simulated seconds per wall second; ``math.inf`` runs as fast as possible.
+        paused: Start paused.
+        clock: Monotonic wall clock [s] for pacing and the jog dead-man deadlines.
+        demo: Makes a scene's demo program; default ``scenes.demo`` for scenes whose module has
+            a ``Demo``.
+        overrides: Keyword overrides for ``scenes.load``; the trace is off unless given
+            (``trace_every=0``), so a long session does not accumulate memory.
+        snapshot_hz: Snapshots published per wall second at most.
+
+    Raises:
+        KeyError: If the scene is unknown.
+        ValueError: If ``speed`` is not > 0.
+    """
+
+    def __init__(
+        self,
+        scene: str = "gantry",
+        *,
+        speed: float = 1.0,
+        paused: bool = False,
+        clock: Clock = time.monotonic,
+        demo: DemoFactory | None = None,
+        overrides: Mapping[str, Any] | None = None,
+        snapshot_hz: float = 60.0,
+    ) -> None:
+        self._clock = clock
+        self._demo_factory = demo
+        self._overrides = {"trace_every": 0, **(overrides or {})}
+        self._snapshot_period = 1.0 / snapshot_hz
+        self._speed = _check_speed(speed)
+        self._paused = paused
+        self._steps = 0
+        self._commands: queue.SimpleQueue[Callable[[], None]] = queue.SimpleQueue()
+        self._wake = threading.Event()
+        self._stopping = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._generation = 0
+        self._fault = ""
+        self._rate: deque[tuple[float, float]] = deque()
+        self._rebase = True
+        self._last_publish = -math.inf
+
+        self._scene_name = scene
+        self._scene, self._operator = self._build(scene)
+        self._demo: DemoProgram | None = None
+        self._demo_done_seen = False
+        self._demo_step = ""
+        self._demo_error = ""
+        self._install(scene, self._scene, self._operator)
+
+    # ------------------------------------------------------------------------------ building
+
+    def _build(self, name: str) -> tuple[Scene, OperatorProgram]:
+        """Load a scene and make its operator program (in the calling thread)."""
+        scene = scenes.load(name, **self._overrides)
+        has_homing = hasattr(scene_module(scene.name), "HOMING")
+        recipes: Mapping[str, HomingRecipe] = scenes.homing(scene) if has_homing else {}
+        return scene, OperatorProgram(scene.axes, recipes, self._clock)
+
+    def _install(self, name: str, scene: Scene, operator: OperatorProgram) -> None:
+        """Make a freshly built scene the running one (simulation thread or not yet running)."""
+        self._scene_name = name
+        self._scene = scene
+        self._operator = operator
+        self._has_demo = self._demo_factory is not None or hasattr(scene_module(name), "Demo")
+        self._demo = None
+        self._demo_step = self._demo_error = ""
+        self._demo_done_seen = False
+        plc = scene.runtime.plc_period
+        self._record_every = max(1, round(HISTORY_SAMPLE / plc))
+        self._scan_count = 0
+        self._history = History(scene.axes, round(HISTORY_SECONDS / (plc * self._record_every)) + 1)
+        self._generation += 1
+        self._fault = ""
+        self._rebase = True
+        self._rate.clear()
+        self._publish(force=True)
+
+    # ------------------------------------------------------------------------------ queries
+
+    @property
+    def scene(self) -> Scene:
+        """The scene being simulated (read it only while the thread is stopped or paused)."""
+        return self._scene
+
+    @property
+    def scene_name(self) -> str:
+        """Registry name of the scene being simulated."""
+        return self._scene_name
+
+    @property
+    def operator(self) -> OperatorProgram:
+        """The operator program of the current scene."""
+        return self._operator
+
+    @property
+    def snapshot(self) -> Snapshot:
+        """The latest published snapshot (safe from any thread)."""
+        return self._snapshot
+
+    @property
+    def speed(self) -> float:
+        """Simulated seconds per wall second (``math.inf``: as fast as possible)."""
+        return self._speed
+
+    @speed.setter
+    def speed(self, speed: float) -> None:
+        checked = _check_speed(speed)
+
+        def apply() -> None:
+            self._speed = checked
+            self._rebase = True
+
+        self._post(apply)
+
+    @property
+    def paused(self) -> bool:
+        """Whether the simulation is paused."""
+        return self._paused
+
+    @property
+    def running(self) -> bool:
+        """Whether the simulation thread is alive."""
+        return self._thread is not None and self._thread.is_alive()
+
+    def demo_available(self) -> bool:
+        """Whether the current scene has a demo program."""
+        return self._has_demo
+
+    def requests(self, axis: str) -> AxisRequests:
+        """The operator request flags of an axis of the current scene.
+
+        Raises:
+            KeyError: If the scene has no such axis; the message names its axes.
+        """
+        try:
+            return self._operator.requests[axis]
+        except KeyError:
+            raise KeyError(
+                f"scene {self._scene_name!r} has no axis {axis!r}; axes: {list(self._scene.axes)}"
+            ) from None
+
+    # ------------------------------------------------------------------------------ commands
+
+    def _post(self, command: Callable[[], None]) -> None:
+        """Apply a command between two PLC cycles: queued while the thread runs, else now."""
+        if self.running:
+            self._commands.put(command)
+            self._wake.set()
+        else:
+            command()
+            self._publish(force=True)
+
+    def _drain(self) -> bool:
+        """Apply the queued commands (simulation thread); whether there were any."""
+        applied = False
+        while True:
+            try:
+                command = self._commands.get_nowait()
+            except queue.Empty:
+                return applied
+            try:
+                command()
+            except Exception as exc:  # e.g. a demo program that fails to construct
+                log.exception("viewer command failed")
+                self._fault = f"{type(exc).__name__}: {exc}"
+            applied = True
+
+    def pause(self) -> None:
+        """Stop advancing simulated time (the PLC and servo cycles stop with it)."""
+
+        def apply() -> None:
+            self._paused = True
+
+        self._post(apply)
+
+    def resume(self) -> None:
+        """Continue after :meth:`pause` or :meth:`step`."""
+
+        def apply() -> None:
+            self._paused = False
+            self._steps = 0
+            self._rebase = True
+
+        self._post(apply)
+
+    def step(self, cycles: int = 1) -> None:
+        """Pause and run ``cycles`` PLC cycles (one by default).
+
+        Raises:
+            ValueError: If ``cycles`` < 1.
+        """
+        if cycles < 1:
+            raise ValueError(f"cycles must be >= 1, got {cycles}")
+
+        def apply() -> None:
+            self._paused = True
+            self._steps += cycles
+
+        self._post(apply)
+        if not self.running:
+            self._run_steps()
+
+    def reset(self) -> None:
+        """Rebuild the current scene from scratch (the demo stops; pause and speed stay)."""
+        self.load(self._scene_name)
+
+    def load(self, name: str) -> None:
+        """Replace the simulation by a freshly built scene ``name``.
+
+        The scene is built in the calling thread, then swapped in between two PLC cycles.
+
+        Raises:
+            KeyError: If the scene is unknown.
+        """
+        scene, operator = self._build(name)
+        self._post(lambda: self._install(name, scene, operator))
+
+    def start_demo(self) -> None:
+        """Start the scene's demo program afresh; the operator hands power back to it.
+
+        Raises:
+            RuntimeError: If the scene has no demo program.
+        """
+        if not self.demo_available():
+            raise RuntimeError(f"scene {self._scene_name!r} has no demo program")
+        generation = self._generation
+
+        def apply() -> None:
+            if generation != self._generation:
+                return  # the scene was replaced meanwhile
+            factory = self._demo_factory or scenes.demo
+            self._demo_step = self._demo_error = ""
+            self._demo_done_seen = False
+            try:
+                self._demo = factory(self._scene)
+            except Exception as exc:  # a bug in a user program must not kill the viewer
+                log.exception("demo program of scene %r failed to start", self._scene_name)
+                self._demo = None
+                self._demo_error = f"{type(exc).__name__}: {exc}"
+                return
+            self._operator.release_power()
+
+        self._post(apply)
+
+    def end_demo(self) -> None:
+        """Stop calling the demo program (its function blocks keep their last state)."""
+
+        def apply() -> None:
+            self._demo = None
+
+        self._post(apply)
+
+    def toggle_power(self, axis: str) -> None:
+        """The Power button of an axis: ends a running demo, then toggles the drive.
+
+        The demo program calls its own MC_Power every scan; while it runs, an operator power
+        request would fight it, so pressing Power takes the machine back into manual operation.
+
+        Raises:
+            KeyError: If the scene has no such axis.
+        """
+        requests = self.requests(axis)
+
+        def apply() -> None:
+            self._demo = None
+            requests.toggle_power()
+
+        self._post(apply)
+
+    # ------------------------------------------------------------------------------ running
+
+    def _scan(self) -> None:
+        """One PLC scan: demo program (while it runs), operator program, plot history."""
+        demo = self._demo
+        if demo is not None and not demo.done:
+            try:
+                demo()
+            except Exception as exc:  # a bug in a user program must not kill the viewer
+                log.exception("demo program of scene %r failed", self._scene_name)
+                self._demo = None
+                self._demo_error = f"{type(exc).__name__}: {exc}"
+        self._operator()
+        self._scan_count += 1
+        if self._scan_count >= self._record_every:
+            self._scan_count = 0
+            self._history.record(self._scene.runtime.time)
+
+    def _run_cycles(self, cycles: int) -> None:
+        """Run ``cycles`` PLC cycles; an exception pauses the simulation and is reported."""
+        scene = self._scene
+        try:
+            scene.run(self._scan, timeout=cycles * scene.runtime.plc_period)
+        except Exception as exc:
+            log.exception("simulation of scene %r failed", self._scene_name)
+            self._paused = True
+            self._fault = f"{type(exc).__name__}: {exc}"
+
+    def _run_steps(self) -> None:
+        """Run the requested single steps (simulation thread, or the caller when stopped)."""
+        while self._steps > 0:
+            self._steps -= 1
+            self._run_cycles(1)
+            if self._fault:
+                self._steps = 0
+        self._publish(force=True)
+
+    def advance(self, cycles: int) -> None:
+        """Run ``cycles`` PLC cycles in the calling thread, regardless of pause and speed.
+
+        For scripts and tests that drive the session without its thread.
+
+        Raises:
+            RuntimeError: If the simulation thread is running.
+        """
+        if self.running:
+            raise RuntimeError("advance() drives a stopped session; the thread is running")
+        self._drain()
+        self._run_cycles(cycles)
+        self._publish(force=True)
+
+    def start(self) -> None:
+        """Start the simulation thread (no-op if it runs)."""
+        if self.running:
+            return
+        self._stopping.clear()
+        self._rebase = True
+        self._thread = threading.Thread(target=self._loop, name="viewer-simulation", daemon=True)
+        self._thread.start()
+
+    def close(self, timeout: float = 5.0) -> None:
+        """Stop the simulation thread and wait for it [s at most]."""
+        thread = self._thread
+        if thread is None:
+            return
+        self._stopping.set()
+        self._wake.set()
+        thread.join(timeout)
+        self._thread = None
+        self._drain()
+
+    def __enter__(self) -> Session:
+        """Start the simulation thread."""
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        """Stop the simulation thread."""
+        self.close()
+
+    def _loop(self) -> None:
+        """The simulation thread: apply commands, run due PLC cycles, publish, sleep."""
+        clock = self._clock
+        anchor_wall = anchor_sim = 0.0
+        while not self._stopping.is_set():
+            if self._drain():
+                self._publish(force=True)
+            scene = self._scene
+            plc = scene.runtime.plc_period
+            if self._rebase:
+                anchor_wall, anchor_sim = clock(), scene.time
+                self._rate.clear()
+                self._rebase = False
+            if self._paused:
+                if self._steps:
+                    self._run_steps()
+                    continue
+                self._idle(0.05)
+                continue
+            speed = self._speed
+            if math.isinf(speed):
+                start = clock()
+                while clock() - start < MAX_BATCH_WALL and not self._paused:
+                    self._run_cycles(8)
+                self._publish()
+                time.sleep(0)  # let the GUI threads have the interpreter
+                continue
+            now = clock()
+            behind = anchor_sim + speed * (now - anchor_wall) - scene.time
+            if behind > speed * MAX_LAG:  # cannot keep up: drop the backlog, do not burst
+                anchor_wall, anchor_sim = now, scene.time
+                behind = 0.0
+            due = int(behind / plc + 1e-9)
+            if due >= 1:
+                batch = max(1, min(due, int(speed * MAX_BATCH_WALL / plc) + 1))
+                self._run_cycles(batch)
+                self._publish()
+                continue
+            self._publish()
+            self._idle(min(max((plc - behind) / speed, 0.0005), 0.05))
+
+    def _idle(self, seconds: float) -> None:
+        """Sleep up to ``seconds`` [s] of wall time, or until a command arrives."""
+        if self._wake.wait(seconds):
+            self._wake.clear()
+
+    # ------------------------------------------------------------------------------ snapshots
+
+    def _publish(self, force: bool = False) -> None:
+        """Copy what the viewer shows into a new :class:`Snapshot` (at most snapshot_hz)."""
+        now = self._clock()
+        if not force and now - self._last_publish < self._snapshot_period:
+            return
+        self._last_publish = now
+        scene = self._scene
+        sim = scene.time
+        rate = self._rate
+        rate.append((now, sim))
+        while len(rate) > 2 and now - rate[0][0] > 1.0:
+            rate.popleft()
+        span = rate[-1][0] - rate[0][0]
+        factor = (rate[-1][1] - rate[0][1]) / span if span > 0.0 else 0.0
+        demo = self._demo
+        if demo is not None:
+            self._demo_step = str(demo.step)
+            self._demo_done_seen = bool(demo.done)
+        views = {name: self._axis_view(name, axis) for name, axis in scene.axes.items()}
+        self._snapshot = Snapshot(
+            generation=self._generation,
+            scene=self._scene_name,
+            time=sim,
+            wall=now,
+            model=scene.model,
+            qpos=np.array(scene.data.qpos, dtype=np.float64),
+            xpos=np.array(scene.data.xpos, dtype=np.float64),
+            xquat=np.array(scene.data.xquat, dtype=np.float64),
+            axes=MappingProxyType(views),
+            history=MappingProxyType(self._history.series()),
+            paused=self._paused,
+            speed=self._speed,
+            realtime_factor=0.0 if self._paused else factor,
+            demo=DemoView(
+                available=self.demo_available(),
+                running=demo is not None and not self._demo_done_seen,
+                done=self._demo_done_seen,
+                step=self._demo_step,
+                error=self._demo_error,
+            ),
+            fault=self._fault,
+        )
+
+    def _axis_view(self, name: str, axis: mcl.Axis) -> AxisView:
+        io = axis.io
+        op = self._operator.axes[name]
+        return AxisView(
+            name=name,
+            joint=str(getattr(io, "name", name)),
+            position=axis.POS,
+            velocity=axis.VEL,
+            following_error=axis.following_error,
+            volts=axis.volts,
+            joint_position=float(getattr(io, "position", math.nan)),
+            vmax=axis.constants.Vmax if axis.constants is not None else math.nan,
+            state=op.status.StatStr,
+            error=op.error_text.ErrStr,
+            error_id=axis.AxErrorID,
+            referenced=axis.Ref,
+            powered=axis.state != mcl.AxisState.Disabled,
+            lim_pos=bool(io.lim_pos),
+            lim_neg=bool(io.lim_neg),
+            ref=bool(io.ref),
+            index=bool(io.index),
+            power_request=op.power_request,
+            jogging=op.jogging,
+            homing=op.homing,
+            stopping=op.stopping,
+            message=op.message,
+        )
+
+
+def _check_speed(speed: float) -> float:
+    """Validate a speed factor (> 0, ``inf`` allowed)."""
+    speed = float(speed)
+    if not speed > 0.0:
+        raise ValueError(f"speed must be > 0 (math.inf: as fast as possible), got {speed}")
+    return speed
