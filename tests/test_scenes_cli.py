@@ -1,0 +1,68 @@
+"""The scenes package as a user meets it: load by name, the CLI, and clear wiring errors."""
+
+from __future__ import annotations
+
+import pytest
+
+import mcl
+import scenes
+from scenes import gantry
+from scenes.__main__ import main
+from scenes.plant import WiringError
+from scenes.scene import AxisSpec, Machine, Scene
+
+
+def test_run_single_axis_demo_prints_the_report(capsys):
+    assert main(["run", "single_axis"]) == 0
+    out = capsys.readouterr().out
+    assert "move.Done↑" in out
+    assert "third.Done↑" in out
+    assert "X: POS" in out and "StandStill" in out
+
+
+def test_list_names_the_scenes(capsys):
+    assert main(["list"]) == 0
+    assert set(capsys.readouterr().out.split()) >= {"gantry", "single_axis"}
+
+
+def test_unknown_scene_names_the_valid_ones():
+    with pytest.raises(KeyError, match="gantry"):
+        scenes.load("lathe")
+    with pytest.raises(SystemExit):
+        main(["run", "lathe"])
+
+
+def test_load_gantry_by_name_with_overrides():
+    scene = scenes.load("gantry", start={"X": 0.3}, trace_every=0)
+    assert set(scene.axes) == {"X", "Y", "Z"}
+    assert scene.joint_position("X") == pytest.approx(0.3)
+    assert scene.axes["X"].POS == 0.0  # incremental encoder: counts from power-up
+    assert scenes.homing(scene)["X"].set_position == 120.0
+
+
+def test_missing_model_file_says_which_files_exist():
+    spec = gantry.AXES["X"]
+    with pytest.raises(FileNotFoundError, match="gantry.xml"):
+        Scene([Machine("m", "no_such_machine.xml", {"X": spec})])
+
+
+def test_model_without_an_amplifier_names_the_actuators(tmp_path):
+    xml = tmp_path / "bare.xml"
+    xml.write_text("""<mujoco><worldbody><body name="b"><joint name="X" type="slide"/>
+      <geom size=".1"/></body></worldbody>
+      <actuator><motor name="X_motor" joint="X"/></actuator></mujoco>""")
+    spec = AxisSpec(mcl.AxisConfig(), mcl.ServoConstants(Vmax=100.0))
+    with pytest.raises(WiringError, match="X_amp.*X_motor"):
+        Scene([Machine("bare", str(xml), {"X": spec})])
+
+
+def test_wrong_encoder_resolution_is_refused():
+    spec = gantry.AXES["X"]
+    wrong = AxisSpec(mcl.AxisConfig(resolution=0.01), spec.constants)
+    with pytest.raises(WiringError, match="resolution"):
+        Scene([Machine("gantry", "gantry.xml", {**gantry.AXES, "X": wrong})])
+
+
+def test_period_not_a_multiple_of_the_timestep_is_refused():
+    with pytest.raises(ValueError, match="integer multiple"):
+        scenes.load("gantry", servo_period=0.0012)
