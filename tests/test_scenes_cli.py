@@ -42,7 +42,7 @@ def test_load_gantry_by_name_with_overrides():
 
 def test_missing_model_file_says_which_files_exist():
     spec = gantry.AXES["X"]
-    with pytest.raises(FileNotFoundError, match="gantry.xml"):
+    with pytest.raises(FileNotFoundError, match=r"gantry\.xml"):
         Scene([Machine("m", "no_such_machine.xml", {"X": spec})])
 
 
@@ -52,7 +52,7 @@ def test_model_without_an_amplifier_names_the_actuators(tmp_path):
       <geom size=".1"/></body></worldbody>
       <actuator><motor name="X_motor" joint="X"/></actuator></mujoco>""")
     spec = AxisSpec(mcl.AxisConfig(), mcl.ServoConstants(Vmax=100.0))
-    with pytest.raises(WiringError, match="X_amp.*X_motor"):
+    with pytest.raises(WiringError, match=r"X_amp.*X_motor"):
         Scene([Machine("bare", str(xml), {"X": spec})])
 
 
