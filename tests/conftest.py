@@ -32,15 +32,38 @@ def configure(axis: mcl.Axis, **overrides: float) -> None:
 
 
 def power_on(machine: mcl.SimMachine, axis: mcl.Axis, referenced: bool = True) -> mcl.MC_Power:
-    """Power the axis through MC_Power and (optionally) set Ref with MC_FinishHoming-equivalent
-    MC_StepDirect semantics: the coordinate stays, Ref is set."""
-    power = mcl.MC_Power()
-    power(Axis=axis, Enable=True)
-    machine.run(lambda: power(Axis=axis, Enable=True), timeout=0.01)
-    assert power.Status
-    if referenced:
-        axis.Ref = True
+    """Power the axis through MC_Power and, if ``referenced``, confirm its coordinate with
+    MC_FinishHoming (the coordinate stays, Ref is set); takes 10 ms of simulated time."""
+    power, finish = mcl.MC_Power(), mcl.MC_FinishHoming()
+
+    def program() -> None:
+        power(Axis=axis, Enable=True)
+        finish(Axis=axis, Execute=referenced and power.Status)
+
+    machine.run(program, timeout=0.01)
+    assert power.Status and axis.Ref == referenced
     return power
+
+
+PLC = 0.002
+"""PLC cycle of the simulated machines [s]."""
+
+POS_TOL = 0.05
+"""How close the actual position is to a target when the move reports Done [mm]."""
+
+
+def tick(machine: mcl.SimMachine, cycles: int = 1) -> None:
+    """Let ``cycles`` PLC cycles pass without calling any block."""
+    machine.run(timeout=PLC * cycles)
+
+
+def fresh_axis(referenced: bool = True, **constants: float) -> tuple[mcl.SimMachine, mcl.Axis]:
+    """A new machine like the ``machine``/``X`` fixtures (for tests that need several runs)."""
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
+    axis = machine.axes["X"]
+    configure(axis, **constants)
+    power_on(machine, axis, referenced)
+    return machine, axis
 
 
 @pytest.fixture

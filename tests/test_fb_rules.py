@@ -14,27 +14,7 @@ import pytest
 
 import mcl
 from mcl.fb import MotionFB
-from tests.conftest import configure, power_on
-
-PLC = 0.002
-"""PLC cycle [s]."""
-
-POS_TOL = 0.05
-"""How close the actual position is to a target when the move reports Done [mm]."""
-
-
-def tick(machine: mcl.SimMachine, cycles: int = 1) -> None:
-    """Let ``cycles`` PLC cycles pass without calling any block."""
-    machine.run(timeout=PLC * cycles)
-
-
-def fresh_axis(referenced: bool = True, **constants: float) -> tuple[mcl.SimMachine, mcl.Axis]:
-    """A new machine like the ``machine``/``X`` fixtures (for tests that need several runs)."""
-    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
-    axis = machine.axes["X"]
-    configure(axis, **constants)
-    power_on(machine, axis, referenced)
-    return machine, axis
+from tests.conftest import POS_TOL, configure, fresh_axis, power_on, tick
 
 
 def exclusive(fb: Any) -> None:
