@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import inspect
 import math
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Protocol
 
 from mcl.axis import Axis
-from mcl.command import Command, Status
+from mcl.command import Status
 from mcl.enums import MC_BufferMode
 from mcl.errors import ErrorID
 
@@ -195,11 +195,33 @@ class ExecuteFB(FunctionBlock):
         """A new edge arrived while busy: forget the previous job (rule 7)."""
 
 
-class MotionFB(ExecuteFB):
-    """A motion block: hands a :class:`Command` to the axis; Active, CommandAborted/Aborted.
+class Ticket(Protocol):
+    """What a motion block reads back from the job it handed over (a :class:`Command` for an
+    axis, a path command for a group)."""
 
-    Subclasses implement :meth:`_command` (validate the sampled inputs and return the command or
-    an error code); the axis reports back through the command's status.
+    status: Status
+    error_id: int
+
+    @property
+    def busy(self) -> bool:
+        """Queued or active."""
+        ...
+
+
+class TicketOwner(Protocol):
+    """Who runs the tickets of a motion block: an :class:`Axis` or an axes group."""
+
+    def cancel(self, ticket: Any) -> None:
+        """Withdraw a ticket of a restarted block (no Done/Aborted will be reported)."""
+        ...
+
+
+class MotionFB(ExecuteFB):
+    """A motion block: hands a ticket to the axis (or group); Active, CommandAborted/Aborted.
+
+    Subclasses implement :meth:`_command` (validate the sampled inputs and return the ticket or
+    an error code); the owner reports back through the ticket's status. Group blocks override
+    :meth:`_submit` and :meth:`_owner`.
     """
 
     BufferMode: int = MC_BufferMode.Aborting
@@ -208,37 +230,40 @@ class MotionFB(ExecuteFB):
         super().__init__()
         self.Active = False
         self.CommandAborted = False
-        self._cmd: Command | None = None
+        self._cmd: Ticket | None = None
 
     @property
     def Aborted(self) -> bool:
         """Teco's name of ``CommandAborted``."""
         return self.CommandAborted
 
-    def _buffer_mode(self) -> MC_BufferMode | None:
-        try:
-            return MC_BufferMode(int(self.BufferMode))
-        except (TypeError, ValueError, OverflowError):
-            return None
-
     def _begin(self) -> int:
-        mode = self._buffer_mode()
-        if mode is None:
+        try:
+            mode = MC_BufferMode(int(self.BufferMode))
+        except (TypeError, ValueError, OverflowError):
             return ErrorID.EParam
         result = self._command(mode)
         if isinstance(result, int):
             return result
-        self._submit(result)
+        error = self._submit(result)
+        if error:
+            return error
         if result.status == Status.Error:
             return result.error_id
         self._cmd = result
         return 0
 
-    def _submit(self, cmd: Command) -> None:
-        self.axis.submit(cmd)
-
-    def _command(self, mode: MC_BufferMode) -> Command | int:
+    def _command(self, mode: MC_BufferMode) -> Any:
+        """The ticket for the sampled inputs, or an error code (int)."""
         raise NotImplementedError
+
+    def _submit(self, ticket: Any) -> int:
+        """Hand the ticket over; an error code when refused before it reaches the owner."""
+        self.axis.submit(ticket)
+        return 0
+
+    def _owner(self) -> TicketOwner:
+        return self.axis
 
     def _poll(self) -> Status | None:
         cmd = self._cmd
@@ -251,7 +276,7 @@ class MotionFB(ExecuteFB):
 
     def _withdraw(self) -> None:
         if self._cmd is not None and self._cmd.status == Status.Queued:
-            self.axis.cancel(self._cmd)
+            self._owner().cancel(self._cmd)
         self._cmd = None
 
     def _show_more(self, visible: bool, final: Status | None) -> None:

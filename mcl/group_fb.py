@@ -20,7 +20,7 @@ from mcl.axis import Axis
 from mcl.command import Status
 from mcl.enums import GroupState, MC_BufferMode
 from mcl.errors import ErrorID
-from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, non_negative, number, positive
+from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB, non_negative, number, positive
 from mcl.group import AxesGroup, PathCommand
 
 
@@ -202,62 +202,26 @@ class MC_GroupReadActualPosition(_GroupBlock, EnableFB):
         self.Position = []
 
 
-class _GroupMotionFB(_GroupBlock, ExecuteFB):
-    """A group motion block: hands a :class:`PathCommand` to the group; Active, CommandAborted.
+class _GroupMotionFB(_GroupBlock, MotionFB):
+    """A group motion block: hands a :class:`PathCommand` to the group (the ticket handling of
+    :class:`MotionFB`: Active, CommandAborted, restart).
 
     Subclasses implement :meth:`_submit` (validate the sampled inputs, hand the command over,
     or return an error code).
     """
 
-    BufferMode: int = MC_BufferMode.Aborting
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.Active = False
-        self.CommandAborted = False
-        self._ticket: PathCommand | None = None
-
-    @property
-    def Aborted(self) -> bool:
-        """Teco's name of ``CommandAborted``."""
-        return self.CommandAborted
-
-    def _begin(self) -> int:
-        try:
-            mode = MC_BufferMode(int(self.BufferMode))
-        except (TypeError, ValueError, OverflowError):
-            return ErrorID.EParam
-        ticket = PathCommand(mode)
-        error = self._submit(ticket)
-        if error:
-            return error
-        if ticket.status == Status.Error:
-            return ticket.error_id
-        self._ticket = ticket
-        return 0
+    def _command(self, mode: MC_BufferMode) -> PathCommand:
+        return PathCommand(mode)
 
     def _submit(self, ticket: PathCommand) -> int:
         raise NotImplementedError
 
+    def _owner(self) -> AxesGroup:
+        return self.group
+
     def _poll(self) -> Status | None:
         self.group.update()
-        ticket = self._ticket
-        if ticket is None or ticket.busy:
-            return None
-        return ticket.status
-
-    def _error_of_poll(self) -> int:
-        return self._ticket.error_id if self._ticket is not None else 0
-
-    def _withdraw(self) -> None:
-        if self._ticket is not None and self._ticket.status == Status.Queued:
-            self.group.cancel(self._ticket)
-        self._ticket = None
-
-    def _show_more(self, visible: bool, final: Status | None) -> None:
-        ticket = self._ticket
-        self.Active = self._running and ticket is not None and ticket.status == Status.Active
-        self.CommandAborted = visible and final == Status.Aborted
+        return super()._poll()
 
 
 class _MoveLinearFB(_GroupMotionFB):
@@ -345,8 +309,8 @@ class MC_GroupStop(_GroupMotionFB):
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan; the group leaves GroupStopping once Done and Execute is FALSE."""
         super().__call__(**inputs)
-        if self._ticket is not None:
-            self._ticket.hold = bool(self.Execute)
+        if isinstance(self._cmd, PathCommand):
+            self._cmd.hold = bool(self.Execute)
 
     def _submit(self, ticket: PathCommand) -> int:
         group = self.group

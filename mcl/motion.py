@@ -245,7 +245,12 @@ class MC_MoveVelocity(MotionFB):
     def _show_more(self, visible: bool, final: Status | None) -> None:
         super()._show_more(visible, final)
         cmd = self._cmd
-        reached = self._running and cmd is not None and cmd.status == Status.Active and cmd.signal
+        reached = (
+            self._running
+            and isinstance(cmd, MoveVelocity)
+            and cmd.status == Status.Active
+            and cmd.signal
+        )
         # rule 5: reset by the falling edge, but shown for one scan if reached after it
         show = reached and (bool(self.Execute) or not self._in_velocity_shown)
         self._in_velocity_shown = self._in_velocity_shown or show
@@ -297,9 +302,10 @@ class MC_Stop(MotionFB):
             return limits
         return Stop(limits)
 
-    def _submit(self, cmd: Command) -> None:
+    def _submit(self, cmd: Command) -> int:
         assert isinstance(cmd, Stop)
         self.axis.begin_stop(cmd)
+        return 0
 
 
 class GT_Jog(FunctionBlock):
