@@ -4,6 +4,7 @@ Function blocks keep PLCopen's and Teco's names; see SPEC.md for the behaviour c
 ``mcl`` imports neither mujoco nor viser: it drives anything that implements :class:`AxisIO`.
 """
 
+from mcl import faults
 from mcl.administrative import (
     GT_Analog,
     GT_AxErrStringCZ,
@@ -18,6 +19,7 @@ from mcl.administrative import (
     MC_Reset,
 )
 from mcl.axis import Axis, AxisConfig
+from mcl.channel import AxisChannel, Marks
 from mcl.enums import AxisState, GroupState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.errors import ErrorID, error_text
 from mcl.group import AxesGroup
@@ -42,6 +44,12 @@ from mcl.homing import (
     MC_StepLimitSwitch,
     MC_StepRefPulse,
 )
+from mcl.inputs_outputs import (
+    MC_ReadAnalogInput,
+    MC_ReadDigitalInput,
+    MC_ReadDigitalOutput,
+    MC_WriteDigitalOutput,
+)
 from mcl.io import AxisIO
 from mcl.module import Module
 from mcl.motion import (
@@ -58,10 +66,12 @@ from mcl.motion import (
 from mcl.runtime import ConditionTimeout, Machine, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant
+from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
 
 __all__ = [
     "AxesGroup",
     "Axis",
+    "AxisChannel",
     "AxisConfig",
     "AxisIO",
     "AxisState",
@@ -77,6 +87,7 @@ __all__ = [
     "GT_SInfo",
     "GT_SetConstant",
     "GroupState",
+    "MC_AbortTrigger",
     "MC_AddAxisToGroup",
     "MC_BufferMode",
     "MC_Direction",
@@ -97,7 +108,10 @@ __all__ = [
     "MC_MoveVelocity",
     "MC_Power",
     "MC_ReadActualPosition",
+    "MC_ReadAnalogInput",
     "MC_ReadAxisError",
+    "MC_ReadDigitalInput",
+    "MC_ReadDigitalOutput",
     "MC_ReadStatus",
     "MC_Reset",
     "MC_StepAbsSwitch",
@@ -107,8 +121,11 @@ __all__ = [
     "MC_StepRefPulse",
     "MC_Stop",
     "MC_SwitchMode",
+    "MC_TouchProbe",
     "MC_UngroupAllAxes",
+    "MC_WriteDigitalOutput",
     "Machine",
+    "Marks",
     "Module",
     "Plant",
     "Runtime",
@@ -118,4 +135,5 @@ __all__ = [
     "SimMachine",
     "SimPlant",
     "error_text",
+    "faults",
 ]

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from mcl.command import Status
 from mcl.enums import AxisState
@@ -11,8 +12,25 @@ from mcl.errors import ErrorID, error_text
 from mcl.fb import EnableFB, ExecuteFB, non_negative, number, positive
 from mcl.servo import ServoConstants, dac_code_volts
 
+if TYPE_CHECKING:
 
-class GT_SetConstant(ExecuteFB):
+    class _ServoConstantInputs(ExecuteFB, ServoConstants):
+        """What type checkers and IDEs see: the fields of ServoConstants as inputs."""
+
+else:
+    _ServoConstantInputs = type(
+        "_ServoConstantInputs",
+        (ExecuteFB,),
+        {
+            "__module__": __name__,
+            "__doc__": "The fields of ServoConstants as FB inputs, with its defaults.",
+            "__annotations__": {f.name: f.type for f in dataclasses.fields(ServoConstants)},
+            **{f.name: f.default for f in dataclasses.fields(ServoConstants)},
+        },
+    )
+
+
+class GT_SetConstant(_ServoConstantInputs):
     """Writes the servo constants of the axis (seed §3.1); ``Ka`` is this library's extension.
 
     Inputs: Kp [V/u], Ki [V/(u·s)], Kd [V·s/u], Ff [-], Kc [1/s], Vmax [u/s at 10 V],
@@ -20,28 +38,19 @@ class GT_SetConstant(ExecuteFB):
     Ka [s]. Vmax must be > 0, gains and Filter >= 0, all finite; else EParam.
     """
 
-    Kp: float = 0.0
-    Ki: float = 0.0
-    Kd: float = 0.0
-    Ff: float = 1.0
-    Kc: float = 0.0
-    Vmax: float = 0.0
-    LimPos: float = 0.0
-    LimNeg: float = 0.0
-    Ki1: float = 0.0
-    Filter: float = 0.0
-    Ka: float = 0.0
+    # The inputs are the fields of ServoConstants with its defaults (_ServoConstantInputs).
 
     def _begin(self) -> int:
-        values = {name: number(getattr(self, name)) for name in ServoConstants.__slots__}
-        if not positive(values["Vmax"]):
-            return ErrorID.EParam
-        if not all(
-            non_negative(values[n]) for n in ("Kp", "Ki", "Kd", "Ff", "Kc", "Ki1", "Filter", "Ka")
-        ):
-            return ErrorID.EParam
-        if not (math.isfinite(values["LimPos"]) and math.isfinite(values["LimNeg"])):
-            return ErrorID.EParam
+        values = {f.name: number(getattr(self, f.name)) for f in dataclasses.fields(ServoConstants)}
+        for name, value in values.items():
+            if name == "Vmax":
+                valid = positive(value)
+            elif name in ("LimPos", "LimNeg"):
+                valid = math.isfinite(value)
+            else:  # gains, Filter
+                valid = non_negative(value)
+            if not valid:
+                return ErrorID.EParam
         self.axis.set_constants(ServoConstants(**values))
         return 0
 
@@ -71,7 +80,9 @@ class MC_Power(EnableFB):
         speed_mode: float = self.SpeedMode
         if not (speed_mode == 0 or speed_mode == 1):  # fast path for the usual ints
             speed_mode = number(speed_mode)
-        if enable and axis.constants is None:
+        if enable and not axis.has_drive:
+            error = ErrorID.ENoDrive
+        elif enable and axis.constants is None:
             error = ErrorID.Econst
         elif enable and speed_mode not in (0.0, 1.0):
             error = ErrorID.EParam

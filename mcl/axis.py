@@ -38,6 +38,11 @@ class AxisConfig:
         max_jerk: maximum jerk [u/s³]; 0 = unlimited.
         modulo: period of a rotary (modulo) axis [u]; 0 = linear axis.
         servo_period: servo cycle [s].
+        unit: the user unit u, for messages, traces and the viewer (``"mm"``, ``"deg"``).
+        quick_stop_time: after ERRPOS 2001 the position loop opens but the drive stays enabled
+            at 0 V this long [s], so the velocity-mode amplifier brakes the axis with its own
+            velocity loop before the enable drops and the holding brake engages (0 = the enable
+            drops at once and the axis coasts).
     """
 
     resolution: float = 0.001
@@ -51,6 +56,8 @@ class AxisConfig:
     max_jerk: float = 0.0
     modulo: float = 0.0
     servo_period: float = 0.001
+    quick_stop_time: float = 0.1
+    unit: str = "mm"
 
     def __post_init__(self) -> None:
         for name in (
@@ -66,7 +73,7 @@ class AxisConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"AxisConfig.{name} must be a finite number > 0, got {value!r}")
-        for name in ("jerk", "max_jerk", "modulo"):
+        for name in ("jerk", "max_jerk", "modulo", "quick_stop_time"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f"AxisConfig.{name} must be a finite number >= 0, got {value!r}")
@@ -93,6 +100,8 @@ class Axis:
         self.io = io
         self.config = config = config if config is not None else AxisConfig()
         self.name = name
+        self.has_drive = bool(io.has_drive)
+        """False for an encoder-only axis: it measures (a gearing master) but cannot move."""
         self.servo_period = config.servo_period
         self.module: Module | None = None
         self.group: object | None = None
@@ -125,9 +134,19 @@ class Axis:
         self.sp_acc = 0.0
         self.t_sp = 0.0
         """Time of the model state (sp_pos, sp_vel, sp_acc) [s]."""
+        self._sp_time = -math.inf
+        self._quick_stop_until = -math.inf
         self.following_error = 0.0
         self.captured = 0.0
         """Position captured at InSync [u] (GT_SInfo 24)."""
+
+        self.probe_position: float | None = None
+        """Position [u] the armed touch probe recorded (None: not yet, or not armed)."""
+        self.probe_generation = 0
+        """Counts arm and abort requests; a waiting MC_TouchProbe sees its own generation."""
+        self._probe_armed = False
+        self._probe_seq = 0
+        self._probe_window: tuple[float, float] | None = None
 
         self.active: Command | None = None
         self.queue: deque[Command] = deque()
@@ -167,6 +186,22 @@ class Axis:
         if what == 24:
             return self.captured
         raise ValueError(f"GT_SInfo selector must be 20..24, got {what}")
+
+    @property
+    def DI(self) -> tuple[bool, ...]:
+        """Digital inputs as sampled this servo cycle: LIM+, LIM−, REF, TP, then further ones."""
+        io = self.io
+        return (io.lim_pos, io.lim_neg, io.ref, io.tp, *io.inputs)
+
+    @property
+    def DO(self) -> tuple[bool, ...]:
+        """Digital outputs as the program set them (MC_WriteDigitalOutput)."""
+        return tuple(self.io.outputs)
+
+    @property
+    def AI(self) -> tuple[float, ...]:
+        """Analog inputs [V] as sampled this servo cycle."""
+        return tuple(self.io.analog)
 
     @property
     def moving(self) -> bool:
@@ -220,7 +255,10 @@ class Axis:
         self, *, stopping_ok: bool = False, homing_ok: bool = False, group_ok: bool = False
     ) -> int:
         """Error code that forbids a motion command now (0 = none), SPEC §2/§3 order:
-        constants, power, ErrorStop, Stopping, group membership, Homing."""
+        drive (an encoder-only axis has none), constants, power, ErrorStop, Stopping, group
+        membership, Homing."""
+        if not self.has_drive:
+            return ErrorID.ENoDrive
         if self.constants is None:
             return ErrorID.Econst
         state = self.state
@@ -409,6 +447,7 @@ class Axis:
         self.sp_pos, self.sp_vel, self.sp_acc = self.actual, 0.0, 0.0
 
     def _open_loop(self) -> None:
+        self._quick_stop_until = -math.inf
         self._stop = None
         self.loop_closed = False
         self._powering_off = False
@@ -449,6 +488,7 @@ class Axis:
         if open_loop:
             self.loop_closed = False
             self.sp_vel = self.sp_acc = 0.0
+            self._quick_stop_until = self.t_sp + self.config.quick_stop_time
         elif stop_pushing:
             self._rest_at_actual()
             self._hold(AxisState.ErrorStop)
@@ -500,7 +540,18 @@ class Axis:
 
     # ------------------------------------------------------------------ servo cycle
     def servo_cycle(self, t: float) -> None:
-        """One servo cycle at time ``t`` [s]: measure, set point, supervise, regulate, output."""
+        """One servo cycle of this axis alone at time ``t`` [s]: measure, set point, act.
+
+        A runtime with several axes runs each phase over all axes instead (see
+        :class:`mcl.runtime.Runtime`), so that one axis can use another's values of the same
+        instant.
+        """
+        self.measure(t)
+        self.update_setpoint(t)
+        self.act(t)
+
+    def measure(self, t: float) -> None:
+        """Phase 1: read the sampled inputs: actual position ``POS`` and velocity ``VEL``."""
         io = self.io
         config = self.config
         actual = io.counts * config.resolution + self.offset
@@ -508,16 +559,46 @@ class Axis:
         self.VEL += ((actual - self._pos_prev) / self.servo_period - self.VEL) * self._vel_alpha
         self._pos_prev = actual
         self.POS = actual % config.modulo if config.modulo else actual
+        if self._probe_armed and io.tp_seq != self._probe_seq:
+            self._probe_latched()
 
-        if not self.loop_closed:
-            self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = actual, 0.0, 0.0, t
-            self.following_error = 0.0
-            volts = self.analog_volts
-            self.volts = volts if volts is not None else 0.0
-            io.write(self.volts, volts is not None)
-            self._lim_prev = (io.lim_pos, io.lim_neg) if io.lim_pos or io.lim_neg else ()
+    # ------------------------------------------------------------------ touch probe
+    def arm_probe(self, window: tuple[float, float] | None = None) -> int:
+        """Arm the touch-probe latch: the next TP edge (within ``window`` [u], if given) records
+        the position in :attr:`probe_position`. Returns the arming's generation."""
+        self.probe_generation += 1
+        self.probe_position = None
+        self._probe_armed = True
+        self._probe_seq = self.io.tp_seq
+        self._probe_window = window
+        return self.probe_generation
+
+    def abort_probe(self) -> None:
+        """Cancel a waiting touch probe (MC_AbortTrigger)."""
+        self.probe_generation += 1
+        self._probe_armed = False
+
+    def _probe_latched(self) -> None:
+        io = self.io
+        self._probe_seq = io.tp_seq
+        position = self._wrap(io.tp_count * self.config.resolution + self.offset)
+        window = self._probe_window
+        if window is None or window[0] <= position <= window[1]:
+            self.probe_position = position
+            self._probe_armed = False
+
+    def update_setpoint(self, t: float) -> None:
+        """Phase 2: the model state (``sp_pos``, ``sp_vel``, ``sp_acc``) at time ``t`` [s].
+
+        Computed once per instant: a gearing slave calls it on its master first, so it reads
+        the master's set point of the same instant whatever the order of the axes.
+        """
+        if self._sp_time == t:
             return
-
+        self._sp_time = t
+        if not self.loop_closed:
+            self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = self.actual, 0.0, 0.0, t
+            return
         cmd = self.active
         if cmd is None:
             p, v, a = self.sp_pos, 0.0, 0.0
@@ -532,8 +613,19 @@ class Axis:
             if self.state == AxisState.Stopping:
                 self.state = AxisState.StandStill
 
+    def act(self, t: float) -> None:
+        """Phase 3: supervise, regulate and write the analog output."""
+        io = self.io
+        if not self.loop_closed:
+            self.following_error = 0.0
+            volts = self.analog_volts
+            self.volts = volts if volts is not None else 0.0
+            io.write(self.volts, volts is not None or t < self._quick_stop_until)
+            self._lim_prev = (io.lim_pos, io.lim_neg) if io.lim_pos or io.lim_neg else ()
+            return
+        config = self.config
         actual = self.actual  # a homing step may have just set the coordinate
-        e = p - actual
+        e = self.sp_pos - actual
         self.following_error = e
         lim_pos, lim_neg = io.lim_pos, io.lim_neg
         if (
@@ -542,11 +634,12 @@ class Axis:
             or self._lim_prev
             or abs(e) > config.dev_max
             or (self._sw_limits and self.Ref)
+            or not io.encoder_ok
         ):
-            self._supervise(e, v, actual, lim_pos, lim_neg)
-        if not self.loop_closed:  # opened by the supervision
+            self._supervise(e, self.sp_vel, actual, lim_pos, lim_neg)
+        if not self.loop_closed:  # opened by the supervision: quick stop by the amplifier
             self.volts = 0.0
-            io.write(0.0, False)
+            io.write(0.0, t < self._quick_stop_until)
             return
         regulator = self.regulator
         assert regulator is not None
@@ -596,7 +689,7 @@ class Axis:
         self._lim_prev = (lim_pos, lim_neg) if lim_pos or lim_neg else ()
         if self.state == AxisState.ErrorStop:
             return
-        if abs(e) > self.config.dev_max and not self.speed_mode:
+        if not self.io.encoder_ok or (abs(e) > self.config.dev_max and not self.speed_mode):
             self.fault(ErrorID.ERRPOS, open_loop=True)
             return
         active = self.active

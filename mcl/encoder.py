@@ -61,6 +61,10 @@ class IncrementalEncoder:
         # the small bias keeps exact multiples of the resolution on their own count
         return math.floor(position * self._inv_res + 1e-9)
 
+    def count_at(self, position: float) -> int:
+        """The counter value at ``position`` [m] (for a latch between two samples) [counts]."""
+        return self._absolute(position) - self._origin
+
     def update(self, position: float) -> None:
         """Advance the counter to ``position`` [m], latching an index edge passed on the way."""
         c = self._absolute(position)

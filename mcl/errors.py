@@ -22,6 +22,8 @@ class ErrorID(IntEnum):
     Eerrstop = 11
     Econst = 12
     EpowerOff = 13
+    ENoDrive = 14
+    """Beyond the seed: a motion or power command on an encoder-only axis (no drive)."""
     EGroupMember = 1000
     EGroupFull = 1001
     ENotGroupMember = 1003
@@ -50,6 +52,7 @@ _TEXTS: dict[int, tuple[str, str]] = {
     11: ("axis is in ErrorStop", "osa je v stavu ErrorStop"),
     12: ("constants not set", "nejsou zadány konstanty"),
     13: ("axis is powered", "osa je power on"),
+    14: ("axis has no drive (encoder only)", "osa nemá pohon (jen enkodér)"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

@@ -43,6 +43,8 @@ class FunctionBlock:
 
     AXIS_INPUTS: ClassVar[tuple[str, ...]] = ("Axis",)
     """The in-out axis references (``Axis``; ``Master``/``Slave`` for gearing)."""
+    OWNER: ClassVar[str] = "Axis"
+    """The in-out whose axis runs the block's command (``Slave`` for gearing)."""
 
     _all_inputs: ClassVar[dict[str, Any]] = {}
     _names: ClassVar[frozenset[str]] = frozenset()
@@ -99,10 +101,11 @@ class FunctionBlock:
 
     @property
     def axis(self) -> Axis:
-        """The connected axis; a block called without ever getting one is a programming error."""
-        axis = getattr(self, self.AXIS_INPUTS[0])
+        """The axis that runs the block's command (its ``OWNER`` in-out); a block called without
+        ever getting one is a programming error."""
+        axis = getattr(self, self.OWNER)
         if axis is None:
-            raise TypeError(f"{type(self).__name__} needs {self.AXIS_INPUTS[0]}=<mcl.Axis>")
+            raise TypeError(f"{type(self).__name__} needs {self.OWNER}=<mcl.Axis>")
         assert isinstance(axis, Axis)
         return axis
 

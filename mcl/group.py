@@ -4,36 +4,17 @@ SPEC §2 (member states), §4 (BufferMode of group moves), §5 "Groups"; seed 00
 (Obr. 2.2, Tab. 2.1) and 5.
 
 An :class:`AxesGroup` holds up to three axes in the order they were added. A group move is a
-straight segment in the space of the members' coordinates [mm]; the motion *along* the segment
-is a 1-D jerk-limited profile of the path coordinate ``s`` (0 … length) planned with
-:mod:`mcl.trajectory`, and member ``i`` follows ``start_i + s·u_i`` (``u`` = unit direction), so
-the tool point stays on the straight line.
+straight segment in the space of the members' coordinates [mm], run along a 1-D jerk-limited
+profile so that the tool point stays on the straight line; consecutive segments may blend at
+their corners. The geometry, the path elements and their planning (corner blends included) are
+in :mod:`mcl.path`; this module keeps the group state machine, the membership, the queue of path
+elements and the glue to the member axes.
 
 The members are driven through the normal axis machinery: while the group moves, every member
 runs a :class:`GroupMember` command (axis state SynchronizedMotion) whose set point is the
 member's component of the path point. The path point is computed once per servo instant and
 cached, because every member asks for the same instant. The member commands stay active across
 consecutive segments; the group ends them when the path is complete and nothing is queued.
-
-Corner blending (BlendingLow/Previous/Next/High): the first segment is planned to reach the
-corner with the blending velocity ``v_b`` and zero acceleration, the second starts there with
-``v_b``. Around the corner instant ``t_c`` a window of duration ``T`` mixes the two straight
-motions, each extended through the corner at ``v_b``::
-
-    p(t) = q1(t) + σ(x)·(q2(t) − q1(t)),   x = (t − t_c + T/2) / T,   σ = 10x³ − 15x⁴ + 6x⁵
-
-so position, velocity and acceleration stay continuous and the path speed does not drop to zero;
-the path passes the corner point itself at ``t_c``. ``T = 3.75·v_b·max_i(|Δu_i| / A_i)`` (``Δu`` =
-change of the unit direction) keeps the blend's own contribution to the acceleration of axis
-``i`` within ``A_i``, the smaller path acceleration/deceleration of the two segments (at most the
-axis' ``max_acceleration``); the window is lengthened if the sum with the segments' own
-acceleration would exceed an axis' ``max_acceleration``. ``v_b`` starts at the BufferMode's
-velocity (capped by every member's Vmax along both segments) and is lowered until the blended
-path stays within :attr:`AxesGroup.corner_tolerance` (default 0.05 mm) of the polyline,
-checked numerically over the window, and the window covers at most the second half of the
-first segment and the first half of the second. If no blending velocity fits, or the corner is
-a reversal (above about 177°), the path stops at the corner as with Buffered. Collinear
-segments hand over at ``v_b`` without a window.
 
 Aborting while moving: when the current velocity vector points along the new segment (each
 axis' velocity differs by at most what the path acceleration changes in one servo period) the
@@ -42,6 +23,10 @@ its own direction with the new command's Deceleration, then the segment starts f
 point (the new block is Active during the ramp). MC_GroupStop, MC_GroupDisable and member faults
 ramp the path velocity to zero along the current direction of motion (inside a corner blend:
 along its tangent); a member fault uses the other members' fastest ramp (max_deceleration).
+
+Member faults are acted on by :meth:`AxesGroup.update`, which runs with every path evaluation
+(each servo cycle while the group moves) and in the group blocks; reading
+:attr:`AxesGroup.state` never changes the group.
 """
 
 from __future__ import annotations
@@ -51,221 +36,28 @@ from collections import deque
 from collections.abc import Sequence
 from typing import Final
 
-from mcl import trajectory
 from mcl.axis import Axis
-from mcl.command import Command, Status, blend_velocity
+from mcl.command import Command, Status
 from mcl.enums import AxisState, GroupState, MC_BufferMode
 from mcl.errors import ErrorID
+from mcl.path import (
+    EPS,
+    Blend,
+    Element,
+    PathCommand,
+    PathPlanner,
+    Vector,
+    along,
+    direction,
+    distance_to_segment,
+    dot,
+    ramp_element,
+)
 from mcl.trajectory import Limits, PlanningError, Profile
 
-Vector = list[float]
-"""A point or direction in the group's coordinates, one component per member [mm]."""
-
-_EPS: Final = 1e-9
-"""Lengths and speeds below this count as zero [mm], [mm/s]."""
-_REVERSAL_COS: Final = -0.999
-"""Corners sharper than this cosine (about 177°) are reversals: the path stops there."""
-_BLEND_SAMPLES: Final = 32
-"""Samples of a blend window when its deviation from the polyline is checked."""
-_BLEND_SHRINK: Final = 0.7
-"""Factor that lowers the blending velocity while a blend does not fit."""
-_BLEND_TRIES: Final = 16
-_BLEND_STRETCH: Final = (1.0, 1.3, 1.7, 2.2)
-"""Longer blend windows tried while an axis would exceed its max_acceleration."""
-_FITS, _TOO_HARD, _NO_FIT = 0, 1, 2
 _MOTION_STATES: Final = frozenset(
     {AxisState.DiscreteMotion, AxisState.ContinuousMotion, AxisState.SynchronizedMotion}
 )
-
-
-def _dot(a: Sequence[float], b: Sequence[float]) -> float:
-    return sum(x * y for x, y in zip(a, b, strict=True))
-
-
-def _norm(a: Sequence[float]) -> float:
-    return math.sqrt(_dot(a, a))
-
-
-def _along(start: Sequence[float], unit: Sequence[float], s: float) -> Vector:
-    return [p + s * u for p, u in zip(start, unit, strict=True)]
-
-
-def distance_to_segment(p: Sequence[float], a: Sequence[float], b: Sequence[float]) -> float:
-    """Distance of point ``p`` from the segment ``a``–``b`` [mm]."""
-    ab = [y - x for x, y in zip(a, b, strict=True)]
-    ap = [y - x for x, y in zip(a, p, strict=True)]
-    length2 = _dot(ab, ab)
-    k = 0.0 if length2 <= 0.0 else min(1.0, max(0.0, _dot(ap, ab) / length2))
-    return _norm([d - k * e for d, e in zip(ap, ab, strict=True)])
-
-
-def _smooth(x: float) -> tuple[float, float, float]:
-    """Quintic step σ(x) = 10x³ − 15x⁴ + 6x⁵ and its first two derivatives (0 ≤ x ≤ 1)."""
-    x2 = x * x
-    return (
-        x2 * x * (10.0 - 15.0 * x + 6.0 * x2),
-        30.0 * x2 * (1.0 - x) ** 2,
-        60.0 * x * (1.0 - x) * (1.0 - 2.0 * x),
-    )
-
-
-class PathCommand:
-    """The ticket of a group command (MC_MoveLinear*, MC_GroupStop) that its FB reads.
-
-    Attributes:
-        buffer_mode: how the command takes over the group (SPEC §4).
-        status: life cycle, written by the group.
-        error_id: the error that ended the command (0 = none).
-        hold: MC_GroupStop only: its Execute is still TRUE (the group stays in GroupStopping).
-    """
-
-    def __init__(self, buffer_mode: MC_BufferMode = MC_BufferMode.Aborting) -> None:
-        self.buffer_mode = buffer_mode
-        self.status = Status.Queued
-        self.error_id = 0
-        self.hold = False
-
-    @property
-    def busy(self) -> bool:
-        """Queued or active."""
-        return self.status <= Status.Active
-
-
-class _Blend:
-    """A corner blend: the window of ``2·half`` seconds around ``t_c`` (module docstring)."""
-
-    __slots__ = ("corner", "half", "speed", "successor", "t_c", "u_in", "u_out")
-
-    def __init__(
-        self,
-        corner: Vector,
-        u_in: Vector,
-        u_out: Vector,
-        speed: float,
-        t_c: float,
-        half: float,
-        successor: _Element,
-    ) -> None:
-        self.corner = corner
-        self.u_in = u_in
-        self.u_out = u_out
-        self.speed = speed
-        self.t_c = t_c
-        self.half = half
-        self.successor = successor
-
-    @property
-    def begin(self) -> float:
-        """Start of the window [s]."""
-        return self.t_c - self.half
-
-    @property
-    def end(self) -> float:
-        """End of the window [s]."""
-        return self.t_c + self.half
-
-    def line(self, unit: Vector, t: float) -> tuple[Vector, Vector]:
-        """Position and velocity on the straight line through the corner at the blending speed."""
-        ds = self.speed * (t - self.t_c)
-        return _along(self.corner, unit, ds), [self.speed * u for u in unit]
-
-    def mix(
-        self,
-        t: float,
-        q1: tuple[Vector, Vector, Vector],
-        q2: tuple[Vector, Vector, Vector],
-    ) -> tuple[Vector, Vector, Vector]:
-        """Blend the incoming motion ``q1`` into the outgoing ``q2`` (position, velocity,
-        acceleration vectors) at time ``t`` inside the window."""
-        width = 2.0 * self.half
-        x = min(1.0, max(0.0, (t - self.begin) / width))
-        s, ds, dds = _smooth(x)
-        ds /= width
-        dds /= width * width
-        (p1, v1, a1), (p2, v2, a2) = q1, q2
-        p, v, a = [], [], []
-        for i in range(len(p1)):
-            dp, dv, da = p2[i] - p1[i], v2[i] - v1[i], a2[i] - a1[i]
-            p.append(p1[i] + s * dp)
-            v.append(v1[i] + s * dv + ds * dp)
-            a.append(a1[i] + s * da + 2.0 * ds * dv + dds * dp)
-        return p, v, a
-
-
-class _Element:
-    """A straight piece of the path: ``start + s(t)·unit``, ``s`` a 1-D profile [mm].
-
-    ``move`` elements come from MC_MoveLinear* and end at ``end``; ramp elements (``move`` False)
-    bring the path to a standstill along ``unit`` (MC_GroupStop, aborts, faults).
-    """
-
-    __slots__ = (
-        "blend_in",
-        "blend_out",
-        "completes",
-        "end",
-        "length",
-        "limits",
-        "move",
-        "params",
-        "profile",
-        "start",
-        "t0",
-        "ticket",
-        "unit",
-    )
-
-    def __init__(
-        self,
-        start: Vector,
-        unit: Vector,
-        length: float,
-        limits: Limits,
-        ticket: PathCommand | None,
-        move: bool,
-        completes: bool = True,
-    ) -> None:
-        self.start = start
-        self.unit = unit
-        self.length = length
-        self.end = _along(start, unit, length)
-        self.limits = limits
-        self.ticket = ticket
-        self.move = move
-        self.completes = completes
-        """Reaching the end reports the ticket Done (False for the ramp that precedes a move)."""
-        self.params: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
-        """FB inputs of a move: Velocity, Acceleration, Deceleration, Jerk (0 = default)."""
-        self.profile: Profile | None = None
-        self.t0 = 0.0
-        self.blend_in: _Blend | None = None
-        self.blend_out: _Blend | None = None
-
-    @property
-    def duration(self) -> float:
-        """Duration of the planned profile [s]."""
-        assert self.profile is not None
-        return self.profile.duration
-
-    def at(self, t: float) -> tuple[Vector, Vector, Vector]:
-        """Position, velocity, acceleration vectors of the straight motion at time ``t`` [s]."""
-        assert self.profile is not None
-        s, v, a = self.profile.at(t - self.t0)
-        unit = self.unit
-        return _along(self.start, unit, s), [v * u for u in unit], [a * u for u in unit]
-
-    def point(self, t: float) -> tuple[Vector, Vector, Vector]:
-        """Path point at time ``t`` including the corner blends [mm], [mm/s], [mm/s²]."""
-        q = self.at(t)
-        blend = self.blend_out
-        if blend is not None and blend.half > 0.0 and t > blend.begin:
-            p2, v2 = blend.line(blend.u_out, t)
-            q = blend.mix(t, q, (p2, v2, [0.0] * len(p2)))
-        blend = self.blend_in
-        if blend is not None and blend.half > 0.0 and t < blend.end:
-            p1, v1 = blend.line(blend.u_in, t)
-            q = blend.mix(t, (p1, v1, [0.0] * len(p1)), q)
-        return q
 
 
 class GroupMember(Command):
@@ -307,7 +99,7 @@ class AxesGroup:
     """AXES_GROUP_REF: up to three axes moved together on straight lines (SPEC §5 "Groups").
 
     The state (:attr:`state`) is derived each time it is read from the group's own flags and its
-    members' states (seed Tab. 2.1, chapter 2.3):
+    members' states (seed Tab. 2.1, chapter 2.3); reading it changes nothing:
 
     - GroupDisabled until MC_GroupEnable and after MC_GroupDisable / MC_UngroupAllAxes;
     - GroupErrorStop while a member is in ErrorStop or :attr:`GroupErrorID` is set (a member
@@ -341,8 +133,8 @@ class AxesGroup:
         self.enabled = False
         self.GroupErrorID = 0
         self._members: list[GroupMember | None] = []
-        self._active: _Element | None = None
-        self._queue: deque[_Element] = deque()
+        self._active: Element | None = None
+        self._queue: deque[Element] = deque()
         self._stop: PathCommand | None = None
         self._t = -math.inf
         """Time of the cached path state [s]."""
@@ -359,57 +151,104 @@ class AxesGroup:
     # ------------------------------------------------------------------ state
     @property
     def state(self) -> GroupState:
-        """The group state, derived from the group's flags and the members' states."""
-        self.update()
+        """The group state, derived from the group's flags and the members' states.
+
+        A pure read: member faults that :meth:`update` has not acted on yet count as it will
+        count them (a member whose group command ended with an error makes GroupErrorStop).
+        """
         if not self.enabled:
             return GroupState.GroupDisabled
+        lost = self._lost()
         states = [axis.state for axis in self.axes]
-        if self.GroupErrorID or AxisState.ErrorStop in states:
+        if self.GroupErrorID or self._loss_error(lost) or AxisState.ErrorStop in states:
             return GroupState.GroupErrorStop
-        if self.stopping or AxisState.Stopping in states:
+        if self._stopping(lost) or AxisState.Stopping in states:
             return GroupState.GroupStopping
         if AxisState.Homing in states:
             return GroupState.GroupHoming
-        if self.moving:
+        if self._moving(lost):
             return GroupState.GroupMoving
         return GroupState.GroupStandby
 
     @property
     def stopping(self) -> bool:
         """MC_GroupStop is running or its Execute is still TRUE."""
-        stop = self._stop
-        return stop is not None and (stop.busy or stop.hold)
+        return self._stopping(self._lost())
 
     @property
     def moving(self) -> bool:
         """A group motion runs, or a member moves by a command of its own."""
-        if self._active is not None or self._queue:
+        return self._moving(self._lost())
+
+    def in_position(self) -> bool:
+        """The group stands and every member is within its in-position window of the end point
+        of the last motion (of its model position if the group never moved)."""
+        if not self.axes:
+            return False
+        lost = self._lost()
+        if self._moving(lost):
+            return False
+        end = self._end
+        if end is None and lost and self._active is not None:
+            end = self._p  # nobody follows the path any more: it ends where it stands
+        if end is None:
+            end = [axis.sp_pos for axis in self.axes]
+        return all(
+            abs(axis.actual - e) <= axis.config.in_position
+            for axis, e in zip(self.axes, end, strict=True)
+        )
+
+    def _lost(self) -> list[GroupMember]:
+        """Members whose group command ended by an error or power-off since the last
+        :meth:`update`: they dropped out of the group motion."""
+        return [
+            member
+            for member in self._members
+            if member is not None and member.status in (Status.Error, Status.Aborted)
+        ]
+
+    def _loss_error(self, lost: Sequence[GroupMember]) -> int:
+        """The group error the loss of ``lost`` latches (0 = none: power-off)."""
+        for member in lost:
+            if member.status == Status.Error:
+                return self._group_error(member.error_id)
+        return 0
+
+    def _stopping(self, lost: Sequence[GroupMember]) -> bool:
+        """:attr:`stopping` once ``lost`` is acted on (the loss aborts a running MC_GroupStop)."""
+        stop = self._stop
+        if stop is None or self._loss_error(lost):
+            return False
+        return stop.hold or (stop.busy and not lost)
+
+    def _moving(self, lost: Sequence[GroupMember]) -> bool:
+        """:attr:`moving` once ``lost`` is acted on (the path goes on, as a stop ramp, only while
+        some member still follows it)."""
+        if lost:
+            path = self._active is not None and any(
+                member is not None and member not in lost for member in self._members
+            )
+        else:
+            path = self._active is not None or bool(self._queue)
+        if path:
             return True
         for axis, member in zip(self.axes, self._members, strict=True):
             if axis.state in _MOTION_STATES and (member is None or not member.busy):
                 return True
         return False
 
-    def in_position(self) -> bool:
-        """The group stands and every member is within its in-position window of the end point
-        of the last motion (of its model position if the group never moved)."""
-        if not self.axes or self.moving:
-            return False
-        end = self._end if self._end is not None else [axis.sp_pos for axis in self.axes]
-        return all(
-            abs(axis.actual - e) <= axis.config.in_position
-            for axis, e in zip(self.axes, end, strict=True)
-        )
-
     def update(self) -> None:
-        """Notice member faults (called by the FBs and every path evaluation): a member whose
-        group command ended by an error or power-off stops the group (module docstring)."""
-        lost: list[GroupMember] = []
-        for i, member in enumerate(self._members):
-            if member is not None and member.status in (Status.Error, Status.Aborted):
-                lost.append(member)
-                self._members[i] = None
+        """Act on member faults: a member whose group command ended by an error or power-off
+        stops the group (module docstring); a member in ErrorStop latches :attr:`GroupErrorID`.
+
+        Runs with every path evaluation (each servo cycle while the group moves) and in the
+        group blocks before they look at the state or act on the group.
+        """
+        lost = self._lost()
         if lost:
+            for i, member in enumerate(self._members):
+                if member is not None and member in lost:
+                    self._members[i] = None
             self._lose(lost)
         if self.enabled and not self.GroupErrorID:
             for axis in self.axes:
@@ -445,6 +284,7 @@ class AxesGroup:
         return 0
 
     def _busy_error(self) -> int:
+        self.update()
         state = self.state
         if state == GroupState.GroupErrorStop:
             return ErrorID.Eerrstop
@@ -467,6 +307,7 @@ class AxesGroup:
         A running motion is aborted and ramps to standstill along the path with the default
         deceleration; :attr:`moving` tells when it stands.
         """
+        self.update()
         if self.state == GroupState.GroupErrorStop:
             return ErrorID.Eerrstop
         self.enabled = False
@@ -478,6 +319,7 @@ class AxesGroup:
         """Errors of MC_UngroupAllAxes: 1005 empty group, Eerrstop 11 in GroupErrorStop."""
         if not self.axes:
             return ErrorID.EGroupEmpty
+        self.update()
         if self.state == GroupState.GroupErrorStop:
             return ErrorID.Eerrstop
         return 0
@@ -503,6 +345,7 @@ class AxesGroup:
         Returns:
             True once the group has left GroupErrorStop (members reset, stop ramps finished).
         """
+        self.update()
         if self.state != GroupState.GroupErrorStop:
             return True
         done = self._active is None
@@ -527,6 +370,7 @@ class AxesGroup:
             return ErrorID.EGroupEmpty
         if not self.enabled:
             return ErrorID.Epower
+        self.update()
         state = self.state
         if state == GroupState.GroupErrorStop:
             return ErrorID.Eerrstop
@@ -555,31 +399,10 @@ class AxesGroup:
         deceleration: float,
         jerk: float,
     ) -> Limits:
-        """Limits along the path direction ``unit`` from FB inputs (validated, >= 0).
-
-        0 means the default: the smallest default of the members (jerk: of those that have one).
-        The result is clamped so that no member exceeds its Vmax, max_acceleration,
-        max_deceleration or max_jerk: a limit of member ``i`` allows ``limit_i / |u_i|`` along the
-        path (SPEC §3: valid values above the maxima are clamped).
-        """
-        configs = [axis.config for axis in self.axes]
-        acc = acceleration if acceleration > 0.0 else min(c.acceleration for c in configs)
-        dec = deceleration if deceleration > 0.0 else min(c.deceleration for c in configs)
-        jerks = [c.jerk for c in configs if c.jerk > 0.0]
-        j = jerk if jerk > 0.0 else min(jerks, default=math.inf)
-        v = velocity
-        for axis, u in zip(self.axes, unit, strict=True):
-            cos = abs(u)
-            if cos < _EPS:
-                continue
-            c = axis.config
-            if axis.constants is not None:
-                v = min(v, axis.constants.Vmax / cos)
-            acc = min(acc, c.max_acceleration / cos)
-            dec = min(dec, c.max_deceleration / cos)
-            if c.max_jerk > 0.0:
-                j = min(j, c.max_jerk / cos)
-        return Limits(v, acc, dec, j)
+        """Limits along the path direction ``unit`` from FB inputs (validated, >= 0); see
+        :meth:`mcl.path.PathPlanner.limits` (0 = the members' default, clamped to every
+        member's maxima)."""
+        return self._planner().limits(unit, velocity, acceleration, deceleration, jerk)
 
     # ------------------------------------------------------------------ commands
     def submit_move(
@@ -606,7 +429,7 @@ class AxesGroup:
         target = [float(x) for x in target]
         if mode != MC_BufferMode.Aborting and not self._idle():
             start = self._last_end()
-            element = self._move_element(ticket, start, target, params)
+            element = self._planner().move_element(ticket, start, target, params)
             self._queue.append(element)
             active = self._active
             if (
@@ -620,17 +443,17 @@ class AxesGroup:
         t, p, v, a = self._current()
         self._abort_tickets(except_ticket=ticket)
         self._queue.clear()
-        element = self._move_element(ticket, p, target, params)
+        element = self._planner().move_element(ticket, p, target, params)
         unit = element.unit
-        v_along = _dot(v, unit)
+        v_along = dot(v, unit)
         jump = self.axes[0].servo_period * element.limits.acceleration
         if all(abs(vi - v_along * ui) <= jump for vi, ui in zip(v, unit, strict=True)):
             ticket.status = Status.Active
-            self._begin(element, t, 0.0, v_along, _dot(a, unit))
+            self._begin(element, t, 0.0, v_along, dot(a, unit))
         else:
-            dec = self.path_limits(self._direction(v), math.inf, deceleration, deceleration, jerk)
-            ramp = self._ramp_element(p, v, a, dec, ticket, completes=False)
-            self._queue.append(self._move_element(ticket, ramp.end, target, params))
+            dec = self.path_limits(direction(v), math.inf, deceleration, deceleration, jerk)
+            ramp = ramp_element(p, v, a, dec, ticket, completes=False)
+            self._queue.append(self._planner().move_element(ticket, ramp.end, target, params))
             ticket.status = Status.Active
             self._begin(ramp, t, 0.0, 0.0, 0.0)
         self._engage()
@@ -642,8 +465,8 @@ class AxesGroup:
         t, p, v, a = self._current()
         self._abort_tickets(except_ticket=ticket)
         self._queue.clear()
-        limits = self.path_limits(self._direction(v), math.inf, deceleration, deceleration, jerk)
-        ramp = self._ramp_element(p, v, a, limits, ticket)
+        limits = self.path_limits(direction(v), math.inf, deceleration, deceleration, jerk)
+        ramp = ramp_element(p, v, a, limits, ticket)
         ticket.status = Status.Active
         self._stop = ticket
         self._begin(ramp, t, 0.0, 0.0, 0.0)
@@ -680,70 +503,31 @@ class AxesGroup:
         assert last is not None
         return list(last.end)
 
-    @staticmethod
-    def _direction(v: Sequence[float]) -> Vector:
-        speed = _norm(v)
-        return [x / speed for x in v] if speed > _EPS else [0.0] * len(v)
+    def _planner(self) -> PathPlanner:
+        """The path planner for the current members' machine data and servo constants."""
+        axes = self.axes
+        return PathPlanner(
+            [axis.config for axis in axes],
+            [axis.constants.Vmax if axis.constants is not None else None for axis in axes],
+            self.corner_tolerance,
+        )
 
-    def _move_element(
-        self,
-        ticket: PathCommand,
-        start: Vector,
-        target: Vector,
-        params: tuple[float, float, float, float],
-    ) -> _Element:
-        delta = [b - a for a, b in zip(start, target, strict=True)]
-        length = _norm(delta)
-        unit = [d / length for d in delta] if length > _EPS else [0.0] * len(delta)
-        element = _Element(start, unit, length, self.path_limits(unit, *params), ticket, True)
-        element.end = list(target)
-        element.params = params
-        return element
-
-    def _rechain(self, previous: _Element | None) -> None:
+    def _rechain(self, previous: Element | None) -> None:
         """Let every queued move start where the element before it ends (after a withdrawal or
         an unplanned stop ramp)."""
         end = previous.end if previous is not None else None
-        queue: deque[_Element] = deque()
+        queue: deque[Element] = deque()
         for element in self._queue:
             if end is not None and element.move and element.start != end:
                 assert element.ticket is not None
-                element = self._move_element(element.ticket, list(end), element.end, element.params)
+                element = self._planner().move_element(
+                    element.ticket, list(end), element.end, element.params
+                )
             queue.append(element)
             end = element.end
         self._queue = queue
 
-    def _ramp_element(
-        self,
-        p: Vector,
-        v: Vector,
-        a: Vector,
-        limits: Limits,
-        ticket: PathCommand | None,
-        completes: bool = True,
-    ) -> _Element:
-        """A ramp to standstill from the state (p, v, a) along the velocity's direction."""
-        unit = self._direction(v)
-        profile = trajectory.stop(0.0, _norm(v), _dot(a, unit), limits.deceleration, limits.jerk)
-        element = _Element(p, unit, 0.0, limits, ticket, False, completes)
-        element.profile = profile
-        element.length = profile.end_position
-        element.end = _along(p, unit, element.length)
-        return element
-
-    def _max_ramp(self, unit: Vector, axes: Sequence[Axis]) -> Limits:
-        """The fastest stop along ``unit`` the given members allow (their max_deceleration)."""
-        dec = jerk = math.inf
-        for axis, u in zip(self.axes, unit, strict=True):
-            if axis in axes and abs(u) > _EPS:
-                dec = min(dec, axis.config.max_deceleration / abs(u))
-                if axis.config.max_jerk > 0.0:
-                    jerk = min(jerk, axis.config.max_jerk / abs(u))
-        if math.isinf(dec):  # nobody moves along ``unit``: any finite ramp will do
-            dec = min((a.config.max_deceleration for a in axes), default=1.0)
-        return Limits(math.inf, dec, dec, jerk)
-
-    def _begin(self, element: _Element, t0: float, s0: float, v0: float, a0: float) -> None:
+    def _begin(self, element: Element, t0: float, s0: float, v0: float, a0: float) -> None:
         """Make ``element`` the active one, starting at ``t0`` from the path state (s0, v0, a0)."""
         element.t0 = t0
         if element.move:
@@ -755,13 +539,11 @@ class AxesGroup:
                     element.ticket.error_id = ErrorID.EParam
                 unit = element.unit
                 p, v, a = (
-                    _along(element.start, unit, s0),
+                    along(element.start, unit, s0),
                     [v0 * u for u in unit],
                     [a0 * u for u in unit],
                 )
-                element = self._ramp_element(
-                    p, v, a, self.path_limits(unit, math.inf, 0, 0, 0), None
-                )
+                element = ramp_element(p, v, a, self.path_limits(unit, math.inf, 0, 0, 0), None)
                 element.t0 = t0
         self._active = element
 
@@ -782,124 +564,18 @@ class AxesGroup:
         element.profile, element.blend_out, element.t0 = profile, blend, t
 
     def _plan(
-        self, element: _Element, t0: float, s0: float, v0: float, a0: float, now: float
-    ) -> tuple[Profile, _Blend | None]:
-        """Profile of a move from (s0, v0, a0) at ``t0`` and its blend into the queued successor.
+        self, element: Element, t0: float, s0: float, v0: float, a0: float, now: float
+    ) -> tuple[Profile, Blend | None]:
+        """Profile of a move from (s0, v0, a0) at ``t0`` and its blend into the queued successor
+        (:meth:`mcl.path.PathPlanner.plan`).
 
         Raises:
             PlanningError: the move cannot be planned.
         """
         nxt = self._queue[0] if self._queue else None
-        limits = element.limits
-        if (
-            nxt is None
-            or not nxt.move
-            or nxt.ticket is element.ticket
-            or nxt.ticket is None
-            or nxt.ticket.buffer_mode < MC_BufferMode.BlendingLow
-            or element.length <= _EPS
-            or nxt.length <= _EPS
-            or _dot(element.unit, nxt.unit) <= _REVERSAL_COS
-        ):
-            return trajectory.move_to(s0, v0, a0, element.length, limits), None
-        u1, u2 = element.unit, nxt.unit
-        v_b = blend_velocity(nxt.ticket.buffer_mode, limits.velocity, nxt.limits.velocity, 1.0, 1.0)
-        v_b = min(v_b, self.path_limits(u1, v_b, 0, 0, 0).velocity)
-        v_b = min(v_b, self.path_limits(u2, v_b, 0, 0, 0).velocity)
-        budget = min(
-            limits.acceleration,
-            limits.deceleration,
-            nxt.limits.acceleration,
-            nxt.limits.deceleration,
-        )
-        k = 0.0
-        for axis, a, b in zip(self.axes, u1, u2, strict=True):
-            k = max(k, abs(b - a) / min(budget, axis.config.max_acceleration))
-        straight = k * budget < 1e-9
-        for _ in range(_BLEND_TRIES):
-            try:
-                profile = trajectory.blend_to(s0, v0, a0, element.length, limits, v_b)
-            except PlanningError:
-                break
-            speed = profile.end_velocity
-            if speed <= _EPS:
-                break
-            t_c = t0 + profile.duration
-            if straight:
-                return profile, _Blend(element.end, u1, u2, speed, t_c, 0.0, nxt)
-            for stretch in _BLEND_STRETCH:
-                half = 1.875 * speed * k * stretch
-                blend = _Blend(element.end, u1, u2, speed, t_c, half, nxt)
-                verdict = self._blend_fits(element, nxt, profile, t0, blend, now)
-                if verdict == _FITS:
-                    return profile, blend
-                if verdict != _TOO_HARD:
-                    break  # a longer window would only deviate more
-            v_b = _BLEND_SHRINK * speed
-        return trajectory.move_to(s0, v0, a0, element.length, limits), None
+        return self._planner().plan(element, nxt, t0, s0, v0, a0, now)
 
-    def _blend_fits(
-        self,
-        element: _Element,
-        nxt: _Element,
-        profile: Profile,
-        t0: float,
-        blend: _Blend,
-        now: float,
-    ) -> int:
-        """Whether a blend window is acceptable: ``_FITS``, ``_TOO_HARD`` (an axis would exceed
-        its max_acceleration: try a longer window) or ``_NO_FIT``.
-
-        It fits when it starts in the future and after the element's own incoming blend, covers
-        at most the second half of ``element`` and the first half of ``nxt`` (the start of
-        ``nxt`` is estimated by planning it without its own successor), keeps the path within
-        :attr:`corner_tolerance` of the polyline and every axis within its max_acceleration.
-        """
-        if blend.begin <= now or blend.begin < t0:
-            return _NO_FIT
-        if element.blend_in is not None and blend.begin < element.blend_in.end:
-            return _NO_FIT
-        if profile.at(blend.begin - t0)[0] < 0.5 * element.length:
-            return _NO_FIT
-        try:
-            after = trajectory.move_to(0.0, blend.speed, 0.0, nxt.length, nxt.limits)
-        except PlanningError:
-            return _NO_FIT
-        if after.at(blend.half)[0] > 0.5 * nxt.length:
-            return _NO_FIT
-        u1, u2 = element.unit, nxt.unit
-        width = 2.0 * blend.half
-        tolerance = self.corner_tolerance
-        worst = 0.0
-        too_hard = False
-        for k in range(1, _BLEND_SAMPLES):
-            t = blend.begin + width * k / _BLEND_SAMPLES
-            if t <= blend.t_c:
-                s, v, a = profile.at(t - t0)
-                p2, v2 = blend.line(u2, t)
-                q1 = (_along(element.start, u1, s), [v * u for u in u1], [a * u for u in u1])
-                q2 = (p2, v2, [0.0] * len(u2))
-            else:
-                p1, v1 = blend.line(u1, t)
-                s, v, a = after.at(t - blend.t_c)
-                q1 = (p1, v1, [0.0] * len(u1))
-                q2 = (_along(nxt.start, u2, s), [v * u for u in u2], [a * u for u in u2])
-            p, _, acc = blend.mix(t, q1, q2)
-            worst = max(
-                worst,
-                min(
-                    distance_to_segment(p, element.start, element.end),
-                    distance_to_segment(p, nxt.start, nxt.end),
-                ),
-            )
-            if worst > tolerance:
-                return _NO_FIT
-            for axis, ai in zip(self.axes, acc, strict=True):
-                if abs(ai) > axis.config.max_acceleration:
-                    too_hard = True
-        return _TOO_HARD if too_hard else _FITS
-
-    def _next(self, element: _Element) -> _Element | None:
+    def _next(self, element: Element) -> Element | None:
         """``element`` reached its end: report it and start what follows (at the exact end time)."""
         t_end = element.t0 + element.duration
         assert element.profile is not None
@@ -909,13 +585,13 @@ class AxesGroup:
             ticket.status = Status.Done
         blend = element.blend_out
         nxt = self._queue.popleft() if self._queue else None
-        if abs(v_end) > _EPS and (blend is None or nxt is not blend.successor):
+        if abs(v_end) > EPS and (blend is None or nxt is not blend.successor):
             # the blending successor vanished: stop along the direction the blend had taken
             if nxt is not None:
                 self._queue.appendleft(nxt)
             unit = blend.u_out if blend is not None else element.unit
             speed = blend.speed if blend is not None else v_end
-            ramp = self._ramp_element(
+            ramp = ramp_element(
                 list(element.end),
                 [speed * u for u in unit],
                 [0.0] * len(unit),
@@ -1007,18 +683,18 @@ class AxesGroup:
         if self._active is None:
             return
         t, p, v, a = self._t, list(self._p), list(self._v), list(self._a)
-        unit = self._direction(v)
-        remaining = [ax for ax, m in zip(self.axes, self._members, strict=True) if m is not None]
-        if not remaining:  # nobody left to follow the path
+        unit = direction(v)
+        following = [m is not None for m in self._members]
+        if not any(following):  # nobody left to follow the path
             self._active = None
             self._end = p
             return
         limits = (
-            self._max_ramp(unit, remaining)
+            self._planner().max_ramp(unit, following)
             if max_ramp
             else self.path_limits(unit, math.inf, 0.0, 0.0, 0.0)
         )
-        ramp = self._ramp_element(p, v, a, limits, None)
+        ramp = ramp_element(p, v, a, limits, None)
         ramp.t0 = t
         self._active = ramp
 
@@ -1026,10 +702,7 @@ class AxesGroup:
         """Members dropped out of the group motion (ErrorStop, power off): end the group's
         commands with the error (8001 for a following error) and stop the others along the path
         on their fastest ramp."""
-        error = 0
-        for member in lost:
-            if member.status == Status.Error and not error:
-                error = self._group_error(member.error_id)
+        error = self._loss_error(lost)
         if error and not self.GroupErrorID:
             self.GroupErrorID = error
         self._abort_path(Status.Error if error else Status.Aborted, error, max_ramp=True)

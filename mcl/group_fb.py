@@ -21,7 +21,8 @@ from mcl.command import Status
 from mcl.enums import GroupState, MC_BufferMode
 from mcl.errors import ErrorID
 from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB, non_negative, number, positive
-from mcl.group import AxesGroup, PathCommand
+from mcl.group import AxesGroup
+from mcl.path import PathCommand
 
 
 def _vector(value: Any, size: int) -> list[float] | None:
@@ -165,6 +166,7 @@ class MC_GroupReadStatus(_GroupBlock, EnableFB):
 
     def _evaluate(self) -> int:
         group = self.group
+        group.update()
         self._flags(group.state)
         self.InPosition = group.in_position()
         return 0

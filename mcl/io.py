@@ -1,9 +1,9 @@
 """The I/O boundary: what a GT-x75x servo module sees of one axis (DESIGN "The I/O boundary").
 
-`mcl` drives any object that implements :class:`AxisIO`: the pure-Python simulated axes of
-:mod:`mcl.simaxis` and the MuJoCo plant of :mod:`scenes.plant` both do, and so could a real module.
-Once per servo cycle the servo core reads the inputs (sampled at the same instant) and then
-calls :meth:`AxisIO.write`.
+`mcl` drives any object that implements :class:`AxisIO`, and so could a real module. Both plants
+of this project implement it through :class:`mcl.channel.AxisChannel`: the pure-Python simulated
+axes of :mod:`mcl.simaxis` and the MuJoCo plant of ``scenes``. Once per servo cycle the servo core
+reads the inputs (sampled at the same instant) and then calls :meth:`AxisIO.write`.
 """
 
 from __future__ import annotations
@@ -26,7 +26,11 @@ class AxisIO(Protocol):
         ref: reference switch REF (True = actuated).
         tp: touch-probe input TP.
         tp_count, tp_seq: counter latched at the last rising edge of TP, and how many so far.
-        analog: optional analog inputs [V] (e.g. pressure transducers); may be empty.
+        encoder_ok: False when the encoder line monitor reports a fault (a broken wire).
+        analog: analog inputs [V] (e.g. pressure transducers); may be empty.
+        inputs: further digital inputs; may be empty.
+        outputs: digital outputs the program sets (a knife valve, a clamp); may be empty.
+        has_drive: False for an encoder-only axis; :meth:`write` then does nothing.
     """
 
     counts: int
@@ -39,7 +43,11 @@ class AxisIO(Protocol):
     tp: bool
     tp_count: int
     tp_seq: int
+    encoder_ok: bool
     analog: Sequence[float]
+    inputs: Sequence[bool]
+    outputs: list[bool]
+    has_drive: bool
 
     def write(self, volts: float, enable: bool) -> None:
         """Set the analog command [V] and the drive enable.

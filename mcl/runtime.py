@@ -1,10 +1,12 @@
-"""Lockstep runtime: physics steps, servo and PLC cycles on simulated time (DESIGN "Data flow").
+"""Lockstep runtime: physics steps, servo and PLC cycles on simulated time.
 
 No wall clock: a scenario is deterministic and runs as fast as the CPU allows. Each period is an
-integer multiple of the plant's timestep, checked at construction. Within one tick the PLC program
-runs first (FB calls queue commands), then, on servo ticks, the plant samples its inputs and every
-axis runs its servo cycle (read inputs, setpoint, regulator, write volts); then the plant integrates
-one timestep.
+integer multiple of the plant's timestep, checked at construction. At a PLC instant the program
+runs first (FB calls queue commands). Then every servo cycle runs in phases, each over all axes
+before the next: the plant samples every input; every axis measures; every axis computes its set
+point (memoised per instant, so a slave may read its master's set point of the same instant in
+any declaration order); every axis supervises, regulates and writes its output. Then the plant
+integrates one servo period.
 """
 
 from __future__ import annotations
@@ -13,6 +15,8 @@ from collections.abc import Callable, Iterable
 from typing import Protocol
 
 from mcl.axis import Axis
+from mcl.channel import AxisChannel
+from mcl.faults import FaultLog, Injectable
 
 
 class Plant(Protocol):
@@ -26,8 +30,8 @@ class Plant(Protocol):
         """Simulated time [s]."""
         ...
 
-    def step(self) -> None:
-        """Advance the plant by one timestep."""
+    def step(self, n: int = 1) -> None:
+        """Advance the plant by ``n`` timesteps."""
         ...
 
     def sense(self) -> None:
@@ -76,6 +80,8 @@ class Runtime:
         self.plc_period = plc_period
         self.servo_period = servo_period
         self._tick = 0
+        self.faults: FaultLog | None = None
+        """Scheduled faults, applied at the servo instants (set by the machine)."""
         self.observers: list[Callable[[float], None]] = []
         """Called after every servo cycle with the time [s] (e.g. a trace recorder)."""
 
@@ -109,20 +115,26 @@ class Runtime:
         start = self._tick
         end = start + round(timeout / dt)
         observers = self.observers
+        faults = self.faults
         tick = self._tick
         while tick < end:
             plc_cycle = tick % plc_ticks == 0
             if plc_cycle and program is not None:
                 program()
-            if tick % servo_ticks == 0:
-                t = tick * dt
-                plant.sense()
-                for axis in axes:
-                    axis.servo_cycle(t)
-                for observe in observers:
-                    observe(t)
-            plant.step()
-            tick += 1
+            t = tick * dt
+            if faults is not None and faults.pending:
+                faults.due(t)
+            plant.sense()
+            for axis in axes:
+                axis.measure(t)
+            for axis in axes:
+                axis.update_setpoint(t)
+            for axis in axes:
+                axis.act(t)
+            for observe in observers:
+                observe(t)
+            plant.step(servo_ticks)
+            tick += servo_ticks
             self._tick = tick
             if plc_cycle and until is not None and until():
                 return (tick - start) * dt
@@ -144,6 +156,21 @@ class Machine:
     def time(self) -> float:
         """Simulated time [s]."""
         return self.runtime.time
+
+    @property
+    def faults(self) -> FaultLog:
+        """Fault injection on the axes' channels: ``set``, ``clear``, ``schedule``; every change
+        is in ``faults.events`` (see :mod:`mcl.faults`)."""
+        log = self.runtime.faults
+        if log is None:
+            channels: dict[str, Injectable] = {}
+            for name, axis in self.axes.items():
+                io = axis.io
+                if not isinstance(io, AxisChannel):
+                    raise TypeError(f"axis {name}: its I/O ({type(io).__name__}) takes no faults")
+                channels[name] = io
+            log = self.runtime.faults = FaultLog(channels, lambda: self.runtime.time)
+        return log
 
     def run(
         self,

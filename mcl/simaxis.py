@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from mcl.axis import Axis, AxisConfig
-from mcl.encoder import IncrementalEncoder
+from mcl.channel import AxisChannel, Marks
 from mcl.module import Module
 from mcl.runtime import Machine, Runtime
 
@@ -40,6 +40,10 @@ class SimAxisParams:
         lead: travel per motor revolution (one index pulse each) [m].
         resolution: travel per encoder count [m].
         start: position at power-up [m] (the encoder reads 0 there).
+        probe: marks on the axis' own position that trigger the touch probe (None: none).
+        probe_delay: sensor delay of the touch probe [s].
+        has_drive: False: an encoder-only axis (a measuring wheel); writes are ignored.
+        digital_outputs: number of digital outputs a program may set.
     """
 
     mass: float = 20.0
@@ -61,46 +65,40 @@ class SimAxisParams:
     lead: float = 0.010
     resolution: float = 1.0e-6
     start: float = 0.0
+    probe: Marks | None = None
+    probe_delay: float = 0.0
+    has_drive: bool = True
+    digital_outputs: int = 0
 
 
-@dataclass(slots=True)
-class SimAxis:
-    """One simulated axis; implements :class:`mcl.io.AxisIO`."""
+class SimAxis(AxisChannel):
+    """One simulated axis: the physics behind an :class:`~mcl.channel.AxisChannel`.
 
-    params: SimAxisParams = field(default_factory=SimAxisParams)
-    x: float = 0.0
-    """Position [m]."""
-    v: float = 0.0
-    """Velocity [m/s]."""
-    force: float = 0.0
-    """Amplifier force [N]."""
-    volts: float = 0.0
-    enabled: bool = False
-    blocked_at: float = math.inf
-    """An obstacle: the axis cannot pass this position in the positive direction [m]."""
-    counts: int = 0
-    index_count: int = 0
-    index_seq: int = 0
-    index: bool = False
-    lim_pos: bool = False
-    lim_neg: bool = False
-    ref: bool = False
-    tp: bool = False
-    tp_count: int = 0
-    tp_seq: int = 0
-    analog: Sequence[float] = ()
-    _encoder: IncrementalEncoder = field(init=False)
+    Args:
+        params: its physical data.
+    """
 
-    def __post_init__(self) -> None:
-        p = self.params
+    def __init__(self, params: SimAxisParams | None = None) -> None:
+        p = self.params = params if params is not None else SimAxisParams()
+        super().__init__(
+            "sim",
+            p.resolution,
+            round(p.lead / p.resolution),
+            p.start,
+            probe=p.probe,
+            probe_delay=p.probe_delay,
+            has_drive=p.has_drive,
+            digital_outputs=p.digital_outputs,
+        )
         self.x = p.start
-        self._encoder = IncrementalEncoder(p.resolution, round(p.lead / p.resolution), p.start)
+        """Position [m]."""
+        self.v = 0.0
+        """Velocity [m/s]."""
+        self.force = 0.0
+        """Amplifier force [N]."""
+        self.blocked_at = math.inf
+        """An obstacle: the axis cannot pass this position in the positive direction [m]."""
         self.sense()
-
-    def write(self, volts: float, enable: bool) -> None:
-        """Analog command [V] and drive enable (False: no force, brake engaged)."""
-        self.volts = volts
-        self.enabled = enable
 
     def step(self, dt: float) -> None:
         """Integrate over ``dt`` seconds (semi-implicit Euler, friction at velocity level)."""
@@ -122,7 +120,7 @@ class SimAxis:
         elif x < p.stop_neg:
             f -= p.stop_stiffness * (x - p.stop_neg)
         v += f / p.mass * dt
-        friction = p.coulomb + (0.0 if self.enabled else p.brake_force)
+        friction = p.coulomb + (p.brake_force if self.brake else 0.0)
         dv = friction / p.mass * dt
         if v > dv:
             v -= dv
@@ -135,18 +133,16 @@ class SimAxis:
             x, v = self.blocked_at, min(v, 0.0)
         self.x, self.v = x, v
 
-    def sense(self) -> None:
-        """Sample encoder and switches at the current position (the index latch stays exact)."""
+    def sense(self, t: float | None = None) -> None:
+        """Sample encoder, switches and probe at the current position and time ``t`` [s]."""
         p, x = self.params, self.x
-        enc = self._encoder
-        enc.update(x)
-        self.counts = enc.counts
-        self.index = enc.index
-        self.index_count = enc.index_count
-        self.index_seq = enc.index_seq
-        self.lim_pos = x >= p.lim_pos
-        self.lim_neg = x <= p.lim_neg
-        self.ref = p.ref_low <= x <= p.ref_high
+        self.sample(
+            self.t if t is None else t,
+            x,
+            x >= p.lim_pos,
+            x <= p.lim_neg,
+            p.ref_low <= x <= p.ref_high,
+        )
 
 
 class SimPlant:
@@ -161,18 +157,20 @@ class SimPlant:
         self.time = 0.0
         self._ticks = 0
 
-    def step(self) -> None:
-        """Advance every axis by one timestep."""
+    def step(self, n: int = 1) -> None:
+        """Advance every axis by ``n`` timesteps."""
         dt = self.timestep
-        for axis in self.axes:
-            axis.step(dt)
-        self._ticks += 1
+        for _ in range(n):
+            for axis in self.axes:
+                axis.step(dt)
+        self._ticks += n
         self.time = self._ticks * dt
 
     def sense(self) -> None:
         """Sample every axis' inputs."""
+        t = self.time
         for axis in self.axes:
-            axis.sense()
+            axis.sense(t)
 
 
 class SimMachine(Machine):

@@ -8,6 +8,7 @@ blending command arrives) and then sampled every servo cycle. Units are the call
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 from typing import Any
 
@@ -69,8 +70,24 @@ class Profile:
         return p[0] + offset, v[0], a[0]
 
 
-_ruckig = ruckig.Ruckig(1)
-_input = ruckig.InputParameter(1)
+class _Planner(threading.local):
+    """A ruckig planner and its input, one pair per thread (scenes may run in several threads,
+    e.g. the viewer's): a module-wide pair would let two threads overwrite each other's input
+    mid-plan. Made once per thread and reused, because a ``ruckig.Ruckig`` costs about as much
+    to construct as a whole plan.
+
+    Attributes:
+        tools: the planner's bound ``calculate`` and its ``InputParameter`` (one attribute: a
+            thread-local look-up is dearer than a plain one).
+    """
+
+    def __init__(self) -> None:
+        inp = ruckig.InputParameter(1)
+        inp.target_acceleration = [0.0]  # every plan ends without acceleration
+        self.tools = (ruckig.Ruckig(1).calculate, inp)
+
+
+_planner = _Planner()
 
 
 def _plan(
@@ -85,21 +102,20 @@ def _plan(
     acc_down: float,
     jerk: float,
 ) -> Any:
-    inp = _input
+    calculate, inp = _planner.tools
     inp.control_interface = interface
     inp.current_position = [p0]
     inp.current_velocity = [v0]
     inp.current_acceleration = [a0]
     inp.target_position = [target]
     inp.target_velocity = [v_end]
-    inp.target_acceleration = [0.0]
     inp.max_velocity = [v_max]
     inp.max_acceleration = [acc_up]
     inp.min_acceleration = [-acc_down]
     inp.max_jerk = [jerk]
     traj = ruckig.Trajectory(1)
     try:
-        result = _ruckig.calculate(inp, traj)
+        result = calculate(inp, traj)
     except (ruckig.RuckigError, RuntimeError, ValueError) as exc:
         raise PlanningError(str(exc).strip()) from exc
     if result not in (ruckig.Result.Working, ruckig.Result.Finished):

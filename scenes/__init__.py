@@ -1,62 +1,74 @@
-"""The testbench: MuJoCo machines wired to mcl axes, scene builders, demo programs and a CLI.
+"""The testbench: MuJoCo machines wired to mcl axes, machine definitions, demo programs and a CLI.
 
-``scenes.load("gantry")`` builds a scene; ``scenes.demo(scene)`` gives its demo PLC program.
+``scenes.load("gantry")`` builds a scene from the registry :data:`MACHINES`;
+``scenes.demo(scene)`` gives its demo PLC program. ``python -m scenes list`` and the viewer's
+chooser show the same registry.
 """
 
 from __future__ import annotations
 
-import importlib
-from typing import Any, Protocol
+from typing import Any
 
+from scenes import gantry, single_axis
+from scenes.machine import AxisDef, DemoProgram, MachineDef, Signal
 from scenes.procedures import HomingRecipe
 from scenes.scene import Scene
 
-SCENES = {
-    "gantry": "scenes.gantry",
-}
-"""Scene name → module with ``build(**overrides) -> Scene``, ``Demo`` and ``HOMING``."""
+MACHINES: dict[str, MachineDef] = {m.name: m for m in (gantry.MACHINE, single_axis.MACHINE)}
+"""The registry: every machine by name."""
+
+__all__ = [
+    "MACHINES",
+    "AxisDef",
+    "DemoProgram",
+    "MachineDef",
+    "Scene",
+    "Signal",
+    "definition",
+    "demo",
+    "homing",
+    "load",
+]
 
 
-class DemoProgram(Protocol):
-    """A scene's demo: a PLC program (call once per PLC cycle) that reports its progress."""
+def definition(name: str) -> MachineDef:
+    """The registered machine ``name``.
 
-    done: bool
-    step: str
-
-    def __call__(self) -> None:
-        """One PLC scan."""
-        ...
-
-
-def _module(name: str) -> Any:
-    if name not in SCENES:
-        raise KeyError(f"unknown scene {name!r}; scenes: {sorted(SCENES)}")
-    return importlib.import_module(SCENES[name])
+    Raises:
+        KeyError: unknown name (the message lists the valid ones).
+    """
+    try:
+        return MACHINES[name]
+    except KeyError:
+        raise KeyError(f"unknown scene {name!r}; scenes: {sorted(MACHINES)}") from None
 
 
 def load(name: str, **overrides: Any) -> Scene:
-    """Build a scene by name.
+    """Build a scene of the registered machine ``name``.
 
     Args:
-        name: one of :data:`SCENES`.
-        **overrides: passed to the scene's ``build``, e.g. ``start={"X": 0.3}``,
+        name: one of :data:`MACHINES`.
+        **overrides: passed to :class:`Scene`, e.g. ``start={"X": 0.3}``,
             ``plc_period=0.004``, ``trace_every=0``.
 
     Raises:
         KeyError: unknown scene name (the message lists the valid ones).
     """
-    scene: Scene = _module(name).build(**overrides)
-    scene.name = name
-    return scene
+    return Scene([definition(name)], **overrides)
 
 
 def demo(scene: Scene) -> DemoProgram:
-    """The demo program of a loaded scene."""
-    program: DemoProgram = _module(scene.name).Demo(scene)
-    return program
+    """The demo program of a loaded scene.
+
+    Raises:
+        LookupError: the scene's machine has no demo.
+    """
+    factory = definition(scene.name).demo
+    if factory is None:
+        raise LookupError(f"scene {scene.name!r} has no demo program")
+    return factory(scene)
 
 
 def homing(scene: Scene) -> dict[str, HomingRecipe]:
-    """The homing recipes of a scene's axes (axis name → REF + index recipe)."""
-    recipes: dict[str, HomingRecipe] = _module(scene.name).HOMING
-    return recipes
+    """The homing recipes of a scene's axes (axis name → recipe; axes without one left out)."""
+    return definition(scene.name).homing

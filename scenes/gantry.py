@@ -10,12 +10,13 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 import mcl
+from scenes.machine import AxisDef, MachineDef
 from scenes.procedures import HomeAxis, HomingRecipe
-from scenes.scene import AxisSpec, Machine, Scene
+from scenes.scene import Scene
 
 
-def _spec(vmax: float, kp: float, ki: float, max_acc: float) -> AxisSpec:
-    return AxisSpec(
+def _spec(vmax: float, kp: float, ki: float, max_acc: float, homing: HomingRecipe) -> AxisDef:
+    return AxisDef(
         config=mcl.AxisConfig(
             resolution=0.001,
             dev_max=2.0,
@@ -29,15 +30,9 @@ def _spec(vmax: float, kp: float, ki: float, max_acc: float) -> AxisSpec:
         constants=mcl.ServoConstants(
             Kp=kp, Ki=ki, Ff=1.0, Kc=50.0, Vmax=vmax, Filter=2.0, Ka=0.007, Ki1=0.0
         ),
+        homing=homing,
     )
 
-
-AXES = {
-    "X": _spec(vmax=1000.0, kp=1.5, ki=75.0, max_acc=20000.0),
-    "Y": _spec(vmax=1000.0, kp=1.5, ki=75.0, max_acc=20000.0),
-    "Z": _spec(vmax=500.0, kp=3.0, ki=150.0, max_acc=20000.0),
-}
-"""Commissioning data of the gantry axes (user units mm)."""
 
 HOMING = {
     # REF is on below its edge: search away from it (SwitchNegative), stop where it goes off,
@@ -49,6 +44,13 @@ HOMING = {
 }
 """REF switch + index homing of each axis."""
 
+AXES = {
+    "X": _spec(vmax=1000.0, kp=1.5, ki=75.0, max_acc=20000.0, homing=HOMING["X"]),
+    "Y": _spec(vmax=1000.0, kp=1.5, ki=75.0, max_acc=20000.0, homing=HOMING["Y"]),
+    "Z": _spec(vmax=500.0, kp=3.0, ki=150.0, max_acc=20000.0, homing=HOMING["Z"]),
+}
+"""Commissioning data of the gantry axes (user units mm)."""
+
 
 def build(start: dict[str, float] | None = None, **scene_options: Any) -> Scene:
     """The gantry scene.
@@ -57,7 +59,7 @@ def build(start: dict[str, float] | None = None, **scene_options: Any) -> Scene:
         start: joint coordinates at power-up [m] per axis, e.g. ``{"X": 0.3}``.
         **scene_options: ``servo_period``, ``plc_period``, ``trace_every`` (see :class:`Scene`).
     """
-    return Scene([Machine("gantry", "gantry.xml", AXES, start=start or {})], **scene_options)
+    return Scene([MACHINE], start=start, **scene_options)
 
 
 B = mcl.MC_BufferMode
@@ -128,6 +130,11 @@ class Demo:
             self.enable,
             *(m for ms in self.moves for m in ms),
         ]
+        self.blocks: dict[str, Any] = {
+            **{f"home{n}": h for n, h in self.home.items()},
+            **{f"move{b}.{i}": m for b, ms in enumerate(self.moves) for i, m in enumerate(ms)},
+        }
+        """The blocks a report watches, by name."""
 
     @property
     def step(self) -> str:
@@ -183,27 +190,12 @@ class Demo:
             self._next()
 
 
-def main() -> None:
-    """Run the demo headless and print a report."""
-    from scenes.report import EdgeLog
-
-    scene = build(start={"X": 0.43, "Y": 0.27, "Z": -0.12})
-    program = Demo(scene)
-    log = EdgeLog(scene)
-    steps = [program.step]
-    log.title(program.step)
-
-    def scan() -> None:
-        program()
-        if program.step != steps[-1]:
-            steps.append(program.step)
-            log.title(f"t={scene.time:6.3f} s  {program.step}")
-
-    log.watch(
-        **{f"home{n}": h for n, h in program.home.items()},
-        **{f"move{b}.{i}": m for b, ms in enumerate(program.moves) for i, m in enumerate(ms)},
-    )
-    scene.run(scan, until=lambda: program.done or bool(program.error), timeout=120.0)
-    log.summary()
-    if program.error:
-        raise SystemExit(f"demo stopped: {program.error}")
+MACHINE = MachineDef(
+    name="gantry",
+    description="three-axis Cartesian gantry: ball screws, servo amplifiers, Z brake",
+    model="gantry.xml",
+    axes=AXES,
+    demo=Demo,
+    demo_start={"X": 0.43, "Y": 0.27, "Z": -0.12},
+)
+"""The gantry in the registry."""

@@ -1,27 +1,45 @@
-"""The MuJoCo plant: the mcl I/O boundary implemented on a MuJoCo model (models/README.md).
+"""The MuJoCo plant: the mcl I/O boundary on a MuJoCo model (the contract is models/README.md).
 
-Per axis: the ±10 V amplifier is the MJCF actuator ``<axis>_amp`` (control = volts), the drive
-enable switches its actuator group, the holding brake (where the model has ``<axis>_brake_force``)
-is the joint's Coulomb friction, the encoder counts the joint coordinate through the screw lead
-with an index pulse per motor revolution, and LIM−/LIM+/REF come from the switch and cam sites.
+Per axis a :class:`MujocoAxisIO` (an :class:`mcl.channel.AxisChannel`) reads the joint: the
+encoder counts the joint coordinate through ``<axis>_lead`` with an index pulse per motor
+revolution, LIM−/LIM+/REF come from switch and cam sites (on slide and hinge joints alike), the
+touch probe from marks on a coordinate. Its drive (:mod:`scenes.drives`) applies the command.
+:class:`MujocoPlant` steps the model: devices with state integrate before every physics step;
+without devices one ``mj_step(model, data, n)`` call runs a whole servo period.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
+import numpy.typing as npt
 
-from mcl.encoder import IncrementalEncoder
+from mcl.channel import AxisChannel, Marks
+from scenes.drives import Device, DeviceDrive, Drive, DrivenDevice, ElectricAmplifier, WiringError
 
 SWITCHES = ("lim_neg", "lim_pos", "ref")
+"""The switch kinds of an axis, in the order of :attr:`MujocoAxisIO.windows`."""
+
+__all__ = ["SWITCHES", "AxisWiring", "MujocoAxisIO", "MujocoPlant", "Probe", "WiringError"]
 
 
-class WiringError(ValueError):
-    """The model does not provide what an axis needs; the message says what and what would fit."""
+@dataclass(frozen=True, slots=True)
+class Probe:
+    """A touch-probe source: marks on a joint's coordinate, seen after a sensor delay.
+
+    Attributes:
+        marks: the marks, in the joint's SI coordinate [m or rad].
+        joint: the joint the marks are on (unprefixed); None = the axis' own joint.
+        delay: sensor delay between a mark and the latch [s].
+    """
+
+    marks: Marks
+    joint: str | None = None
+    delay: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -31,20 +49,45 @@ class AxisWiring:
     Attributes:
         axis: the axis joint's name.
         prefix: the prefix of the machine's other names (``""`` or ``"gantry/"``).
+        drive: ``"electric"`` (the actuator ``<axis>_amp``), ``"device"`` (the device named
+            ``device`` takes the volts) or ``"encoder"`` (no drive: a measuring wheel).
+        device: the device of a ``"device"`` drive.
+        switches: the switch kinds the axis has (each needs its sites and window).
+        probe: the touch-probe source (None: TP stays low).
+        digital_outputs: digital outputs a program may set.
+        analog: reads the analog inputs [V] once per servo cycle (None: none).
     """
 
     axis: str
     prefix: str = ""
+    drive: str = "electric"
+    device: str = ""
+    switches: tuple[str, ...] = SWITCHES
+    probe: Probe | None = None
+    digital_outputs: int = 0
+    analog: Callable[[], Sequence[float]] | None = None
 
 
-def _numeric(model: mujoco.MjModel, name: str, size: int | None = None) -> np.ndarray:
-    try:
-        data = np.asarray(model.numeric(name).data, dtype=float)
-    except KeyError:
+def numeric(
+    model: mujoco.MjModel, name: str, size: int, low: float = -math.inf, high: float = math.inf
+) -> npt.NDArray[np.float64]:
+    """A custom numeric checked for its size and range (``low < value <= high``).
+
+    Raises:
+        WiringError: missing, of the wrong size, not finite or out of range; the message names
+            the numeric, the bad value and what would be valid.
+    """
+    if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, name) < 0:
         names = [model.numeric(i).name for i in range(model.nnumeric)]
-        raise WiringError(f"model has no custom numeric {name!r}; it has: {names}") from None
-    if size is not None and data.size != size:
+        raise WiringError(f"model has no custom numeric {name!r}; it has: {names}")
+    data = np.array(model.numeric(name).data, dtype=float)
+    if data.size != size:
         raise WiringError(f"numeric {name!r} must have {size} values, has {data.size}")
+    for value in data:
+        if not (math.isfinite(value) and low < value <= high):
+            raise WiringError(
+                f"numeric {name!r} is {value!r}; it must be a finite number in ({low:g}, {high:g}]"
+            )
     return data
 
 
@@ -62,101 +105,180 @@ def _id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
     return index
 
 
-class MujocoAxisIO:
+def _wrap(angle: float) -> float:
+    """An angle in [−π, π) [rad]."""
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+class MujocoAxisIO(AxisChannel):
     """One axis channel on a MuJoCo model; implements :class:`mcl.io.AxisIO`.
 
     Args:
         model, data: the compiled model and its data (positions current, e.g. after mj_forward).
         wiring: which joint and names belong to the axis.
+        devices: the scene's devices by name (for a ``"device"`` drive).
     """
 
-    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, wiring: AxisWiring) -> None:
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        data: mujoco.MjData,
+        wiring: AxisWiring,
+        devices: Mapping[str, Device] | None = None,
+    ) -> None:
         self.model, self.data = model, data
-        self.name = wiring.axis
         p, a = wiring.prefix, wiring.axis.removeprefix(wiring.prefix)
         self.joint = _id(model, mujoco.mjtObj.mjOBJ_JOINT, wiring.axis)
-        if int(model.jnt_type[self.joint]) not in (
-            int(mujoco.mjtJoint.mjJNT_SLIDE),
-            int(mujoco.mjtJoint.mjJNT_HINGE),
-        ):
+        kind = int(model.jnt_type[self.joint])
+        if kind not in (int(mujoco.mjtJoint.mjJNT_SLIDE), int(mujoco.mjtJoint.mjJNT_HINGE)):
             raise WiringError(f"axis joint {wiring.axis!r} must be a slide or hinge joint")
+        self.rotary = kind == int(mujoco.mjtJoint.mjJNT_HINGE)
+        """A hinge joint: the coordinate is an angle [rad]."""
         self.qpos_adr = int(model.jnt_qposadr[self.joint])
         self.dof = int(model.jnt_dofadr[self.joint])
-        self.actuator = _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{p}{a}_amp")
-        lo, hi = model.actuator_ctrlrange[self.actuator]
-        if not (model.actuator_ctrllimited[self.actuator] and lo <= -10.0 and hi >= 10.0):
+        if wiring.drive == "electric":
+            _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{p}{a}_amp")
+        lead = float(numeric(model, f"{p}{a}_lead", 1, 0.0)[0])
+        per_rev = float(numeric(model, f"{p}{a}_counts_per_rev", 1, 0.0, 1e9)[0])
+        width = float(numeric(model, f"{p}{a}_index_width", 1, 0.0, per_rev - 1)[0])
+        if per_rev != round(per_rev) or width != round(width):
+            raise WiringError(
+                f"numerics {p}{a}_counts_per_rev and {p}{a}_index_width must be whole counts, "
+                f"got {per_rev:g} and {width:g}"
+            )
+        self.lead = lead
+        """Joint travel per motor revolution [m or rad] (one index pulse each)."""
+        self.resolution = lead / per_rev
+        """Joint travel per encoder count [m or rad]."""
+        probe = wiring.probe
+        self._probe_qpos = (
+            int(model.jnt_qposadr[_id(model, mujoco.mjtObj.mjOBJ_JOINT, p + probe.joint)])
+            if probe is not None and probe.joint is not None
+            else None
+        )
+        super().__init__(
+            wiring.axis,
+            self.resolution,
+            round(per_rev),
+            self.position,
+            round(width),
+            probe=probe.marks if probe is not None else None,
+            probe_delay=probe.delay if probe is not None else 0.0,
+            has_drive=wiring.drive != "encoder",
+            digital_outputs=wiring.digital_outputs,
+        )
+        windows = [
+            self._window(p, a, kind) if kind in wiring.switches else (math.inf, -math.inf, 0.0)
+            for kind in SWITCHES
+        ]
+        self.windows = tuple((lo, hi) for lo, hi, _ in windows)
+        """Per switch kind (:data:`SWITCHES`), the window in which it is actuated: of the joint
+        coordinate on a slide; on a hinge, of the angle ``wrap(q + offsets[i])`` [rad]."""
+        self.offsets = tuple(offset for _, _, offset in windows)
+        """Per switch kind, the angle from the switch to its cam at ``q = 0`` (hinge) [rad]."""
+        self._analog = wiring.analog
+        self.drive_model: Drive | None = self._drive(p, a, wiring, devices or {})
+        self.write(0.0, False)
+        self.sense(float(data.time))
+
+    def _drive(
+        self, p: str, a: str, wiring: AxisWiring, devices: Mapping[str, Device]
+    ) -> Drive | None:
+        model = self.model
+        if wiring.drive == "encoder":
+            return None
+        if wiring.drive == "device":
+            device = devices.get(wiring.device)
+            if device is None or not hasattr(device, "apply"):
+                raise WiringError(
+                    f"axis {wiring.axis}: drive 'device' needs a device named {wiring.device!r} "
+                    f"that takes volts (apply); devices: {sorted(devices)}"
+                )
+            driven: DrivenDevice = device  # type: ignore[assignment]
+            return DeviceDrive(driven)
+        if wiring.drive != "electric":
+            raise WiringError(
+                f"axis {wiring.axis}: drive must be 'electric', 'device' or 'encoder', "
+                f"got {wiring.drive!r}"
+            )
+        actuator = _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{p}{a}_amp")
+        lo, hi = model.actuator_ctrlrange[actuator]
+        if not (model.actuator_ctrllimited[actuator] and lo <= -10.0 and hi >= 10.0):
             raise WiringError(
                 f"actuator {p}{a}_amp must have ctrlrange -10 10 (volts), has {lo:g} {hi:g}"
             )
-        self.group_bit = 1 << int(model.actuator_group[self.actuator])
-        lead = float(_numeric(model, f"{p}{a}_lead", 1)[0])
-        per_rev = round(float(_numeric(model, f"{p}{a}_counts_per_rev", 1)[0]))
-        width = round(float(_numeric(model, f"{p}{a}_index_width", 1)[0]))
-        self.resolution = lead / per_rev
-        """Travel per encoder count [m]."""
-        self.encoder = IncrementalEncoder(self.resolution, per_rev, self.position, width)
-        self._switches = [self._switch(p, a, kind) for kind in SWITCHES]
+        for i, name in enumerate(("gain", "bias")):
+            prm = (model.actuator_gainprm if i == 0 else model.actuator_biasprm)[actuator][:3]
+            if not np.all(np.isfinite(prm)):
+                raise WiringError(f"actuator {p}{a}_amp: {name}prm {prm} must be finite")
+        if not math.isfinite(float(model.dof_armature[self.dof])):
+            raise WiringError(f"joint {wiring.axis}: armature must be finite")
+        self.actuator = actuator
         brake = f"{p}{a}_brake_force"
         has_brake = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, brake) >= 0
-        self.brake_force = float(_numeric(model, brake, 1)[0]) if has_brake else 0.0
-        self.friction = float(model.dof_frictionloss[self.dof])
-        self.enabled = True
-        self.volts = 0.0
-        self.counts = self.index_count = self.index_seq = 0
-        self.index = self.lim_pos = self.lim_neg = self.ref = self.tp = False
-        self.tp_count = self.tp_seq = 0
-        self.analog: Sequence[float] = ()
-        self.write(0.0, False)
-        self.sense()
+        force = float(numeric(model, brake, 1, 0.0)[0]) if has_brake else 0.0
+        return ElectricAmplifier(model, self.data, actuator, self.dof, force)
 
-    def _switch(self, p: str, a: str, kind: str) -> tuple[float, float]:
+    def _window(self, p: str, a: str, kind: str) -> tuple[float, float, float]:
         """Window of ``q`` in which the switch is actuated: the README formula, solved for ``q``.
 
-        ``d = (cam − switch) · e`` moves one-to-one with the joint coordinate on a slide joint,
-        so ``d = q + offset`` with the offset taken from the current geometry.
+        On a slide joint ``d = (cam − switch) · e`` moves one-to-one with the joint coordinate,
+        so ``d = q + offset``; on a hinge ``d`` is the angle from the switch to the cam about the
+        joint axis, ``d = wrap(q + offset)``. The offset comes from the current geometry.
         """
-        model, data = self.model, self.data
+        model = self.model
         cam = _id(model, mujoco.mjtObj.mjOBJ_SITE, f"{p}{a}_{kind}_cam")
         switch = _id(model, mujoco.mjtObj.mjOBJ_SITE, f"{p}{a}_{kind}")
-        lo, hi = _numeric(model, f"{p}{a}_{kind}_window", 2)
-        d = float((data.site_xpos[cam] - data.site_xpos[switch]) @ data.xaxis[self.joint])
+        lo, hi = numeric(model, f"{p}{a}_{kind}_window", 2)
+        if not lo <= hi:
+            raise WiringError(f"numeric {p}{a}_{kind}_window must be [lo, hi] with lo <= hi")
+        d = self.site_distance(switch, cam)
+        if self.rotary:
+            return float(lo), float(hi), _wrap(d - self.position)
         offset = d - self.position
-        return float(lo - offset), float(hi - offset)
+        return float(lo - offset), float(hi - offset), 0.0
+
+    def site_distance(self, switch: int, cam: int) -> float:
+        """The switch formula's ``d`` for two sites at the current positions [m or rad]."""
+        data = self.data
+        e = data.xaxis[self.joint]
+        if not self.rotary:
+            return float((data.site_xpos[cam] - data.site_xpos[switch]) @ e)
+        anchor = data.xanchor[self.joint]
+        s = data.site_xpos[switch] - anchor
+        c = data.site_xpos[cam] - anchor
+        s = s - (s @ e) * e
+        c = c - (c @ e) * e
+        return float(math.atan2(float(np.cross(s, c) @ e), float(s @ c)))
 
     @property
     def position(self) -> float:
-        """Joint coordinate [m] (ground truth)."""
+        """Joint coordinate [m or rad] (ground truth)."""
         return float(self.data.qpos[self.qpos_adr])
 
-    def write(self, volts: float, enable: bool) -> None:
-        """Analog command [V] to the amplifier; ``enable`` False disables it and sets the brake."""
-        self.volts = volts if enable else 0.0
-        self.data.ctrl[self.actuator] = self.volts
-        if enable != self.enabled:
-            self.enabled = enable
-            opt = self.model.opt
-            if enable:
-                opt.disableactuator &= ~self.group_bit
-            else:
-                opt.disableactuator |= self.group_bit
-            if self.brake_force:
-                self.model.dof_frictionloss[self.dof] = (
-                    self.friction if enable else self.brake_force
-                )
+    def drive(self, volts: float, enabled: bool, brake: bool) -> None:
+        """Apply the command to the amplifier or device (see :class:`AxisChannel`)."""
+        if self.drive_model is not None:
+            self.drive_model.apply(volts, enabled, brake)
 
-    def sense(self) -> None:
-        """Sample encoder and switches at the current instant."""
-        q = float(self.data.qpos[self.qpos_adr])
-        enc = self.encoder
-        enc.update(q)
-        self.counts = enc.counts
-        self.index = enc.index
-        self.index_count = enc.index_count
-        self.index_seq = enc.index_seq
-        (nlo, nhi), (plo, phi), (rlo, rhi) = self._switches
-        self.lim_neg = nlo <= q <= nhi
-        self.lim_pos = plo <= q <= phi
-        self.ref = rlo <= q <= rhi
+    def sense(self, t: float) -> None:
+        """Sample encoder, switches, probe and analog inputs at time ``t`` [s]."""
+        data = self.data
+        q = float(data.qpos[self.qpos_adr])
+        (nlo, nhi), (plo, phi), (rlo, rhi) = self.windows
+        if self.rotary:
+            n, pos, r = (_wrap(q + offset) for offset in self.offsets)
+        else:
+            n = pos = r = q
+        self.sample(
+            t,
+            q,
+            plo <= pos <= phi,
+            nlo <= n <= nhi,
+            rlo <= r <= rhi,
+            None if self._probe_qpos is None else float(data.qpos[self._probe_qpos]),
+            () if self._analog is None else self._analog(),
+        )
 
 
 class MujocoPlant:
@@ -165,28 +287,69 @@ class MujocoPlant:
     Args:
         model, data: the compiled model and its data.
         wirings: the axes to expose as :class:`MujocoAxisIO` channels.
+        devices: Python devices integrated before every physics step, by name.
     """
 
     def __init__(
-        self, model: mujoco.MjModel, data: mujoco.MjData, wirings: Sequence[AxisWiring]
+        self,
+        model: mujoco.MjModel,
+        data: mujoco.MjData,
+        wirings: Sequence[AxisWiring],
+        devices: Mapping[str, Device] | None = None,
     ) -> None:
         self.model, self.data = model, data
         self.timestep = float(model.opt.timestep)
         if not (math.isfinite(self.timestep) and self.timestep > 0.0):
             raise WiringError(f"model timestep must be > 0 s, got {self.timestep}")
+        self.devices = dict(devices or {})
+        self._hooks = [d.before_step for d in self.devices.values()]
         mujoco.mj_forward(model, data)
-        self.ios = {w.axis: MujocoAxisIO(model, data, w) for w in wirings}
+        self.ios = {w.axis: MujocoAxisIO(model, data, w, self.devices) for w in wirings}
+        self._spec = mujoco.mjtState.mjSTATE_INTEGRATION
 
     @property
     def time(self) -> float:
         """Simulated time [s]."""
         return float(self.data.time)
 
-    def step(self) -> None:
-        """One physics step."""
-        mujoco.mj_step(self.model, self.data)
+    def step(self, n: int = 1) -> None:
+        """``n`` physics steps; each device integrates before every step."""
+        model, data = self.model, self.data
+        hooks = self._hooks
+        if not hooks:
+            mujoco.mj_step(model, data, n)
+            return
+        for _ in range(n):
+            for hook in hooks:
+                hook(model, data)
+            mujoco.mj_step(model, data)
 
     def sense(self) -> None:
         """Sample every axis' inputs."""
+        t = float(self.data.time)
         for io in self.ios.values():
-            io.sense()
+            io.sense(t)
+
+    def get_state(self) -> list[npt.NDArray[np.float64]]:
+        """The physics state with everything Python adds to it: the integration state of
+        ``data``, every drive's and every device's state (copies)."""
+        size = mujoco.mj_stateSize(self.model, self._spec)
+        physics = np.empty(size)
+        mujoco.mj_getState(self.model, self.data, physics, self._spec)
+        drives = [
+            io.drive_model.get_state() if io.drive_model is not None else np.zeros(0)
+            for io in self.ios.values()
+        ]
+        return [physics, *drives, *(d.get_state() for d in self.devices.values())]
+
+    def set_state(self, state: Sequence[npt.NDArray[np.float64]]) -> None:
+        """Restore a state taken with :meth:`get_state` (then ``mj_forward``)."""
+        physics, *rest = state
+        mujoco.mj_setState(self.model, self.data, physics, self._spec)
+        ios = list(self.ios.values())
+        for io, drive_state in zip(ios, rest[: len(ios)], strict=True):
+            if io.drive_model is not None:
+                io.drive_model.set_state(drive_state)
+        for device, device_state in zip(self.devices.values(), rest[len(ios) :], strict=True):
+            device.set_state(device_state)
+        mujoco.mj_forward(self.model, self.data)

@@ -36,7 +36,7 @@ class EdgeLog:
 
     def _axes(self) -> str:
         return "  ".join(
-            f"{n}={a.POS:9.3f} mm {a.state.name}" for n, a in self.machine.axes.items()
+            f"{n}={a.POS:9.3f} {a.config.unit} {a.state.name}" for n, a in self.machine.axes.items()
         )
 
     def _observe(self, t: float) -> None:
@@ -61,7 +61,7 @@ class EdgeLog:
         self.out("\n== summary")
         for name, axis in self.machine.axes.items():
             self.out(
-                f"{name}: POS {axis.POS:.4f} mm, state {axis.state.name}, "
+                f"{name}: POS {axis.POS:.4f} {axis.config.unit}, state {axis.state.name}, "
                 f"AxErrorID {axis.AxErrorID}, peak following error "
-                f"{self.peak_error[name] * 1000:.1f} µm"
+                f"{self.peak_error[name]:.4f} {axis.config.unit}"
             )

@@ -1,61 +1,54 @@
-"""A scene: machine models composed with dm_control.mjcf, wired to mcl axes, run in lockstep.
+"""A scene: machines built from their definitions, wired to mcl axes, run in lockstep.
 
 ``Scene`` is what scenario tests and the viewer use: ``scene.axes["X"]`` (mcl.Axis),
 ``scene.run(program, until, timeout)``, ``scene.time``, ``scene.model`` / ``scene.data`` (MuJoCo
-ground truth), ``scene.trace`` (recorded signals, CSV export).
+ground truth, where ``scene.has_model``), ``scene.trace`` (recorded signals, CSV export),
+``scene.faults`` (fault injection), ``scene.signal(name)`` (published values).
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import mujoco
 
 import mcl
 from mcl.trace import Trace
-from scenes.plant import AxisWiring, MujocoAxisIO, MujocoPlant, WiringError
+from scenes.drives import Device, WiringError
+from scenes.machine import AxisDef, MachineDef, Signal, unit_and_scale
+from scenes.plant import AxisWiring, MujocoAxisIO, MujocoPlant
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 """The folder of the MJCF machine models."""
 
 
-@dataclass(frozen=True)
-class AxisSpec:
-    """Commissioning data of one axis: machine data and servo constants (user units: mm).
+def model_path(file: str) -> Path:
+    """The MJCF file of a machine (relative to ``models/`` or absolute).
 
-    Attributes:
-        config: machine data (encoder resolution must match the model's encoder).
-        constants: the GT_SetConstant values written when the scene is built.
+    Raises:
+        FileNotFoundError: it does not exist (the message lists the models).
     """
-
-    config: mcl.AxisConfig
-    constants: mcl.ServoConstants
-
-
-@dataclass(frozen=True)
-class Machine:
-    """One machine model placed in a scene.
-
-    Attributes:
-        name: prefix of its names in the scene (``"gantry"`` → ``gantry/X``).
-        file: MJCF file (relative to ``models/`` or absolute).
-        axes: axis name (as in the model) → commissioning data.
-        pos: where the machine's origin sits in the world [m].
-    """
-
-    name: str
-    file: str
-    axes: Mapping[str, AxisSpec]
-    pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    start: Mapping[str, float] = field(default_factory=dict)
-    """Joint coordinates at power-up [m] (default: the model's qpos0)."""
+    path = Path(file)
+    path = path if path.is_absolute() else MODELS / path
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"machine model {path} does not exist; models: "
+            f"{sorted(p.name for p in MODELS.glob('*.xml'))}"
+        )
+    return path
 
 
-def compose(machines: Sequence[Machine]) -> tuple[mujoco.MjModel, mujoco.MjData]:
-    """Attach the machine models to an empty world and compile the result.
+def compose(
+    machines: Sequence[MachineDef], positions: Mapping[str, Sequence[float]] | None = None
+) -> tuple[mujoco.MjModel, mujoco.MjData]:
+    """Attach the machines' models to an empty world and compile the result.
+
+    Args:
+        machines: the machines; each model is prefixed with its machine's name.
+        positions: where each machine's origin sits in the world [m] (default: the origin).
 
     Raises:
         FileNotFoundError: a model file does not exist.
@@ -67,14 +60,7 @@ def compose(machines: Sequence[Machine]) -> tuple[mujoco.MjModel, mujoco.MjData]
     root = mjcf.RootElement(model="scene")
     groups = 0
     for machine in machines:
-        path = Path(machine.file)
-        path = path if path.is_absolute() else MODELS / path
-        if not path.is_file():
-            raise FileNotFoundError(
-                f"machine model {path} does not exist; models: "
-                f"{sorted(p.name for p in MODELS.glob('*.xml'))}"
-            )
-        child = mjcf.from_path(str(path))
+        child = mjcf.from_path(str(model_path(machine.model)))
         child.model = machine.name
         for actuator in child.find_all("actuator"):
             groups += 1
@@ -82,88 +68,244 @@ def compose(machines: Sequence[Machine]) -> tuple[mujoco.MjModel, mujoco.MjData]
         if groups > 30:
             raise WiringError("at most 30 amplifiers fit in one scene (MuJoCo actuator groups)")
         frame = root.attach(child)
-        frame.pos = machine.pos
+        frame.pos = tuple((positions or {}).get(machine.name, (0.0, 0.0, 0.0)))
     model = mujoco.MjModel.from_xml_string(root.to_xml_string(), root.get_assets())
-    data = mujoco.MjData(model)
-    for machine in machines:
-        for axis, q in machine.start.items():
-            data.joint(f"{machine.name}/{axis}").qpos[0] = q
-    mujoco.mj_forward(model, data)
-    return model, data
+    return model, mujoco.MjData(model)
 
 
 class Scene(mcl.Machine):
-    """Machines in MuJoCo driven by mcl axes (one servo module per machine).
+    """Machines driven by mcl axes (one servo module per machine).
 
     Args:
-        machines: the machines to compose.
-        servo_period: servo cycle [s] (integer multiple of the model timestep).
-        plc_period: PLC cycle [s] (integer multiple of the servo period).
+        machines: the machine definitions (several MJCF machines compose into one model; a
+            machine of simulated axes stands alone).
+        start: joint coordinates at power-up [m or rad] by axis name (overrides the machines').
+        servo_period: servo cycle [s] (integer multiple of the model timestep); default: the
+            first machine's.
+        plc_period: PLC cycle [s] (integer multiple of the servo period); default: the first
+            machine's.
         trace_every: record the trace every N servo cycles (0 = no trace).
+        positions: where each machine's origin sits in the world [m], by machine name.
+
+    Raises:
+        WiringError: the model does not provide what an axis needs (the message says what).
+        ValueError: periods that do not fit, or simulated axes mixed with other machines.
     """
 
     def __init__(
         self,
-        machines: Sequence[Machine],
-        servo_period: float = 0.001,
-        plc_period: float = 0.002,
+        machines: Sequence[MachineDef],
+        start: Mapping[str, float] | None = None,
+        servo_period: float | None = None,
+        plc_period: float | None = None,
         trace_every: int = 1,
+        positions: Mapping[str, Sequence[float]] | None = None,
     ) -> None:
-        self.name = "scene"
-        """The registry name (set by :func:`scenes.load`)."""
+        if not machines:
+            raise ValueError("a scene needs at least one machine")
         self.machines = list(machines)
-        self.model, self.data = compose(self.machines)
-        wirings = [AxisWiring(f"{m.name}/{a}", f"{m.name}/") for m in self.machines for a in m.axes]
-        self.plant = MujocoPlant(self.model, self.data, wirings)
+        self.name = self.machines[0].name if len(self.machines) == 1 else "scene"
+        """The registry name of the (first) machine."""
+        first = self.machines[0]
+        servo_period = first.servo_period if servo_period is None else servo_period
+        plc_period = first.plc_period if plc_period is None else plc_period
+        self.signals: dict[str, Signal] = {}
+        """Published values by name (prefixed with the machine's name in a composed scene)."""
+        self._model: mujoco.MjModel | None = None
+        self._data: mujoco.MjData | None = None
+        self.devices: dict[str, Device] = {}
+        single = len(self.machines) == 1
+        names = {
+            (m.name, a): a if single else f"{m.name}/{a}" for m in self.machines for a in m.axes
+        }
+        starts = dict(start or {})
+        self.plant: mcl.Plant
+        if any(not m.model for m in self.machines):
+            if not single:
+                raise ValueError("a machine of simulated axes cannot share a scene")
+            ios, self.plant, scales = self._simulated(first, starts)
+        else:
+            ios, self.plant, scales = self._mujoco(starts, positions, names)
         self.axes: dict[str, mcl.Axis] = {}
         self.modules: list[mcl.Module] = []
         for m in self.machines:
             members = []
             for a, spec in m.axes.items():
-                io = self.plant.ios[f"{m.name}/{a}"]
-                _check_resolution(io, spec, a)
-                config = _with_period(spec.config, servo_period)
-                axis = mcl.Axis(io, config, name=a)
-                axis.set_constants(spec.constants)
-                name = a if len(self.machines) == 1 else f"{m.name}/{a}"
+                name = names[(m.name, a)]
+                io = ios[name]
+                unit, scale = scales[name]
+                config = replace(spec.config, servo_period=servo_period, unit=unit)
+                _check_resolution(io.resolution * scale, config, name)
+                axis = mcl.Axis(io, config, name=name)
+                if spec.constants is not None:
+                    axis.set_constants(spec.constants)
                 self.axes[name] = axis
                 members.append(axis)
-            self.modules.append(mcl.Module(members))
+            for start_mod in range(0, len(members), mcl.Module.MAX_AXES):
+                self.modules.append(
+                    mcl.Module(members[start_mod : start_mod + mcl.Module.MAX_AXES])
+                )
+            for s, signal in m.signals.items():
+                self.signals[s if single else f"{m.name}/{s}"] = signal
+        self.scales = {name: scale for name, (_, scale) in scales.items()}
+        """User units per SI unit of each axis (mm per m, deg per rad)."""
         self.runtime = mcl.Runtime(self.plant, self.axes.values(), plc_period)
         self.trace = Trace(
             self.axes,
             every=max(trace_every, 1),
-            truth={n: _truth(ax.io) for n, ax in self.axes.items()},
+            truth={n: self._truth(n) for n in self.axes},
+            signals={n: self._reader(s) for n, s in self.signals.items()},
+            events=lambda: self.faults.events,
         )
         if trace_every:
             self.runtime.observers.append(self.trace)
 
+    def _simulated(
+        self, machine: MachineDef, starts: Mapping[str, float]
+    ) -> tuple[dict[str, mcl.channel.AxisChannel], mcl.SimPlant, dict[str, tuple[str, float]]]:
+        sims: dict[str, mcl.channel.AxisChannel] = {}
+        for a, spec in machine.axes.items():
+            assert spec.sim is not None
+            params = spec.sim
+            position = starts.get(a, machine.start.get(a))
+            if position is not None:
+                params = replace(params, start=position)
+            sims[a] = mcl.SimAxis(params)
+        plant = mcl.SimPlant([s for s in sims.values() if isinstance(s, mcl.SimAxis)])
+        scales = {a: unit_and_scale(spec, rotary=False) for a, spec in machine.axes.items()}
+        return sims, plant, scales
+
+    def _mujoco(
+        self,
+        starts: Mapping[str, float],
+        positions: Mapping[str, Sequence[float]] | None,
+        names: Mapping[tuple[str, str], str],
+    ) -> tuple[dict[str, mcl.channel.AxisChannel], MujocoPlant, dict[str, tuple[str, float]]]:
+        model, data = compose(self.machines, positions)
+        self._model, self._data = model, data
+        for m in self.machines:
+            for a, spec in m.axes.items():
+                q = starts.get(names[(m.name, a)], m.start.get(a))
+                if q is not None:
+                    data.joint(f"{m.name}/{spec.joint or a}").qpos[0] = q
+        mujoco.mj_forward(model, data)
+        for m in self.machines:
+            for d, factory in m.devices.items():
+                self.devices[d if len(self.machines) == 1 else f"{m.name}/{d}"] = factory(
+                    model, data, f"{m.name}/"
+                )
+        wirings = []
+        for m in self.machines:
+            for a, spec in m.axes.items():
+                wirings.append(self._wiring(m, a, spec))
+        plant = MujocoPlant(model, data, wirings, self.devices)
+        ios: dict[str, mcl.channel.AxisChannel] = {}
+        scales: dict[str, tuple[str, float]] = {}
+        for m in self.machines:
+            for a, spec in m.axes.items():
+                io = plant.ios[f"{m.name}/{spec.joint or a}"]
+                name = names[(m.name, a)]
+                ios[name] = io
+                try:
+                    scales[name] = unit_and_scale(spec, io.rotary)
+                except ValueError as error:
+                    raise WiringError(f"axis {name}: {error}") from None
+        return ios, plant, scales
+
+    def _wiring(self, m: MachineDef, a: str, spec: AxisDef) -> AxisWiring:
+        device_name = spec.device if len(self.machines) == 1 else f"{m.name}/{spec.device}"
+        analog = None
+        if spec.analog:
+            read = getattr(self.devices.get(device_name), "analog", None)
+            if read is None:
+                raise WiringError(
+                    f"axis {a}: analog inputs {spec.analog} need the device {spec.device!r} "
+                    f"with a reader analog(name) -> volts; devices: {sorted(self.devices)}"
+                )
+            channels = spec.analog
+
+            def analog() -> list[float]:
+                return [read(c) for c in channels]
+
+        return AxisWiring(
+            f"{m.name}/{spec.joint or a}",
+            f"{m.name}/",
+            drive=spec.drive,
+            device=device_name,
+            switches=spec.switches,
+            probe=spec.probe,
+            digital_outputs=spec.digital_outputs,
+            analog=analog,
+        )
+
+    def _truth(self, axis: str) -> mcl.trace.Reader:
+        io = self.axes[axis].io
+        if isinstance(io, MujocoAxisIO):
+            return lambda: io.position
+        assert isinstance(io, mcl.SimAxis)
+        return lambda: io.x
+
+    @property
+    def has_model(self) -> bool:
+        """The scene runs on a MuJoCo model (False: simulated axes)."""
+        return self._model is not None
+
+    @property
+    def model(self) -> mujoco.MjModel:
+        """The compiled MuJoCo model (ground truth).
+
+        Raises:
+            TypeError: the scene runs simulated axes (see :attr:`has_model`).
+        """
+        if self._model is None:
+            raise TypeError(f"scene {self.name!r} runs simulated axes; it has no MuJoCo model")
+        return self._model
+
+    @property
+    def data(self) -> mujoco.MjData:
+        """The MuJoCo data (ground truth).
+
+        Raises:
+            TypeError: the scene runs simulated axes (see :attr:`has_model`).
+        """
+        if self._data is None:
+            raise TypeError(f"scene {self.name!r} runs simulated axes; it has no MuJoCo data")
+        return self._data
+
+    def _reader(self, signal: Signal) -> mcl.trace.Reader:
+        return lambda: signal.read(self)
+
+    def signal(self, name: str) -> float:
+        """The current value of a published signal (e.g. ``"pressure_A"``).
+
+        Raises:
+            KeyError: unknown name (the message lists the valid ones).
+        """
+        try:
+            signal = self.signals[name]
+        except KeyError:
+            raise KeyError(f"no signal {name!r}; signals: {sorted(self.signals)}") from None
+        return signal.read(self)
+
     def io(self, axis: str) -> MujocoAxisIO:
         """The MuJoCo channel of an axis (joint position, amplifier, switches)."""
         io = self.axes[axis].io
-        assert isinstance(io, MujocoAxisIO)
+        if not isinstance(io, MujocoAxisIO):
+            raise TypeError(f"axis {axis} is a simulated axis, not on a MuJoCo model")
         return io
 
     def joint_position(self, axis: str) -> float:
-        """Ground-truth joint coordinate of an axis [m]."""
-        return self.io(axis).position
+        """Ground-truth joint coordinate of an axis [m or rad]."""
+        io = self.axes[axis].io
+        if isinstance(io, MujocoAxisIO):
+            return io.position
+        assert isinstance(io, mcl.SimAxis)
+        return io.x
 
 
-def _truth(io: mcl.AxisIO) -> Callable[[], float]:
-    assert isinstance(io, MujocoAxisIO)
-    return lambda: io.position
-
-
-def _with_period(config: mcl.AxisConfig, servo_period: float) -> mcl.AxisConfig:
-    from dataclasses import replace
-
-    return replace(config, servo_period=servo_period)
-
-
-def _check_resolution(io: MujocoAxisIO, spec: AxisSpec, axis: str) -> None:
-    model_mm = io.resolution * 1000.0
-    if abs(model_mm - spec.config.resolution) > 1e-9 * model_mm:
+def _check_resolution(model_resolution: float, config: mcl.AxisConfig, axis: str) -> None:
+    if abs(model_resolution - config.resolution) > 1e-9 * model_resolution:
         raise WiringError(
-            f"axis {axis}: AxisConfig.resolution {spec.config.resolution} mm/count "
-            f"does not match the model's encoder ({model_mm:g} mm/count)"
+            f"axis {axis}: AxisConfig.resolution {config.resolution} {config.unit}/count "
+            f"does not match the model's encoder ({model_resolution:g} {config.unit}/count)"
         )

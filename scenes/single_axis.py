@@ -7,8 +7,11 @@ is written the way a PLC programmer writes it: one scan function with a step cou
 
 from __future__ import annotations
 
+from typing import Any
+
 import mcl
-from scenes.report import EdgeLog
+from scenes.machine import AxisDef, MachineDef
+from scenes.scene import Scene
 
 CONSTANTS = dict(Kp=3.0, Ki=150.0, Ff=1.0, Kc=50.0, Vmax=500.0, Filter=2.0, Ka=0.0065)
 """Servo constants for the default simulated axis (Vmax 500 mm/s at 10 V)."""
@@ -24,31 +27,39 @@ STEPS = (
 )
 
 
-class Program:
-    """The demo's PLC program; call it once per PLC cycle."""
+class Demo:
+    """The demo's PLC program; call it once per PLC cycle. ``step`` says what it does."""
 
-    def __init__(self, axis: mcl.Axis, log: EdgeLog) -> None:
-        self.X = axis
-        self.log = log
-        self.step = 0
+    def __init__(self, scene: Scene) -> None:
+        self.X = scene.axes["X"]
+        self.index = 0
+        self.error = ""
         self.power, self.move = mcl.MC_Power(), mcl.MC_MoveRelative()
         self.first, self.second, self.third = (mcl.MC_MoveRelative() for _ in range(3))
         self.velocity, self.stop = mcl.MC_MoveVelocity(), mcl.MC_Stop()
-        log.watch(
-            **{
-                name: getattr(self, name)
-                for name in ("power", "move", "first", "second", "third", "velocity", "stop")
-            }
-        )
-        log.title(STEPS[0])
+        self.blocks: dict[str, Any] = {
+            name: getattr(self, name)
+            for name in ("power", "move", "first", "second", "third", "velocity", "stop")
+        }
+        """The blocks a report watches, by name."""
+
+    @property
+    def step(self) -> str:
+        """What the program is doing."""
+        return self.error or STEPS[self.index]
+
+    @property
+    def done(self) -> bool:
+        """The demo is complete."""
+        return self.index == len(STEPS) - 1
 
     def next(self) -> None:
         """Go to the next step."""
-        self.step += 1
-        self.log.title(STEPS[self.step])
+        self.index += 1
 
     def __call__(self) -> None:
-        X, step = self.X, self.step
+        """One PLC scan."""
+        X, step = self.X, self.index
         blend = mcl.MC_BufferMode.BlendingNext
         self.power(Axis=X, Enable=True)
         self.move(
@@ -89,17 +100,21 @@ class Program:
         ):
             self.next()
 
-
-def main() -> None:
-    """Run the demo headless and print the report."""
-    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
-    X = machine.axes["X"]
-    mcl.GT_SetConstant()(Axis=X, Execute=True, **CONSTANTS)
-    log = EdgeLog(machine)
-    program = Program(X, log)
-    machine.run(program, until=lambda: program.step == len(STEPS) - 1, timeout=10.0)
-    log.summary()
+        for name, fb in self.blocks.items():
+            if fb.Error:
+                self.error = f"{STEPS[self.index]}: {name} error {fb.ErrorID}"
 
 
-if __name__ == "__main__":
-    main()
+MACHINE = MachineDef(
+    name="single_axis",
+    description="one simulated axis in pure Python (no physics engine): moves, blends, stop",
+    axes={
+        "X": AxisDef(
+            config=mcl.AxisConfig(),
+            constants=mcl.ServoConstants(**CONSTANTS),
+            sim=mcl.SimAxisParams(start=0.2),
+        )
+    },
+    demo=Demo,
+)
+"""The simulated single axis in the registry."""

@@ -1,77 +1,18 @@
-"""Shared fixtures: a powered, referenced simulated axis and a helper to run PLC programs."""
+"""Shared fixtures: a simulated axis, powered and referenced (helpers: ``tests/helpers.py``)."""
 
 from __future__ import annotations
-
-from collections.abc import Callable
 
 import pytest
 
 import mcl
-
-CONSTANTS = dict(
-    Kp=3.0,
-    Ki=150.0,
-    Kd=0.0,
-    Ff=1.0,
-    Kc=50.0,
-    Vmax=500.0,
-    LimPos=0.0,
-    LimNeg=0.0,
-    Ki1=0.0,
-    Filter=2.0,
-    Ka=0.0065,
-)
-"""Servo constants tuned for the default simulated axis (Vmax 500 mm/s at 10 V)."""
-
-
-def configure(axis: mcl.Axis, **overrides: float) -> None:
-    """Write servo constants through GT_SetConstant (one call)."""
-    fb = mcl.GT_SetConstant()
-    fb(Axis=axis, Execute=True, **{**CONSTANTS, **overrides})
-    assert fb.Done, fb.ErrorID
-
-
-def power_on(machine: mcl.SimMachine, axis: mcl.Axis, referenced: bool = True) -> mcl.MC_Power:
-    """Power the axis through MC_Power and, if ``referenced``, confirm its coordinate with
-    MC_FinishHoming (the coordinate stays, Ref is set); takes 10 ms of simulated time."""
-    power, finish = mcl.MC_Power(), mcl.MC_FinishHoming()
-
-    def program() -> None:
-        power(Axis=axis, Enable=True)
-        finish(Axis=axis, Execute=referenced and power.Status)
-
-    machine.run(program, timeout=0.01)
-    assert power.Status and axis.Ref == referenced
-    return power
-
-
-PLC = 0.002
-"""PLC cycle of the simulated machines [s]."""
-
-POS_TOL = 0.05
-"""How close the actual position is to a target when the move reports Done [mm]."""
-
-
-def tick(machine: mcl.SimMachine, cycles: int = 1) -> None:
-    """Let ``cycles`` PLC cycles pass without calling any block."""
-    machine.run(timeout=PLC * cycles)
-
-
-def fresh_axis(referenced: bool = True, **constants: float) -> tuple[mcl.SimMachine, mcl.Axis]:
-    """A new machine like the ``machine``/``X`` fixtures (for tests that need several runs)."""
-    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
-    axis = machine.axes["X"]
-    configure(axis, **constants)
-    power_on(machine, axis, referenced)
-    return machine, axis
+from tests.helpers import CONSTANTS as CONSTANTS  # re-exported: tests/benchmarks import it here
+from tests.helpers import make_machine, power_on
 
 
 @pytest.fixture
 def machine() -> mcl.SimMachine:
     """One simulated axis "X" (travel −10..1010 mm, REF below 100 mm), constants written."""
-    m = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
-    configure(m.axes["X"])
-    return m
+    return make_machine("X", powered=False)
 
 
 @pytest.fixture
@@ -80,13 +21,3 @@ def X(machine: mcl.SimMachine) -> mcl.Axis:
     axis = machine.axes["X"]
     power_on(machine, axis)
     return axis
-
-
-def scan(*calls: Callable[[], None]) -> Callable[[], None]:
-    """A PLC program made of calls."""
-
-    def program() -> None:
-        for call in calls:
-            call()
-
-    return program

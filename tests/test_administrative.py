@@ -11,7 +11,7 @@ import pytest
 
 import mcl
 from mcl import AxisState, ErrorID, MC_Direction
-from tests.conftest import CONSTANTS, configure, power_on
+from tests.helpers import CONSTANTS, configure, power_on
 
 PLC = 0.002
 VMAX = CONSTANTS["Vmax"]
@@ -384,6 +384,7 @@ SPEC_TEXTS: dict[int, tuple[str, str]] = {
     11: ("axis is in ErrorStop", "osa je v stavu ErrorStop"),
     12: ("constants not set", "nejsou zadány konstanty"),
     13: ("axis is powered", "osa je power on"),
+    14: ("axis has no drive (encoder only)", "osa nemá pohon (jen enkodér)"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

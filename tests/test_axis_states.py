@@ -15,7 +15,7 @@ import pytest
 
 import mcl
 from mcl import AxisState
-from tests.conftest import POS_TOL, configure, fresh_axis, power_on, tick
+from tests.helpers import PLC, POS_TOL, configure, fresh_axis, power_on, tick
 
 
 def move_to(machine: mcl.SimMachine, axis: mcl.Axis, position: float, velocity: float = 400.0):
@@ -230,7 +230,10 @@ def test_following_error_goes_to_errorstop_with_the_loop_open(machine, X):
     assert fb.ErrorID != 0 and not fb.Busy
     assert X.state == AxisState.ErrorStop
     assert X.AxErrorID == mcl.ErrorID.ERRPOS
-    assert not machine.sims["X"].enabled
+    sim = machine.sims["X"]
+    assert sim.enabled and sim.volts == 0.0  # quick stop: the amplifier brakes at 0 V
+    tick(machine, round(X.config.quick_stop_time / PLC))
+    assert not sim.enabled and sim.brake  # then the enable drops and the brake engages
     power(Enable=True)
     assert not power.Status
     assert shown_states(X) == {"ErrorStop"}
@@ -383,6 +386,7 @@ def test_reset_after_following_error_goes_to_disabled(machine, X):
     assert fb.Done
     assert X.state == AxisState.Disabled
     assert X.AxErrorID == 0
+    tick(machine, round(X.config.quick_stop_time / PLC))
     assert not machine.sims["X"].enabled
     assert shown_states(X) == {"Disabled"}
 

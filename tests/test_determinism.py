@@ -9,7 +9,7 @@ import mcl
 from mcl import AxisState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.trace import Trace
 from scenes import gantry
-from tests.conftest import configure
+from tests.helpers import configure
 
 
 class Scenario:

@@ -14,7 +14,7 @@ import pytest
 
 import mcl
 from mcl.fb import MotionFB
-from tests.conftest import POS_TOL, configure, fresh_axis, power_on, tick
+from tests.helpers import POS_TOL, configure, fresh_axis, power_on, tick
 
 
 def exclusive(fb: Any) -> None:

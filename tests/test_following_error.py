@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import mcl
-from tests.conftest import scan
+from tests.helpers import scan
 
 TARGET = 300.0
 

@@ -20,7 +20,7 @@ import mcl
 from mcl import AxisState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from scenes import gantry
 from scenes.scene import Scene
-from tests.conftest import scan
+from tests.helpers import scan
 
 PARK = {"X": 0.3, "Y": 0.3, "Z": -0.1}
 """Start positions of the axes a test does not move [m] (they stay disabled; Z on its brake)."""

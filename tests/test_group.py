@@ -14,7 +14,7 @@ import pytest
 import mcl
 from mcl import AxisState, ErrorID, GroupState, MC_BufferMode
 from mcl.group import distance_to_segment
-from tests.conftest import configure, power_on
+from tests.helpers import configure, make_machine, power_on
 
 NAMES = "XYZ"
 V = 200.0
@@ -26,19 +26,10 @@ CONTOUR_LIMIT = 0.050
 """Largest distance of the actual tool point from a straight segment [mm]."""
 
 
-def make_machine(names: str = NAMES, **constants: float) -> mcl.SimMachine:
-    """Simulated axes (start 0.2 m: user coordinate 0 there), configured, powered, referenced."""
-    machine = mcl.SimMachine({n: mcl.SimAxisParams(start=0.2) for n in names})
-    for axis in machine.axes.values():
-        configure(axis, **constants)
-        power_on(machine, axis)
-    return machine
-
-
 @pytest.fixture
 def xyz() -> mcl.SimMachine:
     """Three powered, referenced axes X, Y, Z at 0 mm."""
-    return make_machine()
+    return make_machine(NAMES)
 
 
 def build_group(machine: mcl.SimMachine, names: str = NAMES, enable: bool = True) -> mcl.AxesGroup:
@@ -296,7 +287,7 @@ def test_read_blocks(xyz: mcl.SimMachine) -> None:
 )
 def test_parameter_errors_do_not_touch_the_group(inputs: dict[str, object], code: int) -> None:
     """A refused command reports Error/ErrorID and the running motion goes on (SPEC §3 rule 9)."""
-    machine = make_machine(LimPos=300.0, LimNeg=-300.0)
+    machine = make_machine(NAMES, LimPos=300.0, LimNeg=-300.0)
     group = build_group(machine)
     first = mcl.MC_MoveLinearAbsolute()
     bad = mcl.MC_MoveLinearAbsolute()
@@ -496,7 +487,7 @@ def test_blended_polyline_is_faster_than_buffered() -> None:
     """The same polyline takes less time blended than buffered."""
     times = {}
     for mode in (MC_BufferMode.Buffered, MC_BufferMode.BlendingHigh):
-        machine = make_machine()
+        machine = make_machine(NAMES)
         group = build_group(machine)
         rec, _, _ = run_polyline(machine, group, mode)
         moving = [t for t, v in zip(rec.t, rec.speeds(), strict=True) if v > 0.0]
@@ -752,15 +743,12 @@ def test_member_powered_off_aborts_the_group_move(xyz: mcl.SimMachine) -> None:
 def test_member_limit_switch_error_is_the_group_error() -> None:
     """A member error other than the following error (LIM+ 2004) becomes the group error and
     the move's ErrorID as it is; the other members stop on the path."""
-    machine = mcl.SimMachine(
+    machine = make_machine(
         {
             "X": mcl.SimAxisParams(start=0.2, lim_pos=0.26),  # LIM+ 60 mm ahead of X
             "Y": mcl.SimAxisParams(start=0.2),
         }
     )
-    for axis in machine.axes.values():
-        configure(axis)
-        power_on(machine, axis)
     group = build_group(machine, "XY")
     move = mcl.MC_MoveLinearAbsolute()
 
@@ -777,3 +765,87 @@ def test_member_limit_switch_error_is_the_group_error() -> None:
     run_until(machine, lambda: reset(AxesGroup=group, Execute=True), lambda: reset.Done)
     assert X.state == Y.state == AxisState.StandStill
     assert group.state == GroupState.GroupStandby
+
+
+# ---------------------------------------------------------------------- reading the state
+def group_snapshot(group: mcl.AxesGroup) -> tuple[object, ...]:
+    """Everything a read could change: flags, members, the path and the commands' tickets."""
+    members = list(group._members)
+    return (
+        group.enabled,
+        group.GroupErrorID,
+        list(group.axes),
+        members,
+        [(m.status, m.error_id, m.signal) for m in members if m is not None],
+        group._active,
+        list(group._queue),
+        group._stop,
+        group._end,
+        group._t,
+        [(t.status, t.error_id) for t in group._tickets()],
+    )
+
+
+def read_everything(group: mcl.AxesGroup, times: int = 100) -> GroupState:
+    """Read state, repr, moving, stopping and InPosition ``times`` times; they never change."""
+    seen = {
+        (group.state, repr(group), group.moving, group.stopping, group.in_position())
+        for _ in range(times)
+    }
+    assert len(seen) == 1, seen
+    return seen.pop()[0]
+
+
+def _fault_x(machine: mcl.SimMachine) -> None:
+    machine.axes["X"].fault(ErrorID.ERRLIP)  # what the supervision does on LIM+
+
+
+def _power_off_z(machine: mcl.SimMachine) -> None:
+    mcl.MC_Power()(Axis=machine.axes["Z"], Enable=False)  # the axis ramps down in Stopping
+
+
+def _emergency_stop(machine: mcl.SimMachine) -> None:
+    mcl.GT_EStop()(Axis=machine.axes["X"], Enable=True)  # every axis of the module: Disabled
+
+
+@pytest.mark.parametrize(
+    ("event", "expected"),
+    [
+        (_fault_x, GroupState.GroupErrorStop),
+        (_power_off_z, GroupState.GroupStopping),
+        (_emergency_stop, GroupState.GroupStandby),
+    ],
+    ids=["member-ErrorStop", "member-powered-off", "all-members-off"],
+)
+def test_reading_the_state_does_not_change_the_group(
+    xyz: mcl.SimMachine, event: Callable[[mcl.SimMachine], None], expected: GroupState
+) -> None:
+    """Between two scans a member drops out of a running group move. Reading state, repr,
+    moving, stopping and InPosition any number of times changes nothing in the group (no member
+    dropped, no error latched, no command ended) and tells the state the group goes to; the
+    next scan of a group block acts on the fault, and the state it reaches is what was read."""
+    group = build_group(xyz)
+    move = mcl.MC_MoveLinearAbsolute()
+
+    def program() -> None:
+        move(AxesGroup=group, Execute=True, Position=[150.0, 100.0, 50.0], **MOVE)
+
+    xyz.run(program, timeout=0.2)
+    assert move.Active and group.state == GroupState.GroupMoving
+    event(xyz)
+    before = group_snapshot(group)
+    assert read_everything(group) == expected
+    assert group_snapshot(group) == before
+    assert group.GroupErrorID == 0 and move.Active
+
+    program()  # the scan: the move block's poll lets the group act on the fault
+    assert group_snapshot(group) != before
+    assert not move.Busy and (move.Error or move.CommandAborted)
+    assert group.state == expected
+    if expected == GroupState.GroupErrorStop:
+        assert group.GroupErrorID == move.ErrorID == ErrorID.ERRLIP
+    else:
+        assert group.GroupErrorID == 0 and move.CommandAborted
+    xyz.run(timeout=0.5)
+    final = read_everything(group)
+    assert final == (expected if expected == GroupState.GroupErrorStop else GroupState.GroupStandby)

@@ -28,7 +28,7 @@ import pytest
 
 import mcl
 from mcl import AxisState, ErrorID, MC_Direction
-from tests.conftest import CONSTANTS, configure, power_on
+from tests.helpers import CONSTANTS, configure, power_on
 
 PLC = 0.002
 LIMITS = {"LimNeg": -100.0, "LimPos": 700.0}

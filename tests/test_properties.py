@@ -25,7 +25,7 @@ from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
 import mcl
-from tests.conftest import CONSTANTS, configure, power_on
+from tests.helpers import CONSTANTS, configure, power_on
 
 PLC_PERIOD = 0.002
 

@@ -9,7 +9,8 @@ import scenes
 from scenes import gantry
 from scenes.__main__ import main
 from scenes.plant import WiringError
-from scenes.scene import AxisSpec, Machine, Scene
+from scenes.machine import AxisDef, MachineDef
+from scenes.scene import Scene
 
 
 def test_run_single_axis_demo_prints_the_report(capsys):
@@ -43,7 +44,7 @@ def test_load_gantry_by_name_with_overrides():
 def test_missing_model_file_says_which_files_exist():
     spec = gantry.AXES["X"]
     with pytest.raises(FileNotFoundError, match=r"gantry\.xml"):
-        Scene([Machine("m", "no_such_machine.xml", {"X": spec})])
+        Scene([MachineDef("m", "test", {"X": spec}, model="no_such_machine.xml")])
 
 
 def test_model_without_an_amplifier_names_the_actuators(tmp_path):
@@ -51,16 +52,16 @@ def test_model_without_an_amplifier_names_the_actuators(tmp_path):
     xml.write_text("""<mujoco><worldbody><body name="b"><joint name="X" type="slide"/>
       <geom size=".1"/></body></worldbody>
       <actuator><motor name="X_motor" joint="X"/></actuator></mujoco>""")
-    spec = AxisSpec(mcl.AxisConfig(), mcl.ServoConstants(Vmax=100.0))
+    spec = AxisDef(mcl.AxisConfig(), mcl.ServoConstants(Vmax=100.0))
     with pytest.raises(WiringError, match=r"X_amp.*X_motor"):
-        Scene([Machine("bare", str(xml), {"X": spec})])
+        Scene([MachineDef("bare", "test", {"X": spec}, model=str(xml))])
 
 
 def test_wrong_encoder_resolution_is_refused():
     spec = gantry.AXES["X"]
-    wrong = AxisSpec(mcl.AxisConfig(resolution=0.01), spec.constants)
+    wrong = AxisDef(mcl.AxisConfig(resolution=0.01), spec.constants)
     with pytest.raises(WiringError, match="resolution"):
-        Scene([Machine("gantry", "gantry.xml", {**gantry.AXES, "X": wrong})])
+        Scene([MachineDef("gantry", "test", {**gantry.AXES, "X": wrong}, model="gantry.xml")])
 
 
 def test_period_not_a_multiple_of_the_timestep_is_refused():

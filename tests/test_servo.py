@@ -8,7 +8,7 @@ import pytest
 
 import mcl
 from mcl.servo import Regulator, ServoConstants, dac, dac_code_volts
-from tests.conftest import configure, power_on, scan
+from tests.helpers import configure, power_on, scan
 
 STEP = 10.5 / 4095
 """Volts per DAC code."""

@@ -8,7 +8,7 @@ import pytest
 
 import mcl
 from mcl.trace import FIELDS, Trace
-from tests.conftest import configure, power_on
+from tests.helpers import configure, power_on
 
 
 def test_trace_records_every_servo_cycle_and_exports_csv(tmp_path):

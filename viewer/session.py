@@ -16,7 +16,6 @@ between two PLC cycles, so they never race with a running cycle.
 
 from __future__ import annotations
 
-import importlib
 import logging
 import math
 import queue
@@ -34,8 +33,8 @@ import numpy.typing as npt
 
 import mcl
 import scenes
-from scenes import DemoProgram
-from scenes.procedures import HomingRecipe
+from scenes import DemoProgram, MachineDef
+from scenes.plant import MujocoAxisIO
 from scenes.scene import Scene
 from viewer.operator import AxisRequests, Clock, OperatorProgram
 
@@ -66,12 +65,18 @@ class AxisView:
     Attributes:
         name: Axis name in the scene (``"X"``).
         joint: Name of the axis joint in the model (``"gantry/X"``); switch geoms are named
-            ``<joint>_lim_neg_geom``, ``<joint>_lim_pos_geom``, ``<joint>_ref_geom``.
-        position: Actual position ``POS`` [u] (mm on the gantry).
+            ``<joint>_lim_neg_geom``, ``<joint>_lim_pos_geom``, ``<joint>_ref_geom``. Empty for
+            a simulated axis (no model).
+        unit: The axis' user unit u (``axis.config.unit``: ``"mm"``, ``"deg"``, ...).
+        has_drive: The axis has a drive; False for an encoder-only axis (no Power, no moves).
+        switches: The switch inputs the axis has, of ``"lim_neg"``, ``"lim_pos"``, ``"ref"``
+            (from its machine definition).
+        homeable: The machine definition gives the axis a homing recipe.
+        position: Actual position ``POS`` [u].
         velocity: Actual velocity ``VEL`` [u/s].
         following_error: Set point minus actual position [u].
         volts: Analog command of the last servo cycle [V].
-        joint_position: Ground-truth joint coordinate [m] (NaN if the plant has none).
+        joint_position: Ground-truth joint coordinate [m or rad] (NaN if the plant has none).
         vmax: Velocity at 10 V [u/s] from the servo constants (NaN before they are set).
         state: ``GT_AxStatusString.StatStr`` (empty before the first scan).
         error: ``GT_AxErrStringEN.ErrStr`` (empty: no axis error).
@@ -82,6 +87,8 @@ class AxisView:
         lim_neg: LIM− input.
         ref: REF input.
         index: Encoder index pulse level.
+        inputs: Further digital inputs of the axis' channel (empty: none).
+        outputs: Digital outputs of the axis' channel (empty: none), e.g. a knife valve.
         power_request: Level the operator's MC_Power gets (``None``: not called).
         jogging: Jog request of the last scan: +1, −1 or 0.
         homing: The operator's homing procedure runs.
@@ -91,6 +98,10 @@ class AxisView:
 
     name: str
     joint: str
+    unit: str
+    has_drive: bool
+    switches: tuple[str, ...]
+    homeable: bool
     position: float
     velocity: float
     following_error: float
@@ -106,11 +117,28 @@ class AxisView:
     lim_neg: bool
     ref: bool
     index: bool
+    inputs: tuple[bool, ...]
+    outputs: tuple[bool, ...]
     power_request: bool | None
     jogging: int
     homing: bool
     stopping: bool
     message: str
+
+
+@dataclass(frozen=True, slots=True)
+class SignalView:
+    """A value the machine publishes besides its axes (``scene.signals``), e.g. a pressure.
+
+    Attributes:
+        name: Its name in the scene (``"pressure_A"``).
+        value: Its value when the snapshot was taken (NaN if reading it failed).
+        unit: Its unit (``"bar"``, ``"N"``).
+    """
+
+    name: str
+    value: float
+    unit: str
 
 
 @dataclass(frozen=True, slots=True)
@@ -140,13 +168,18 @@ class Snapshot:
         generation: Increments with every (re)built scene; a viewer rebuilds its scene nodes
             when it changes.
         scene: Registry name of the scene.
+        description: The machine's one-line description (``MachineDef.description``).
         time: Simulated time [s].
         wall: Wall clock [s] when the snapshot was taken.
-        model: The scene's compiled model (shared, not copied: the viewer only reads it).
-        qpos: Joint coordinates of every joint [m, rad], shape (nq,).
-        xpos: World position of every body [m], shape (nbody, 3).
-        xquat: World orientation of every body (w, x, y, z), shape (nbody, 4).
+        model: The scene's compiled model (shared, not copied: the viewer only reads it);
+            None for a machine of simulated axes, which has no 3-D model.
+        qpos: Joint coordinates of every joint [m, rad], shape (nq,) (empty without a model).
+        xpos: World position of every body [m], shape (nbody, 3) (empty without a model).
+        xquat: World orientation of every body (w, x, y, z), shape (nbody, 4) (empty without a
+            model).
         axes: Axis views by axis name, in the scene's order.
+        signals: The machine's published signals (``scene.signals``) in definition order;
+            empty if it publishes none.
         history: Per axis: sample times [s], following error [u], volts [V] of the last
             :data:`HISTORY_SECONDS` of simulated time, oldest first.
         paused: The simulation is paused.
@@ -158,13 +191,15 @@ class Snapshot:
 
     generation: int
     scene: str
+    description: str
     time: float
     wall: float
-    model: mujoco.MjModel
+    model: mujoco.MjModel | None
     qpos: npt.NDArray[np.float64]
     xpos: npt.NDArray[np.float64]
     xquat: npt.NDArray[np.float64]
     axes: Mapping[str, AxisView]
+    signals: tuple[SignalView, ...]
     history: Mapping[str, tuple[npt.NDArray[np.float64], ...]]
     paused: bool
     speed: float
@@ -212,15 +247,20 @@ class History:
         }
 
 
-def scene_module(name: str) -> Any:
-    """The module of a registered scene (``build``, ``Demo``, ``HOMING``; see ``scenes.SCENES``).
+@dataclass(frozen=True, slots=True)
+class _AxisInfo:
+    """What the machine definition says about an axis' panel (fixed while the scene lives)."""
 
-    Raises:
-        KeyError: If the scene is not registered; the message lists the registered ones.
-    """
-    if name not in scenes.SCENES:
-        raise KeyError(f"unknown scene {name!r}; scenes: {sorted(scenes.SCENES)}")
-    return importlib.import_module(scenes.SCENES[name])
+    joint: str
+    unit: str
+    has_drive: bool
+    switches: tuple[str, ...]
+    homeable: bool
+
+
+def choices() -> list[str]:
+    """The machines the viewer offers: ``sorted(scenes.MACHINES)``, as ``python -m scenes list``."""
+    return sorted(scenes.MACHINES)
 
 
 class Session:
@@ -233,12 +273,12 @@ class Session:
             snapshot = session.snapshot
 
     Args:
-        scene: Registry name of the scene (``scenes.SCENES``).
+        scene: Registry name of the machine (one of ``scenes.MACHINES``).
         speed: Simulated seconds per wall second; ``math.inf`` runs as fast as possible.
         paused: Start paused.
         clock: Monotonic wall clock [s] for pacing and the jog dead-man deadlines.
-        demo: Makes a scene's demo program; default ``scenes.demo`` for scenes whose module has
-            a ``Demo``.
+        demo: Makes a scene's demo program; default ``scenes.demo`` for machines whose definition
+            has a demo (``MachineDef.demo``).
         overrides: Keyword overrides for ``scenes.load``; the trace is off unless given
             (``trace_every=0``), so a long session does not accumulate memory.
         snapshot_hz: Snapshots published per wall second at most.
@@ -277,6 +317,7 @@ class Session:
         self._last_publish = -math.inf
 
         self._scene_name = scene
+        self._definition = scenes.definition(scene)
         self._scene, self._operator = self._build(scene)
         self._demo: DemoProgram | None = None
         self._demo_done_seen = False
@@ -288,17 +329,19 @@ class Session:
 
     def _build(self, name: str) -> tuple[Scene, OperatorProgram]:
         """Load a scene and make its operator program (in the calling thread)."""
+        definition = scenes.definition(name)
         scene = scenes.load(name, **self._overrides)
-        has_homing = hasattr(scene_module(scene.name), "HOMING")
-        recipes: Mapping[str, HomingRecipe] = scenes.homing(scene) if has_homing else {}
-        return scene, OperatorProgram(scene.axes, recipes, self._clock)
+        return scene, OperatorProgram(scene.axes, definition.homing, self._clock)
 
     def _install(self, name: str, scene: Scene, operator: OperatorProgram) -> None:
         """Make a freshly built scene the running one (simulation thread or not yet running)."""
+        definition = scenes.definition(name)
         self._scene_name = name
+        self._definition = definition
         self._scene = scene
         self._operator = operator
-        self._has_demo = self._demo_factory is not None or hasattr(scene_module(name), "Demo")
+        self._axis_info = _axis_info(definition, scene)
+        self._has_demo = self._demo_factory is not None or definition.demo is not None
         self._demo = None
         self._demo_step = self._demo_error = ""
         self._demo_done_seen = False
@@ -323,6 +366,11 @@ class Session:
     def scene_name(self) -> str:
         """Registry name of the scene being simulated."""
         return self._scene_name
+
+    @property
+    def definition(self) -> MachineDef:
+        """The registry definition of the machine being simulated."""
+        return self._definition
 
     @property
     def operator(self) -> OperatorProgram:
@@ -651,16 +699,19 @@ class Session:
             self._demo_step = str(demo.step)
             self._demo_done_seen = bool(demo.done)
         views = {name: self._axis_view(name, axis) for name, axis in scene.axes.items()}
+        data = scene.data
         self._snapshot = Snapshot(
             generation=self._generation,
             scene=self._scene_name,
+            description=self._definition.description,
             time=sim,
             wall=now,
             model=scene.model,
-            qpos=np.array(scene.data.qpos, dtype=np.float64),
-            xpos=np.array(scene.data.xpos, dtype=np.float64),
-            xquat=np.array(scene.data.xquat, dtype=np.float64),
+            qpos=_copy(None if data is None else data.qpos, (0,)),
+            xpos=_copy(None if data is None else data.xpos, (0, 3)),
+            xquat=_copy(None if data is None else data.xquat, (0, 4)),
             axes=MappingProxyType(views),
+            signals=tuple(self._signal_view(name) for name in scene.signals),
             history=MappingProxyType(self._history.series()),
             paused=self._paused,
             speed=self._speed,
@@ -675,17 +726,31 @@ class Session:
             fault=self._fault,
         )
 
+    def _signal_view(self, name: str) -> SignalView:
+        signal = self._scene.signals[name]
+        try:
+            value = float(signal.read(self._scene))
+        except Exception:  # a faulty reader must not stop the simulation thread
+            log.debug("signal %r of scene %r failed", name, self._scene_name, exc_info=True)
+            value = math.nan
+        return SignalView(name=name, value=value, unit=signal.unit)
+
     def _axis_view(self, name: str, axis: mcl.Axis) -> AxisView:
         io = axis.io
         op = self._operator.axes[name]
+        info = self._axis_info[name]
         return AxisView(
             name=name,
-            joint=str(getattr(io, "name", name)),
+            joint=info.joint,
+            unit=info.unit,
+            has_drive=info.has_drive,
+            switches=info.switches,
+            homeable=info.homeable,
             position=axis.POS,
             velocity=axis.VEL,
             following_error=axis.following_error,
             volts=axis.volts,
-            joint_position=float(getattr(io, "position", math.nan)),
+            joint_position=self._scene.joint_position(name),
             vmax=axis.constants.Vmax if axis.constants is not None else math.nan,
             state=op.status.StatStr,
             error=op.error_text.ErrStr,
@@ -696,12 +761,38 @@ class Session:
             lim_neg=bool(io.lim_neg),
             ref=bool(io.ref),
             index=bool(io.index),
+            inputs=tuple(bool(i) for i in io.inputs),
+            outputs=tuple(bool(o) for o in io.outputs),
             power_request=op.power_request,
             jogging=op.jogging,
             homing=op.homing,
             stopping=op.stopping,
             message=op.message,
         )
+
+
+def _axis_info(definition: MachineDef, scene: Scene) -> dict[str, _AxisInfo]:
+    """What the machine definition and the built scene say about each axis' panel."""
+    recipes = definition.homing
+    info: dict[str, _AxisInfo] = {}
+    for name, axis in scene.axes.items():
+        spec = definition.axes.get(name)
+        io = axis.io
+        info[name] = _AxisInfo(
+            joint=io.name if isinstance(io, MujocoAxisIO) else "",
+            unit=axis.config.unit,
+            has_drive=axis.has_drive,
+            switches=spec.switches if spec is not None else ("lim_neg", "lim_pos", "ref"),
+            homeable=name in recipes,
+        )
+    return info
+
+
+def _copy(array: npt.ArrayLike | None, empty: tuple[int, ...]) -> npt.NDArray[np.float64]:
+    """A float copy of a MuJoCo array, or an empty one of shape ``empty`` without a model."""
+    if array is None:
+        return np.zeros(empty)
+    return np.array(array, dtype=np.float64)
 
 
 def _check_speed(speed: float) -> float:

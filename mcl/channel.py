@@ -1,0 +1,345 @@
+"""One axis channel of the module: encoder, switches, touch probe, analog and digital I/O, faults.
+
+:class:`AxisChannel` implements :class:`mcl.io.AxisIO` for every plant. A plant (the simulated
+axes of :mod:`mcl.simaxis`, the MuJoCo plant of ``scenes``) only supplies the physics: once per
+servo instant it calls :meth:`AxisChannel.sample` with the true position and switch levels, and it
+implements :meth:`AxisChannel.drive` to apply the command to its amplifier and brake. Everything
+between the physics and the servo core happens here, once for every plant: quantizing the encoder
+and latching its index, latching the touch probe after its sensor delay, and the injected faults
+of :mod:`mcl.faults`.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from mcl import faults as flt
+from mcl.encoder import IncrementalEncoder
+from mcl.servo import DAC_FULL_SCALE
+
+_SWITCH_INDEX = {"lim_pos": 0, "lim_neg": 1, "ref": 2, "tp": 3}
+
+
+@dataclass(frozen=True, slots=True)
+class Marks:
+    """Trigger marks along a coordinate (print marks on a strip, a cam on a shaft): the probe
+    input is high while the coordinate lies within ``width`` above a mark.
+
+    Attributes:
+        first: coordinate of the first mark [m or rad of the trigger coordinate].
+        pitch: distance between marks; 0 = a single mark.
+        width: extent of a mark along the coordinate (> 0).
+        errors: per-mark displacement added to ``first + k·pitch`` (cycled), e.g. print errors.
+    """
+
+    first: float
+    pitch: float = 0.0
+    width: float = 0.002
+    errors: tuple[float, ...] = ()
+
+    def __post_init__(self) -> None:
+        for name in ("first", "pitch", "width"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"Marks.{name} must be finite, got {getattr(self, name)!r}")
+        if not self.width > 0.0 or self.pitch < 0.0 or (self.pitch and self.width >= self.pitch):
+            raise ValueError(
+                f"Marks need width > 0 and pitch 0 (one mark) or pitch > width; got width "
+                f"{self.width}, pitch {self.pitch}"
+            )
+
+    def _start(self, k: int) -> float:
+        e = self.errors[k % len(self.errors)] if self.errors else 0.0
+        return self.first + k * self.pitch + e
+
+    def _near(self, q: float) -> int:
+        if not self.pitch:
+            return 0
+        return max(0, math.floor((q - self.first) / self.pitch))
+
+    def level(self, q: float) -> bool:
+        """The probe input at coordinate ``q``."""
+        for k in (self._near(q) - 1, self._near(q)):
+            if k >= 0 and self._start(k) <= q <= self._start(k) + self.width:
+                return True
+        return False
+
+    def rising(self, q0: float, q1: float) -> float | None:
+        """Where between two samples ``q0 → q1`` the input first rises: the fraction of the
+        interval (0 < f ≤ 1), or None. Moving up it rises at a mark's start, moving down at its
+        end."""
+        if q1 == q0:
+            return None
+        lo, hi = (q0, q1) if q1 > q0 else (q1, q0)
+        found: float | None = None
+        for k in range(max(0, self._near(lo) - 1), self._near(hi) + 1):
+            edge = self._start(k) if q1 > q0 else self._start(k) + self.width
+            if lo < edge <= hi if q1 > q0 else lo <= edge < hi:
+                f = (edge - q0) / (q1 - q0)
+                if found is None or f < found:
+                    found = f
+            if not self.pitch:
+                break
+        return found
+
+
+class AxisChannel:
+    """The I/O of one axis as the module sees it; implements :class:`mcl.io.AxisIO`.
+
+    Args:
+        name: the axis' name (in messages).
+        resolution: travel per encoder count [m or rad].
+        counts_per_rev: counts per motor revolution (one index pulse each).
+        origin: physical position where the counter reads 0 [m or rad].
+        index_width: width of the index pulse [counts].
+        probe: marks that trigger the touch probe TP (None: TP stays low).
+        probe_delay: sensor delay between a mark and the latch [s].
+        has_drive: False for an encoder-only axis (a measuring wheel): :meth:`write` is ignored.
+        digital_outputs: number of digital outputs a program may set.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        resolution: float,
+        counts_per_rev: int,
+        origin: float = 0.0,
+        index_width: int = 1,
+        *,
+        probe: Marks | None = None,
+        probe_delay: float = 0.0,
+        has_drive: bool = True,
+        digital_outputs: int = 0,
+    ) -> None:
+        if not (math.isfinite(probe_delay) and probe_delay >= 0.0):
+            raise ValueError(f"axis {name}: probe_delay must be >= 0 s, got {probe_delay!r}")
+        self.name = name
+        self.resolution = resolution
+        """Travel per encoder count [m or rad]."""
+        self.encoder = IncrementalEncoder(resolution, counts_per_rev, origin, index_width)
+        self.has_drive = has_drive
+        self.probe = probe
+        self.probe_delay = probe_delay
+        self.counts = 0
+        self.index_count = self.index_seq = 0
+        self.index = self.lim_pos = self.lim_neg = self.ref = self.tp = False
+        self.tp_count = self.tp_seq = 0
+        self.encoder_ok = True
+        self.analog: Sequence[float] = ()
+        self.inputs: Sequence[bool] = ()
+        self.outputs = [False] * digital_outputs
+        self.volts = 0.0
+        """Command applied to the drive [V] (after analog faults; 0 when disabled)."""
+        self.enabled = False
+        """The amplifier is switched on (enable, and no drive fault)."""
+        self.brake = True
+        """The holding brake holds (engaged and working)."""
+        self.t = 0.0
+        """Time of the last sample [s]."""
+        self._x = origin
+        self._q = origin
+        self._history: deque[tuple[float, float, float]] = deque()
+        self._latches: deque[float] = deque()
+        self._faults: dict[str, flt.Fault] = {}
+        self._shift = 0.0
+        self._frozen_at: float | None = None
+        self._edges = [0.0, 0.0, 0.0, 0.0]
+        self._true = [False, False, False, False]
+        self._rng = random.Random(0)
+        self._disabled_at = 0.0
+        self._enable_request = False
+
+    # ------------------------------------------------------------------ faults
+    @property
+    def faults(self) -> list[flt.Fault]:
+        """The faults set on this channel."""
+        return list(self._faults.values())
+
+    def set_fault(self, fault: flt.Fault) -> None:
+        """Apply ``fault`` (it replaces a fault of the same slot)."""
+        if (
+            isinstance(fault, flt.SwitchStuck | flt.SwitchBounce)
+            and fault.switch not in _SWITCH_INDEX
+        ):
+            raise ValueError(f"switch must be one of {flt.SWITCH_NAMES}, got {fault.switch!r}")
+        if isinstance(fault, flt.EncoderFreeze | flt.EncoderWireBreak):
+            self._frozen_at = self._x - self._shift
+        seed = getattr(fault, "seed", None)
+        if seed is not None:
+            self._rng = random.Random(seed)
+        self._faults[fault.key()] = fault
+
+    def clear_fault(self, fault: flt.Fault) -> None:
+        """Remove ``fault`` if it is set (a frozen counter resumes from where it stopped)."""
+        if self._faults.get(fault.key()) == fault:
+            del self._faults[fault.key()]
+            if isinstance(fault, flt.EncoderFreeze | flt.EncoderWireBreak):
+                self._frozen_at = None
+                self.encoder_ok = True
+
+    # ------------------------------------------------------------------ inputs
+    def sample(
+        self,
+        t: float,
+        x: float,
+        lim_pos: bool,
+        lim_neg: bool,
+        ref: bool,
+        probe_q: float | None = None,
+        analog: Sequence[float] = (),
+    ) -> None:
+        """Sample the inputs at time ``t`` [s] from the physics.
+
+        Args:
+            t: the servo instant [s].
+            x: true position of the axis [m or rad].
+            lim_pos, lim_neg, ref: true switch levels.
+            probe_q: the coordinate the probe marks are on (default: ``x``).
+            analog: true analog input voltages [V].
+        """
+        enc = self.encoder
+        if self._faults:
+            lim_pos, lim_neg, ref, analog = self._faulty_inputs(t, x, lim_pos, lim_neg, ref, analog)
+        else:
+            enc.update(x)
+            self.counts = enc.counts
+        self.index = enc.index
+        self.index_count = enc.index_count
+        self.index_seq = enc.index_seq
+        self.lim_pos, self.lim_neg, self.ref = lim_pos, lim_neg, ref
+        self.analog = analog
+        if self.probe is not None:
+            self._sample_probe(t, x, x if probe_q is None else probe_q)
+        self.t, self._x = t, x
+
+    def _sample_probe(self, t: float, x: float, q: float) -> None:
+        probe, delay = self.probe, self.probe_delay
+        assert probe is not None
+        history = self._history
+        t0, q0 = self.t, self._q
+        f = probe.rising(q0, q) if t > t0 else None
+        if f is not None:
+            self._latches.append(t0 + f * (t - t0) + delay)
+        history.append((t, x, q))
+        while len(history) > 2 and history[1][0] <= t - delay:
+            history.popleft()
+        # the input as the module sees it: the sensor's level `delay` ago
+        self.tp = probe.level(self._at(t - delay)[1]) if delay else probe.level(q)
+        while self._latches and self._latches[0] <= t:
+            x_latch = self._at(self._latches.popleft())[0] - self._shift
+            self.tp_count = self.encoder.count_at(x_latch)
+            self.tp_seq += 1
+        self._q = q
+        if "switch:tp" in self._faults:
+            self.tp = self._switch(3, self.tp, t)
+
+    def _at(self, t: float) -> tuple[float, float]:
+        """Axis position and probe coordinate at time ``t``, interpolated from the history."""
+        history = self._history
+        if t <= history[0][0]:
+            return history[0][1], history[0][2]
+        prev = history[0]
+        for item in history:
+            if item[0] >= t:
+                s = (t - prev[0]) / (item[0] - prev[0]) if item[0] > prev[0] else 1.0
+                return prev[1] + s * (item[1] - prev[1]), prev[2] + s * (item[2] - prev[2])
+            prev = item
+        return prev[1], prev[2]
+
+    def _faulty_inputs(
+        self,
+        t: float,
+        x: float,
+        lim_pos: bool,
+        lim_neg: bool,
+        ref: bool,
+        analog: Sequence[float],
+    ) -> tuple[bool, bool, bool, Sequence[float]]:
+        faults, enc = self._faults, self.encoder
+        encoder = faults.get("encoder")
+        if isinstance(encoder, flt.EncoderLostCounts):
+            self._shift += encoder.fraction * (x - self._x)
+        if isinstance(encoder, flt.EncoderFreeze | flt.EncoderWireBreak):
+            assert self._frozen_at is not None
+            self._shift = x - self._frozen_at
+        enc.update(x - self._shift)
+        self.counts = enc.counts
+        if isinstance(encoder, flt.EncoderNoise):
+            self.counts += self._rng.randint(-encoder.counts, encoder.counts)
+        self.encoder_ok = not isinstance(encoder, flt.EncoderWireBreak)
+        lim_pos = self._switch(0, lim_pos, t)
+        lim_neg = self._switch(1, lim_neg, t)
+        ref = self._switch(2, ref, t)
+        if not self.encoder_ok:
+            self.index = False
+        if analog:
+            analog = [self._analog_in(i, v) for i, v in enumerate(analog)]
+        return lim_pos, lim_neg, ref, analog
+
+    def _switch(self, i: int, level: bool, t: float) -> bool:
+        if level != self._true[i]:
+            self._true[i] = level
+            self._edges[i] = t
+        fault = self._faults.get(f"switch:{tuple(_SWITCH_INDEX)[i]}")
+        if isinstance(fault, flt.SwitchStuck):
+            return fault.level
+        if isinstance(fault, flt.SwitchBounce):
+            since = t - self._edges[i]
+            if 0.0 <= since < fault.duration:
+                return level != (math.floor(since / fault.period) % 2 == 0)
+        return level
+
+    def _analog_in(self, channel: int, volts: float) -> float:
+        fault = self._faults.get(f"analog_in:{channel}")
+        if not isinstance(fault, flt.AnalogInputFault):
+            return volts
+        return volts + fault.offset + self._rng.uniform(-fault.noise, fault.noise)
+
+    # ------------------------------------------------------------------ outputs
+    def write(self, volts: float, enable: bool) -> None:
+        """Set the analog command [V] and the drive enable (:class:`mcl.io.AxisIO`)."""
+        if not self.has_drive:
+            return
+        if self._faults:
+            volts, on, brake = self._faulty_outputs(volts, enable)
+        else:
+            if enable != self._enable_request and not enable:
+                self._disabled_at = self.t
+            on, brake = enable, not enable
+        self._enable_request = enable
+        self.enabled = on
+        self.brake = brake
+        self.volts = volts if on else 0.0
+        self.drive(self.volts, on, brake)
+
+    def _faulty_outputs(self, volts: float, enable: bool) -> tuple[float, bool, bool]:
+        faults = self._faults
+        if enable != self._enable_request and not enable:
+            self._disabled_at = self.t
+        analog = faults.get("analog_out")
+        if isinstance(analog, flt.AnalogOffset):
+            volts += analog.volts
+        elif isinstance(analog, flt.AnalogNoise):
+            volts += self._rng.uniform(-analog.volts, analog.volts)
+        volts = max(-DAC_FULL_SCALE, min(DAC_FULL_SCALE, volts))
+        on = enable and "drive" not in faults
+        brake_fault = faults.get("brake")
+        if isinstance(brake_fault, flt.BrakeFailure):
+            brake = False
+        elif isinstance(brake_fault, flt.BrakeSlow):
+            brake = not on and (enable or self.t - self._disabled_at >= brake_fault.delay)
+        else:
+            brake = not on
+        return volts, on, brake
+
+    def drive(self, volts: float, enabled: bool, brake: bool) -> None:
+        """Apply the command to the plant's amplifier and brake (a plant overrides this).
+
+        Args:
+            volts: analog command [V] (0 when disabled).
+            enabled: the amplifier is switched on.
+            brake: the holding brake holds.
+        """

@@ -1,0 +1,535 @@
+"""The Markdown reference of the library, generated from the code so that it cannot drift.
+
+For every function block exported by :mod:`mcl` (grouped by the module that defines it) the
+reference lists its purpose (the first paragraph of its docstring), its inputs with type and
+default and its outputs; then the state enums, the other enums and the error codes with their
+English and Czech texts. A short hand-written introduction explains the conventions.
+
+``python -m mcl.reference`` prints the reference; ``--write`` writes ``docs/reference.md``;
+``--check`` exits with 1 when ``docs/reference.md`` is not up to date.
+"""
+
+from __future__ import annotations
+
+import argparse
+import enum
+import inspect
+import io
+import re
+import sys
+import textwrap
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import mcl
+from mcl.errors import ErrorID, error_text
+from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB
+
+DOC_PATH = Path(__file__).resolve().parent.parent / "docs" / "reference.md"
+"""Where ``--write`` puts the reference (``docs/reference.md`` of the repository)."""
+
+CHAPTER_ORDER = ("administrative", "motion", "homing", "master_slave", "touch_probe", "group_fb")
+"""Preferred order of the function-block modules; modules not named here follow alphabetically."""
+
+FB_KIND = (
+    (MotionFB, "motion block, inputs sampled on the rising edge of `Execute`"),
+    (ExecuteFB, "inputs sampled on the rising edge of `Execute`"),
+    (EnableFB, "level-sensitive, evaluated every call while `Enable` is TRUE"),
+)
+"""How a block is triggered, by base class (the first match wins)."""
+
+INTRO = """\
+# mcl reference
+
+`mcl` implements the PLCopen function blocks of the Teco MotionControlLib for the GT-x75x servo
+modules. This page lists every function block (FB) with its inputs and outputs, the state machines,
+the enumerations and the error codes. The FB sections, the tables of enumeration values and the
+error codes are generated from the code: `python -m mcl.reference --write` rewrites this file.
+
+## Units
+- Positions and distances are in the axis' user units [u] (mm on the linear axes of the models,
+  degrees on rotary axes); velocities [u/s], accelerations and decelerations [u/s²], jerk [u/s³],
+  times [s] unless a block says otherwise (`Filter` of GT_SetConstant is in ms).
+- `Position` is absolute in the axis coordinate system, `Distance` is a difference of positions;
+  both may be negative. Group blocks take one value per member, in the order the members were
+  added.
+- `Velocity` must be > 0 and at least 1 % of the axis' `Vmax`. `Acceleration`, `Deceleration`
+  and `Jerk` must be >= 0; 0 means the axis default (no jerk limit where that default is 0 too).
+  Values above the axis maxima are clamped, not refused.
+
+## Calling a function block
+An FB is an instance; one call is one PLC scan of that instance:
+
+```python
+move = mcl.MC_MoveAbsolute()
+move(Axis=X, Execute=True, Position=100.0, Velocity=200.0)   # in every scan
+```
+
+- Inputs are keyword arguments with the PLCopen/Teco names. An input left out keeps the value of
+  the previous call (at the first call: the default listed below). An unknown input name raises
+  `TypeError` naming the valid ones. The in-out (`Axis`, `AxesGroup`) must be given at least
+  once; `None` keeps the reference of the previous call.
+- Blocks with `Execute` are edge-triggered: the rising edge of `Execute` samples the inputs and
+  starts the job. To change a parameter, change it and give a new edge. A falling edge does not
+  stop a running command. A new rising edge on a busy instance restarts it; the previous job then
+  reports neither Done nor CommandAborted.
+- Blocks with `Enable` are level-sensitive: evaluated in every call while `Enable` is TRUE,
+  `Valid` while the outputs are valid; `Enable` FALSE resets the outputs. GT_Jog's `JogPos` and
+  `JogNeg`, GT_MoveAbsBlock's `ExtStop` and MC_Stop's `Execute` (holding Stopping) are read every
+  call as well.
+- A running block reports problems through `Error`/`ErrorID` only, never by raising. A parameter
+  error (out of range, NaN, infinite, wrong sign, target beyond a SW limit) sets `Error` on that
+  instance and leaves the axis as it was. Several instances of one FB type are independent.
+
+## Outputs
+- `Busy`, `Done`, `Error` and `CommandAborted` are mutually exclusive; so are `Active`, `Done`,
+  `Error` and `CommandAborted`. `Error` is TRUE exactly when `ErrorID` is not 0.
+- `Busy` rises with the `Execute` edge and falls when `Done`, `CommandAborted` or `Error` rises.
+  `Active` is TRUE while the instance's command controls the axis (a buffered command is `Busy`
+  but not yet `Active`).
+- `Done`, `InVelocity`, `Error`, `ErrorID` and `CommandAborted` stay while `Execute` is TRUE and
+  are reset by its falling edge. If `Execute` fell before the command ended, the final output is
+  shown for exactly one call.
+- A motion block whose command is taken over by another command reports `CommandAborted`
+  (`Aborted` is the Teco name of the same output). An axis error ends the running commands with
+  `Error` and the axis' error code.
+
+## BufferMode
+`BufferMode` (enum `MC_BufferMode`) says when a motion command takes over the axis.
+- `Aborting`: at once; the active command and the queued ones report `CommandAborted`.
+- `Buffered`: after the active command signals its output (`Done`; `InVelocity` for
+  MC_MoveVelocity; `Done` AND NOT `Execute` for MC_Stop), starting from standstill.
+- `BlendingLow`, `BlendingPrevious`, `BlendingNext`, `BlendingHigh`: like Buffered, but the axis
+  does not stop: the first motion reaches its target with the lower, the first's, the second's or
+  the higher of the two commanded velocities. When the second motion reverses the direction, the
+  hand-over happens at zero velocity.
+
+## Axis state machine
+Every axis (`mcl.Axis`, the AXIS_REF) is in exactly one state of `mcl.AxisState`.
+
+{transitions}
+
+The motion states are DiscreteMotion, ContinuousMotion and SynchronizedMotion. A motion command
+is refused with `Econst` 12 before GT_SetConstant, `Epower` 10 in Disabled, `Eerrstop` 11 in
+ErrorStop, `EAxStop` 6 in Stopping, 1000 on a group member and `Ehome` 9 in Homing (except the
+homing steps, MC_Halt and MC_Stop). MC_MoveAbsolute and GT_MoveAbsBlock need `Ref` (`Ehome` 9);
+without `Ref` the SW limits are not checked. The reading blocks, GT_SetConstant, GT_SInfo and
+GT_Analog (Disabled only) do not change the state.
+
+## Axes groups
+An axes group (`mcl.AxesGroup`, the AXES_GROUP_REF) holds up to three axes in the order they were
+added and is in one state of `mcl.GroupState`: GroupDisabled until MC_GroupEnable and after
+MC_GroupDisable or MC_UngroupAllAxes; GroupMoving while a group command runs (its members are in
+SynchronizedMotion); GroupStopping from MC_GroupStop until its `Done` AND NOT `Execute`;
+GroupHoming while a member is homing; GroupErrorStop while a member is in ErrorStop or the group
+error is set (8001 when a member exceeded its following error during a group motion), left only
+through MC_GroupReset; GroupStandby otherwise. Single-axis motion commands on a member are refused
+with 1000.
+"""
+
+AXIS_TRANSITIONS: tuple[tuple[str, str, str], ...] = (
+    (
+        "Disabled",
+        "MC_Power `Enable` TRUE (constants written by GT_SetConstant, else `Econst`)",
+        "StandStill, the `Ref` flag cleared; ErrorStop when an axis error is pending",
+    ),
+    (
+        "any",
+        "MC_Power `Enable` FALSE",
+        "Disabled; a moving axis first stops on its maximum ramp (Stopping); "
+        "running commands report `CommandAborted`",
+    ),
+    (
+        "any",
+        "GT_EStop (every axis of the module)",
+        "Disabled at once, loops open, brakes on, errors cleared",
+    ),
+    (
+        "any",
+        "axis error: following error (2001), limit switch (2004/2005), SW limit (2006/2007), "
+        "homing supervision (1/2/3)",
+        "ErrorStop; the axis stops on its maximum ramp (2001 opens the loop; a homing "
+        "TorqueLimit error 3 stops pushing at once)",
+    ),
+    (
+        "ErrorStop",
+        "MC_Reset",
+        "StandStill, or Disabled when the error opened the loop; "
+        "`Done` once the stop ramp has ended",
+    ),
+    (
+        "StandStill, motion states, Homing",
+        "MC_StepAbsSwitch, MC_StepLimitSwitch, MC_StepBlock",
+        "Homing, and stays there",
+    ),
+    (
+        "StandStill, motion states, Homing",
+        "MC_StepRefPulse",
+        "Homing while searching, then StandStill with `Ref` set",
+    ),
+    (
+        "StandStill, Homing (at rest)",
+        "MC_StepDirect, MC_FinishHoming",
+        "StandStill with `Ref` set",
+    ),
+    (
+        "StandStill, motion states",
+        "MC_MoveAbsolute and GT_MoveAbsBlock (need `Ref`), MC_MoveRelative, MC_MoveAdditive",
+        "DiscreteMotion; StandStill when done and nothing is queued",
+    ),
+    (
+        "StandStill, motion states, Homing",
+        "MC_Halt",
+        "DiscreteMotion; StandStill once stopped",
+    ),
+    (
+        "StandStill, motion states",
+        "MC_MoveVelocity, GT_Jog",
+        "ContinuousMotion",
+    ),
+    (
+        "StandStill (group members)",
+        "group motion (MC_MoveLinearAbsolute, MC_MoveLinearRelative)",
+        "SynchronizedMotion; StandStill when the group stands",
+    ),
+    (
+        "StandStill, motion states, Homing",
+        "MC_Stop",
+        "Stopping; held while its `Execute` is TRUE; StandStill once `Done` AND NOT `Execute`",
+    ),
+)
+"""The axis state machine: (from, by, to), hand-written from the behaviour of `mcl.Axis`."""
+
+STATE_MEANING: dict[str, str] = {
+    "Disabled": "position loop open, drive off",
+    "StandStill": "powered, at rest, no motion command",
+    "Homing": "a homing step is running, or a coarse step has ended",
+    "DiscreteMotion": "a move to a target, or MC_Halt",
+    "ContinuousMotion": "MC_MoveVelocity or GT_Jog",
+    "SynchronizedMotion": "moved by a group command",
+    "Stopping": "MC_Stop, or the ramp before the loop opens at power-off",
+    "ErrorStop": "an axis error; stopped; left with MC_Reset",
+    "GroupDisabled": "not enabled; refuses motion commands (`Epower` 10)",
+    "GroupStandby": "enabled, all members at rest",
+    "GroupMoving": "a group command runs or a member moves",
+    "GroupHoming": "a member is homing",
+    "GroupStopping": "MC_GroupStop, until its `Done` AND NOT `Execute`",
+    "GroupErrorStop": "a member in ErrorStop or a group error; left with MC_GroupReset",
+}
+"""Meaning of the states (hand-written; a state without an entry is listed without one)."""
+
+ENUM_MEANING: dict[str, str] = {
+    "Aborting": "start at once, abort the active command",
+    "Buffered": "start after the active command, from standstill",
+    "BlendingLow": "no stop between; hand over at the lower velocity",
+    "BlendingPrevious": "no stop between; hand over at the first command's velocity",
+    "BlendingNext": "no stop between; hand over at the second command's velocity",
+    "BlendingHigh": "no stop between; hand over at the higher velocity",
+    "MC_Positive": "positive direction",
+    "MC_Shortest": "shortest way (modulo axes)",
+    "MC_Negative": "negative direction",
+    "MC_Current": "the current direction of motion",
+    "MC_SwitchPositive": "homing: positive when the REF switch is off at the edge, else negative",
+    "MC_SwitchNegative": "homing: the opposite of MC_SwitchPositive",
+    "MC_On": "the switch is on",
+    "MC_Off": "the switch is off",
+    "MC_EdgeOn": "rising edge of the switch (a falling edge reverses the search)",
+    "MC_EdgeOff": "falling edge of the switch (a rising edge reverses the search)",
+    "MC_EdgeSwitchPositive": "MC_EdgeOn when searching positive, MC_EdgeOff when negative",
+    "MC_EdgeSwitchNegative": "MC_EdgeOff when searching positive, MC_EdgeOn when negative",
+}
+"""Meaning of the BufferMode, Direction and SwitchMode values (hand-written, optional)."""
+
+# ------------------------------------------------------------------------ docstring cleaning
+
+_FORBIDDEN = re.compile(r"(?i:\bseed\b)|§|\b(?!README)[A-Z]+\.md\b|\.\./")
+"""A reference to a document the project does not ship: the library manual the code follows
+("seed"), a section number, an upper-case Markdown file name, a parent-directory path."""
+_PAREN = re.compile(r"\s*\(([^()]*)\)")
+_FIGURE = re.compile(r"(?:Obr|Tab|note|chapter|section)\b", re.IGNORECASE)
+_PART = re.compile(r'[,;] (?=(?:[^"]*"[^"]*")*[^"]*$)')
+"""Separator of the parts of a parenthesis (a comma or semicolon outside quotes)."""
+_SENTENCE_END = re.compile(r"(?<=[.;!?])\s+(?=[A-Z`])")
+
+
+def _markdown(text: str) -> str:
+    """reST inline markup to Markdown: ``x`` and :role:`x` become `x`."""
+    text = re.sub(r":[a-z]+:`~?([^`]+)`", r"`\1`", text)
+    return text.replace("``", "`")
+
+
+def public_text(text: str) -> str:
+    """A docstring passage fit for users: references to internal documents are removed.
+
+    Parenthesised references such as a section or figure number go; "the seed" (the library
+    manual the code follows) reads "the Teco library"; a sentence that still refers to an
+    internal document is dropped. Lines are joined and reST markup becomes Markdown.
+    """
+    text = " ".join(text.split())
+
+    def strip(match: re.Match[str]) -> str:
+        if not _FORBIDDEN.search(match.group(1)):
+            return match.group(0)
+        kept = [
+            part
+            for part in _PART.split(match.group(1))
+            if not _FORBIDDEN.search(part) and not _FIGURE.match(part)
+        ]
+        return f" ({', '.join(kept)})" if kept else ""
+
+    text = _PAREN.sub(strip, text)
+    text = re.sub(r"\bthe seed\b", "the Teco library", text)
+    sentences = [s for s in _SENTENCE_END.split(text) if not _FORBIDDEN.search(s)]
+    return _markdown(" ".join(sentences)).strip()
+
+
+def paragraphs(obj: object) -> list[str]:
+    """The paragraphs of the object's own docstring (none inherited)."""
+    doc = getattr(obj, "__doc__", None)
+    if not isinstance(doc, str):
+        return []
+    return [p for p in inspect.cleandoc(doc).split("\n\n") if p.strip()]
+
+
+def summary(obj: object) -> str:
+    """The first docstring paragraph, cleaned by :func:`public_text`."""
+    found = paragraphs(obj)
+    return public_text(found[0]) if found else ""
+
+
+def _cell(text: str) -> str:
+    """Text fit for a Markdown table cell."""
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def _wrap(text: str) -> list[str]:
+    """A prose paragraph as lines of at most 100 characters."""
+    return textwrap.wrap(text, width=100, break_long_words=False, break_on_hyphens=False)
+
+
+def _anchor(title: str) -> str:
+    """The anchor GitHub gives a heading."""
+    slug = re.sub(r"[^\w\- ]", "", title.strip().lower())
+    return slug.replace(" ", "-")
+
+
+# ------------------------------------------------------------------------ discovery
+
+
+def function_blocks() -> list[type[FunctionBlock]]:
+    """The public function blocks exported by :mod:`mcl` (``mcl.__all__``)."""
+    found: list[type[FunctionBlock]] = []
+    for name in mcl.__all__:
+        obj = getattr(mcl, name)
+        if inspect.isclass(obj) and issubclass(obj, FunctionBlock) and obj is not FunctionBlock:
+            found.append(obj)
+    return found
+
+
+def chapters() -> list[tuple[ModuleType, list[type[FunctionBlock]]]]:
+    """The function blocks grouped by the module that defines them, in definition order."""
+    by_module: dict[str, list[type[FunctionBlock]]] = {}
+    for cls in function_blocks():
+        by_module.setdefault(cls.__module__, []).append(cls)
+
+    def module_key(name: str) -> tuple[int, str]:
+        short = name.rsplit(".", 1)[-1]
+        rank = CHAPTER_ORDER.index(short) if short in CHAPTER_ORDER else len(CHAPTER_ORDER)
+        return rank, short
+
+    result: list[tuple[ModuleType, list[type[FunctionBlock]]]] = []
+    for name in sorted(by_module, key=module_key):
+        module = sys.modules[name]
+        order = list(vars(module))
+        blocks = sorted(
+            by_module[name],
+            key=lambda c: order.index(c.__name__) if c.__name__ in order else len(order),
+        )
+        result.append((module, blocks))
+    return result
+
+
+def _annotation(cls: type, name: str) -> str:
+    """The declared type of input ``name`` (the most derived declaration)."""
+    for klass in cls.__mro__:
+        hints = inspect.get_annotations(klass)
+        if name in hints:
+            hint = hints[name]
+            return hint if isinstance(hint, str) else getattr(hint, "__name__", repr(hint))
+    return ""
+
+
+def _in_out_type(name: str) -> str:
+    """Type of an in-out reference: the mcl class of that name (``AxesGroup``), else ``Axis``."""
+    obj = getattr(mcl, name, None)
+    return obj.__name__ if inspect.isclass(obj) else mcl.Axis.__name__
+
+
+def _value(value: Any) -> str:
+    """An input default or output initial value as Markdown."""
+    if isinstance(value, enum.IntEnum):
+        return f"`{type(value).__name__}.{value.name}` ({int(value)})"
+    if isinstance(value, enum.Enum):
+        return f"`{type(value).__name__}.{value.name}`"
+    return f"`{value!r}`"
+
+
+def inputs(cls: type[FunctionBlock]) -> list[tuple[str, str, str]]:
+    """(name, type, default) of the in-outs and inputs of ``cls``."""
+    rows = [(name, _in_out_type(name), "in-out") for name in cls.AXIS_INPUTS]
+    for name, default in cls._all_inputs.items():
+        rows.append((name, _annotation(cls, name), _value(default)))
+    return rows
+
+
+def outputs(cls: type[FunctionBlock]) -> list[tuple[str, str, str]]:
+    """(name, type, note) of the outputs of ``cls``: the public (capitalised) attributes of a
+    fresh instance that are not inputs, then its public properties."""
+    names = set(cls.AXIS_INPUTS) | set(cls._all_inputs)
+    instance = cls()
+    rows: list[tuple[str, str, str]] = []
+    for name, value in vars(instance).items():
+        if name[:1].isupper() and name not in names:
+            rows.append((name, type(value).__name__, ""))
+    for name in dir(cls):
+        attr = inspect.getattr_static(cls, name, None)
+        if name[:1].isupper() and name not in names and isinstance(attr, property):
+            hint = inspect.get_annotations(attr.fget).get("return", "") if attr.fget else ""
+            rows.append((name, str(hint), summary(attr.fget)))
+    return rows
+
+
+def kind(cls: type[FunctionBlock]) -> str:
+    """How the block is triggered; empty for blocks with their own rules (see their purpose)."""
+    for base, text in FB_KIND:
+        if issubclass(cls, base):
+            return text
+    return ""
+
+
+# ------------------------------------------------------------------------ rendering
+
+
+def _chapter_title(module: ModuleType) -> str:
+    first = summary(module)
+    return first.rstrip(".") if first else module.__name__
+
+
+def render_block(cls: type[FunctionBlock]) -> list[str]:
+    """The section of one function block."""
+    lines = [f"### {cls.__name__}", "", *_wrap(summary(cls) or "(no description)"), ""]
+    for text in (public_text(p) for p in paragraphs(cls)[1:]):
+        if text:
+            lines += [*_wrap(text), ""]
+    how = kind(cls)
+    if how:
+        lines += [f"Call: {how}.", ""]
+    lines += ["| input | type | default |", "| --- | --- | --- |"]
+    lines += [f"| `{n}` | `{t}` | {d} |" for n, t, d in inputs(cls)]
+    out = []
+    for name, typ, note in outputs(cls):
+        extra = f"; {note.rstrip('.')}" if note else ""
+        out.append(f"`{name}` ({typ}{extra})")
+    lines += ["", *_wrap("Outputs: " + (", ".join(out) if out else "none") + "."), ""]
+    return lines
+
+
+def render_enum(
+    title: str, enum_cls: type[enum.IntEnum], meanings: dict[str, str], level: str = "###"
+) -> list[str]:
+    """A table of the values of an enumeration."""
+    lines = [f"{level} {title}", ""]
+    text = summary(enum_cls)
+    if text:
+        lines += [*_wrap(text), ""]
+    lines += ["| name | value | meaning |", "| --- | --- | --- |"]
+    for member in enum_cls:
+        meaning = _cell(meanings.get(member.name, ""))
+        lines.append(f"| `{member.name}` | {int(member)} | {meaning} |")
+    return [*lines, ""]
+
+
+def render_errors() -> list[str]:
+    """The error-code table."""
+    lines = [
+        "## Error codes",
+        "",
+        *_wrap(summary(ErrorID)),
+        "",
+        "| code | name | English | Czech |",
+        "| --- | --- | --- | --- |",
+    ]
+    for code in ErrorID:
+        en, cz = _cell(error_text(code, "en")), _cell(error_text(code, "cz"))
+        lines.append(f"| {int(code)} | `{code.name}` | {en} | {cz} |")
+    return [*lines, ""]
+
+
+def _contents(groups: Iterable[tuple[ModuleType, Sequence[type[FunctionBlock]]]]) -> list[str]:
+    lines = ["## Function blocks", ""]
+    for module, blocks in groups:
+        title = _chapter_title(module)
+        links = ", ".join(f"[{c.__name__}](#{_anchor(c.__name__)})" for c in blocks)
+        lines.append(f"- [{title}](#{_anchor(title)}): {links}")
+    return [*lines, ""]
+
+
+def generate() -> str:
+    """The whole reference as Markdown."""
+    groups = chapters()
+    table = ["| from | by | to |", "| --- | --- | --- |"]
+    table += [f"| {a} | {b} | {c} |" for a, b, c in AXIS_TRANSITIONS]
+    lines = [*INTRO.format(transitions="\n".join(table)).splitlines(), ""]
+    lines += _contents(groups)
+    for module, blocks in groups:
+        lines += [f"## {_chapter_title(module)}", "", f"Module `{module.__name__}`.", ""]
+        for text in (public_text(p) for p in paragraphs(module)[1:]):
+            if text:
+                lines += [*_wrap(text), ""]
+        for cls in blocks:
+            lines += render_block(cls)
+    lines += ["## States", ""]
+    lines += render_enum("AxisState", mcl.AxisState, STATE_MEANING)
+    lines += render_enum("GroupState", mcl.GroupState, STATE_MEANING)
+    lines += ["## Enumerations", ""]
+    for enum_cls in (mcl.MC_BufferMode, mcl.MC_Direction, mcl.MC_SwitchMode):
+        lines += render_enum(enum_cls.__name__, enum_cls, ENUM_MEANING)
+    lines += render_errors()
+    while lines and not lines[-1]:
+        lines.pop()
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: print the reference, write it (``--write``) or check it (``--check``)."""
+    parser = argparse.ArgumentParser(
+        prog="python -m mcl.reference", description="The Markdown reference of mcl."
+    )
+    action = parser.add_mutually_exclusive_group()
+    action.add_argument("--write", action="store_true", help=f"write {DOC_PATH}")
+    action.add_argument(
+        "--check", action="store_true", help=f"exit 1 when {DOC_PATH} is not up to date"
+    )
+    args = parser.parse_args(argv)
+    text = generate()
+    if args.write:
+        DOC_PATH.parent.mkdir(parents=True, exist_ok=True)
+        DOC_PATH.write_text(text, encoding="utf-8", newline="\n")
+        print(f"wrote {DOC_PATH}")
+        return 0
+    if args.check:
+        current = DOC_PATH.read_text(encoding="utf-8") if DOC_PATH.exists() else ""
+        if current != text:
+            print(f"{DOC_PATH} is out of date: run python -m mcl.reference --write")
+            return 1
+        return 0
+    if isinstance(sys.stdout, io.TextIOWrapper):
+        sys.stdout.reconfigure(encoding="utf-8")
+    sys.stdout.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

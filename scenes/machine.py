@@ -1,0 +1,183 @@
+"""Typed machine definitions: everything the testbench, the CLI and the viewer know of a machine.
+
+A :class:`MachineDef` names its MJCF model (or simulated axes), its axes (drive kind, joint, unit
+and scale, machine data, servo constants, homing recipe, probe), its Python devices, its demo
+program and the extra signals it publishes for traces and the viewer. The registry in
+:mod:`scenes` holds one definition per machine; nothing else names a machine.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Literal, Protocol
+
+import mujoco
+
+import mcl
+from scenes.drives import Device
+from scenes.plant import Probe
+from scenes.procedures import HomingRecipe
+
+if TYPE_CHECKING:
+    from scenes.scene import Scene
+
+DriveKind = Literal["electric", "device", "encoder"]
+
+
+class DemoProgram(Protocol):
+    """A machine's demo: a PLC program (call once per PLC cycle) that reports its progress."""
+
+    @property
+    def done(self) -> bool:
+        """The demo has finished."""
+        ...
+
+    @property
+    def step(self) -> str:
+        """What it is doing (the error, once one stopped it)."""
+        ...
+
+    @property
+    def error(self) -> str:
+        """Why it stopped (empty: no error)."""
+        ...
+
+    def __call__(self) -> None:
+        """One PLC scan."""
+        ...
+
+
+DeviceFactory = Callable[[mujoco.MjModel, mujoco.MjData, str], Device]
+"""Makes a device for a compiled model: ``(model, data, prefix) -> Device``; ``prefix`` is the
+machine's name prefix in the model (``"press/"``)."""
+
+
+@dataclass(frozen=True)
+class AxisDef:
+    """One axis of a machine.
+
+    Attributes:
+        config: machine data (user units); its resolution must match the encoder's.
+        constants: the GT_SetConstant values written when the scene is built (None: the program
+            writes them).
+        drive: ``"electric"`` (±10 V amplifier, the MJCF actuator ``<axis>_amp``), ``"device"``
+            (±10 V into the Python device named ``device``) or ``"encoder"`` (no drive: an
+            encoder-only axis such as a measuring wheel).
+        device: the device of a ``"device"`` drive.
+        joint: the axis joint in the model (default: the axis name).
+        unit: user unit; default ``"mm"`` on a slide joint, ``"deg"`` on a hinge.
+        scale: user units per SI unit (m or rad); default from ``unit`` (mm: 1000, deg: 180/π,
+            m and rad: 1).
+        switches: which of LIM−, LIM+ and REF the axis has (``"lim_neg"``, ``"lim_pos"``,
+            ``"ref"``).
+        homing: the axis' homing recipe (None: the axis is not homed by a procedure).
+        probe: the touch-probe source of the axis (None: TP stays low).
+        digital_outputs: digital outputs a program may set on the axis' channel.
+        analog: names of device signals wired to the axis' analog inputs, in channel order.
+        sim: the physics of a simulated axis (machines without an MJCF model only).
+    """
+
+    config: mcl.AxisConfig
+    constants: mcl.ServoConstants | None = None
+    drive: DriveKind = "electric"
+    device: str = ""
+    joint: str = ""
+    unit: str = ""
+    scale: float = 0.0
+    switches: tuple[str, ...] = ("lim_neg", "lim_pos", "ref")
+    homing: HomingRecipe | None = None
+    probe: Probe | None = None
+    digital_outputs: int = 0
+    analog: tuple[str, ...] = ()
+    sim: mcl.SimAxisParams | None = None
+
+
+UNIT_SCALES = {"mm": 1000.0, "m": 1.0, "um": 1e6, "deg": 180.0 / math.pi, "rad": 1.0}
+"""User units and their scale from SI (m or rad)."""
+
+
+def unit_and_scale(axis: AxisDef, rotary: bool) -> tuple[str, float]:
+    """The user unit and the user units per SI unit of an axis on a slide or hinge joint.
+
+    Raises:
+        ValueError: an unknown unit without a scale, a unit that does not fit the joint, or a
+            scale that is not a finite number > 0.
+    """
+    unit = axis.unit or ("deg" if rotary else "mm")
+    if axis.scale:
+        if not (math.isfinite(axis.scale) and axis.scale > 0.0):
+            raise ValueError(f"scale must be a finite number > 0, got {axis.scale!r}")
+        return unit, axis.scale
+    if unit not in UNIT_SCALES:
+        raise ValueError(f"unit {unit!r} needs a scale; known units: {sorted(UNIT_SCALES)}")
+    if (unit in ("deg", "rad")) != rotary:
+        kind = "a hinge (rotary)" if rotary else "a slide (linear)"
+        raise ValueError(f"unit {unit!r} does not fit {kind} joint; give unit and scale")
+    return unit, UNIT_SCALES[unit]
+
+
+@dataclass(frozen=True)
+class Signal:
+    """An extra value a machine publishes for the trace and the viewer (a pressure, a force).
+
+    Attributes:
+        unit: its unit, e.g. ``"bar"``, ``"N"``, ``"mm"``.
+        read: reads it from a running scene.
+    """
+
+    unit: str
+    read: Callable[[Scene], float]
+
+
+@dataclass(frozen=True)
+class MachineDef:
+    """A machine: model, axes, devices, demo, published signals.
+
+    Attributes:
+        name: registry name (``"gantry"``); also the prefix of its names in a composed model.
+        description: one line for listings.
+        axes: axis name → its definition, in the order of the module's channels.
+        model: MJCF file in ``models/`` (or absolute); ``""`` = simulated axes (``AxisDef.sim``).
+        devices: Python devices integrated every physics step, by name.
+        demo: makes the demo program for a built scene (None: no demo).
+        signals: extra published values by name.
+        start: joint coordinates at power-up [m or rad] (default: the model's qpos0).
+        demo_start: joint coordinates the demo starts from (``python -m scenes run``).
+        servo_period, plc_period: default cycle times [s].
+    """
+
+    name: str
+    description: str
+    axes: Mapping[str, AxisDef]
+    model: str = ""
+    devices: Mapping[str, DeviceFactory] = field(default_factory=dict)
+    demo: Callable[[Scene], DemoProgram] | None = None
+    signals: Mapping[str, Signal] = field(default_factory=dict)
+    start: Mapping[str, float] = field(default_factory=dict)
+    demo_start: Mapping[str, float] = field(default_factory=dict)
+    servo_period: float = 0.001
+    plc_period: float = 0.002
+
+    def __post_init__(self) -> None:
+        if not self.axes:
+            raise ValueError(f"machine {self.name!r} has no axes")
+        for axis, spec in self.axes.items():
+            if spec.drive not in ("electric", "device", "encoder"):
+                raise ValueError(
+                    f"{self.name}.{axis}: drive must be 'electric', 'device' or 'encoder', "
+                    f"got {spec.drive!r}"
+                )
+            if spec.drive == "device" and spec.device not in self.devices:
+                raise ValueError(
+                    f"{self.name}.{axis}: drive 'device' names device {spec.device!r}; "
+                    f"devices: {sorted(self.devices)}"
+                )
+            if not self.model and spec.sim is None:
+                raise ValueError(f"{self.name}.{axis}: a machine without a model needs AxisDef.sim")
+
+    @property
+    def homing(self) -> dict[str, HomingRecipe]:
+        """The homing recipes by axis name (axes without one are left out)."""
+        return {n: a.homing for n, a in self.axes.items() if a.homing is not None}

@@ -1,0 +1,104 @@
+"""Helpers shared by the tests: servo constants, simulated machines, PLC programs.
+
+The fixtures that use them are in ``conftest.py``; tests import what they need from here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import mcl
+
+CONSTANTS = dict(
+    Kp=3.0,
+    Ki=150.0,
+    Kd=0.0,
+    Ff=1.0,
+    Kc=50.0,
+    Vmax=500.0,
+    LimPos=0.0,
+    LimNeg=0.0,
+    Ki1=0.0,
+    Filter=2.0,
+    Ka=0.0065,
+)
+"""Servo constants tuned for the default simulated axis (Vmax 500 mm/s at 10 V)."""
+
+PLC = 0.002
+"""PLC cycle of the simulated machines [s]."""
+
+POS_TOL = 0.05
+"""How close the actual position is to a target when the move reports Done [mm]."""
+
+
+def configure(axis: mcl.Axis, **overrides: float) -> None:
+    """Write servo constants through GT_SetConstant (one call)."""
+    fb = mcl.GT_SetConstant()
+    fb(Axis=axis, Execute=True, **{**CONSTANTS, **overrides})
+    assert fb.Done, fb.ErrorID
+
+
+def power_on(machine: mcl.SimMachine, axis: mcl.Axis, referenced: bool = True) -> mcl.MC_Power:
+    """Power the axis through MC_Power and, if ``referenced``, confirm its coordinate with
+    MC_FinishHoming (the coordinate stays, Ref is set); takes 10 ms of simulated time."""
+    power, finish = mcl.MC_Power(), mcl.MC_FinishHoming()
+
+    def program() -> None:
+        power(Axis=axis, Enable=True)
+        finish(Axis=axis, Execute=referenced and power.Status)
+
+    machine.run(program, timeout=0.01)
+    assert power.Status and axis.Ref == referenced
+    return power
+
+
+def make_machine(
+    axes: str | dict[str, mcl.SimAxisParams] = "X",
+    *,
+    powered: bool = True,
+    referenced: bool = True,
+    **constants: float,
+) -> mcl.SimMachine:
+    """Simulated axes with their constants written (:data:`CONSTANTS` with ``constants``), one
+    after the other powered and, if ``referenced``, referenced (:func:`power_on`).
+
+    Args:
+        axes: axis name → physical data; a string names one axis per letter, each with
+            ``SimAxisParams(start=0.2)`` (travel −10..1010 mm, REF below 100 mm, user
+            coordinate 0 at 200 mm).
+        powered: power the axes (False: only the constants are written).
+        referenced: confirm the coordinate with MC_FinishHoming (Ref set).
+    """
+    params = (
+        {name: mcl.SimAxisParams(start=0.2) for name in axes} if isinstance(axes, str) else axes
+    )
+    machine = mcl.SimMachine(params)
+    for axis in machine.axes.values():
+        configure(axis, **constants)
+        if powered:
+            power_on(machine, axis, referenced)
+    return machine
+
+
+def fresh_axis(referenced: bool = True, **constants: float) -> tuple[mcl.SimMachine, mcl.Axis]:
+    """A new machine like the ``machine``/``X`` fixtures (for tests that need several runs)."""
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
+    axis = machine.axes["X"]
+    configure(axis, **constants)
+    power_on(machine, axis, referenced)
+    return machine, axis
+
+
+def tick(machine: mcl.SimMachine, cycles: int = 1) -> None:
+    """Let ``cycles`` PLC cycles pass without calling any block."""
+    machine.run(timeout=PLC * cycles)
+
+
+def scan(*calls: Callable[[], None]) -> Callable[[], None]:
+    """A PLC program made of calls."""
+
+    def program() -> None:
+        for call in calls:
+            call()
+
+    return program
