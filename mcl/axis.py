@@ -135,6 +135,8 @@ class Axis:
         self.t_sp = 0.0
         """Time of the model state (sp_pos, sp_vel, sp_acc) [s]."""
         self._sp_time = -math.inf
+        self.t_cycle = 0.0
+        """The current servo instant [s] (a command that reads another axis passes it on)."""
         self._quick_stop_until = -math.inf
         self.following_error = 0.0
         self.captured = 0.0
@@ -552,6 +554,7 @@ class Axis:
 
     def measure(self, t: float) -> None:
         """Phase 1: read the sampled inputs: actual position ``POS`` and velocity ``VEL``."""
+        self.t_cycle = t
         io = self.io
         config = self.config
         actual = io.counts * config.resolution + self.offset

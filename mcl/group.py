@@ -113,7 +113,7 @@ class AxesGroup:
     Args:
         name: the group's name in messages.
         corner_tolerance: largest distance of the blended path from the polyline at a corner
-            [mm] (module docstring).
+            [mm] (corner blending: :mod:`mcl.path`).
 
     Attributes:
         GroupErrorID: the group error (0 = none; 8001 ERRPOSG, or the member's error).

@@ -1,6 +1,7 @@
-"""The axis channel's digital and analog I/O as a program reads and sets it (PLCopen
-MC_ReadDigitalInput, MC_ReadDigitalOutput, MC_WriteDigitalOutput; MC_ReadAnalogInput beyond
-PLCopen).
+"""Digital and analog inputs and outputs of an axis channel.
+
+PLCopen MC_ReadDigitalInput, MC_ReadDigitalOutput and MC_WriteDigitalOutput; MC_ReadAnalogInput
+is beyond PLCopen.
 
 Digital inputs are numbered per axis: 0 LIM+, 1 LIM−, 2 REF, 3 TP, then the channel's further
 inputs. Digital outputs (a knife valve, a clamp) and analog inputs (pressure transducers [V]) are

@@ -30,7 +30,15 @@ from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB
 DOC_PATH = Path(__file__).resolve().parent.parent / "docs" / "reference.md"
 """Where ``--write`` puts the reference (``docs/reference.md`` of the repository)."""
 
-CHAPTER_ORDER = ("administrative", "motion", "homing", "master_slave", "touch_probe", "group_fb")
+CHAPTER_ORDER = (
+    "administrative",
+    "motion",
+    "homing",
+    "master_slave",
+    "touch_probe",
+    "inputs_outputs",
+    "group_fb",
+)
 """Preferred order of the function-block modules; modules not named here follow alphabetically."""
 
 FB_KIND = (

@@ -1,10 +1,9 @@
-"""Touch probe: record the axis position at a trigger edge (PLCopen MC_TouchProbe,
-MC_AbortTrigger; beyond the Teco library).
+"""Touch probe: the axis position recorded at a trigger edge.
 
-The channel latches the encoder count at the edge of the TP input, as the module's hardware does
-for the index pulse; the sensor's own delay is part of the plant, so the recorded position is where
-the axis was when the delayed edge arrived. A program that knows the delay compensates it (as
-MC_GearInPos does with its ``Delay`` input).
+PLCopen MC_TouchProbe and MC_AbortTrigger, beyond the Teco library. The channel latches the
+encoder count at the edge of the TP input, as the module's hardware does for the index pulse; the
+sensor's own delay is part of the plant, so the recorded position is where the axis was when the
+delayed edge arrived. A program that knows the delay compensates it.
 """
 
 from __future__ import annotations

@@ -94,7 +94,7 @@ def tick(machine: mcl.SimMachine, cycles: int = 1) -> None:
     machine.run(timeout=PLC * cycles)
 
 
-def scan(*calls: Callable[[], None]) -> Callable[[], None]:
+def scan(*calls: Callable[[], object]) -> Callable[[], None]:
     """A PLC program made of calls."""
 
     def program() -> None:

@@ -8,8 +8,8 @@ import mcl
 import scenes
 from scenes import gantry
 from scenes.__main__ import main
-from scenes.plant import WiringError
 from scenes.machine import AxisDef, MachineDef
+from scenes.plant import WiringError
 from scenes.scene import Scene
 
 

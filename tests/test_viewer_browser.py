@@ -1,12 +1,14 @@
 """The viewer in headless Chromium: the page shows the machine, and its buttons move the axis.
 
 The viewer runs in this process (server, simulation and update threads); Playwright drives a
-headless Chromium against it like an operator would: press Power, hold Jog+, let go.
+headless Chromium against it like an operator would: press Power, hold Jog+, let go, pick another
+machine in the chooser. What a panel shows comes from the machine definition in the registry.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import socket
 import subprocess
@@ -18,6 +20,8 @@ import imageio.v3 as iio
 import numpy as np
 import pytest
 
+import scenes
+from tests.test_viewer_session import SHEAR
 from viewer.app import Viewer, port_available
 
 if TYPE_CHECKING:
@@ -164,3 +168,89 @@ def test_power_and_jog_move_the_axis(page: Page, viewer: Viewer) -> None:
     time.sleep(0.3)
     assert abs(session.scene.joint_position("X") - stopped) < 1e-4
     assert session.snapshot.axes["X"].state == "StandStill"
+
+
+def scene_options(page: Page) -> list[str]:
+    """Open the scene chooser and read its options (closes it again)."""
+    chooser = page.get_by_role("combobox", name="Scene", exact=True)
+    chooser.click()
+    options = page.get_by_role("option")
+    options.first.wait_for(timeout=5_000)
+    names = [text.strip() for text in options.all_inner_texts()]
+    page.keyboard.press("Escape")
+    return names
+
+
+def choose_scene(page: Page, viewer: Viewer, name: str) -> None:
+    """Pick a machine in the chooser and wait until the session and the page show it."""
+    page.get_by_role("combobox", name="Scene", exact=True).click()
+    page.get_by_role("option", name=name, exact=True).click()
+    wait_for(lambda: viewer.session.scene_name == name, 10.0, f"the session to load {name}")
+    wait_for(
+        lambda: (
+            viewer.app.frames > 0 and viewer.app._generation == viewer.session.snapshot.generation
+        ),
+        5.0,
+        "the rebuilt panels",
+    )
+    page.get_by_text(scenes.definition(name).description, exact=False).wait_for(timeout=10_000)
+
+
+def test_the_chooser_lists_the_registry_and_switches_machines_both_ways(
+    page: Page, viewer: Viewer
+) -> None:
+    assert scene_options(page) == sorted(scenes.MACHINES)
+    assert {"gantry", "single_axis"} <= set(scenes.MACHINES)
+
+    choose_scene(page, viewer, "single_axis")
+    session = viewer.session
+    assert viewer.app.model_scene is None
+    page.get_by_text("no 3-D model").first.wait_for(timeout=5_000)
+    unit = session.scene.axes["X"].config.unit
+    page.get_by_text(f"Jog velocity [{unit}/s]").wait_for(timeout=5_000)
+    assert page.get_by_role("button", name="Home", exact=True).count() == 0  # no recipe
+
+    page.get_by_role("button", name="Power", exact=True).click()
+    wait_for(lambda: session.snapshot.axes["X"].powered, 5.0, "X powered")
+    page.get_by_role("button", name="Run demo", exact=True).click()
+    wait_for(lambda: session.snapshot.demo.running, 5.0, "the demo to start")
+    wait_for(lambda: session.snapshot.demo.done, 20.0, "the single_axis demo to finish")
+    page.get_by_text("Done: done").wait_for(timeout=5_000)
+    assert not session.snapshot.demo.error and not session.snapshot.fault
+
+    choose_scene(page, viewer, "gantry")
+    assert viewer.app.model_scene is not None
+    for name in ("Power", "Home", "Jog+"):
+        assert page.get_by_role("button", name=name, exact=True).count() == 1
+    assert page.get_by_text("no 3-D model").count() == 0
+
+
+def test_the_machine_definition_decides_what_the_panels_show(
+    browser: Browser, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setitem(scenes.MACHINES, SHEAR.name, SHEAR)
+    port = _free_port()
+    with Viewer(SHEAR.name, port=port, demo=False) as shear:
+        context = browser.new_context(viewport={"width": 1280, "height": 1000})
+        try:
+            p = context.new_page()
+            p.goto(shear.url)
+            p.get_by_role("button", name="Reset", exact=True).wait_for(timeout=30_000)
+            assert SHEAR.name in scene_options(p)
+            # master: encoder only, unit m; no drive buttons
+            p.get_by_text("encoder only").wait_for(timeout=5_000)
+            p.get_by_text(re.compile(r"^\s*-?\d+\.\d+ m/s$")).wait_for(timeout=5_000)
+            for name in ("Power", "Home", "Jog+", "Jog−", "Stop"):
+                assert p.get_by_role("button", name=name, exact=True).count() == 0, name
+            # signals panel: name, value, unit
+            p.get_by_text("cut_force").wait_for(timeout=5_000)
+            # knife: unit deg, a drive, two digital outputs, only a REF switch, no recipe
+            p.get_by_role("tab", name="knife", exact=True).click()
+            p.get_by_text("Jog velocity [deg/s]").wait_for(timeout=5_000)
+            for name in ("Power", "Jog+", "Jog−", "Stop"):
+                assert p.get_by_role("button", name=name, exact=True).count() == 1, name
+            assert p.get_by_role("button", name="Home", exact=True).count() == 0
+            assert p.get_by_text("DO1").count() == 1 and p.get_by_text("LIM+").count() == 0
+        finally:
+            context.close()
+    assert port_available("127.0.0.1", port)

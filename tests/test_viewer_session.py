@@ -40,9 +40,10 @@ from viewer.app import (
     ViewerApp,
     axis_panel_html,
     port_available,
+    signals_html,
 )
 from viewer.operator import DEADMAN
-from viewer.session import AxisView, Session, scene_module
+from viewer.session import AxisView, Session, choices
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -66,6 +67,7 @@ class StandInDemo:
         self.move = mcl.MC_MoveRelative()
         self.step = "power on"
         self.done = False
+        self.error = ""
 
     def __call__(self) -> None:
         self.power(Axis=self.X, Enable=True)
@@ -90,6 +92,7 @@ class FailingDemo:
     def __init__(self, scene: Scene) -> None:
         self.step = "about to fail"
         self.done = False
+        self.error = ""
 
     def __call__(self) -> None:
         raise ZeroDivisionError("division by zero in the demo")
@@ -355,8 +358,38 @@ def test_a_failing_demo_is_reported_and_the_simulation_goes_on(clock: FakeClock)
     assert session.snapshot.time == pytest.approx(0.1)
 
 
+class ErrorReportingDemo:
+    """A demo program that reports a function block error through ``error``, as
+    ``python -m scenes run`` expects (it then stops)."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.step, self.done, self.error = "move", False, ""
+        self.calls = 0
+
+    def __call__(self) -> None:
+        self.calls += 1
+        if self.calls == 3:
+            self.error = "move: MC_MoveAbsolute error 10"
+
+
+def test_a_demo_that_reports_an_error_ends_and_shows_it(clock: FakeClock) -> None:
+    programs: list[ErrorReportingDemo] = []
+
+    def factory(scene: Scene) -> ErrorReportingDemo:
+        programs.append(ErrorReportingDemo(scene))
+        return programs[-1]
+
+    session = Session("single_axis", clock=clock, demo=factory)
+    session.start_demo()
+    run(session, clock, 0.1)
+    demo = session.snapshot.demo
+    assert not demo.running and not demo.done and demo.step == "move"
+    assert demo.error == "move: MC_MoveAbsolute error 10"
+    assert programs[0].calls == 3  # not called after it reported the error
+
+
 @pytest.mark.skipif(
-    not hasattr(scene_module("gantry"), "Demo"), reason="the gantry has no demo program yet"
+    scenes.definition("gantry").demo is None, reason="the gantry has no demo program yet"
 )
 def test_the_gantry_demo_starts(clock: FakeClock) -> None:
     session = Session("gantry", clock=clock)
@@ -401,6 +434,7 @@ def test_switch_geoms_light_up_from_the_plant_inputs(server: viser.ViserServer) 
     app = ViewerApp(session, server)
     app.frame()
     scene = app.model_scene
+    assert scene is not None
     model_color = scene.geom_handle("gantry/X_lim_neg_geom").color
     assert view(session).lim_pos and not view(session).ref
     assert scene.geom_handle("gantry/X_lim_pos_geom").color == rgb(LAMP_LIMIT)
@@ -417,6 +451,7 @@ def test_the_app_follows_relocated_bodies_and_rebuilds_on_reset(
     app.frame()
     model = session.scene.model
     body = model.body("gantry/X_obstacle").id
+    assert app.model_scene is not None
     frame = app.model_scene.body_handles["gantry/X_obstacle"]
     parked = frame.position.copy()
     blocking = model.numeric("gantry/X_obstacle_blockpos").data + np.array([0.3, 0.0, 0.0])
@@ -482,6 +517,221 @@ def test_the_page_offers_no_code_execution_and_no_file_access(
     connection.close()
 
 
+# ------------------------------------------------------------------ machines from the registry
+
+SHEAR = scenes.MachineDef(
+    name="viewer_test_shear",
+    description="test machine: encoder-only master, rotary knife with a digital output",
+    axes={
+        "master": scenes.AxisDef(
+            config=mcl.AxisConfig(resolution=1e-6, dev_max=0.002, in_position=1e-5, unit="m"),
+            drive="encoder",
+            unit="m",
+            switches=(),
+            sim=mcl.SimAxisParams(has_drive=False, start=0.0),
+        ),
+        "knife": scenes.AxisDef(
+            config=mcl.AxisConfig(resolution=1e-6 * 180.0 / math.pi, unit="deg"),
+            constants=mcl.ServoConstants(Kp=3.0, Ki=150.0, Ff=1.0, Kc=50.0, Vmax=28.6, Filter=2.0),
+            unit="deg",
+            scale=180.0 / math.pi,
+            switches=("ref",),
+            digital_outputs=2,
+            sim=mcl.SimAxisParams(start=0.2, digital_outputs=2),
+        ),
+    },
+    signals={
+        "cut_force": scenes.Signal("N", lambda scene: 1000.0 * scene.joint_position("knife")),
+        "broken": scenes.Signal("bar", lambda scene: 1.0 / 0.0),
+    },
+)
+"""A machine only these tests register: what its definition says decides what the viewer shows."""
+
+
+@pytest.fixture
+def shear(monkeypatch: pytest.MonkeyPatch, clock: FakeClock) -> Session:
+    """A session of :data:`SHEAR`, registered for this test only."""
+    monkeypatch.setitem(scenes.MACHINES, SHEAR.name, SHEAR)
+    return Session(SHEAR.name, clock=clock)
+
+
+def scenes_list() -> list[str]:
+    """The machine names ``python -m scenes list`` prints."""
+    output = subprocess.run(
+        [sys.executable, "-m", "scenes", "list"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=True,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    ).stdout
+    return [line.split()[0] for line in output.splitlines() if line.strip()]
+
+
+def test_the_chooser_lists_the_machines_of_python_m_scenes_list(
+    server: viser.ViserServer, session: Session
+) -> None:
+    listed = scenes_list()
+    assert listed == sorted(scenes.MACHINES) == choices()
+    assert {"gantry", "single_axis"} <= set(listed)
+    app = ViewerApp(session, server)
+    assert list(app.scene_choices) == listed
+    assert cli.parser().get_default("scene") in listed
+
+
+def test_a_registered_machine_is_offered_without_viewer_code(
+    monkeypatch: pytest.MonkeyPatch, server: viser.ViserServer, session: Session
+) -> None:
+    monkeypatch.setitem(scenes.MACHINES, SHEAR.name, SHEAR)
+    assert SHEAR.name in choices()
+    assert SHEAR.name in ViewerApp(session, server).scene_choices
+    assert cli.parser().parse_args(["--scene", SHEAR.name]).scene == SHEAR.name
+
+
+def test_single_axis_runs_its_demo_to_done_without_a_model(clock: FakeClock) -> None:
+    session = Session("single_axis", clock=clock)
+    snapshot = session.snapshot
+    assert snapshot.model is None and snapshot.xpos.shape == (0, 3)
+    assert snapshot.description == scenes.definition("single_axis").description
+    assert session.demo_available() == (scenes.definition("single_axis").demo is not None)
+    session.start_demo()
+    for _ in range(100):
+        run(session, clock, 0.5)
+        if session.snapshot.demo.done or session.snapshot.demo.error:
+            break
+    demo = session.snapshot.demo
+    assert demo.done and demo.step == "done" and not demo.error and not demo.running
+    x = view(session)
+    assert x.state == "StandStill" and x.joint == ""
+    assert x.joint_position == pytest.approx(session.scene.joint_position("X"))
+    t, _, volts = session.snapshot.history["X"]
+    assert len(t) > 100 and np.abs(volts).max() > 0.1
+
+
+def test_a_machine_without_demo_says_so(
+    monkeypatch: pytest.MonkeyPatch, clock: FakeClock, server: viser.ViserServer
+) -> None:
+    monkeypatch.setitem(scenes.MACHINES, SHEAR.name, SHEAR)
+    assert SHEAR.demo is None
+    session = Session(SHEAR.name, clock=clock)
+    assert not session.demo_available() and not session.snapshot.demo.available
+    with pytest.raises(RuntimeError, match="no demo"):
+        session.start_demo()
+    app = ViewerApp(session, server)
+    app.frame()
+    assert app._demo_button.disabled
+
+
+def test_units_shown_come_from_the_axis_config(server: viser.ViserServer, shear: Session) -> None:
+    gantry = Session("gantry")
+    for session in (gantry, shear):
+        app = ViewerApp(session, server)
+        app.frame()
+        for name, axis in session.scene.axes.items():
+            unit = axis.config.unit
+            shown = session.snapshot.axes[name]
+            assert shown.unit == unit
+            page = axis_panel_html(shown)
+            assert f" {unit}/s<" in page and f" {unit}<" in page
+            if unit != "mm":
+                assert " mm" not in page
+    assert {a.config.unit for a in shear.scene.axes.values()} == {"m", "deg"}
+
+
+def test_the_plot_labels_follow_the_selected_axis_unit(
+    server: viser.ViserServer, shear: Session
+) -> None:
+    app = ViewerApp(shear, server)
+    shear.advance(10)
+    app.frame()
+    assert app.plot_labels[1] == "following error [m]"  # the first axis, master
+    assert app._plot_axis is not None
+    app._plot_axis.value = "knife"  # type: ignore[misc]  # viser's setter exists
+    shear.advance(10)
+    app._last_plot = -math.inf
+    app.frame()
+    assert app.plot_labels[1] == "following error [deg]"
+
+
+def test_an_encoder_only_axis_has_no_drive_buttons(
+    server: viser.ViserServer, shear: Session, clock: FakeClock
+) -> None:
+    app = ViewerApp(shear, server)
+    app.frame()
+    assert app.axis_widgets["master"] == ["Reset"]
+    assert app.axis_widgets["knife"] == ["Power", "Reset", "Jog+", "Jog−", "Stop"]  # no recipe
+    master = view(shear, "master")
+    assert not master.has_drive and view(shear, "knife").has_drive
+    page = axis_panel_html(master)
+    assert "encoder only" in page and "Command" not in page
+    # The library refuses power on it (ErrorID 14), whatever sends the request.
+    shear.toggle_power("master")
+    run(shear, clock, 0.05)
+    assert view(shear, "master").message == f"Power: error 14 ({mcl.error_text(14)})"
+    assert not view(shear, "master").powered
+
+
+def test_switch_and_output_lamps_follow_the_definition(
+    server: viser.ViserServer, shear: Session
+) -> None:
+    knife = view(shear, "knife")
+    assert knife.switches == ("ref",) and view(shear, "master").switches == ()
+    assert knife.outputs == (False, False)
+    page = axis_panel_html(knife)
+    assert "REF" in page and "LIM" not in page and "DO0" in page and "DO1" in page
+    assert "DO0" not in axis_panel_html(view(shear, "master"))
+
+    shear.scene.axes["knife"].io.outputs[1] = True  # the program sets the knife valve
+    shear.advance(1)
+    assert view(shear, "knife").outputs == (False, True)
+    lit = axis_panel_html(view(shear, "knife"))
+    assert lit.count("#1e88e5") == 1  # one output lamp lit
+
+    gantry = axis_panel_html(view(Session("gantry")))
+    assert all(lamp in gantry for lamp in ("LIM−", "REF", "LIM+")) and "DO0" not in gantry
+
+
+def test_published_signals_are_shown_with_their_units(
+    server: viser.ViserServer, shear: Session
+) -> None:
+    signals = {s.name: s for s in shear.snapshot.signals}
+    assert list(signals) == list(SHEAR.signals)
+    assert signals["cut_force"].unit == "N"
+    assert signals["cut_force"].value == pytest.approx(1000.0 * shear.scene.joint_position("knife"))
+    assert math.isnan(signals["broken"].value)  # a failing reader does not stop the simulation
+    app = ViewerApp(shear, server)
+    app.frame()
+    assert app._signals is not None
+    page = signals_html(shear.snapshot)
+    assert "cut_force" in page and " N" in page and "bar" in page
+    assert app._signals.content == page
+
+    plain = ViewerApp(Session("single_axis"), server)
+    assert plain._signals is None  # no signals: no panel
+
+
+def test_the_app_switches_between_a_model_and_simulated_axes(
+    server: viser.ViserServer, session: Session
+) -> None:
+    app = ViewerApp(session, server)
+    app.frame()
+    assert app.model_scene is not None and app._note is None
+    session.load("single_axis")
+    app.frame()
+    assert app.model_scene is None and app._note is not None
+    assert list(app.axis_widgets) == list(session.scene.axes) == ["X"]
+    assert "no 3-D model" in app._status.content
+    session.start_demo()
+    session.advance(50)
+    app.frame()
+    assert session.snapshot.demo.running and not session.snapshot.fault
+    session.load("gantry")
+    app.frame()
+    assert app.model_scene is not None and app._note is None
+    assert list(app.axis_widgets) == ["X", "Y", "Z"]
+    assert app.axis_widgets["X"][:3] == ["Power", "Reset", "Home"]  # the gantry has recipes
+
+
 # ------------------------------------------------------------------------------- the CLI
 
 
@@ -507,7 +757,7 @@ def test_cli_options_are_checked() -> None:
     assert exit_info.value.code == 2
     with pytest.raises(SystemExit):
         cli.parser().parse_args(["--scene", "nope"])
-    for name in scenes.SCENES:
+    for name in scenes.MACHINES:
         assert cli.parser().parse_args(["--scene", name]).scene == name
 
 

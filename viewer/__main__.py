@@ -15,8 +15,8 @@ import threading
 from collections.abc import Sequence
 from types import FrameType
 
-import scenes
 from viewer.app import DEFAULT_HOST, DEFAULT_PORT, PortInUseError, Viewer
+from viewer.session import choices
 
 EXIT_PORT_IN_USE = 2
 """Exit status when the port is taken or the address cannot be served (also argparse's status
@@ -65,8 +65,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--scene",
         default="gantry",
-        choices=sorted(scenes.SCENES),
-        help="scene to show first (default: gantry)",
+        choices=choices(),
+        help="machine to show first, one of `python -m scenes list` (default: gantry)",
     )
     p.add_argument(
         "--host",

@@ -9,6 +9,12 @@ queued commands); every viser object is modified by the update thread alone.
 :class:`Viewer` bundles server, session and app: ``Viewer(scene="gantry", port=8080)`` serves
 the viewer on ``http://127.0.0.1:8080`` until :meth:`Viewer.close`.
 
+Everything machine-specific comes from the registry (``scenes.MACHINES``) and the scene: the
+chooser lists ``sorted(scenes.MACHINES)``; each axis panel shows the axis' own unit, only the
+switches the machine definition gives it, its digital inputs and outputs, and drive buttons only
+if it has a drive (Home only with a homing recipe); a machine that publishes signals gets a
+signals panel; a machine of simulated axes (no MuJoCo model) shows a note instead of a 3-D model.
+
 The page offers no way to run code or touch files: no text inputs, no uploads, only buttons,
 dropdowns and sliders whose values are checked against fixed choices and ranges; viser's share
 tunnel and upload requests are refused (:func:`harden`).
@@ -25,7 +31,7 @@ import socket
 import threading
 import time
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import mujoco
@@ -36,7 +42,7 @@ import viser.uplot
 import scenes
 from viewer.model_scene import ModelScene
 from viewer.operator import AxisRequests
-from viewer.session import AxisView, Session, Snapshot
+from viewer.session import AxisView, Session, Snapshot, choices
 
 log = logging.getLogger(__name__)
 
@@ -67,10 +73,26 @@ LAMP_LIMIT = (0.95, 0.15, 0.10)
 LAMP_REF = (1.0, 0.72, 0.0)
 """Colour of an actuated reference switch (amber), RGB in [0, 1]."""
 
-_LAMP_HTML = {"on_limit": "#e53935", "on_ref": "#ffb300", "on_info": "#43a047", "off": "#cfd8dc"}
+_LAMP_HTML = {
+    "on_limit": "#e53935",
+    "on_ref": "#ffb300",
+    "on_info": "#43a047",
+    "on_output": "#1e88e5",
+    "off": "#cfd8dc",
+}
 
 SWITCHES = (("lim_neg", LAMP_LIMIT), ("lim_pos", LAMP_LIMIT), ("ref", LAMP_REF))
 """Switch kinds of models/README.md and their lamp colours."""
+
+SWITCH_LAMPS = (
+    ("lim_neg", "LIM−", "on_limit"),
+    ("ref", "REF", "on_ref"),
+    ("lim_pos", "LIM+", "on_limit"),
+)
+"""Panel lamps of the switch inputs: (AxisView field, label, lamp kind), left to right."""
+
+NO_MODEL_NOTE = "simulated axes: no 3-D model"
+"""Shown in the 3-D view for a machine without a MuJoCo model."""
 
 
 REFUSED_MESSAGES = ("ShareUrlRequest", "FileTransferStartUpload", "FileTransferPart")
@@ -145,8 +167,21 @@ def _lamp(on: bool, label: str, kind: str) -> str:
     )
 
 
+def _table(rows: Sequence[tuple[str, str]]) -> str:
+    """A two-column read-out table (names left, values right in monospace)."""
+    body = "".join(
+        f'<tr><td style="padding:0 0.5em 0 0">{name}</td>'
+        f'<td style="text-align:right;font-family:monospace;white-space:pre">{value}</td></tr>'
+        for name, value in rows
+    )
+    return f'<table style="width:100%;border-collapse:collapse">{body}</table>'
+
+
 def axis_panel_html(view: AxisView) -> str:
-    """The read-outs of one axis as HTML: values, state, error text, input lamps.
+    """The read-outs of one axis as HTML: values in the axis' unit, state, error text, lamps.
+
+    Only what the axis has is shown: the switches of its machine definition, its digital inputs
+    (``DI``) and outputs (``DO``, read-only), the command only if it has a drive.
 
     Args:
         view: The axis view of a snapshot.
@@ -154,34 +189,47 @@ def axis_panel_html(view: AxisView) -> str:
     Returns:
         An HTML fragment (texts escaped).
     """
+    unit = html.escape(view.unit)
     error = html.escape(view.error) if view.error else "—"
-    rows = (
-        ("Position", f"{view.position:10.3f} mm"),
-        ("Velocity", f"{view.velocity:10.2f} mm/s"),
-        ("Following error", f"{view.following_error:10.4f} mm"),
-        ("Command", f"{view.volts:10.3f} V"),
+    rows = [
+        ("Position", f"{view.position:10.3f} {unit}"),
+        ("Velocity", f"{view.velocity:10.2f} {unit}/s"),
+    ]
+    if view.has_drive:
+        rows += [
+            ("Following error", f"{view.following_error:10.4f} {unit}"),
+            ("Command", f"{view.volts:10.3f} V"),
+        ]
+    else:
+        rows.append(("Drive", "none (encoder only)"))
+    rows += [
         ("State", f"<b>{html.escape(view.state or '—')}</b>"),
         ("Error", f'<span style="color:#c62828">{error}</span>' if view.error else error),
+    ]
+    lamps = "".join(
+        _lamp(bool(getattr(view, field)), label, kind)
+        for field, label, kind in SWITCH_LAMPS
+        if field in view.switches
     )
-    table = "".join(
-        f'<tr><td style="padding:0 0.5em 0 0">{name}</td>'
-        f'<td style="text-align:right;font-family:monospace;white-space:pre">{value}</td></tr>'
-        for name, value in rows
-    )
-    lamps = (
-        _lamp(view.lim_neg, "LIM−", "on_limit")
-        + _lamp(view.ref, "REF", "on_ref")
-        + _lamp(view.lim_pos, "LIM+", "on_limit")
-        + _lamp(view.index, "Index", "on_info")
-        + _lamp(view.referenced, "Homed", "on_info")
-    )
+    lamps += _lamp(view.index, "Index", "on_info") + _lamp(view.referenced, "Homed", "on_info")
+    lamps += "".join(_lamp(on, f"DI{i}", "on_info") for i, on in enumerate(view.inputs))
+    outputs = "".join(_lamp(on, f"DO{i}", "on_output") for i, on in enumerate(view.outputs))
+    if outputs:
+        outputs = f'<div style="line-height:1.6">Outputs: {outputs}</div>'
     message = html.escape(view.message) if view.message else "&nbsp;"
     return (
-        f'<div style="font-size:0.85em;padding:0 0.75em">'
-        f'<table style="width:100%;border-collapse:collapse">{table}</table>'
-        f'<div style="margin-top:0.4em;line-height:1.6">{lamps}</div>'
+        f'<div style="font-size:0.85em;padding:0 0.75em">{_table(rows)}'
+        f'<div style="margin-top:0.4em;line-height:1.6">{lamps}</div>{outputs}'
         f'<div style="color:#546e7a;margin-top:0.2em">{message}</div></div>'
     )
+
+
+def signals_html(snapshot: Snapshot) -> str:
+    """The machine's published signals as HTML: name, value, unit (texts escaped)."""
+    rows = [
+        (html.escape(s.name), f"{s.value:12.3f} {html.escape(s.unit)}") for s in snapshot.signals
+    ]
+    return f'<div style="font-size:0.85em;padding:0 0.75em">{_table(rows)}</div>'
 
 
 def status_html(snapshot: Snapshot) -> str:
@@ -194,9 +242,11 @@ def status_html(snapshot: Snapshot) -> str:
         state = (
             f"running at {speed_label(snapshot.speed)} (achieved {snapshot.realtime_factor:.2f}×)"
         )
+    note = "" if snapshot.model is not None else f" · {NO_MODEL_NOTE}"
     return (
         f'<div style="font-size:0.85em;padding:0 0.75em">'
-        f"<b>{html.escape(snapshot.scene)}</b> · t = {snapshot.time:9.3f} s · {state}</div>"
+        f"<b>{html.escape(snapshot.scene)}</b> · t = {snapshot.time:9.3f} s · {state}"
+        f'<div style="color:#546e7a">{html.escape(snapshot.description)}{note}</div></div>'
     )
 
 
@@ -205,7 +255,9 @@ class _AxisWidgets:
     """The GUI elements of one axis panel."""
 
     panel: viser.GuiHtmlHandle
-    power: viser.GuiButtonHandle
+    power: viser.GuiButtonHandle | None
+    unit: str
+    buttons: tuple[str, ...]
     html: str = ""
     powered: bool | None = None
 
@@ -254,7 +306,11 @@ class ViewerApp:
         self._axes: dict[str, _AxisWidgets] = {}
         self._lamps: list[tuple[str, str, str, tuple[float, float, float]]] = []
         """Switch geoms coloured from the inputs: (axis, AxisView field, geom, lamp colour)."""
+        self._note: viser.LabelHandle | None = None
         self._scene_gui: list[viser.GuiFolderHandle] = []
+        self._signals: viser.GuiHtmlHandle | None = None
+        self._signals_html = ""
+        self._plot_unit = ""
         self._plot: viser.GuiUplotHandle | None = None
         self._plot_axis: viser.GuiDropdownHandle[str] | None = None
         self._pause_label = ""
@@ -275,10 +331,20 @@ class ViewerApp:
         self._rebuild(session.snapshot)
 
     @property
-    def model_scene(self) -> ModelScene:
-        """The 3-D scene of the current model (replaced when the session loads a scene)."""
-        assert self._model_scene is not None
+    def model_scene(self) -> ModelScene | None:
+        """The 3-D scene of the current model (replaced when the session loads a scene); None
+        for a machine of simulated axes, which has no model."""
         return self._model_scene
+
+    @property
+    def scene_choices(self) -> tuple[str, ...]:
+        """The machines the scene chooser offers (``sorted(scenes.MACHINES)``)."""
+        return tuple(self._scene_choice.options)
+
+    @property
+    def axis_widgets(self) -> dict[str, list[str]]:
+        """The labels of the buttons of each axis panel (what the operator can press)."""
+        return {name: list(w.buttons) for name, w in self._axes.items()}
 
     # ------------------------------------------------------------------------- GUI: static
 
@@ -289,7 +355,7 @@ class ViewerApp:
         with gui.add_folder("Simulation", order=0):
             self._status = gui.add_html("", order=0)
             self._scene_choice = gui.add_dropdown(
-                "Scene", sorted(scenes.SCENES), initial_value=session.scene_name, order=1
+                "Scene", choices(), initial_value=session.scene_name, order=1
             )
             labels = list(SPEEDS)
             current = speed_label(session.speed)
@@ -317,7 +383,7 @@ class ViewerApp:
         @self._scene_choice.on_update
         def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
             name = self._scene_choice.value
-            if name in scenes.SCENES and name != session.scene_name:
+            if name in scenes.MACHINES and name != session.scene_name:
                 session.load(name)
 
         @self._speed_choice.on_update
@@ -352,32 +418,46 @@ class ViewerApp:
     # ------------------------------------------------------------------------- GUI: scene
 
     def _rebuild(self, snapshot: Snapshot) -> None:
-        """(Re)build the 3-D scene, the axis panels and the plot for a new scene."""
+        """(Re)build the 3-D scene, the axis panels, the signals and the plot for a new scene."""
         if self._model_scene is not None:
             self._model_scene.remove()
+            self._model_scene = None
+        if self._note is not None:
+            self._note.remove()
+            self._note = None
         for folder in self._scene_gui:
             folder.remove()
         self._scene_gui = []
         self._axes = {}
+        self._lamps = []
+        self._signals = None
+        self._signals_html = ""
         self._last = None
         self._generation = snapshot.generation
         self._plot_time = math.nan
+        self._plot_unit = ""
+        self._last_panel = self._last_plot = -math.inf  # show the new scene's panels at once
 
         model = snapshot.model
-        data = mujoco.MjData(model)
-        data.qpos[:] = snapshot.qpos
-        mujoco.mj_kinematics(model, data)
-        self._place_camera(model, data)
-        data.xpos[:] = snapshot.xpos
-        data.xquat[:] = snapshot.xquat
-        self._model_scene = ModelScene(model, self.server, prefix="/scene", data=data)
-        handles = self._model_scene.geom_handles
-        self._lamps = [
-            (name, kind, geom, color)
-            for name, view in snapshot.axes.items()
-            for kind, color in SWITCHES
-            if (geom := f"{view.joint}_{kind}_geom") in handles
-        ]
+        if model is not None:
+            data = mujoco.MjData(model)
+            data.qpos[:] = snapshot.qpos
+            mujoco.mj_kinematics(model, data)
+            self._place_camera(model, data)
+            data.xpos[:] = snapshot.xpos
+            data.xquat[:] = snapshot.xquat
+            self._model_scene = ModelScene(model, self.server, prefix="/scene", data=data)
+            handles = self._model_scene.geom_handles
+            self._lamps = [
+                (name, kind, geom, color)
+                for name, view in snapshot.axes.items()
+                for kind, color in SWITCHES
+                if view.joint and (geom := f"{view.joint}_{kind}_geom") in handles
+            ]
+        else:
+            self._note = self.server.scene.add_label(
+                "/scene_note", f"{snapshot.scene}: {NO_MODEL_NOTE}", anchor="center-center"
+            )
 
         gui = self.server.gui
         generation = snapshot.generation
@@ -388,30 +468,28 @@ class ViewerApp:
             for name, view in snapshot.axes.items():
                 with tabs.add_tab(name):
                     self._axes[name] = self._build_axis_panel(name, view, generation)
-        plot_folder = gui.add_folder("Plot", order=3)
+        if snapshot.signals:
+            signals_folder = gui.add_folder("Signals", order=3)
+            self._scene_gui.append(signals_folder)
+            with signals_folder:
+                self._signals_html = signals_html(snapshot)
+                self._signals = gui.add_html(self._signals_html)
+        plot_folder = gui.add_folder("Plot", order=4)
         self._scene_gui.append(plot_folder)
         with plot_folder:
             names = list(snapshot.axes)
             self._plot_axis = gui.add_dropdown("Axis", names, initial_value=names[0])
+            self._plot_unit = snapshot.axes[names[0]].unit
+            series, axes = _plot_style(self._plot_unit)
             self._plot = gui.add_uplot(
                 data=(np.zeros(1), np.zeros(1), np.zeros(1)),
-                series=(
-                    viser.uplot.Series(label="t [s]"),
-                    viser.uplot.Series(
-                        label="following error [mm]", stroke="#d62728", width=1.5, scale="mm"
-                    ),
-                    viser.uplot.Series(label="command [V]", stroke="#1f77b4", width=1.0, scale="V"),
-                ),
+                series=series,
                 scales={
                     "x": viser.uplot.Scale(time=False, auto=True),
-                    "mm": viser.uplot.Scale(auto=True),
+                    "fe": viser.uplot.Scale(auto=True),
                     "V": viser.uplot.Scale(auto=True),
                 },
-                axes=(
-                    viser.uplot.Axis(label="t [s]"),
-                    viser.uplot.Axis(scale="mm", label="FE [mm]"),
-                    viser.uplot.Axis(scale="V", side=1, label="U [V]", grid={"show": False}),
-                ),
+                axes=axes,
                 title=f"{names[0]}: following error and command",
                 aspect=1.4,
             )
@@ -421,7 +499,8 @@ class ViewerApp:
             self._plot_time = math.nan  # redraw with the new axis at the next plot refresh
 
     def _build_axis_panel(self, name: str, view: AxisView, generation: int) -> _AxisWidgets:
-        """Read-outs and buttons of one axis (inside its tab)."""
+        """Read-outs and buttons of one axis (inside its tab), as its definition says: an
+        encoder-only axis gets no drive buttons, an axis without a homing recipe no Home."""
         gui = self.server.gui
         session = self.session
 
@@ -438,14 +517,25 @@ class ViewerApp:
             return callback
 
         panel = gui.add_html(axis_panel_html(view))
-        power = gui.add_button("Power", color="gray", icon=viser.Icon.POWER, hint="MC_Power on/off")
-        power.on_click(on_click(lambda _: session.toggle_power(name)))
+        buttons: list[str] = []
+        power = None
+        if view.has_drive:
+            power = gui.add_button(
+                "Power", color="gray", icon=viser.Icon.POWER, hint="MC_Power on/off"
+            )
+            power.on_click(on_click(lambda _: session.toggle_power(name)))
+            buttons.append("Power")
         reset = gui.add_button(
             "Reset", icon=viser.Icon.REFRESH_ALERT, hint="MC_Reset: clear the axis error"
         )
         reset.on_click(on_click(AxisRequests.reset))
-        home = gui.add_button("Home", icon=viser.Icon.HOME, hint="REF switch + index homing")
-        home.on_click(on_click(AxisRequests.home))
+        buttons.append("Reset")
+        if not view.has_drive:
+            return _AxisWidgets(panel=panel, power=None, unit=view.unit, buttons=tuple(buttons))
+        if view.homeable:
+            home = gui.add_button("Home", icon=viser.Icon.HOME, hint="The axis' homing recipe")
+            home.on_click(on_click(AxisRequests.home))
+            buttons.append("Home")
         jog_pos = gui.add_button("Jog+", icon=viser.Icon.ARROW_RIGHT, hint="Hold to jog (GT_Jog)")
         jog_neg = gui.add_button("Jog−", icon=viser.Icon.ARROW_LEFT, hint="Hold to jog (GT_Jog)")
         for button, direction in ((jog_pos, 1), (jog_neg, -1)):
@@ -456,9 +546,10 @@ class ViewerApp:
             button.on_click(on_click(AxisRequests.release_jog))  # a click ends on release
         stop = gui.add_button("Stop", color="red", icon=viser.Icon.HAND_STOP, hint="MC_Stop")
         stop.on_click(on_click(AxisRequests.stop))
+        buttons += ["Jog+", "Jog−", "Stop"]
         vmax = view.vmax if math.isfinite(view.vmax) and view.vmax > 0.0 else 100.0
         velocity = gui.add_slider(
-            "Jog velocity [mm/s]",
+            f"Jog velocity [{view.unit}/s]",
             min=round(0.01 * vmax, 3),
             max=round(vmax, 3),
             step=round(0.01 * vmax, 3),
@@ -471,7 +562,7 @@ class ViewerApp:
             if current() and math.isfinite(value) and 0.0 < value <= vmax:
                 session.requests(name).jog_velocity = value
 
-        return _AxisWidgets(panel=panel, power=power)
+        return _AxisWidgets(panel=panel, power=power, unit=view.unit, buttons=tuple(buttons))
 
     def _place_camera(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """Aim the initial camera of new clients at the machine (everything but planes)."""
@@ -533,14 +624,14 @@ class ViewerApp:
         if snapshot.generation != self._generation:
             self._rebuild(snapshot)
         model_scene = self._model_scene
-        assert model_scene is not None
-        model_scene.update_poses(snapshot.xpos, snapshot.xquat)
-        axes = snapshot.axes
-        for name, kind, geom, color in self._lamps:
-            if getattr(axes[name], kind):
-                model_scene.set_geom_color(geom, color)
-            else:
-                model_scene.reset_geom_color(geom)
+        if model_scene is not None:
+            model_scene.update_poses(snapshot.xpos, snapshot.xquat)
+            axes = snapshot.axes
+            for name, kind, geom, color in self._lamps:
+                if getattr(axes[name], kind):
+                    model_scene.set_geom_color(geom, color)
+                else:
+                    model_scene.reset_geom_color(geom)
         now = time.monotonic()
         if now - self._last_panel >= self._panel_period:
             self._last_panel = now
@@ -589,9 +680,13 @@ class ViewerApp:
             panel = axis_panel_html(view)
             if panel != widgets.html:
                 widgets.html = widgets.panel.content = panel
-            if view.powered != widgets.powered:
+            if widgets.power is not None and view.powered != widgets.powered:
                 widgets.powered = view.powered
                 widgets.power.color = "green" if view.powered else "gray"
+        if self._signals is not None:
+            signals = signals_html(snapshot)
+            if signals != self._signals_html:
+                self._signals_html = self._signals.content = signals
 
     def _update_plot(self, snapshot: Snapshot) -> None:
         """Following error and command of the selected axis over the last seconds."""
@@ -607,10 +702,40 @@ class ViewerApp:
             return
         self._plot_time = snapshot.time
         title = f"{name}: following error and command"
+        unit = snapshot.axes[name].unit
         with self.server.atomic():
             if plot.title != title:
                 plot.title = title
+            if unit != self._plot_unit:
+                self._plot_unit = unit
+                plot.series, plot.axes = _plot_style(unit)
             plot.data = (t, fe, volts)
+
+    @property
+    def plot_labels(self) -> tuple[str, ...]:
+        """The series labels of the live plot (its units follow the selected axis)."""
+        return (
+            tuple(str(s.get("label", "")) for s in self._plot.series)
+            if self._plot is not None
+            else ()
+        )
+
+
+def _plot_style(unit: str) -> tuple[tuple[viser.uplot.Series, ...], tuple[viser.uplot.Axis, ...]]:
+    """Series and axes of the live plot for an axis whose user unit is ``unit``."""
+    series = (
+        viser.uplot.Series(label="t [s]"),
+        viser.uplot.Series(
+            label=f"following error [{unit}]", stroke="#d62728", width=1.5, scale="fe"
+        ),
+        viser.uplot.Series(label="command [V]", stroke="#1f77b4", width=1.0, scale="V"),
+    )
+    axes = (
+        viser.uplot.Axis(label="t [s]"),
+        viser.uplot.Axis(scale="fe", label=f"FE [{unit}]"),
+        viser.uplot.Axis(scale="V", side=1, label="U [V]", grid={"show": False}),
+    )
+    return series, axes
 
 
 class Viewer:

@@ -150,7 +150,8 @@ class DemoView:
         running: It is being called every PLC cycle.
         done: It reported ``done``.
         step: Its ``step`` text (empty before it first ran).
-        error: The exception that ended it, as text (empty: none).
+        error: What ended it: its own ``error`` report or an exception, as text (empty:
+            none).
     """
 
     available: bool
@@ -341,6 +342,7 @@ class Session:
         self._scene = scene
         self._operator = operator
         self._axis_info = _axis_info(definition, scene)
+        self._model, self._data = mujoco_of(scene)
         self._has_demo = self._demo_factory is not None or definition.demo is not None
         self._demo = None
         self._demo_step = self._demo_error = ""
@@ -560,10 +562,14 @@ class Session:
         if demo is not None and not demo.done:
             try:
                 demo()
+                error = str(getattr(demo, "error", "") or "")
             except Exception as exc:  # a bug in a user program must not kill the viewer
                 log.exception("demo program of scene %r failed", self._scene_name)
+                error = f"{type(exc).__name__}: {exc}"
+            if error:  # it failed (or reported an error, like ``python -m scenes run``): it ends
+                self._demo_step = str(getattr(demo, "step", self._demo_step))
                 self._demo = None
-                self._demo_error = f"{type(exc).__name__}: {exc}"
+                self._demo_error = error
         self._operator()
         self._scan_count += 1
         if self._scan_count >= self._record_every:
@@ -699,14 +705,14 @@ class Session:
             self._demo_step = str(demo.step)
             self._demo_done_seen = bool(demo.done)
         views = {name: self._axis_view(name, axis) for name, axis in scene.axes.items()}
-        data = scene.data
+        model, data = self._model, self._data
         self._snapshot = Snapshot(
             generation=self._generation,
             scene=self._scene_name,
             description=self._definition.description,
             time=sim,
             wall=now,
-            model=scene.model,
+            model=model,
             qpos=_copy(None if data is None else data.qpos, (0,)),
             xpos=_copy(None if data is None else data.xpos, (0, 3)),
             xquat=_copy(None if data is None else data.xquat, (0, 4)),
@@ -786,6 +792,17 @@ def _axis_info(definition: MachineDef, scene: Scene) -> dict[str, _AxisInfo]:
             homeable=name in recipes,
         )
     return info
+
+
+def mujoco_of(scene: Scene) -> tuple[mujoco.MjModel | None, mujoco.MjData | None]:
+    """The MuJoCo model and data of a scene, ``(None, None)`` for a machine of simulated axes."""
+    try:
+        model, data = scene.model, scene.data
+    except TypeError:  # simulated axes: the scene has no MuJoCo model
+        return None, None
+    if model is None or data is None:
+        return None, None
+    return model, data
 
 
 def _copy(array: npt.ArrayLike | None, empty: tuple[int, ...]) -> npt.NDArray[np.float64]:

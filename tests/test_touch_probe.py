@@ -1,0 +1,96 @@
+"""Touch probe: MC_TouchProbe records the position at a TP edge, after the sensor's delay;
+MC_AbortTrigger cancels it. Measured on a simulated axis whose marks sit at known positions."""
+
+from __future__ import annotations
+
+import pytest
+
+import mcl
+from tests.helpers import configure, power_on
+
+MARK = 0.300
+"""The first mark [m] on the axis' own coordinate; the axis starts at 0.2 m (POS 0)."""
+PITCH = 0.050
+
+
+def probe_axis(delay: float = 0.0) -> tuple[mcl.SimMachine, mcl.Axis]:
+    params = mcl.SimAxisParams(
+        start=0.2, probe=mcl.Marks(first=MARK, pitch=PITCH, width=0.002), probe_delay=delay
+    )
+    machine = mcl.SimMachine({"X": params})
+    X = machine.axes["X"]
+    configure(X)
+    power_on(machine, X)
+    return machine, X
+
+
+def run_at(machine: mcl.SimMachine, X: mcl.Axis, probe: mcl.MC_TouchProbe, **inputs: object):
+    move = mcl.MC_MoveVelocity()
+
+    def program() -> None:
+        move(Axis=X, Execute=True, Velocity=200.0, Acceleration=5000.0)
+        probe(Axis=X, **inputs)
+
+    machine.run(program, until=lambda: probe.Done or probe.Error, timeout=2.0)
+
+
+def test_the_first_edge_after_execute_records_the_position_at_the_mark():
+    machine, X = probe_axis()
+    probe = mcl.MC_TouchProbe()
+    run_at(machine, X, probe, Execute=True)
+    assert probe.Done and not probe.Busy
+    # the coordinate reads 0 at the start (0.2 m): the mark lies at 100 mm
+    assert probe.RecordedPosition == pytest.approx((MARK - 0.2) * 1000.0, abs=0.0015)
+    probe(Execute=False)
+    assert not probe.Done  # one latch per Execute edge
+
+
+def test_the_sensor_delay_shifts_the_latch_by_speed_times_delay():
+    machine, X = probe_axis(delay=0.001)
+    probe = mcl.MC_TouchProbe()
+    run_at(machine, X, probe, Execute=True)
+    speed = X.VEL
+    assert speed == pytest.approx(200.0, rel=0.01)
+    assert probe.RecordedPosition == pytest.approx(100.0 + speed * 0.001, abs=0.01)
+
+
+def test_window_only_skips_marks_outside_the_window():
+    machine, X = probe_axis()
+    probe = mcl.MC_TouchProbe()
+    run_at(
+        machine, X, probe, Execute=True, WindowOnly=True, FirstPosition=140.0, LastPosition=160.0
+    )
+    assert probe.Done
+    assert probe.RecordedPosition == pytest.approx(150.0, abs=0.0015)  # the second mark
+
+
+def test_abort_trigger_cancels_a_waiting_probe():
+    _, X = probe_axis()
+    probe, abort = mcl.MC_TouchProbe(), mcl.MC_AbortTrigger()
+    probe(Axis=X, Execute=True)
+    assert probe.Busy
+    abort(Axis=X, Execute=True)
+    probe(Execute=True)
+    assert abort.Done and probe.CommandAborted and not probe.Busy and not probe.Done
+
+
+@pytest.mark.parametrize(
+    "inputs", [{"TriggerInput": 1}, {"WindowOnly": True, "FirstPosition": 5.0, "LastPosition": 1.0}]
+)
+def test_bad_inputs_give_eparam_and_arm_nothing(inputs: dict[str, object]):
+    _, X = probe_axis()
+    probe = mcl.MC_TouchProbe()
+    probe(Axis=X, Execute=True, **inputs)
+    assert probe.Error and probe.ErrorID == mcl.ErrorID.EParam
+    assert X.probe_position is None and X.state == mcl.AxisState.StandStill
+
+
+def test_marks_report_their_rising_edges_exactly():
+    marks = mcl.Marks(first=1.0, pitch=0.5, width=0.1, errors=(0.0, 0.02))
+    assert marks.rising(0.9, 1.1) == pytest.approx(0.5)
+    assert marks.rising(1.45, 1.6) == pytest.approx((1.52 - 1.45) / 0.15)  # print error 20 mm
+    assert marks.rising(1.2, 1.3) is None
+    assert marks.rising(1.15, 1.05) == pytest.approx(0.5)  # moving down: rises at the mark's end
+    assert marks.level(1.05) and not marks.level(1.2)
+    with pytest.raises(ValueError, match="pitch"):
+        mcl.Marks(first=0.0, pitch=0.1, width=0.2)
