@@ -174,15 +174,16 @@ class Axis:
 
     def optional(self, what: int) -> float:
         """Value of a GT_SInfo selector: 20 model position [u], 21 model velocity [u/s],
-        22 encoder status (bits: 0 index, 1 LIM+, 2 LIM−, 3 REF, 4 TP), 23 following error [u],
-        24 position captured at InSync [u]."""
+        22 encoder status (bits: 0 index, 1 LIM+, 2 LIM−, 3 REF, 4 TP, 5 encoder line fault),
+        23 following error [u], 24 position captured at InSync [u]."""
         if what == 20:
             return self._wrap(self.sp_pos)
         if what == 21:
             return self.sp_vel
         if what == 22:
             io = self.io
-            return float(io.index | io.lim_pos << 1 | io.lim_neg << 2 | io.ref << 3 | io.tp << 4)
+            status = io.index | io.lim_pos << 1 | io.lim_neg << 2 | io.ref << 3 | io.tp << 4
+            return float(status | (not io.encoder_ok) << 5)
         if what == 23:
             return self.following_error
         if what == 24:

@@ -146,10 +146,10 @@ class AxisChannel:
         self._faults: dict[str, flt.Fault] = {}
         self._shift = 0.0
         self._frozen_at: float | None = None
-        self._edges = [0.0, 0.0, 0.0, 0.0]
+        self._edges = [-math.inf] * 4
         self._true = [False, False, False, False]
-        self._rng = random.Random(0)
-        self._disabled_at = 0.0
+        self._rngs: dict[str, random.Random] = {}
+        self._disabled_at = -math.inf
         self._enable_request = False
 
     # ------------------------------------------------------------------ faults
@@ -165,12 +165,19 @@ class AxisChannel:
             and fault.switch not in _SWITCH_INDEX
         ):
             raise ValueError(f"switch must be one of {flt.SWITCH_NAMES}, got {fault.switch!r}")
+        key = fault.key()
         if isinstance(fault, flt.EncoderFreeze | flt.EncoderWireBreak):
             self._frozen_at = self._x - self._shift
+        if isinstance(fault, flt.SwitchStuck | flt.SwitchBounce) and key not in self._faults:
+            i = _SWITCH_INDEX[fault.switch]  # the level now is the true one: no edge yet
+            self._true[i] = (self.lim_pos, self.lim_neg, self.ref, self.tp)[i]
+            self._edges[i] = -math.inf
+        if isinstance(fault, flt.BrakeSlow) and self.brake:
+            self._disabled_at = -math.inf  # an engaged brake stays engaged
         seed = getattr(fault, "seed", None)
         if seed is not None:
-            self._rng = random.Random(seed)
-        self._faults[fault.key()] = fault
+            self._rngs[key] = random.Random(seed)
+        self._faults[key] = fault
 
     def clear_fault(self, fault: flt.Fault) -> None:
         """Remove ``fault`` if it is set (a frozen counter resumes from where it stopped)."""
@@ -204,9 +211,9 @@ class AxisChannel:
         if self._faults:
             lim_pos, lim_neg, ref, analog = self._faulty_inputs(t, x, lim_pos, lim_neg, ref, analog)
         else:
-            enc.update(x)
+            enc.update(x - self._shift)  # the shift keeps what a cleared fault lost
             self.counts = enc.counts
-        self.index = enc.index
+        self.index = enc.index and self.encoder_ok
         self.index_count = enc.index_count
         self.index_seq = enc.index_seq
         self.lim_pos, self.lim_neg, self.ref = lim_pos, lim_neg, ref
@@ -268,13 +275,11 @@ class AxisChannel:
         enc.update(x - self._shift)
         self.counts = enc.counts
         if isinstance(encoder, flt.EncoderNoise):
-            self.counts += self._rng.randint(-encoder.counts, encoder.counts)
+            self.counts += self._rngs["encoder"].randint(-encoder.counts, encoder.counts)
         self.encoder_ok = not isinstance(encoder, flt.EncoderWireBreak)
         lim_pos = self._switch(0, lim_pos, t)
         lim_neg = self._switch(1, lim_neg, t)
         ref = self._switch(2, ref, t)
-        if not self.encoder_ok:
-            self.index = False
         if analog:
             analog = [self._analog_in(i, v) for i, v in enumerate(analog)]
         return lim_pos, lim_neg, ref, analog
@@ -296,7 +301,8 @@ class AxisChannel:
         fault = self._faults.get(f"analog_in:{channel}")
         if not isinstance(fault, flt.AnalogInputFault):
             return volts
-        return volts + fault.offset + self._rng.uniform(-fault.noise, fault.noise)
+        noise = self._rngs[fault.key()].uniform(-fault.noise, fault.noise)
+        return volts + fault.offset + noise
 
     # ------------------------------------------------------------------ outputs
     def write(self, volts: float, enable: bool) -> None:
@@ -323,7 +329,7 @@ class AxisChannel:
         if isinstance(analog, flt.AnalogOffset):
             volts += analog.volts
         elif isinstance(analog, flt.AnalogNoise):
-            volts += self._rng.uniform(-analog.volts, analog.volts)
+            volts += self._rngs["analog_out"].uniform(-analog.volts, analog.volts)
         volts = max(-DAC_FULL_SCALE, min(DAC_FULL_SCALE, volts))
         on = enable and "drive" not in faults
         brake_fault = faults.get("brake")

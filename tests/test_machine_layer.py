@@ -238,3 +238,26 @@ def test_an_encoder_only_axis_on_a_model_has_no_drive_and_refuses_motion():
     # POS was sampled one servo period (1 ms) before the physics' present
     assert pytest.approx(math.degrees(scene.joint_position("T")) - speed * 1e-3, abs=0.02) == T.POS
     assert pytest.approx(speed, rel=0.05) == T.VEL
+
+
+@pytest.mark.parametrize(
+    ("numeric", "value", "message"),
+    [
+        ("X_lead", "nan", r"X_lead.*nan.*\(0, inf\]"),
+        ("X_lead", "0", r"X_lead.*0\.0"),
+        ("X_counts_per_rev", "nan", r"X_counts_per_rev.*nan"),
+        ("X_ref_window", "nan 0", r"X_ref_window.*nan"),
+        ("Z_brake_force", "-5", r"Z_brake_force.*-5"),
+    ],
+)
+def test_a_bad_numeric_names_the_axis_the_value_and_the_valid_range(
+    tmp_path: Path, numeric: str, value: str, message: str
+):
+    source = (Path(scenes.scene.MODELS) / "gantry.xml").read_text()
+    start = source.index(f'<numeric name="{numeric}" data="')
+    end = source.index('"/>', start)
+    broken = tmp_path / "gantry.xml"
+    broken.write_text(f'{source[:start]}<numeric name="{numeric}" data="{value}{source[end:]}')
+    machine = MachineDef("gantry", "broken", scenes.gantry.AXES, model=str(broken))
+    with pytest.raises(WiringError, match=message):
+        Scene([machine], trace_every=0)
