@@ -1,6 +1,6 @@
 """mcl — the PLCopen motion library of the Teco MotionControlLib (GT-x75x servo modules).
 
-Function blocks keep PLCopen's and Teco's names; see SPEC.md for the behaviour contract.
+Function blocks keep PLCopen's and Teco's names; see docs/reference.md for the behaviour contract.
 ``mcl`` imports neither mujoco nor viser: it drives anything that implements :class:`AxisIO`.
 """
 

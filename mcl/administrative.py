@@ -1,4 +1,4 @@
-"""Single-axis administrative function blocks (SPEC §5 "Single axis, administrative"; seed §3)."""
+"""Single-axis administrative function blocks (MotionControlLib chapter 3)."""
 
 from __future__ import annotations
 
@@ -31,7 +31,8 @@ else:
 
 
 class GT_SetConstant(_ServoConstantInputs):
-    """Writes the servo constants of the axis (seed §3.1); ``Ka`` is this library's extension.
+    """Writes the servo constants of the axis (MotionControlLib §3.1); ``Ka`` is this library's
+    extension.
 
     Inputs: Kp [V/u], Ki [V/(u·s)], Kd [V·s/u], Ff [-], Kc [1/s], Vmax [u/s at 10 V],
     LimPos, LimNeg [u] (LimPos <= LimNeg: no software limits), Ki1 [V/(u·s)], Filter [ms],
@@ -56,7 +57,7 @@ class GT_SetConstant(_ServoConstantInputs):
 
 
 class MC_Power(EnableFB):
-    """Switches the drive on and closes the position loop (seed §3.2).
+    """Switches the drive on and closes the position loop (MotionControlLib §3.2).
 
     Inputs: Enable (level), SpeedMode (0 closed position loop, 1 open loop: output voltage =
     model velocity × 10 V / Vmax), BufferMode (accepted for compatibility).
@@ -95,7 +96,7 @@ class MC_Power(EnableFB):
 
 
 class MC_ReadStatus(EnableFB):
-    """Publishes the axis state as flags (seed §3.3)."""
+    """Publishes the axis state as flags (MotionControlLib §3.3)."""
 
     FLAGS: ClassVar[tuple[str, ...]] = tuple(state.name for state in AxisState)
 
@@ -119,7 +120,8 @@ class MC_ReadStatus(EnableFB):
 
 
 class MC_ReadAxisError(EnableFB):
-    """Publishes the axis error (seed §3.4): ``AxisErrorID``; ``Error`` = the axis has an error."""
+    """Publishes the axis error (MotionControlLib §3.4): ``AxisErrorID``; ``Error`` = the axis has
+    an error."""
 
     def __init__(self) -> None:
         super().__init__()
@@ -153,7 +155,7 @@ class MC_Reset(ExecuteFB):
 
 
 class MC_ReadActualPosition(EnableFB):
-    """Publishes the actual position ``Position`` [u] (seed §3.6)."""
+    """Publishes the actual position ``Position`` [u] (MotionControlLib §3.6)."""
 
     def __init__(self) -> None:
         super().__init__()
@@ -168,10 +170,11 @@ class MC_ReadActualPosition(EnableFB):
 
 
 class GT_Analog(ExecuteFB):
-    """Writes the DAC directly while the axis is Disabled, for drive set-up (seed §3.15).
+    """Writes the DAC directly while the axis is Disabled, for drive set-up
+    (MotionControlLib §3.15).
 
-    Inputs: Analog (INT −4095..4095: −4095 → +10.5 V, +4095 → −10.5 V, as the seed documents),
-    Par (0 = write, 1 = end). Not Disabled → EpowerOff 13. MC_Power also ends it.
+    Inputs: Analog (INT −4095..4095: −4095 → +10.5 V, +4095 → −10.5 V, as the MotionControlLib
+    manual documents), Par (0 = write, 1 = end). Not Disabled → EpowerOff 13. MC_Power also ends it.
     """
 
     Analog: int = 0
@@ -189,7 +192,7 @@ class GT_Analog(ExecuteFB):
 
 
 class GT_SInfo(ExecuteFB):
-    """Selects what OPT1n / OPT2n of the AXIS_REF show (seed §3.19).
+    """Selects what OPT1n / OPT2n of the AXIS_REF show (MotionControlLib §3.19).
 
     20 model position, 21 model velocity, 22 encoder status, 23 following error,
     24 position captured at InSync. Other selectors → EParam.
@@ -207,7 +210,7 @@ class GT_SInfo(ExecuteFB):
 
 
 class GT_AxStatusString(EnableFB):
-    """The axis state as text in ``StatStr`` (seed §3.16)."""
+    """The axis state as text in ``StatStr`` (MotionControlLib §3.16)."""
 
     def __init__(self) -> None:
         super().__init__()

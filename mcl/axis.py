@@ -1,4 +1,4 @@
-"""The axis: AXIS_REF, its state machine, command queue and servo cycle (SPEC §2, §4, §7).
+"""The axis: AXIS_REF, its state machine, command queue and servo cycle.
 
 Function blocks talk to an :class:`Axis` through a few methods (``submit``, ``power``, ``reset``,
 ``check_ready`` ...); the runtime calls :meth:`Axis.servo_cycle` once per servo period. Positions
@@ -86,7 +86,7 @@ def _sign(x: float) -> float:
 class Axis:
     """AXIS_REF of one servo axis of a GT-x75x module.
 
-    Public fields a PLC program may read (SPEC §2): ``AxErrorID``, ``POS`` (actual position [u]),
+    Public fields a PLC program may read: ``AxErrorID``, ``POS`` (actual position [u]),
     ``VEL`` (actual velocity, filtered [u/s]), ``OPT1n``, ``OPT2n`` (selected by GT_SInfo).
     Besides: ``state``, ``Ref``, ``name``.
 
@@ -231,7 +231,8 @@ class Axis:
         self, velocity: float, acceleration: float, deceleration: float, jerk: float
     ) -> Limits:
         """Motion limits from FB inputs: 0 means the axis default, values above the maxima are
-        clamped (SPEC §1, §3). Inputs must be validated (finite, velocity > 0, others >= 0)."""
+        clamped (docs/reference.md, Units). Inputs must be validated (finite, velocity > 0,
+        others >= 0)."""
         c = self.config
         assert self.constants is not None
         acc = acceleration if acceleration > 0.0 else c.acceleration
@@ -257,7 +258,7 @@ class Axis:
     def check_ready(
         self, *, stopping_ok: bool = False, homing_ok: bool = False, group_ok: bool = False
     ) -> int:
-        """Error code that forbids a motion command now (0 = none), SPEC §2/§3 order:
+        """Error code that forbids a motion command now (0 = none), in this order:
         drive (an encoder-only axis has none), constants, power, ErrorStop, Stopping, group
         membership, Homing."""
         if not self.has_drive:
@@ -291,7 +292,7 @@ class Axis:
         return 0
 
     def velocity_too_low(self, velocity: float) -> bool:
-        """Below 1 % of the axis reference velocity Vmax (SPEC §3 → EParam)."""
+        """Below 1 % of the axis reference velocity Vmax (→ EParam)."""
         return self.constants is not None and velocity < 0.01 * self.constants.Vmax
 
     # ------------------------------------------------------------------ positions
@@ -332,7 +333,8 @@ class Axis:
 
     # ------------------------------------------------------------------ commands
     def submit(self, cmd: Command) -> None:
-        """Hand a validated motion command to the axis according to its BufferMode (SPEC §4).
+        """Hand a validated motion command to the axis according to its BufferMode
+        (docs/reference.md, BufferMode).
 
         Aborting: starts now (the active command and the queue report Aborted). Buffered and
         blending: queued behind the active command; a blending mode re-plans the active command
@@ -379,7 +381,7 @@ class Axis:
 
     def _handover_velocity(self, first: Command, second: Command, start: float) -> float:
         """Signed velocity at which ``first`` (starting at ``start`` [u]) hands over to
-        ``second`` (SPEC §4)."""
+        ``second`` (docs/reference.md, BufferMode)."""
         if not first.blendable or first.target is None:
             return 0.0
         end = first.target
@@ -421,7 +423,8 @@ class Axis:
 
     # ------------------------------------------------------------------ power, reset, errors
     def power(self, enable: bool, speed_mode: int = 0) -> None:
-        """MC_Power, level-sensitive: close or open the loop (SPEC §2)."""
+        """MC_Power, level-sensitive: close or open the loop (docs/reference.md, Axis state
+        machine)."""
         if enable:
             if self.state == AxisState.Disabled and not self._powering_off:
                 self.analog_volts = None
@@ -688,7 +691,7 @@ class Axis:
         return pe, 0.0, 0.0
 
     def _supervise(self, e: float, v: float, actual: float, lim_pos: bool, lim_neg: bool) -> None:
-        """Following error, limit switches and software limits (SPEC §7 "Supervision")."""
+        """Following error, limit switches and software limits: the servo core's supervision."""
         prev_pos, prev_neg = self._lim_prev or (False, False)
         self._lim_prev = (lim_pos, lim_neg) if lim_pos or lim_neg else ()
         if self.state == AxisState.ErrorStop:

@@ -3,7 +3,7 @@
 A command is created on the rising ``Execute`` edge of a motion FB, queued on the axis according to
 its BufferMode, and then owned by the axis: every servo cycle the active command produces the
 model position, velocity and acceleration. The FB only reads the ticket's ``status``,
-``signal`` and ``error_id`` to drive its outputs (SPEC §3), so an FB never touches the servo loop.
+``signal`` and ``error_id`` to drive its outputs, so an FB never touches the servo loop.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ class Command:
         buffer_mode: how it takes over the axis.
         status: life cycle, written by the axis.
         signal: the activating output reached (Done, InVelocity, ...): a buffered successor may
-            start now (SPEC §4, Tab. 2.4).
+            start now (MotionControlLib Tab. 2.4).
         error_id: the error that ended the command (0 = none).
         velocity: commanded speed, for blending [u/s]; 0 for commands that cannot be blended.
         target: end position [u]; None for commands that do not end at a position.
@@ -193,7 +193,7 @@ class Hold(Command):
 def blend_velocity(
     mode: MC_BufferMode, v1: float, v2: float, direction1: float, direction2: float
 ) -> float:
-    """Signed velocity at which a first motion hands over to a blending second one (SPEC §4) [u/s].
+    """Signed velocity at which a first motion hands over to a blending second one [u/s].
 
     Args:
         mode: the second command's BufferMode.

@@ -1,4 +1,4 @@
-"""Incremental encoder with hardware index latch (SPEC §7 "Encoders").
+"""Incremental encoder with hardware index latch.
 
 Shared by every plant (simulated axes, MuJoCo): it turns a physical position into the counter,
 index level and latched index count that :class:`mcl.io.AxisIO` exposes.

@@ -1,4 +1,4 @@
-"""Enumerations of the PLCopen / Teco interface (SPEC §2, §4, §5, §6)."""
+"""Enumerations of the PLCopen / Teco interface."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ from enum import IntEnum
 
 
 class MC_BufferMode(IntEnum):
-    """When a motion command takes over the axis (SPEC §4; Teco/PLCopen numbering)."""
+    """When a motion command takes over the axis (Teco/PLCopen numbering)."""
 
     Aborting = 0
     Buffered = 1
@@ -28,7 +28,7 @@ class MC_Direction(IntEnum):
 
 
 class MC_SwitchMode(IntEnum):
-    """Switch condition that ends a homing search (SPEC §6, Tab. 6.2)."""
+    """Switch condition that ends a homing search (MotionControlLib Tab. 6.2)."""
 
     MC_On = 0
     MC_Off = 1
@@ -39,7 +39,7 @@ class MC_SwitchMode(IntEnum):
 
 
 class AxisState(IntEnum):
-    """The eight states of a single axis (SPEC §2, Obr. 2.1)."""
+    """The eight states of a single axis (MotionControlLib Fig. 2.1)."""
 
     Disabled = 0
     StandStill = 1
@@ -52,7 +52,7 @@ class AxisState(IntEnum):
 
 
 class GroupState(IntEnum):
-    """The states of an axes group (SPEC §5, Obr. 2.2)."""
+    """The states of an axes group (MotionControlLib Fig. 2.2)."""
 
     GroupDisabled = 0
     GroupStandby = 1

@@ -1,4 +1,4 @@
-"""Error codes of the MotionControlLib and their texts (SPEC §8, seed 000 chapter 7.1)."""
+"""Error codes of the MotionControlLib and their texts (MotionControlLib chapter 7.1)."""
 
 from __future__ import annotations
 
@@ -23,7 +23,7 @@ class ErrorID(IntEnum):
     Econst = 12
     EpowerOff = 13
     ENoDrive = 14
-    """Beyond the seed: a motion or power command on an encoder-only axis (no drive)."""
+    """Beyond the Teco library: a motion or power command on an encoder-only axis (no drive)."""
     EGroupMember = 1000
     EGroupFull = 1001
     ENotGroupMember = 1003

@@ -1,9 +1,9 @@
-"""Function-block base semantics shared by every block (SPEC §3, Tab. 2.3 of seed 000).
+"""Function-block base semantics shared by every block (MotionControlLib Tab. 2.3).
 
 A function block is called once per PLC scan with keyword inputs: ``fb(Axis=X, Execute=True,
-Position=10.0)``. Inputs that are not passed keep the value of the previous call (rule 4); an
+Position=10.0)``. Inputs that are not passed keep the value of the previous call; an
 unknown input name is a programming mistake and raises ``TypeError`` naming the valid ones.
-Problems of a running block are reported through ``Error``/``ErrorID`` only (rule 9).
+Problems of a running block are reported through ``Error``/``ErrorID`` only.
 """
 
 from __future__ import annotations
@@ -111,7 +111,7 @@ class FunctionBlock:
 
 
 class ExecuteFB(FunctionBlock):
-    """Edge-triggered block: Execute, Done, Busy, Error, ErrorID (SPEC §3 rules 2–7).
+    """Edge-triggered block: Execute, Done, Busy, Error, ErrorID (docs/reference.md, Outputs).
 
     Subclasses implement :meth:`_begin` (on the rising edge: validate the sampled inputs, start
     the work, return an error code or 0) and :meth:`_poll` (every call while busy: return the final
@@ -195,7 +195,8 @@ class ExecuteFB(FunctionBlock):
         return 0
 
     def _withdraw(self) -> None:
-        """A new edge arrived while busy: forget the previous job (rule 7)."""
+        """A new edge arrived while busy: forget the previous job, which reports neither Done nor
+        CommandAborted."""
 
 
 class Ticket(Protocol):
@@ -289,7 +290,8 @@ class MotionFB(ExecuteFB):
 
 
 class EnableFB(FunctionBlock):
-    """Level-sensitive block: Enable, Valid, Error, ErrorID (SPEC §3 rule 10).
+    """Level-sensitive block: Enable, Valid, Error, ErrorID (docs/reference.md, Calling a
+    function block).
 
     Subclasses implement :meth:`_evaluate`, called every scan while Enable is TRUE, which
     refreshes the outputs and returns an error code (0 = valid).

@@ -1,7 +1,7 @@
 """Axes groups: AXES_GROUP_REF, the group state machine and linear interpolation.
 
-SPEC §2 (member states), §4 (BufferMode of group moves), §5 "Groups"; seed 000 chapters 2.2–2.3
-(Obr. 2.2, Tab. 2.1) and 5.
+MotionControlLib chapters 2.2–2.3 (Fig. 2.2, Tab. 2.1) and 5; docs/reference.md, Axes groups and
+BufferMode.
 
 An :class:`AxesGroup` holds up to three axes in the order they were added. A group move is a
 straight segment in the space of the members' coordinates [mm], run along a 1-D jerk-limited
@@ -96,10 +96,10 @@ class GroupMember(Command):
 
 
 class AxesGroup:
-    """AXES_GROUP_REF: up to three axes moved together on straight lines (SPEC §5 "Groups").
+    """AXES_GROUP_REF: up to three axes moved together on straight lines.
 
     The state (:attr:`state`) is derived each time it is read from the group's own flags and its
-    members' states (seed Tab. 2.1, chapter 2.3); reading it changes nothing:
+    members' states (MotionControlLib Tab. 2.1, chapter 2.3); reading it changes nothing:
 
     - GroupDisabled until MC_GroupEnable and after MC_GroupDisable / MC_UngroupAllAxes;
     - GroupErrorStop while a member is in ErrorStop or :attr:`GroupErrorID` is set (a member
@@ -414,7 +414,8 @@ class AxesGroup:
         deceleration: float,
         jerk: float,
     ) -> None:
-        """Hand a validated linear move to ``target`` [mm] to the group (SPEC §4).
+        """Hand a validated linear move to ``target`` [mm] to the group (docs/reference.md,
+        BufferMode).
 
         Aborting (or an idle group): starts now from the current path point. When the current
         velocity vector points along the new segment (within what the path acceleration changes
@@ -473,7 +474,7 @@ class AxesGroup:
         self._engage()
 
     def cancel(self, ticket: PathCommand) -> None:
-        """Withdraw the queued part of a command whose FB was restarted (rule 7)."""
+        """Withdraw the queued part of a command whose FB was restarted by a new Execute edge."""
         before = self._queue[0] if self._queue else None
         self._queue = deque(e for e in self._queue if e.ticket is not ticket)
         if ticket.status == Status.Queued:

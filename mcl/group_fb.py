@@ -1,11 +1,11 @@
-"""Function blocks of axes groups (SPEC §5 "Groups"; seed 000 chapter 5).
+"""Function blocks of axes groups (MotionControlLib chapter 5).
 
 Every block has the in-out ``AxesGroup`` (an :class:`mcl.group.AxesGroup`);
 MC_AddAxisToGroup also has ``Axis``. Positions and distances are lists with one value per member
 in the order the members were added [mm]; Velocity [mm/s], Acceleration, Deceleration [mm/s²] and
 Jerk [mm/s³] act along the path (0 = default, values above what a member allows are clamped).
 
-Beyond the seed: MC_GroupEnable, MC_GroupDisable, MC_GroupReset, MC_GroupStop,
+Beyond the Teco library: MC_GroupEnable, MC_GroupDisable, MC_GroupReset, MC_GroupStop,
 MC_MoveLinearRelative (PLCopen Part 4). A group that is not enabled refuses motion commands with
 ``Epower`` 10; a member change while the group moves is refused with ``EParam`` 5.
 """
@@ -59,7 +59,8 @@ class _GroupBlock(FunctionBlock):
 
 
 class MC_AddAxisToGroup(_GroupBlock, ExecuteFB):
-    """Adds ``Axis`` to ``AxesGroup`` (seed §5.1); members keep the order they were added in.
+    """Adds ``Axis`` to ``AxesGroup`` (MotionControlLib §5.1); members keep the order they were
+    added in.
 
     Errors: 1004 the axis already belongs to a group, 1001 the group is full (3 axes),
     Eerrstop 11 in GroupErrorStop, EAxStop 6 in GroupStopping, EParam 5 while the group moves.
@@ -75,9 +76,9 @@ class MC_AddAxisToGroup(_GroupBlock, ExecuteFB):
 
 
 class MC_UngroupAllAxes(_GroupBlock, ExecuteFB):
-    """Removes every axis from the group (seed §5.2); Done once the group's motion has stopped,
-    the group is then GroupDisabled. Errors: 1005 the group has no axes; Eerrstop 11 in
-    GroupErrorStop (seed Obr. 2.2, note 4)."""
+    """Removes every axis from the group (MotionControlLib §5.2); Done once the group's motion has
+    stopped, the group is then GroupDisabled. Errors: 1005 the group has no axes; Eerrstop 11 in
+    GroupErrorStop (MotionControlLib Fig. 2.2, note 4)."""
 
     def __init__(self) -> None:
         super().__init__()
@@ -134,7 +135,7 @@ class MC_GroupReset(_GroupBlock, ExecuteFB):
 
 
 class MC_GroupReadError(_GroupBlock, EnableFB):
-    """Publishes the group error (seed §5.3): Valid, Error, ErrorID, GroupErrorID."""
+    """Publishes the group error (MotionControlLib §5.3): Valid, Error, ErrorID, GroupErrorID."""
 
     def __init__(self) -> None:
         super().__init__()
@@ -151,8 +152,9 @@ class MC_GroupReadError(_GroupBlock, EnableFB):
 
 
 class MC_GroupReadStatus(_GroupBlock, EnableFB):
-    """Publishes the group state as flags (seed §5.4) and ``InPosition``: the group stands and
-    every member is within its in-position window of the end point of the last motion."""
+    """Publishes the group state as flags (MotionControlLib §5.4) and ``InPosition``: the group
+    stands and every member is within its in-position window of the end point of the last
+    motion."""
 
     def __init__(self) -> None:
         super().__init__()
@@ -185,8 +187,8 @@ class MC_GroupReadStatus(_GroupBlock, EnableFB):
 
 
 class MC_GroupReadActualPosition(_GroupBlock, EnableFB):
-    """Publishes the members' actual positions ``Position`` [mm] (seed §5.5), in member order;
-    1005 when the group has no axes."""
+    """Publishes the members' actual positions ``Position`` [mm] (MotionControlLib §5.5), in
+    member order; 1005 when the group has no axes."""
 
     def __init__(self) -> None:
         super().__init__()
@@ -268,7 +270,8 @@ class _MoveLinearFB(_GroupMotionFB):
 
 
 class MC_MoveLinearAbsolute(_MoveLinearFB):
-    """Linear interpolation of the group to the absolute point ``Position`` [mm] (seed §5.6).
+    """Linear interpolation of the group to the absolute point ``Position`` [mm]
+    (MotionControlLib §5.6).
 
     The tool point stays on the straight line from the start point; all buffer modes
     (Blending*: the corner is rounded within the group's corner tolerance). Needs Ref on every

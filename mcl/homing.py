@@ -1,4 +1,4 @@
-"""Homing step blocks (SPEC §6; seed chapter 6).
+"""Homing step blocks (MotionControlLib chapter 6).
 
 A coarse approach step (MC_StepAbsSwitch, MC_StepLimitSwitch, MC_StepBlock) leaves the axis in
 Homing; a finishing step (MC_StepRefPulse, MC_StepDirect, MC_FinishHoming) sets the coordinate,
@@ -310,7 +310,7 @@ class SetCoordinate(Command):
 
 
 class _HomingFB(MotionFB):
-    """Common inputs of the searching steps (SPEC §6)."""
+    """Common inputs of the searching steps (docs/reference.md, Homing step blocks)."""
 
     Direction: int = MC_Direction.MC_Positive
     Velocity: float = 0.0
@@ -360,8 +360,8 @@ class _HomingFB(MotionFB):
 
 
 class MC_StepAbsSwitch(_HomingFB):
-    """Approach the reference switch REF (seed §6.1): search by SwitchMode, stop, come back to
-    the captured switch position; the axis stays in Homing."""
+    """Approach the reference switch REF (MotionControlLib §6.1): search by SwitchMode, stop, come
+    back to the captured switch position; the axis stays in Homing."""
 
     SwitchMode: int = MC_SwitchMode.MC_EdgeOn
     SWITCH_DIRECTIONS = True
@@ -378,7 +378,8 @@ class MC_StepAbsSwitch(_HomingFB):
 
 
 class MC_StepLimitSwitch(_HomingFB):
-    """Approach the limit switch in the search direction (seed §6.2); stays in Homing."""
+    """Approach the limit switch in the search direction (MotionControlLib §6.2); stays in
+    Homing."""
 
     SwitchMode: int = MC_SwitchMode.MC_EdgeOn
 
@@ -395,9 +396,9 @@ class MC_StepLimitSwitch(_HomingFB):
 
 
 class MC_StepBlock(_HomingFB):
-    """Drive against a mechanical stop (seed §6.3): found when the actual velocity is below 5 %
-    of Velocity and the following error exceeds TorqueLimit (= DevRef [u], 0 < DevRef < DevMax);
-    then stop pushing. The axis stays in Homing."""
+    """Drive against a mechanical stop (MotionControlLib §6.3): found when the actual velocity is
+    below 5 % of Velocity and the following error exceeds TorqueLimit (= DevRef [u], 0 < DevRef <
+    DevMax); then stop pushing. The axis stays in Homing."""
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         checked = self._checks()
@@ -412,8 +413,8 @@ class MC_StepBlock(_HomingFB):
 
 
 class MC_StepRefPulse(_HomingFB):
-    """Search the next index pulse NI in Direction (seed §6.4): SetPosition is set at its rising
-    edge, the axis stops on the maximum ramp without returning; Ref set, StandStill."""
+    """Search the next index pulse NI in Direction (MotionControlLib §6.4): SetPosition is set at
+    its rising edge, the axis stops on the maximum ramp without returning; Ref set, StandStill."""
 
     SetPosition: float = 0.0
 
@@ -429,7 +430,8 @@ class MC_StepRefPulse(_HomingFB):
 
 
 class MC_StepDirect(MotionFB):
-    """Set SetPosition [u] at the current standstill position (seed §6.5); Ref, StandStill."""
+    """Set SetPosition [u] at the current standstill position (MotionControlLib §6.5); Ref,
+    StandStill."""
 
     SetPosition: float = 0.0
 
@@ -447,7 +449,8 @@ class MC_StepDirect(MotionFB):
 
 
 class MC_FinishHoming(MotionFB):
-    """End homing without motion (seed §6.6): the coordinate stays, Ref is set, StandStill."""
+    """End homing without motion (MotionControlLib §6.6): the coordinate stays, Ref is set,
+    StandStill."""
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         axis = self.axis

@@ -1,4 +1,4 @@
-"""The I/O boundary: what a GT-x75x servo module sees of one axis (DESIGN "The I/O boundary").
+"""The I/O boundary: what a GT-x75x servo module sees of one axis.
 
 `mcl` drives any object that implements :class:`AxisIO`, and so could a real module. Both plants
 of this project implement it through :class:`mcl.channel.AxisChannel`: the pure-Python simulated

@@ -1,4 +1,4 @@
-"""A GT-x75x servo module: the axes that share one GT_EStop (seed §3.14)."""
+"""A GT-x75x servo module: the axes that share one GT_EStop (MotionControlLib §3.14)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Single-axis motion function blocks (SPEC §5 "Single axis, motion"; seed §3.7–3.14)."""
+"""Single-axis motion function blocks (MotionControlLib §3.7–3.14)."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ if TYPE_CHECKING:
 def motion_limits(
     axis: Axis, velocity: Any, acceleration: Any, deceleration: Any, jerk: Any
 ) -> Limits | int:
-    """Validated limits of a motion FB (SPEC §3 parameter checks), or ``EParam``.
+    """Validated limits of a motion FB (the parameter checks), or ``EParam``.
 
     Velocity must be > 0 and at least 1 % of Vmax; Acceleration, Deceleration, Jerk >= 0
     (0 = axis default); values above the axis maxima are clamped; an acceleration or
@@ -87,7 +87,7 @@ class _MoveFB(MotionFB):
 
 
 class MC_MoveAbsolute(_MoveFB):
-    """Move to an absolute ``Position`` [u] (seed §3.8); needs Ref.
+    """Move to an absolute ``Position`` [u] (MotionControlLib §3.8); needs Ref.
 
     ``Direction`` matters only on a modulo axis: MC_Positive, MC_Negative, MC_Shortest or
     MC_Current (the current direction of motion, else shortest).
@@ -143,7 +143,7 @@ class MoveToBlock(MoveTo):
 
 
 class GT_MoveAbsBlock(MC_MoveAbsolute):
-    """MoveAbsolute that stops at a mechanical block or on ``ExtStop`` (seed §3.9).
+    """MoveAbsolute that stops at a mechanical block or on ``ExtStop`` (MotionControlLib §3.9).
 
     ``ExtStop`` (level, read every scan) stops at once on the axis' maximum ramp, e.g. from a
     pressure comparison; a following error above ``TorqueLimit`` (> 0; 0 = off) [u] stops the
@@ -169,7 +169,7 @@ class GT_MoveAbsBlock(MC_MoveAbsolute):
 
 
 class MC_MoveRelative(_MoveFB):
-    """Move by ``Distance`` [u] from the actual position at the edge (seed §3.10).
+    """Move by ``Distance`` [u] from the actual position at the edge (MotionControlLib §3.10).
 
     The residual loop error is zeroed first; no Ref needed (SW limits only checked with Ref).
     Buffered, the distance counts from the end of the preceding motion.
@@ -188,7 +188,8 @@ class MC_MoveRelative(_MoveFB):
 
 
 class MC_MoveAdditive(_MoveFB):
-    """Move by ``Distance`` [u] added to the last commanded target (seed §3.12, seed 004).
+    """Move by ``Distance`` [u] added to the last commanded target (MotionControlLib §3.12,
+    REXYGEN MC_MoveAdditive).
 
     In DiscreteMotion (and when buffered) the target is the last commanded target + Distance,
     otherwise the actual position + Distance. No Ref needed.
@@ -209,7 +210,7 @@ class MC_MoveAdditive(_MoveFB):
 
 
 class MC_MoveVelocity(MotionFB):
-    """Never-ending motion at ``Velocity`` [u/s] in ``Direction`` (seed §3.11).
+    """Never-ending motion at ``Velocity`` [u/s] in ``Direction`` (MotionControlLib §3.11).
 
     ``InVelocity`` once the velocity is reached; ends only when another command takes over.
     Direction: MC_Positive, MC_Negative or MC_Current (the current direction, positive at rest).
@@ -251,7 +252,7 @@ class MC_MoveVelocity(MotionFB):
             and cmd.status == Status.Active
             and cmd.signal
         )
-        # rule 5: reset by the falling edge, but shown for one scan if reached after it
+        # reset by the falling edge, but shown for one scan if reached after it
         show = reached and (bool(self.Execute) or not self._in_velocity_shown)
         self._in_velocity_shown = self._in_velocity_shown or show
         self.InVelocity = show
@@ -260,7 +261,7 @@ class MC_MoveVelocity(MotionFB):
 class MC_Halt(MotionFB):
     """Ramp to standstill with ``Deceleration`` [u/s²] and ``Jerk``; DiscreteMotion, abortable.
 
-    Beyond the seed (PLCopen Part 1); Done at standstill, the axis then goes to StandStill.
+    Beyond the Teco library (PLCopen Part 1); Done at standstill, the axis then goes to StandStill.
     """
 
     Deceleration: float = 0.0
@@ -278,7 +279,7 @@ class MC_Halt(MotionFB):
 
 
 class MC_Stop(MotionFB):
-    """Stop the axis (seed §3.13): Stopping until Done AND NOT Execute.
+    """Stop the axis (MotionControlLib §3.13): Stopping until Done AND NOT Execute.
 
     While Execute is TRUE no other motion command is accepted (EAxStop 6).
     """
@@ -309,7 +310,7 @@ class MC_Stop(MotionFB):
 
 
 class GT_Jog(FunctionBlock):
-    """Hold-to-run jogging (seed §3.7): while Enable, JogPos / JogNeg move the axis.
+    """Hold-to-run jogging (MotionControlLib §3.7): while Enable, JogPos / JogNeg move the axis.
 
     Inputs (read every scan): Enable, JogPos, JogNeg, JogVelo [u/s], JogAcc, JogDec [u/s²],
     JogJerk [u/s³]. Built on a velocity move; releasing the button ramps down with JogDec on an
@@ -374,7 +375,7 @@ class GT_Jog(FunctionBlock):
 
 
 class GT_EStop(FunctionBlock):
-    """Emergency stop of every axis of the module (seed §3.14).
+    """Emergency stop of every axis of the module (MotionControlLib §3.14).
 
     On the rising edge of Enable: all axes stop at once, loops open, brakes engage, errors are
     cleared, every axis goes Disabled. ``Done`` while Enable is TRUE and all axes are Disabled.

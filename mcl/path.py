@@ -106,7 +106,7 @@ class PathCommand:
     """The ticket of a group command (MC_MoveLinear*, MC_GroupStop) that its FB reads.
 
     Attributes:
-        buffer_mode: how the command takes over the group (SPEC §4).
+        buffer_mode: how the command takes over the group (docs/reference.md, BufferMode).
         status: life cycle, written by the group.
         error_id: the error that ended the command (0 = none).
         hold: MC_GroupStop only: its Execute is still TRUE (the group stays in GroupStopping).
@@ -314,7 +314,7 @@ class PathPlanner:
         0 means the default: the smallest default of the members (jerk: of those that have one).
         The result is clamped so that no member exceeds its Vmax, max_acceleration,
         max_deceleration or max_jerk: a limit of member ``i`` allows ``limit_i / |u_i|`` along the
-        path (SPEC §3: valid values above the maxima are clamped).
+        path (valid values above the maxima are clamped).
         """
         configs = self.configs
         acc = acceleration if acceleration > 0.0 else min(c.acceleration for c in configs)

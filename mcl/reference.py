@@ -252,14 +252,14 @@ ENUM_MEANING: dict[str, str] = {
 
 # ------------------------------------------------------------------------ docstring cleaning
 
-_FORBIDDEN = re.compile(r"(?i:\bseed\b)|§|\b(?!README)[A-Z]+\.md\b|\.\./")
-"""A reference to a document the project does not ship: the library manual the code follows
-("seed"), a section number, an upper-case Markdown file name, a parent-directory path."""
+_CITATION = re.compile(r"MotionControlLib|REXYGEN|Beckhoff|docs/reference\.md")
+"""A citation of the source a docstring follows (the Teco manual, another vendor's block) or of
+this page itself: in the code it tells where a rule comes from, the reference leaves it out."""
 _PAREN = re.compile(r"\s*\(([^()]*)\)")
-_FIGURE = re.compile(r"(?:Obr|Tab|note|chapter|section)\b", re.IGNORECASE)
-_PART = re.compile(r'[,;] (?=(?:[^"]*"[^"]*")*[^"]*$)')
-"""Separator of the parts of a parenthesis (a comma or semicolon outside quotes)."""
-_SENTENCE_END = re.compile(r"(?<=[.;!?])\s+(?=[A-Z`])")
+_FIGURE = re.compile(r"(?:Fig|Tab|note|chapter|section)\b", re.IGNORECASE)
+_PART = re.compile(r'(?<!reference\.md)[,;] (?=(?:[^"]*"[^"]*")*[^"]*$)')
+"""Separator of the parts of a parenthesis (a comma or semicolon outside quotes; the section name
+after docs/reference.md belongs to it)."""
 
 
 def _markdown(text: str) -> str:
@@ -269,28 +269,25 @@ def _markdown(text: str) -> str:
 
 
 def public_text(text: str) -> str:
-    """A docstring passage fit for users: references to internal documents are removed.
+    """A docstring passage as the reference shows it: citations go, Markdown comes in.
 
-    Parenthesised references such as a section or figure number go; "the seed" (the library
-    manual the code follows) reads "the Teco library"; a sentence that still refers to an
-    internal document is dropped. Lines are joined and reST markup becomes Markdown.
+    The parts of a parenthesis that cite a source (a MotionControlLib section, figure or note,
+    another vendor's block, this page) are removed, and the parenthesis with them when nothing
+    else is left. Lines are joined and reST markup becomes Markdown.
     """
     text = " ".join(text.split())
 
     def strip(match: re.Match[str]) -> str:
-        if not _FORBIDDEN.search(match.group(1)):
+        if not _CITATION.search(match.group(1)):
             return match.group(0)
         kept = [
             part
             for part in _PART.split(match.group(1))
-            if not _FORBIDDEN.search(part) and not _FIGURE.match(part)
+            if not _CITATION.search(part) and not _FIGURE.match(part)
         ]
         return f" ({', '.join(kept)})" if kept else ""
 
-    text = _PAREN.sub(strip, text)
-    text = re.sub(r"\bthe seed\b", "the Teco library", text)
-    sentences = [s for s in _SENTENCE_END.split(text) if not _FORBIDDEN.search(s)]
-    return _markdown(" ".join(sentences)).strip()
+    return _markdown(_PAREN.sub(strip, text)).strip()
 
 
 def paragraphs(obj: object) -> list[str]:

@@ -1,4 +1,4 @@
-"""Servo core of one GT-x75x axis: position regulator and DAC (SPEC §7).
+"""Servo core of one GT-x75x axis: position regulator and DAC.
 
 ``u = Kp·e + Ki·∫e + Kd·ė + (10 V/Vmax)·(Ff·v + Ka·a)``, with back-calculation anti-windup
 (``Kc``) when the 12-bit DAC output saturates at ±10 V, and ``Ki1`` integral action that only
@@ -35,7 +35,8 @@ def dac(volts: float) -> float:
 def dac_code_volts(code: int) -> float:
     """Voltage of a raw DAC code as GT_Analog writes it: −4095 → +10.5 V, +4095 → −10.5 V.
 
-    The seed documents this inverted mapping for GT_Analog; it is kept as documented.
+    The MotionControlLib manual documents this inverted mapping for GT_Analog; it is kept as
+    documented.
     """
     code = max(-DAC_CODES, min(DAC_CODES, int(code)))
     return -code * _VOLTS_PER_CODE
@@ -43,7 +44,7 @@ def dac_code_volts(code: int) -> float:
 
 @dataclass(slots=True)
 class ServoConstants:
-    """Constants written by GT_SetConstant (seed 000 §3.1), in user units.
+    """Constants written by GT_SetConstant (MotionControlLib §3.1), in user units.
 
     Attributes:
         Kp: proportional gain [V/u].
@@ -57,7 +58,7 @@ class ServoConstants:
         Ki1: settling integral gain, active at model standstill outside the window [V/(u·s)].
         Filter: time constant of the low-pass on the measured velocity VEL [ms].
         Ka: acceleration feed-forward [s]: the drive's lag plus half a servo period
-            (beyond the seed; it keeps the following error small while accelerating).
+            (beyond the Teco library; it keeps the following error small while accelerating).
     """
 
     Kp: float = 0.0

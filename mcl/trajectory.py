@@ -1,4 +1,4 @@
-"""Time-optimal, jerk-limited 1-D motion profiles (SPEC §7 "Trajectory generation", §4 blending).
+"""Time-optimal, jerk-limited 1-D motion profiles, and the blending of two motions.
 
 The only module that imports ruckig. Profiles are planned once per command (or re-planned when a
 blending command arrives) and then sampled every servo cycle. Units are the caller's user units
@@ -247,10 +247,10 @@ def blend_to(
 ) -> Profile:
     """Motion to ``target`` that ends with ``v_end`` when reachable, never overshooting the target.
 
-    Used when a blending command waits behind the current one (SPEC §4). When ``|v_end|`` exceeds
-    the motion's own velocity, the axis cruises at its velocity and speeds up just before the
-    target. When the command came too late to reach ``v_end``, the motion still ends exactly at the
-    target and switches at the nearest reachable velocity (REXYGEN variant 3).
+    Used when a blending command waits behind the current one (docs/reference.md, BufferMode).
+    When ``|v_end|`` exceeds the motion's own velocity, the axis cruises at its velocity and speeds
+    up just before the target. When the command came too late to reach ``v_end``, the motion still
+    ends exactly at the target and switches at the nearest reachable velocity (REXYGEN variant 3).
 
     Raises:
         PlanningError: even ending at standstill is impossible without overshooting (the axis is

@@ -9,7 +9,7 @@ import mcl
 
 @dataclass(frozen=True)
 class HomingRecipe:
-    """REF switch + index pulse homing of one axis (SPEC §6).
+    """REF switch + index pulse homing of one axis (docs/reference.md, Homing step blocks).
 
     Attributes:
         direction: start direction of the REF search (an MC_Direction, e.g. MC_SwitchNegative).

@@ -1,4 +1,4 @@
-"""Single-axis administrative blocks (SPEC §5 "Single axis, administrative", §8 error texts),
+"""Single-axis administrative blocks (MotionControlLib chapter 3), the error texts,
 GT_EStop, and MC_MoveAbsolute's Direction on a modulo axis."""
 
 from __future__ import annotations
@@ -223,7 +223,7 @@ def test_read_axis_error_shows_the_axis_error_until_reset():
 
 
 def test_read_axis_error_reports_the_axis_error_while_valid():
-    """Seed §3.4 (the SPEC is silent, the seed decides): MC_ReadAxisError.Error "signals that an
+    """MotionControlLib §3.4: MC_ReadAxisError.Error "signals that an
     error occurred in the axis"; the reading itself is valid, so Valid stays TRUE."""
     _m, x, _program = bring_to("ErrorStop")
     fb = mcl.MC_ReadAxisError()
@@ -263,7 +263,7 @@ def test_read_actual_position_follows_the_axis():
 # ---------------------------------------------------------------------------- GT_Analog
 @pytest.mark.parametrize(("code", "volts"), [(-4095, 10.5), (4095, -10.5), (-390, 1.0)])
 def test_analog_writes_the_dac_while_disabled(code: int, volts: float):
-    """−4095 → +10.5 V, +4095 → −10.5 V (SPEC §5, as the seed documents it)."""
+    """−4095 → +10.5 V, +4095 → −10.5 V (as the MotionControlLib manual documents it)."""
     m, x = fresh(powered=False)
     sim = m.sims["X"]
     fb = mcl.GT_Analog()
@@ -370,7 +370,7 @@ def test_status_string_names_the_state(state: str):
     assert state.lower() in fb.StatStr.lower()
 
 
-SPEC_TEXTS: dict[int, tuple[str, str]] = {
+ERROR_TEXTS: dict[int, tuple[str, str]] = {
     1: ("time limit exceeded", "time limit"),
     2: ("distance limit exceeded", "distance limit"),
     3: ("following error limit exceeded", "polohová odchylka limit"),
@@ -403,19 +403,19 @@ SPEC_TEXTS: dict[int, tuple[str, str]] = {
         "osa v grupe překročila polohovou odchylku",
     ),
 }
-"""SPEC §8."""
+"""The English and Czech texts of every error code (docs/reference.md, Error codes)."""
 
 
-@pytest.mark.parametrize("code", sorted(SPEC_TEXTS))
+@pytest.mark.parametrize("code", sorted(ERROR_TEXTS))
 def test_error_text_in_both_languages(code: int):
-    english, czech = SPEC_TEXTS[code]
+    english, czech = ERROR_TEXTS[code]
     assert mcl.error_text(code) == english
     assert mcl.error_text(code, "en") == english
     assert mcl.error_text(code, "cz") == czech
 
 
 def test_every_error_code_has_a_spec_text():
-    assert {int(e) for e in ErrorID if e} == set(SPEC_TEXTS)
+    assert {int(e) for e in ErrorID if e} == set(ERROR_TEXTS)
 
 
 @pytest.mark.parametrize(
@@ -441,14 +441,14 @@ def test_error_strings_show_the_active_axis_error(
     en, cz = mcl.GT_AxErrStringEN(), mcl.GT_AxErrStringCZ()
     en(Axis=x, Enable=True)
     cz(Axis=x, Enable=True)
-    assert (en.ErrStr, cz.ErrStr) == SPEC_TEXTS[code]
+    assert (en.ErrStr, cz.ErrStr) == ERROR_TEXTS[code]
     assert en.Error and cz.Error
     reset = mcl.MC_Reset()
     m.run(lambda: reset(Axis=x, Execute=True), until=lambda: reset.Done)
     en(Axis=x, Enable=True)
     cz(Axis=x, Enable=True)
     assert not en.Error and not cz.Error
-    assert en.ErrStr not in {text for pair in SPEC_TEXTS.values() for text in pair}
+    assert en.ErrStr not in {text for pair in ERROR_TEXTS.values() for text in pair}
 
 
 # ---------------------------------------------------------------------------- GT_EStop

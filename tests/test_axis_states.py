@@ -1,4 +1,4 @@
-"""SPEC §2: the axis state machine, one test (group) per transition of the table.
+"""The axis state machine, one test (group) per transition of its table (docs/reference.md).
 
 Positions in mm of the axis coordinate system. The simulated axis "X" starts at x = 0.2 m, where
 the encoder reads 0: LIM+ is actuated from POS ≈ 805 mm, LIM− from POS ≈ −205 mm, the hard stops

@@ -1,5 +1,6 @@
-"""BufferMode blending (SPEC §4): the axis runs through the first target without stopping, at the
-velocity the mode selects; reversals switch at zero velocity; late blends never overshoot."""
+"""BufferMode blending (docs/reference.md, BufferMode): the axis runs through the first target
+without stopping, at the velocity the mode selects; reversals switch at zero velocity; late blends
+never overshoot."""
 
 from __future__ import annotations
 
@@ -208,7 +209,7 @@ def test_blending_does_not_stop_between_the_moves(machine, X, mode, v1, v2, jerk
 @pytest.mark.parametrize("mode", MODES, ids=lambda m: m.name)
 def test_blended_velocity_stays_within_the_commanded_velocities(machine, X, mode, v1, v2, jerk):
     """Between the ramps the model runs at v1, v2 or in between: a blend is no reason to
-    undershoot both commanded velocities (SPEC §7: time-optimal within V/A/D/J)."""
+    undershoot both commanded velocities (the profiles are time-optimal within V/A/D/J)."""
     trace = two_moves(machine, X, mode, v1, v2, jerk)
     velocities = [s.vel for s in trace.between(*WINDOW)]
     assert min(velocities) >= 0.99 * min(v1, v2), f"dips to {min(velocities):.1f} mm/s"

@@ -1,4 +1,4 @@
-"""BufferMode Aborting and Buffered (SPEC §4, Tab. 2.4): who waits for what, and where the
+"""BufferMode Aborting and Buffered (MotionControlLib Tab. 2.4): who waits for what, and where the
 next motion starts."""
 
 from __future__ import annotations

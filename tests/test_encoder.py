@@ -1,4 +1,4 @@
-"""Incremental encoder with index latch (SPEC §7 "Encoders")."""
+"""Incremental encoder with index latch."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""SPEC §3: the rules every function block follows (Tab. 2.3 of seed 000), one test group per rule.
+"""The rules every function block follows (MotionControlLib Tab. 2.3; docs/reference.md, Calling a
+function block and Outputs), one test group per rule, numbered as in the section comments below.
 
 The tests drive FBs scan by scan: an FB call is one PLC scan of that block, ``tick`` lets one PLC
 cycle (2 ms: two servo cycles, four plant steps) pass. Every test fails if its rule breaks.
@@ -18,7 +19,8 @@ from tests.helpers import POS_TOL, configure, fresh_axis, power_on, tick
 
 
 def exclusive(fb: Any) -> None:
-    """Rule 2 on the outputs of ``fb`` as they are now (plus: Error iff ErrorID != 0)."""
+    """Rule 2, mutual exclusion, on the outputs of ``fb`` as they are now (plus: Error iff
+    ErrorID != 0)."""
     aborted = bool(getattr(fb, "CommandAborted", False))
     busy_group = [bool(fb.Busy), bool(fb.Done), bool(fb.Error), aborted]
     assert sum(busy_group) <= 1, f"Busy/Done/Error/Aborted = {busy_group}"
@@ -30,7 +32,7 @@ def exclusive(fb: Any) -> None:
     assert bool(fb.Error) == (fb.ErrorID != 0), f"Error={fb.Error} ErrorID={fb.ErrorID}"
 
 
-# ------------------------------------------------------------------------------------ rule 1
+# ------------------------------------------ rule 1: instances of one FB type are independent
 def test_rule1_instances_of_one_type_in_one_cycle_are_independent():
     machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
     X, Y = machine.axes["X"], machine.axes["Y"]
@@ -79,7 +81,7 @@ def test_rule1_error_of_one_instance_does_not_affect_another_in_the_same_cycle(m
     assert pytest.approx(50.0, abs=POS_TOL) == X.POS
 
 
-# ------------------------------------------------------------------------------------ rule 2
+# ------------- rule 2: Busy, Done, Error, CommandAborted (and Active) are mutually exclusive
 def test_rule2_outputs_exclusive_on_every_scan_of_a_busy_sequence(machine, X):
     """A busy sequence (done, buffered, early falling edges, aborts, a parameter error, a stop);
     every block is called and checked on every scan."""
@@ -120,7 +122,7 @@ def test_rule2_outputs_exclusive_on_every_scan_of_a_busy_sequence(machine, X):
     assert seen["Busy"] >= {0, 1, 3, 4, 5}
 
 
-# ------------------------------------------------------------------------------------ rule 3
+# ----------------------------------------- rule 3: the inputs are sampled at the rising edge
 def test_rule3_position_changed_while_busy_is_ignored_until_new_edge(machine, X):
     fb = mcl.MC_MoveAbsolute()
     fb(Axis=X, Execute=True, Position=100.0, Velocity=200.0)
@@ -176,7 +178,7 @@ def test_rule3_exception_jog_buttons_are_read_every_scan(machine, X):
     assert X.VEL < 0.0
 
 
-# ------------------------------------------------------------------------------------ rule 4
+# ---------------------------------------- rule 4: an input left out keeps its previous value
 def test_rule4_missing_input_keeps_previous_value(machine, X):
     fb = mcl.MC_MoveAbsolute()
     machine.run(
@@ -210,7 +212,7 @@ def test_rule4_first_call_uses_the_initial_value(machine, X):
     assert pytest.approx(0.0, abs=POS_TOL) == X.POS
 
 
-# ------------------------------------------------------------------------------------ rule 5
+# ---------------- rule 5: the falling edge neither stops the command nor hides its result
 def test_rule5_falling_edge_does_not_stop_or_change_the_running_command(machine, X):
     fb = mcl.MC_MoveRelative()
     fb(Axis=X, Execute=True, Distance=80.0, Velocity=200.0)
@@ -347,7 +349,7 @@ def test_rule5_invelocity_pulses_one_cycle_after_early_falling_edge(machine, X):
     assert len(shown) == 1, f"InVelocity shown on scans {shown}"
 
 
-# ------------------------------------------------------------------------------------ rule 6
+# -------------------------- rule 6: Busy rises with the edge and falls with the final output
 def test_rule6_busy_rises_with_edge_and_falls_when_done_rises(machine, X):
     fb = mcl.MC_MoveRelative()
     fb(Axis=X, Execute=False, Distance=40.0, Velocity=200.0)
@@ -431,7 +433,7 @@ def test_rule6_buffered_command_is_busy_but_not_active_while_waiting(machine, X)
     assert pytest.approx(60.0, abs=POS_TOL) == X.POS
 
 
-# ------------------------------------------------------------------------------------ rule 7
+# ----------------------------------------- rule 7: a new edge on a busy instance restarts it
 def test_rule7_new_edge_on_busy_instance_restarts_without_done_or_aborted(machine, X):
     fb = mcl.MC_MoveAbsolute()
     fb(Axis=X, Execute=True, Position=300.0, Velocity=200.0)
@@ -492,7 +494,7 @@ def test_rule7_restart_of_waiting_buffered_instance_withdraws_previous(machine, 
     assert pytest.approx(110.0, abs=POS_TOL) == X.POS
 
 
-# ------------------------------------------------------------------------------------ rule 8
+# --------------------------- rule 8: an interrupted block reports CommandAborted, never Done
 def test_rule8_interrupted_fb_reports_aborted_and_never_done(machine, X):
     first, second = mcl.MC_MoveAbsolute(), mcl.MC_MoveAbsolute()
     aborted_seen = False
@@ -561,7 +563,7 @@ def test_rule8_aborting_command_aborts_the_buffered_queue_too(machine, X):
     assert pytest.approx(-10.0, abs=POS_TOL) == X.POS
 
 
-# ------------------------------------------------------------------------------------ rule 9
+# ------------------------------------------- rule 9: a parameter error leaves the axis alone
 Trace = list[tuple[Any, ...]]
 
 BAD_PARAMETERS: list[tuple[str, type[MotionFB], dict[str, Any], int]] = [
@@ -724,7 +726,7 @@ def test_rule9_valid_velocity_above_vmax_is_clamped_not_refused():
     assert pytest.approx(600.0, abs=POS_TOL) == X.POS
 
 
-# ------------------------------------------------------------------------------------ rule 10
+# ------------------------------------------------- rule 10: Enable blocks are level-sensitive
 def test_rule10_read_actual_position_is_level_sensitive(machine, X):
     read = mcl.MC_ReadActualPosition()
     move = mcl.MC_MoveVelocity()
@@ -788,7 +790,7 @@ def test_rule10_power_valid_falls_on_parameter_error_and_comes_back(machine, X):
         power(Enable=True, SpeedMode=7)
         assert power.Error and power.ErrorID == mcl.ErrorID.EParam
         assert not power.Valid, "Valid must fall while the block is in error"
-        assert X.state == mcl.AxisState.StandStill  # rule 9: the axis stays powered
+        assert X.state == mcl.AxisState.StandStill  # a parameter error leaves the axis powered
         tick(machine)
     power(Enable=True, SpeedMode=0)
     assert power.Valid and not power.Error and power.ErrorID == 0

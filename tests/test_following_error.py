@@ -1,4 +1,4 @@
-"""Accuracy of the closed loop on the default simulated axis (SPEC §7), in simulated time only."""
+"""Accuracy of the closed loop on the default simulated axis, in simulated time only."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Homing on the MuJoCo gantry (SPEC §6), judged by where the physical axis ends up.
+"""Homing on the MuJoCo gantry, judged by where the physical axis ends up.
 
 REF switch + index pulse on every axis from random starts, homing to block against the X hard
 stop, the limit-switch search, a REF search started the wrong way, and the Time/Distance/Torque

@@ -1,4 +1,4 @@
-"""Axis supervision on the MuJoCo gantry (SPEC §2, §7), judged by the physics.
+"""Axis supervision on the MuJoCo gantry, judged by the physics.
 
 Overrunning LIM+ during a move, an obstacle that blocks X (following error ERRPOS), and the Z
 holding brake when the drive is switched off and on.

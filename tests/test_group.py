@@ -1,4 +1,4 @@
-"""Axes groups (SPEC §5 "Groups", §4 buffer modes; seed 000 chapters 2.2–2.3 and 5): the group
+"""Axes groups (MotionControlLib chapters 2.2–2.3 and 5; docs/reference.md, BufferMode): the group
 state machine, the group blocks' outputs and errors, linear interpolation, corner blending,
 MC_GroupStop, member faults and ungrouping, on three simulated axes X, Y, Z."""
 
@@ -202,7 +202,8 @@ def test_member_refuses_single_axis_commands_until_ungrouped(xyz: mcl.SimMachine
 
 
 def test_ungroup_waits_for_the_motion_to_stop(xyz: mcl.SimMachine) -> None:
-    """MC_UngroupAllAxes is Busy while the group moves and Done once it stands (seed §5.2)."""
+    """MC_UngroupAllAxes is Busy while the group moves and Done once it stands (MotionControlLib
+    §5.2)."""
     group = build_group(xyz)
     move = mcl.MC_MoveLinearAbsolute()
     ungroup = mcl.MC_UngroupAllAxes()
@@ -286,7 +287,8 @@ def test_read_blocks(xyz: mcl.SimMachine) -> None:
     ],
 )
 def test_parameter_errors_do_not_touch_the_group(inputs: dict[str, object], code: int) -> None:
-    """A refused command reports Error/ErrorID and the running motion goes on (SPEC §3 rule 9)."""
+    """A refused command reports Error/ErrorID and the running motion goes on: a parameter error
+    leaves the group alone."""
     machine = make_machine(NAMES, LimPos=300.0, LimNeg=-300.0)
     group = build_group(machine)
     first = mcl.MC_MoveLinearAbsolute()
@@ -581,7 +583,7 @@ def test_relative_moves_buffered_count_from_the_last_target(xyz: mcl.SimMachine)
 
 
 def test_restarted_block_withdraws_its_queued_move(xyz: mcl.SimMachine) -> None:
-    """A new Execute edge on a block whose move is still queued withdraws that move (rule 7)."""
+    """A new Execute edge on a block whose move is still queued withdraws that move."""
     group = build_group(xyz)
     first, second = mcl.MC_MoveLinearAbsolute(), mcl.MC_MoveLinearAbsolute()
     target2 = [0.0, 40.0, 0.0]

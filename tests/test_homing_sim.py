@@ -1,4 +1,4 @@
-"""The homing step blocks (SPEC §6) on a pure-Python simulated axis, judged by where it ends up.
+"""The homing step blocks on a pure-Python simulated axis, judged by where it ends up.
 
 Every block on its own: MC_StepAbsSwitch (REF), MC_StepLimitSwitch, MC_StepBlock (an obstacle),
 MC_StepRefPulse (index pulse), MC_StepDirect and MC_FinishHoming: Done, the axis state and
@@ -431,7 +431,7 @@ def _valid_inputs(fb_type: type[Any]) -> dict[str, Any]:
 )
 def test_parameter_errors_leave_the_axis_alone(fb_type: type[Any], bad: dict[str, Any]) -> None:
     """An invalid input: Error with EParam 5 at once; the referenced axis keeps its state,
-    Ref, coordinate and position (SPEC §3 rule 9)."""
+    Ref, coordinate and position."""
     machine, X = homing_axis()
     finish = mcl.MC_FinishHoming()
     execute(machine, (finish, {}))

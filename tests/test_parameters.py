@@ -1,8 +1,9 @@
-"""Bad parameters and bad axis states give Error with the SPEC code and do not touch the axis.
+"""Bad parameters and bad axis states give Error with the documented code and do not touch
+the axis.
 
-SPEC §3 rule 9: a parameter error (out of range, NaN, infinite, wrong sign, target beyond the SW
+A parameter error (out of range, NaN, infinite, wrong sign, target beyond the SW
 limit) raises Error/ErrorID on that instance and the axis keeps doing what it did. The same holds
-for a command refused because of the axis state (§2: Ehome, Epower, Eerrstop, Econst, EAxStop,
+for a command refused because of the axis state (Ehome, Epower, Eerrstop, Econst, EAxStop,
 EpowerOff).
 
 Every case is run twice on identical, deterministic machines: once with the bad call issued in the
@@ -11,8 +12,8 @@ once without it. The two recordings of the axis (state, positions, velocities, a
 error code) and of the running block's outputs must be identical scan by scan, and the running move
 still reaches its target.
 
-Also: values above the axis maxima are clamped, not refused (SPEC §3); 0 for Acceleration,
-Deceleration and Jerk means the axis default (SPEC §1).
+Also: values above the axis maxima are clamped, not refused; 0 for Acceleration, Deceleration
+and Jerk means the axis default (docs/reference.md, Units).
 """
 
 from __future__ import annotations
@@ -500,7 +501,7 @@ def test_bad_new_edge_on_the_running_instance_leaves_its_move_running(name: str,
 )
 def test_jog_press_with_bad_input_during_its_own_ramp(button: str, inputs: dict[str, float]):
     """GT_Jog running, then a button pressed with a bad input: Error EParam, the axis keeps doing
-    what it did (SPEC §3 rule 9) and Busy and Error are not both TRUE (rule 2)."""
+    what it did (a parameter error leaves the axis alone) and Busy and Error are not both TRUE."""
 
     def run(bad: bool) -> tuple[list[tuple[Any, ...]], list[tuple[bool, int, bool]]]:
         m, x = machine()
@@ -527,12 +528,12 @@ def test_jog_press_with_bad_input_during_its_own_ramp(button: str, inputs: dict[
     trace, outputs = run(bad=True)
     assert trace == reference
     assert outputs[0][:2] == (True, ErrorID.EParam)
-    assert not any(e and b for e, _, b in outputs), "Busy and Error both TRUE (SPEC §3 rule 2)"
+    assert not any(e and b for e, _, b in outputs), "Busy and Error both TRUE"
 
 
 def test_jog_switching_to_a_refused_direction_still_releases_the_first():
     """Jogging with JogPos, the operator lets go of JogPos and presses JogNeg with a bad JogVelo:
-    the negative jog is refused (EParam) and does not touch the axis (rule 9), so the axis does
+    the negative jog is refused (EParam) and does not touch the axis, so the axis does
     exactly what a plain release of JogPos does: it ramps down to standstill (hold-to-run)."""
 
     def run(press_neg: bool) -> list[tuple[Any, ...]]:

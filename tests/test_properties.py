@@ -1,4 +1,5 @@
-"""Random sequences of FB calls against one simulated axis keep the SPEC §2/§3 invariants.
+"""Random sequences of FB calls against one simulated axis keep the invariants of the
+reference (docs/reference.md: Axis state machine, Outputs).
 
 Every example builds a fresh simulated machine, powers and references the axis, then runs 5–20
 steps. A step picks one function block (a new instance or one already used), gives it an
@@ -6,13 +7,13 @@ Execute/Enable edge pattern and random inputs (NaN, ±inf, negative, zero, tiny 
 included) and runs a few PLC cycles. Every instance used so far is called in every PLC scan, as
 in a real PLC program. After every scan:
 
-* SPEC §3 rule 2: Busy, Done, Error, CommandAborted are mutually exclusive, and so are Active,
-  Done, Error, CommandAborted; InVelocity is never shown together with Error or CommandAborted
-  (rule 8); Error and a non-zero ErrorID go together;
-* the axis is in exactly one of the eight states of SPEC §2;
+* Busy, Done, Error, CommandAborted are mutually exclusive, and so are Active,
+  Done, Error, CommandAborted; InVelocity is never shown together with Error or CommandAborted;
+  Error and a non-zero ErrorID go together;
+* the axis is in exactly one of the eight states of :class:`mcl.AxisState`;
 * no exception escapes from a block or from the servo cycle;
 * POS, VEL, the analog output and the model position/velocity are finite; |volts| <= 10 V in
-  closed loop (SPEC §7: the DAC output is clipped at ±10 V).
+  closed loop (the DAC output is clipped at ±10 V).
 """
 
 from __future__ import annotations
@@ -143,7 +144,7 @@ SCANS = st.one_of(st.integers(min_value=1, max_value=25), st.just(100))
 @st.composite
 def step_sequences(draw: st.DrawFn) -> list[Step]:
     """5–20 steps; half of them on the block instance of the previous step (new edges and new
-    inputs on an instance that may still be busy: SPEC §3 rules 3–7)."""
+    inputs on an instance that may still be busy: edge sampling, restarts)."""
     steps: list[Step] = []
     for _ in range(draw(st.integers(min_value=5, max_value=20))):
         reuse: bool = draw(st.booleans())
@@ -186,7 +187,8 @@ class Harness:
 
 
 def check_outputs(name: str, fb: Any) -> None:
-    """SPEC §3 rule 2 (and rule 8 for InVelocity) on one block instance."""
+    """The mutually exclusive outputs (and InVelocity never with Error or CommandAborted) of one
+    block instance."""
     busy = bool(getattr(fb, "Busy", False))
     done = bool(getattr(fb, "Done", False))
     error = bool(getattr(fb, "Error", False))
@@ -201,7 +203,7 @@ def check_outputs(name: str, fb: Any) -> None:
 
 
 def check_axis(axis: mcl.Axis) -> None:
-    """SPEC §2 (one of eight states) and §7 (finite signals, ±10 V)."""
+    """One of the eight states, finite signals, at most ±10 V in closed loop."""
     assert isinstance(axis.state, mcl.AxisState), axis.state
     assert axis.state in set(mcl.AxisState)
     for name in ("POS", "VEL", "volts", "sp_pos", "sp_vel"):

@@ -122,9 +122,10 @@ def test_reference_names_no_internal_documents(generated):
     assert match is None, f"the reference mentions {match.group(0)!r}"
 
 
-def test_public_text_drops_references_to_internal_documents():
+def test_public_text_drops_citations_of_sources():
     text = reference.public_text(
-        'Blocks (§5 "Single axis, motion"; seed §3.7). Beyond the seed: X '
-        "(PLCopen Part 4). Y (seed Obr. 2.2, note 4); ``Z`` (1 = on, as the seed says)."
+        "Blocks (MotionControlLib §3.7). Beyond the Teco library: X (PLCopen Part 4). Y\n"
+        "(MotionControlLib Fig. 2.2, note 4); ``Z`` (1 = on, as the MotionControlLib manual says;\n"
+        "docs/reference.md, BufferMode). W (MotionControlLib §3.12, REXYGEN MC_MoveAdditive)."
     )
-    assert text == "Blocks. Beyond the Teco library: X (PLCopen Part 4). Y; `Z` (1 = on)."
+    assert text == "Blocks. Beyond the Teco library: X (PLCopen Part 4). Y; `Z` (1 = on). W."

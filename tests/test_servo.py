@@ -1,4 +1,4 @@
-"""Servo core: 12-bit DAC and position regulator (SPEC §7), GT_Analog's DAC mapping (SPEC §5)."""
+"""Servo core: 12-bit DAC and position regulator, GT_Analog's DAC mapping."""
 
 from __future__ import annotations
 
@@ -61,7 +61,8 @@ def test_gt_analog_code_mapping_is_inverted():
 
 
 def test_gt_analog_drives_the_disabled_axis():
-    """A negative code moves the axis in the positive direction (inverted mapping of the seed)."""
+    """A negative code moves the axis in the positive direction (the inverted mapping the
+    MotionControlLib manual documents)."""
     machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
     X = machine.axes["X"]
     configure(X)

@@ -1,4 +1,4 @@
-"""mcl.trajectory: time-optimal profiles within V/A/D/J (SPEC §7) and blend_to (SPEC §4)."""
+"""mcl.trajectory: time-optimal profiles within V/A/D/J and blend_to."""
 
 from __future__ import annotations
 
@@ -146,8 +146,8 @@ def test_velocity_to_slows_down_with_the_deceleration(sign):
 
 
 def test_velocity_reversal_slows_with_deceleration_then_speeds_up_with_acceleration():
-    """150 → −150 mm/s: 150/D to stand still, then 150/A to speed up the other way (SPEC §7:
-    time-optimal within A and D)."""
+    """150 → −150 mm/s: 150/D to stand still, then 150/A to speed up the other way (time-optimal
+    within A and D)."""
     limits = Limits(velocity=150.0, acceleration=1000.0, deceleration=250.0)
     profile = trajectory.velocity_to(0.0, 150.0, 0.0, -150.0, limits)
     assert profile.end_velocity == pytest.approx(-150.0, abs=1e-9)
@@ -275,7 +275,7 @@ def test_blend_to_too_late_with_jerk_limit_switches_at_reachable_velocity():
 @pytest.mark.parametrize("v_end", [100.0, 200.0])
 def test_blend_to_while_decelerating_never_overshoots(v_end, jerk, before):
     """The first move is already braking when the blend arrives: the target is still reached
-    exactly, with the highest reachable velocity (SPEC §4, REXYGEN variant 3)."""
+    exactly, with the highest reachable velocity (REXYGEN variant 3)."""
     limits = Limits(velocity=200.0, acceleration=2000.0, deceleration=2000.0, jerk=jerk)
     brake = trajectory.move_to(0.0, 0.0, 0.0, 100.0, limits)
     t = next(t for t, p, _, _ in sample(brake) if p >= before)
