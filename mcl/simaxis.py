@@ -44,6 +44,7 @@ class SimAxisParams:
         probe_delay: sensor delay of the touch probe [s].
         has_drive: False: an encoder-only axis (a measuring wheel); writes are ignored.
         digital_outputs: number of digital outputs a program may set.
+        analog: voltages of the analog inputs (constant transducer readings) [V].
     """
 
     mass: float = 20.0
@@ -69,6 +70,7 @@ class SimAxisParams:
     probe_delay: float = 0.0
     has_drive: bool = True
     digital_outputs: int = 0
+    analog: tuple[float, ...] = ()
 
 
 class SimAxis(AxisChannel):
@@ -142,6 +144,7 @@ class SimAxis(AxisChannel):
             x >= p.lim_pos,
             x <= p.lim_neg,
             p.ref_low <= x <= p.ref_high,
+            analog=p.analog,
         )
 
 

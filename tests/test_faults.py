@@ -559,36 +559,8 @@ def test_bouncing_ref_switch_homing_is_repeatable():
 # ----------------------------------------------------------------------------- analog input
 
 
-class TransducerAxis(mcl.SimAxis):
-    """A simulated axis whose channel has two analog inputs (e.g. pressure transducers)."""
-
-    ANALOG = (2.5, 6.0)
-    """The true input voltages [V]."""
-
-    def sense(self, t: float | None = None) -> None:
-        p, x = self.params, self.x
-        self.sample(
-            self.t if t is None else t,
-            x,
-            x >= p.lim_pos,
-            x <= p.lim_neg,
-            p.ref_low <= x <= p.ref_high,
-            analog=self.ANALOG,
-        )
-
-
-class TransducerMachine(mcl.Machine):
-    """One :class:`TransducerAxis` "X" with its runtime."""
-
-    def __init__(self) -> None:
-        self.sim = TransducerAxis(mcl.SimAxisParams(start=0.2))
-        self.plant = mcl.SimPlant([self.sim])
-        self.axes = {"X": mcl.Axis(self.sim, name="X")}
-        self.runtime = mcl.Runtime(self.plant, self.axes.values())
-
-
 def test_analog_input_fault_shows_in_mc_read_analog_input():
-    machine = TransducerMachine()
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2, analog=(2.5, 6.0))})
     X = machine.axes["X"]
     read = [mcl.MC_ReadAnalogInput(), mcl.MC_ReadAnalogInput()]
     values: list[tuple[float, float]] = []
@@ -616,7 +588,7 @@ def test_analog_input_fault_shows_in_mc_read_analog_input():
     machine.faults.clear("X", noisy)
     machine.run(program, timeout=0.01)
     assert values[-1] == (2.5, 6.0)
-    sim = machine.sim
+    sim = machine.sims["X"]
     assert sim.x == 0.2 and finite(X.POS, X.VEL, X.volts, sim.volts)
     assert logged(machine, "X", offset) and logged(machine, "X", noisy)
     assert logged(machine, "X", noisy, active=False)

@@ -51,11 +51,7 @@ def test_digital_inputs_are_the_switches_then_the_probe():
 
 
 def test_analog_inputs_are_read_in_volts():
-    class Transducer(mcl.SimAxis):
-        def sense(self, t: float | None = None) -> None:
-            self.sample(self.t if t is None else t, self.x, False, False, False, analog=[4.5])
-
-    X = mcl.Axis(Transducer(mcl.SimAxisParams()))
+    _, X = machine_with(analog=(4.5,))
     read = mcl.MC_ReadAnalogInput()
     read(Axis=X, Enable=True, InputNumber=0)
     assert read.Valid and read.Value == 4.5 and X.AI == (4.5,)
