@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 from mcl.command import Status
 from mcl.enums import AxisState
@@ -12,25 +12,8 @@ from mcl.errors import ErrorID, error_text
 from mcl.fb import EnableFB, ExecuteFB, non_negative, number, positive
 from mcl.servo import ServoConstants, dac_code_volts
 
-if TYPE_CHECKING:
 
-    class _ServoConstantInputs(ExecuteFB, ServoConstants):
-        """What type checkers and IDEs see: the fields of ServoConstants as inputs."""
-
-else:
-    _ServoConstantInputs = type(
-        "_ServoConstantInputs",
-        (ExecuteFB,),
-        {
-            "__module__": __name__,
-            "__doc__": "The fields of ServoConstants as FB inputs, with its defaults.",
-            "__annotations__": {f.name: f.type for f in dataclasses.fields(ServoConstants)},
-            **{f.name: f.default for f in dataclasses.fields(ServoConstants)},
-        },
-    )
-
-
-class GT_SetConstant(_ServoConstantInputs):
+class GT_SetConstant(ExecuteFB):
     """Writes the servo constants of the axis (MotionControlLib §3.1); ``Ka`` is this library's
     extension.
 
@@ -39,7 +22,21 @@ class GT_SetConstant(_ServoConstantInputs):
     Ka [s]. Vmax must be > 0, gains and Filter >= 0, all finite; else EParam.
     """
 
-    # The inputs are the fields of ServoConstants with its defaults (_ServoConstantInputs).
+    # the fields of ServoConstants, in order and with its defaults (a test keeps them equal)
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "Kp", "Ki", "Kd", "Ff", "Kc", "Vmax", "LimPos", "LimNeg", "Ki1", "Filter", "Ka"
+    )  # fmt: skip
+    Kp: float = 0.0
+    Ki: float = 0.0
+    Kd: float = 0.0
+    Ff: float = 1.0
+    Kc: float = 0.0
+    Vmax: float = 0.0
+    LimPos: float = 0.0
+    LimNeg: float = 0.0
+    Ki1: float = 0.0
+    Filter: float = 0.0
+    Ka: float = 0.0
 
     def _begin(self) -> int:
         values = {f.name: number(getattr(self, f.name)) for f in dataclasses.fields(ServoConstants)}
@@ -65,27 +62,26 @@ class MC_Power(EnableFB):
     clears the axis' Ref flag.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("SpeedMode", "BufferMode")
     SpeedMode: int = 0
     BufferMode: int = 0
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.Status = False
 
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan: the axis follows Enable."""
-        self._take_inputs(inputs)
+        self._scan(inputs)
         axis = self.axis
-        enable = bool(self.Enable)
+        enable = self.Enable
         error = 0
-        speed_mode: float = self.SpeedMode
-        if not (speed_mode == 0 or speed_mode == 1):  # fast path for the usual ints
-            speed_mode = number(speed_mode)
+        speed_mode = self.SpeedMode
         if enable and not axis.has_drive:
             error = ErrorID.ENoDrive
         elif enable and axis.constants is None:
             error = ErrorID.Econst
-        elif enable and speed_mode not in (0.0, 1.0):
+        elif enable and speed_mode != 0 and speed_mode != 1:
             error = ErrorID.EParam
         else:
             axis.power(enable, int(speed_mode) if enable else 0)
@@ -98,24 +94,28 @@ class MC_Power(EnableFB):
 class MC_ReadStatus(EnableFB):
     """Publishes the axis state as flags (MotionControlLib §3.3)."""
 
-    FLAGS: ClassVar[tuple[str, ...]] = tuple(state.name for state in AxisState)
-
-    def __init__(self) -> None:
-        super().__init__()
-        for name in self.FLAGS:
-            setattr(self, name, False)
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
+        self._flags(None)
         self.Ref = False
 
+    def _flags(self, state: AxisState | None) -> None:
+        self.Disabled = state == AxisState.Disabled
+        self.StandStill = state == AxisState.StandStill
+        self.Homing = state == AxisState.Homing
+        self.DiscreteMotion = state == AxisState.DiscreteMotion
+        self.ContinuousMotion = state == AxisState.ContinuousMotion
+        self.SynchronizedMotion = state == AxisState.SynchronizedMotion
+        self.Stopping = state == AxisState.Stopping
+        self.ErrorStop = state == AxisState.ErrorStop
+
     def _evaluate(self) -> int:
-        state = self.axis.state
-        for s in AxisState:
-            setattr(self, s.name, s == state)
+        self._flags(self.axis.state)
         self.Ref = self.axis.Ref
         return 0
 
     def _disable(self) -> None:
-        for name in self.FLAGS:
-            setattr(self, name, False)
+        self._flags(None)
         self.Ref = False
 
 
@@ -123,8 +123,8 @@ class MC_ReadAxisError(EnableFB):
     """Publishes the axis error (MotionControlLib §3.4): ``AxisErrorID``; ``Error`` = the axis has
     an error."""
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.AxisErrorID = 0
 
     def __call__(self, **inputs: Any) -> None:
@@ -157,8 +157,8 @@ class MC_Reset(ExecuteFB):
 class MC_ReadActualPosition(EnableFB):
     """Publishes the actual position ``Position`` [u] (MotionControlLib §3.6)."""
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.Position = 0.0
 
     def _evaluate(self) -> int:
@@ -177,6 +177,7 @@ class GT_Analog(ExecuteFB):
     manual documents), Par (0 = write, 1 = end). Not Disabled → EpowerOff 13. MC_Power also ends it.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Analog", "Par")
     Analog: int = 0
     Par: int = 0
 
@@ -198,6 +199,7 @@ class GT_SInfo(ExecuteFB):
     24 position captured at InSync. Other selectors → EParam.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("What1", "What2")
     What1: int = 20
     What2: int = 21
 
@@ -212,8 +214,8 @@ class GT_SInfo(ExecuteFB):
 class GT_AxStatusString(EnableFB):
     """The axis state as text in ``StatStr`` (MotionControlLib §3.16)."""
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.StatStr = ""
 
     def _evaluate(self) -> int:
@@ -229,8 +231,8 @@ class GT_AxErrStringEN(EnableFB):
 
     LANGUAGE: ClassVar[str] = "en"
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.ErrStr = ""
 
     def __call__(self, **inputs: Any) -> None:

@@ -1,31 +1,66 @@
-"""Function-block base semantics shared by every block (MotionControlLib Tab. 2.3).
+"""Function-block base semantics shared by every block (docs/reference.md, Calling a function
+block; MotionControlLib Tab. 2.3).
 
 A function block is called once per PLC scan with keyword inputs: ``fb(Axis=X, Execute=True,
-Position=10.0)``. Inputs that are not passed keep the value of the previous call; an
-unknown input name is a programming mistake and raises ``TypeError`` naming the valid ones.
-Problems of a running block are reported through ``Error``/``ErrorID`` only.
+Position=10.0)``. Inputs that are not passed keep the value of the previous call; an unknown input
+name is a programming mistake and raises ``TypeError`` naming the valid ones. Problems of a
+running block are reported through ``Error``/``ErrorID`` only, never by raising.
+
+Inputs are declared, typed attributes: each class lists the inputs it adds in ``INPUTS`` and
+declares them with their initial values, so the classes compile to native classes. Constant
+inputs can be bound once, at construction (``MC_MoveAbsolute(Axis=X, Velocity=200.0)``) or by
+attribute assignment, so that a scan passes only what changes (``move(Execute=start)``).
+
+Keyword inputs are converted to the declared type: a REAL input takes any real number (anything
+else, a huge integer included, becomes NaN), an INT input takes an integer or an integral real
+(anything else becomes :data:`INVALID_INT`), a BOOL input takes anything with a truth value. An
+invalid value then gives ``EParam`` on the rising edge, and the axis is left alone.
 """
 
 from __future__ import annotations
 
-import inspect
 import math
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar, Final, Protocol
 
-from mcl.axis import Axis
+from mcl.axis import Axis as AxisRef
 from mcl.command import Status
 from mcl.enums import MC_BufferMode
 from mcl.errors import ErrorID
+from mcl.group import AxesGroup as GroupRef
+
+INVALID_INT: Final = -(2**63)
+"""What an INT input holds after a value that is not an integer (→ EParam)."""
 
 
-def number(value: Any) -> float:
-    """An input as float; anything that is not a real number becomes NaN (→ EParam)."""
-    if isinstance(value, bool):
-        return float(value)
+def number(value: object) -> float:
+    """A REAL input as float; anything that is not a real number becomes NaN (→ EParam)."""
+    if type(value) is float:
+        return value
     try:
-        return float(value)
-    except (TypeError, ValueError):
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):
         return math.nan
+
+
+def integer(value: object) -> int:
+    """An INT input as int; anything but an integer or an integral real becomes
+    :data:`INVALID_INT` (→ EParam)."""
+    if isinstance(value, int):
+        return int(value)
+    real = number(value)
+    if math.isfinite(real) and real == math.floor(real):
+        return int(real)
+    return INVALID_INT
+
+
+def boolean(value: object) -> bool:
+    """A BOOL input; a value without a truth value counts as FALSE."""
+    if type(value) is bool:
+        return value
+    try:
+        return bool(value)
+    except Exception:  # e.g. an array: ambiguous
+        return False
 
 
 def positive(value: float) -> bool:
@@ -38,76 +73,147 @@ def non_negative(value: float) -> bool:
     return math.isfinite(value) and value >= 0.0
 
 
-class FunctionBlock:
-    """Base: declared inputs with defaults, kept between calls; the in-out ``Axis``."""
+_REAL: Final = 0
+_INT: Final = 1
+_BOOL: Final = 2
+_ANY: Final = 3
+_AXIS: Final = 4
+_GROUP: Final = 5
 
-    AXIS_INPUTS: ClassVar[tuple[str, ...]] = ("Axis",)
-    """The in-out axis references (``Axis``; ``Master``/``Slave`` for gearing)."""
+
+class InputSpec:
+    """The inputs of one FB class: name → kind, found once per class."""
+
+    def __init__(self, kinds: dict[str, int], refs: tuple[str, ...]) -> None:
+        self.kinds = kinds
+        self.refs = refs
+        self.names = ", ".join(kinds)
+
+
+_SPECS: dict[type, InputSpec] = {}
+
+
+def _kind(name: str, default: object) -> int:
+    if name in ("Axis", "Master", "Slave"):
+        return _AXIS
+    if name == "AxesGroup":
+        return _GROUP
+    if isinstance(default, bool):
+        return _BOOL
+    if isinstance(default, int):
+        return _INT
+    if isinstance(default, float):
+        return _REAL
+    return _ANY
+
+
+def input_spec(fb: FunctionBlock) -> InputSpec:
+    """The inputs of ``fb``'s class: its in-outs (``REFS``), then every ``INPUTS`` along the
+    class hierarchy; their kinds come from the initial values of a fresh instance."""
+    cls = type(fb)
+    spec = _SPECS.get(cls)
+    if spec is None:
+        names: list[str] = list(cls.REFS)
+        for klass in reversed(cls.__mro__):
+            for name in klass.__dict__.get("INPUTS", ()):
+                if name not in names:
+                    names.append(name)
+        spec = _SPECS[cls] = InputSpec(
+            {name: _kind(name, getattr(fb, name)) for name in names}, cls.REFS
+        )
+    return spec
+
+
+def input_names(cls: type[FunctionBlock]) -> tuple[str, ...]:
+    """The in-outs and inputs of an FB class, in order."""
+    return tuple(input_spec(cls()).kinds)
+
+
+class FunctionBlock:
+    """Base: declared inputs with initial values, kept between calls; the in-out references.
+
+    Args:
+        **inputs: inputs bound at construction (as if passed in a first call).
+    """
+
+    INPUTS: ClassVar[tuple[str, ...]] = ()
+    """The inputs this class adds (declared as annotated attributes with initial values)."""
+    REFS: ClassVar[tuple[str, ...]] = ("Axis",)
+    """The in-out references (``Axis``; ``AxesGroup``; ``Master``/``Slave`` for gearing)."""
     OWNER: ClassVar[str] = "Axis"
     """The in-out whose axis runs the block's command (``Slave`` for gearing)."""
 
-    _all_inputs: ClassVar[dict[str, Any]] = {}
-    _names: ClassVar[frozenset[str]] = frozenset()
+    Axis: AxisRef | None = None
+    AxesGroup: GroupRef | None = None
 
-    def __init_subclass__(cls, **kwargs: Any) -> None:
-        """Collect the inputs: public annotated class attributes with an initial value (not
-        ClassVar), merged along the class hierarchy."""
-        super().__init_subclass__(**kwargs)
-        merged: dict[str, Any] = {}
-        for klass in reversed(cls.__mro__):
-            for name, hint in inspect.get_annotations(klass).items():
-                if (
-                    name in klass.__dict__
-                    and not name.startswith("_")
-                    and not str(hint).startswith("ClassVar")
-                    and name not in cls.AXIS_INPUTS
-                ):
-                    merged[name] = klass.__dict__[name]
-        cls._all_inputs = merged
-        cls._names = frozenset(merged) | frozenset(cls.AXIS_INPUTS)
-
-    def __init__(self) -> None:
-        for name, value in self._all_inputs.items():
-            setattr(self, name, value)
-        for name in self.AXIS_INPUTS:
-            setattr(self, name, None)
+    def __init__(self, **inputs: Any) -> None:
+        self._spec = input_spec(self)
+        self._connected = False
+        if inputs:
+            self._take_inputs(inputs)
 
     def _take_inputs(self, inputs: dict[str, Any]) -> None:
-        if not inputs.keys() <= self._names:
-            unknown = sorted(inputs.keys() - self._names)
-            valid = ", ".join([*self.AXIS_INPUTS, *self._all_inputs])
-            raise TypeError(f"{type(self).__name__} has no input {unknown[0]!r}; inputs: {valid}")
-        state = self.__dict__
-        for name in self.AXIS_INPUTS:
-            if name in inputs and inputs[name] is not state[name]:
-                value = inputs[name]
-                if value is None:  # an open in-out keeps its previous reference
-                    inputs = {k: v for k, v in inputs.items() if k != name}
-                else:
-                    self._check_axis_type(name, value)
-        state.update(inputs)
-        for name in self.AXIS_INPUTS:
-            if state[name] is None:
+        """Store keyword inputs, converted to their declared types."""
+        kinds = self._spec.kinds
+        for name, value in inputs.items():
+            kind = kinds.get(name, -1)
+            if kind == _BOOL:
+                value = boolean(value)
+            elif kind == _REAL:
+                value = number(value)
+            elif kind == _INT:
+                value = integer(value)
+            elif kind in (_AXIS, _GROUP):
+                if value is None:
+                    continue  # an open in-out keeps its previous reference
+                expected: type = AxisRef if kind == _AXIS else GroupRef
+                if not isinstance(value, expected):
+                    raise TypeError(
+                        f"{type(self).__name__}.{name} must be an mcl.{expected.__name__}, "
+                        f"got {type(value).__name__}"
+                    )
+            elif kind != _ANY:
                 raise TypeError(
-                    f"{type(self).__name__} needs {name}=<the in-out reference>; "
+                    f"{type(self).__name__} has no input {name!r}; inputs: {self._spec.names}"
+                )
+            setattr(self, name, value)
+        if not self._connected:
+            self._connected = all(getattr(self, ref) is not None for ref in self._spec.refs)
+
+    def _scan(self, inputs: dict[str, Any]) -> None:
+        """Start of a scan: take the keyword inputs, check the in-outs are connected."""
+        if inputs:
+            self._take_inputs(inputs)
+        if not self._connected:
+            self._inputs_taken()
+
+    def _inputs_taken(self) -> None:
+        """A scan may run: every in-out is connected (else a programming error)."""
+        if not self._connected:
+            self._connected = all(getattr(self, ref) is not None for ref in self._spec.refs)
+            if not self._connected:
+                missing = [ref for ref in self._spec.refs if getattr(self, ref) is None]
+                raise TypeError(
+                    f"{type(self).__name__} needs {missing[0]}=<the in-out reference>; "
                     f"it was never connected"
                 )
 
-    def _check_axis_type(self, name: str, value: Any) -> None:
-        if not isinstance(value, Axis):
-            raise TypeError(
-                f"{type(self).__name__}.{name} must be an mcl.Axis, got {type(value).__name__}"
-            )
-
     @property
-    def axis(self) -> Axis:
-        """The axis that runs the block's command (its ``OWNER`` in-out); a block called without
-        ever getting one is a programming error."""
+    def axis(self) -> AxisRef:
+        """The axis that runs the block's command (its ``OWNER`` in-out)."""
         axis = getattr(self, self.OWNER)
         if axis is None:
             raise TypeError(f"{type(self).__name__} needs {self.OWNER}=<mcl.Axis>")
-        assert isinstance(axis, Axis)
+        assert isinstance(axis, AxisRef)
         return axis
+
+    @property
+    def group(self) -> GroupRef:
+        """The connected axes group."""
+        group = self.AxesGroup
+        if group is None:
+            raise TypeError(f"{type(self).__name__} needs AxesGroup=<mcl.AxesGroup>")
+        return group
 
 
 class ExecuteFB(FunctionBlock):
@@ -118,11 +224,10 @@ class ExecuteFB(FunctionBlock):
     status once reached, else None).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Execute",)
     Execute: bool = False
-    DONE_NAME: ClassVar[str] = "Done"
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
         self.Done = False
         self.Busy = False
         self.Error = False
@@ -134,11 +239,15 @@ class ExecuteFB(FunctionBlock):
         self._running = False
         self._quiet = True
         """Idle with every output FALSE: a scan with Execute FALSE changes nothing."""
+        super().__init__(**inputs)
 
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan of the block."""
-        self._take_inputs(inputs)
-        execute = bool(self.Execute)
+        if inputs:
+            self._take_inputs(inputs)
+        if not self._connected:
+            self._inputs_taken()
+        execute = self.Execute
         if self._quiet and not execute:
             return
         if execute and not self._prev_execute:
@@ -228,13 +337,14 @@ class MotionFB(ExecuteFB):
     :meth:`_submit` and :meth:`_owner`.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("BufferMode",)
     BufferMode: int = MC_BufferMode.Aborting
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
         self.Active = False
         self.CommandAborted = False
         self._cmd: Ticket | None = None
+        super().__init__(**inputs)
 
     @property
     def Aborted(self) -> bool:
@@ -243,8 +353,8 @@ class MotionFB(ExecuteFB):
 
     def _begin(self) -> int:
         try:
-            mode = MC_BufferMode(int(self.BufferMode))
-        except (TypeError, ValueError, OverflowError):
+            mode = MC_BufferMode(self.BufferMode)
+        except ValueError:
             return ErrorID.EParam
         result = self._command(mode)
         if isinstance(result, int):
@@ -297,17 +407,21 @@ class EnableFB(FunctionBlock):
     refreshes the outputs and returns an error code (0 = valid).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Enable",)
     Enable: bool = False
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
         self.Valid = False
         self.Error = False
         self.ErrorID = 0
+        super().__init__(**inputs)
 
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan of the block."""
-        self._take_inputs(inputs)
+        if inputs:
+            self._take_inputs(inputs)
+        if not self._connected:
+            self._inputs_taken()
         if self.Enable:
             error = self._evaluate()
             self.Valid = not error

@@ -16,11 +16,10 @@ import math
 from collections.abc import Sequence
 from typing import Any, ClassVar
 
-from mcl.axis import Axis
 from mcl.command import Status
 from mcl.enums import GroupState, MC_BufferMode
 from mcl.errors import ErrorID
-from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB, non_negative, number, positive
+from mcl.fb import EnableFB, ExecuteFB, MotionFB, non_negative, number, positive
 from mcl.group import AxesGroup
 from mcl.path import PathCommand
 
@@ -35,30 +34,7 @@ def _vector(value: Any, size: int) -> list[float] | None:
     return numbers if all(math.isfinite(x) for x in numbers) else None
 
 
-class _GroupBlock(FunctionBlock):
-    """The in-out ``AxesGroup`` of the group blocks."""
-
-    AXIS_INPUTS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
-
-    def _check_axis_type(self, name: str, value: Any) -> None:
-        expected: type = AxesGroup if name == "AxesGroup" else Axis
-        if not isinstance(value, expected):
-            raise TypeError(
-                f"{type(self).__name__}.{name} must be an mcl.{expected.__name__}, "
-                f"got {type(value).__name__}"
-            )
-
-    @property
-    def group(self) -> AxesGroup:
-        """The connected group; a block called without ever getting one is a programming error."""
-        group = getattr(self, "AxesGroup", None)
-        if group is None:
-            raise TypeError(f"{type(self).__name__} needs AxesGroup=<mcl.AxesGroup>")
-        assert isinstance(group, AxesGroup)
-        return group
-
-
-class MC_AddAxisToGroup(_GroupBlock, ExecuteFB):
+class MC_AddAxisToGroup(ExecuteFB):
     """Adds ``Axis`` to ``AxesGroup`` (MotionControlLib §5.1); members keep the order they were
     added in.
 
@@ -66,22 +42,21 @@ class MC_AddAxisToGroup(_GroupBlock, ExecuteFB):
     Eerrstop 11 in GroupErrorStop, EAxStop 6 in GroupStopping, EParam 5 while the group moves.
     """
 
-    AXIS_INPUTS: ClassVar[tuple[str, ...]] = ("AxesGroup", "Axis")
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup", "Axis")
 
     def _begin(self) -> int:
-        axis = getattr(self, "Axis", None)
-        if axis is None:
-            raise TypeError(f"{type(self).__name__} needs Axis=<mcl.Axis>")
-        return self.group.add(axis)
+        return self.group.add(self.axis)
 
 
-class MC_UngroupAllAxes(_GroupBlock, ExecuteFB):
+class MC_UngroupAllAxes(ExecuteFB):
     """Removes every axis from the group (MotionControlLib §5.2); Done once the group's motion has
     stopped, the group is then GroupDisabled. Errors: 1005 the group has no axes; Eerrstop 11 in
     GroupErrorStop (MotionControlLib Fig. 2.2, note 4)."""
 
-    def __init__(self) -> None:
-        super().__init__()
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
+
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self._error = 0
 
     def _begin(self) -> int:
@@ -101,19 +76,23 @@ class MC_UngroupAllAxes(_GroupBlock, ExecuteFB):
         return self._error
 
 
-class MC_GroupEnable(_GroupBlock, ExecuteFB):
+class MC_GroupEnable(ExecuteFB):
     """GroupDisabled → GroupStandby (PLCopen Part 4); 1005 when the group has no axes."""
+
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
 
     def _begin(self) -> int:
         return self.group.enable()
 
 
-class MC_GroupDisable(_GroupBlock, ExecuteFB):
+class MC_GroupDisable(ExecuteFB):
     """→ GroupDisabled in every state but GroupErrorStop (Eerrstop 11) (PLCopen Part 4).
 
     A running motion is aborted (its blocks report CommandAborted) and ramps to standstill along
     the path with the default deceleration; Done once the group stands.
     """
+
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
 
     def _begin(self) -> int:
         return self.group.disable()
@@ -122,10 +101,12 @@ class MC_GroupDisable(_GroupBlock, ExecuteFB):
         return None if self.group.moving else Status.Done
 
 
-class MC_GroupReset(_GroupBlock, ExecuteFB):
+class MC_GroupReset(ExecuteFB):
     """Leaves GroupErrorStop (PLCopen Part 4): resets the members in ErrorStop (as MC_Reset),
     clears GroupErrorID; Done once the group is out of GroupErrorStop (members whose error
     opened the loop are then Disabled). 1005 when the group has no axes."""
+
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
 
     def _begin(self) -> int:
         return 0 if self.group.axes else ErrorID.EGroupEmpty
@@ -134,11 +115,13 @@ class MC_GroupReset(_GroupBlock, ExecuteFB):
         return Status.Done if self.group.reset() else None
 
 
-class MC_GroupReadError(_GroupBlock, EnableFB):
+class MC_GroupReadError(EnableFB):
     """Publishes the group error (MotionControlLib §5.3): Valid, Error, ErrorID, GroupErrorID."""
 
-    def __init__(self) -> None:
-        super().__init__()
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
+
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.GroupErrorID = 0
 
     def _evaluate(self) -> int:
@@ -151,13 +134,15 @@ class MC_GroupReadError(_GroupBlock, EnableFB):
         self.GroupErrorID = 0
 
 
-class MC_GroupReadStatus(_GroupBlock, EnableFB):
+class MC_GroupReadStatus(EnableFB):
     """Publishes the group state as flags (MotionControlLib §5.4) and ``InPosition``: the group
     stands and every member is within its in-position window of the end point of the last
     motion."""
 
-    def __init__(self) -> None:
-        super().__init__()
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
+
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.GroupDisabled = False
         self.GroupStandby = False
         self.GroupMoving = False
@@ -186,12 +171,14 @@ class MC_GroupReadStatus(_GroupBlock, EnableFB):
         self.InPosition = False
 
 
-class MC_GroupReadActualPosition(_GroupBlock, EnableFB):
+class MC_GroupReadActualPosition(EnableFB):
     """Publishes the members' actual positions ``Position`` [mm] (MotionControlLib §5.5), in
     member order; 1005 when the group has no axes."""
 
-    def __init__(self) -> None:
-        super().__init__()
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
+
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.Position: list[float] = []
 
     def _evaluate(self) -> int:
@@ -206,13 +193,15 @@ class MC_GroupReadActualPosition(_GroupBlock, EnableFB):
         self.Position = []
 
 
-class _GroupMotionFB(_GroupBlock, MotionFB):
+class _GroupMotionFB(MotionFB):
     """A group motion block: hands a :class:`PathCommand` to the group (the ticket handling of
     :class:`MotionFB`: Active, CommandAborted, restart).
 
     Subclasses implement :meth:`_submit` (validate the sampled inputs, hand the command over,
     or return an error code).
     """
+
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
 
     def _command(self, mode: MC_BufferMode) -> PathCommand:
         return PathCommand(mode)
@@ -232,6 +221,7 @@ class _MoveLinearFB(_GroupMotionFB):
     """Common inputs of the linear moves: Velocity, Acceleration, Deceleration, Jerk (along the
     path; 0 = default)."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Velocity", "Acceleration", "Deceleration", "Jerk")
     Velocity: float = 0.0
     Acceleration: float = 0.0
     Deceleration: float = 0.0
@@ -279,6 +269,7 @@ class MC_MoveLinearAbsolute(_MoveLinearFB):
     of finite numbers, one per member → EParam 5.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Position",)
     Position: Sequence[float] = ()
     NEEDS_REF: ClassVar[bool] = True
 
@@ -293,6 +284,7 @@ class MC_MoveLinearRelative(_MoveLinearFB):
     when the group stands), from the end of the last queued move otherwise. No Ref needed.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Distance",)
     Distance: Sequence[float] = ()
 
     def _target(self, group: AxesGroup, mode: MC_BufferMode) -> list[float] | None:
@@ -308,6 +300,7 @@ class MC_GroupStop(_GroupMotionFB):
     ``Deceleration`` [mm/s²] and ``Jerk`` [mm/s³] (0 = default); GroupStopping until Done AND NOT
     Execute, and no other group motion is accepted meanwhile (EAxStop 6)."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Deceleration", "Jerk")
     Deceleration: float = 0.0
     Jerk: float = 0.0
 

@@ -10,7 +10,7 @@ reverses the search (the second one ends it with the limit-switch error).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 from mcl import trajectory
 from mcl.command import Command
@@ -312,6 +312,13 @@ class SetCoordinate(Command):
 class _HomingFB(MotionFB):
     """Common inputs of the searching steps (docs/reference.md, Homing step blocks)."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "Direction",
+        "Velocity",
+        "TorqueLimit",
+        "TimeLimit",
+        "DistanceLimit",
+    )
     Direction: int = MC_Direction.MC_Positive
     Velocity: float = 0.0
     TorqueLimit: float = 0.0
@@ -363,6 +370,7 @@ class MC_StepAbsSwitch(_HomingFB):
     """Approach the reference switch REF (MotionControlLib §6.1): search by SwitchMode, stop, come
     back to the captured switch position; the axis stays in Homing."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("SwitchMode",)
     SwitchMode: int = MC_SwitchMode.MC_EdgeOn
     SWITCH_DIRECTIONS = True
 
@@ -381,6 +389,7 @@ class MC_StepLimitSwitch(_HomingFB):
     """Approach the limit switch in the search direction (MotionControlLib §6.2); stays in
     Homing."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("SwitchMode",)
     SwitchMode: int = MC_SwitchMode.MC_EdgeOn
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
@@ -416,6 +425,7 @@ class MC_StepRefPulse(_HomingFB):
     """Search the next index pulse NI in Direction (MotionControlLib §6.4): SetPosition is set at
     its rising edge, the axis stops on the maximum ramp without returning; Ref set, StandStill."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("SetPosition",)
     SetPosition: float = 0.0
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
@@ -433,6 +443,7 @@ class MC_StepDirect(MotionFB):
     """Set SetPosition [u] at the current standstill position (MotionControlLib §6.5); Ref,
     StandStill."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("SetPosition",)
     SetPosition: float = 0.0
 
     def _command(self, mode: MC_BufferMode) -> Command | int:

@@ -11,6 +11,8 @@ and ``AI`` of :class:`mcl.Axis`.
 
 from __future__ import annotations
 
+from typing import Any, ClassVar
+
 from mcl.errors import ErrorID
 from mcl.fb import EnableFB, ExecuteFB, number
 
@@ -29,10 +31,11 @@ class MC_ReadDigitalInput(EnableFB):
     Outputs: Valid, Value, Error/ErrorID (EParam 5 for a number the axis does not have).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("InputNumber",)
     InputNumber: int = 0
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.Value = False
 
     def _evaluate(self) -> int:
@@ -51,10 +54,11 @@ class MC_ReadDigitalInput(EnableFB):
 class MC_ReadDigitalOutput(EnableFB):
     """Value of digital output OutputNumber. Outputs: Valid, Value, Error/ErrorID (EParam 5)."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("OutputNumber",)
     OutputNumber: int = 0
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.Value = False
 
     def _evaluate(self) -> int:
@@ -76,6 +80,7 @@ class MC_WriteDigitalOutput(ExecuteFB):
     Error/ErrorID EParam 5 for an output the axis does not have (the outputs stay as they are).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("OutputNumber", "Value")
     OutputNumber: int = 0
     Value: bool = False
 
@@ -94,10 +99,11 @@ class MC_ReadAnalogInput(EnableFB):
     Outputs: Valid, Value, Error/ErrorID (EParam 5 for an input the axis does not have).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("InputNumber",)
     InputNumber: int = 0
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.Value = 0.0
 
     def _evaluate(self) -> int:

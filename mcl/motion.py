@@ -58,6 +58,7 @@ def stop_limits(axis: Axis, deceleration: Any, jerk: Any) -> Limits | int:
 class _MoveFB(MotionFB):
     """Common inputs of the moves: Velocity, Acceleration, Deceleration, Jerk."""
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Velocity", "Acceleration", "Deceleration", "Jerk")
     Velocity: float = 0.0
     Acceleration: float = 0.0
     Deceleration: float = 0.0
@@ -93,6 +94,7 @@ class MC_MoveAbsolute(_MoveFB):
     MC_Current (the current direction of motion, else shortest).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Position", "Direction")
     Position: float = 0.0
     Direction: int = MC_Direction.MC_Shortest
     NEEDS_REF: ClassVar[bool] = True
@@ -150,6 +152,7 @@ class GT_MoveAbsBlock(MC_MoveAbsolute):
     motion without opening the loop. Done at standstill.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("ExtStop", "TorqueLimit")
     ExtStop: bool = False
     TorqueLimit: float = 0.0
 
@@ -175,6 +178,7 @@ class MC_MoveRelative(_MoveFB):
     Buffered, the distance counts from the end of the preceding motion.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Distance",)
     Distance: float = 0.0
 
     def _target(self, mode: MC_BufferMode) -> float | None:
@@ -195,6 +199,7 @@ class MC_MoveAdditive(_MoveFB):
     otherwise the actual position + Distance. No Ref needed.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Distance",)
     Distance: float = 0.0
 
     def _target(self, mode: MC_BufferMode) -> float | None:
@@ -216,14 +221,21 @@ class MC_MoveVelocity(MotionFB):
     Direction: MC_Positive, MC_Negative or MC_Current (the current direction, positive at rest).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "Velocity",
+        "Acceleration",
+        "Deceleration",
+        "Jerk",
+        "Direction",
+    )
     Velocity: float = 0.0
     Acceleration: float = 0.0
     Deceleration: float = 0.0
     Jerk: float = 0.0
     Direction: int = MC_Direction.MC_Positive
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.InVelocity = False
         self._in_velocity_shown = False
 
@@ -264,6 +276,7 @@ class MC_Halt(MotionFB):
     Beyond the Teco library (PLCopen Part 1); Done at standstill, the axis then goes to StandStill.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Deceleration", "Jerk")
     Deceleration: float = 0.0
     Jerk: float = 0.0
 
@@ -284,6 +297,7 @@ class MC_Stop(MotionFB):
     While Execute is TRUE no other motion command is accepted (EAxStop 6).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Deceleration", "Jerk")
     Deceleration: float = 0.0
     Jerk: float = 0.0
 
@@ -318,6 +332,15 @@ class GT_Jog(FunctionBlock):
     is running), Error, ErrorID.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "Enable",
+        "JogPos",
+        "JogNeg",
+        "JogVelo",
+        "JogAcc",
+        "JogDec",
+        "JogJerk",
+    )
     Enable: bool = False
     JogPos: bool = False
     JogNeg: bool = False
@@ -326,8 +349,8 @@ class GT_Jog(FunctionBlock):
     JogDec: float = 0.0
     JogJerk: float = 0.0
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.Busy = False
         self.Error = False
         self.ErrorID = 0
@@ -336,7 +359,7 @@ class GT_Jog(FunctionBlock):
 
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan."""
-        self._take_inputs(inputs)
+        self._scan(inputs)
         axis = self.axis
         want = 0
         if self.Enable and bool(self.JogPos) != bool(self.JogNeg):
@@ -381,16 +404,17 @@ class GT_EStop(FunctionBlock):
     cleared, every axis goes Disabled. ``Done`` while Enable is TRUE and all axes are Disabled.
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("Enable",)
     Enable: bool = False
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.Done = False
         self._prev = False
 
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan."""
-        self._take_inputs(inputs)
+        self._scan(inputs)
         axis = self.axis
         axes = axis.module.axes if axis.module is not None else [axis]
         enable = bool(self.Enable)

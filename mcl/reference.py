@@ -25,7 +25,7 @@ from typing import Any
 
 import mcl
 from mcl.errors import ErrorID, error_text
-from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB
+from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB, input_spec
 
 DOC_PATH = Path(__file__).resolve().parent.parent / "docs" / "reference.md"
 """Where ``--write`` puts the reference (``docs/reference.md`` of the repository)."""
@@ -381,10 +381,24 @@ def _value(value: Any) -> str:
     return f"`{value!r}`"
 
 
+def declared_inputs(cls: type[FunctionBlock]) -> dict[str, Any]:
+    """The inputs of ``cls`` (not the in-outs) with their declared initial values."""
+    spec = input_spec(cls())
+    defaults: dict[str, Any] = {}
+    for name in spec.kinds:
+        if name in cls.REFS:
+            continue
+        for klass in cls.__mro__:
+            if name in vars(klass):
+                defaults[name] = vars(klass)[name]
+                break
+    return defaults
+
+
 def inputs(cls: type[FunctionBlock]) -> list[tuple[str, str, str]]:
     """(name, type, default) of the in-outs and inputs of ``cls``."""
-    rows = [(name, _in_out_type(name), "in-out") for name in cls.AXIS_INPUTS]
-    for name, default in cls._all_inputs.items():
+    rows = [(name, _in_out_type(name), "in-out") for name in cls.REFS]
+    for name, default in declared_inputs(cls).items():
         rows.append((name, _annotation(cls, name), _value(default)))
     return rows
 
@@ -392,7 +406,7 @@ def inputs(cls: type[FunctionBlock]) -> list[tuple[str, str, str]]:
 def outputs(cls: type[FunctionBlock]) -> list[tuple[str, str, str]]:
     """(name, type, note) of the outputs of ``cls``: the public (capitalised) attributes of a
     fresh instance that are not inputs, then its public properties."""
-    names = set(cls.AXIS_INPUTS) | set(cls._all_inputs)
+    names = set(cls.REFS) | set(declared_inputs(cls))
     instance = cls()
     rows: list[tuple[str, str, str]] = []
     for name, value in vars(instance).items():

@@ -9,6 +9,7 @@ delayed edge arrived. A program that knows the delay compensates it.
 from __future__ import annotations
 
 import math
+from typing import Any, ClassVar
 
 from mcl.command import Status
 from mcl.errors import ErrorID
@@ -25,13 +26,19 @@ class MC_TouchProbe(ExecuteFB):
     (EParam 5: TriggerInput not 0, or a window that is not finite with First <= Last).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "TriggerInput",
+        "WindowOnly",
+        "FirstPosition",
+        "LastPosition",
+    )
     TriggerInput: int = 0
     WindowOnly: bool = False
     FirstPosition: float = 0.0
     LastPosition: float = 0.0
 
-    def __init__(self) -> None:
-        super().__init__()
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
         self.RecordedPosition = 0.0
         self.CommandAborted = False
         self._generation = 0
@@ -70,6 +77,7 @@ class MC_AbortTrigger(ExecuteFB):
     Inputs: TriggerInput (0 = the axis' TP input; else EParam 5).
     """
 
+    INPUTS: ClassVar[tuple[str, ...]] = ("TriggerInput",)
     TriggerInput: int = 0
 
     def _begin(self) -> int:

@@ -14,7 +14,7 @@ from typing import Any
 import pytest
 
 import mcl
-from mcl.fb import MotionFB
+from mcl.fb import MotionFB, input_names
 from tests.helpers import POS_TOL, configure, fresh_axis, power_on, tick
 
 
@@ -834,9 +834,9 @@ def test_unknown_input_raises_type_error_naming_the_valid_inputs(X, fb_type, inp
     with pytest.raises(TypeError) as info:
         fb(Axis=X, **inputs)
     message = str(info.value)
-    wrong = next(iter(set(inputs) - set(fb_type._all_inputs)))
+    wrong = next(iter(set(inputs) - set(input_names(fb_type))))
     assert wrong in message
-    for valid in fb_type._all_inputs:
+    for valid in input_names(fb_type):
         assert valid in message, f"{valid!r} missing from {message!r}"
     assert "Axis" in message
 

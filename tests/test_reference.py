@@ -10,7 +10,7 @@ import pytest
 
 import mcl
 from mcl import reference
-from mcl.fb import FunctionBlock
+from mcl.fb import FunctionBlock, input_names
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
@@ -54,7 +54,7 @@ def test_every_exported_function_block_has_a_section(generated):
     for cls in exported:
         assert f"\n### {cls.__name__}\n" in generated, f"no section for {cls.__name__}"
         section = generated.split(f"\n### {cls.__name__}\n", 1)[1].split("\n#", 1)[0]
-        for name in (*cls.AXIS_INPUTS, *cls._all_inputs):
+        for name in input_names(cls):
             assert f"| `{name}` |" in section, f"{cls.__name__}: input {name} missing"
 
 
