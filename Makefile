@@ -14,7 +14,10 @@ $(VENV)/.installed: pyproject.toml
 	$(UV) pip install --quiet --python $(VENV)/bin/python -e ".[test]"
 	@touch $@
 
+# the optional compiled build (mypyc), rebuilt when a compiled source changed; pure Python
+# where there is no C compiler
 setup: $(VENV)/.installed
+	@$(PY) -m mcl.build --if-stale
 
 run: setup
 	$(PY) -m viewer --scene $(SCENE) --host $(HOST) --port $(PORT)
@@ -29,8 +32,11 @@ lint: setup
 typecheck: setup
 	$(VENV)/bin/mypy
 
+# the whole suite in the active mode, then again in pure Python when the active one is compiled
 pytest: setup
 	$(PY) -m pytest
+	@if $(PY) -c "import mcl, sys; sys.exit(not mcl.COMPILED)"; then \
+		echo "== the same suite in pure Python"; MCL_PURE_PYTHON=1 $(PY) -m pytest; fi
 
 test: lint typecheck pytest
 
@@ -40,4 +46,4 @@ bench: setup
 	$(PY) -m tests.benchmarks.viewer
 
 clean:
-	rm -rf $(VENV) .mypy_cache .ruff_cache
+	rm -rf $(VENV) .build .mypy_cache .ruff_cache

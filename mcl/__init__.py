@@ -4,6 +4,11 @@ Function blocks keep PLCopen's and Teco's names; see docs/reference.md for the b
 ``mcl`` imports neither mujoco nor viser: it drives anything that implements :class:`AxisIO`.
 """
 
+from mcl import native
+
+COMPILED = native.activate("mcl", __path__)
+"""The package runs its compiled build (see :mod:`mcl.native`); False: pure Python."""
+
 from mcl import faults
 from mcl.administrative import (
     GT_Analog,

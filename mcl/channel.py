@@ -17,6 +17,8 @@ from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from mypy_extensions import mypyc_attr
+
 from mcl import faults as flt
 from mcl.encoder import IncrementalEncoder
 from mcl.servo import DAC_FULL_SCALE
@@ -86,6 +88,7 @@ class Marks:
         return found
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)
 class AxisChannel:
     """The I/O of one axis as the module sees it; implements :class:`mcl.io.AxisIO`.
 

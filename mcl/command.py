@@ -11,6 +11,8 @@ from __future__ import annotations
 from enum import IntEnum
 from typing import TYPE_CHECKING
 
+from mypy_extensions import mypyc_attr
+
 from mcl import trajectory
 from mcl.enums import AxisState, MC_BufferMode
 from mcl.trajectory import Limits, Profile
@@ -29,6 +31,7 @@ class Status(IntEnum):
     Error = 4
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)
 class Command:
     """Base of every motion command.
 

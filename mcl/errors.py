@@ -5,6 +5,10 @@ from __future__ import annotations
 from enum import IntEnum
 
 
+class ConditionTimeout(TimeoutError):
+    """``until`` did not become true within the simulated ``timeout`` (:meth:`mcl.Machine.run`)."""
+
+
 class ErrorID(IntEnum):
     """Error codes reported in ``ErrorID`` of a function block or ``AxErrorID`` of an axis."""
 

@@ -22,6 +22,8 @@ from __future__ import annotations
 import math
 from typing import Any, ClassVar, Final, Protocol
 
+from mypy_extensions import mypyc_attr
+
 from mcl.axis import Axis as AxisRef
 from mcl.command import Status
 from mcl.enums import MC_BufferMode
@@ -129,6 +131,7 @@ def input_names(cls: type[FunctionBlock]) -> tuple[str, ...]:
     return tuple(input_spec(cls()).kinds)
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)
 class FunctionBlock:
     """Base: declared inputs with initial values, kept between calls; the in-out references.
 
@@ -180,6 +183,10 @@ class FunctionBlock:
         if not self._connected:
             self._connected = all(getattr(self, ref) is not None for ref in self._spec.refs)
 
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan of the block (declared here: the compiled classes need it at the root)."""
+        raise NotImplementedError
+
     def _scan(self, inputs: dict[str, Any]) -> None:
         """Start of a scan: take the keyword inputs, check the in-outs are connected."""
         if inputs:
@@ -216,6 +223,7 @@ class FunctionBlock:
         return group
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)
 class ExecuteFB(FunctionBlock):
     """Edge-triggered block: Execute, Done, Busy, Error, ErrorID (docs/reference.md, Outputs).
 
@@ -329,6 +337,7 @@ class TicketOwner(Protocol):
         ...
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)
 class MotionFB(ExecuteFB):
     """A motion block: hands a ticket to the axis (or group); Active, CommandAborted/Aborted.
 
@@ -399,6 +408,7 @@ class MotionFB(ExecuteFB):
         self.CommandAborted = visible and final == Status.Aborted
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)
 class EnableFB(FunctionBlock):
     """Level-sensitive block: Enable, Valid, Error, ErrorID (docs/reference.md, Calling a
     function block).

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import ClassVar
 
 from mcl.axis import Axis
 
@@ -14,7 +15,7 @@ class Module:
         axes: the module's axes; each gets ``axis.module`` set to this module.
     """
 
-    MAX_AXES = 6
+    MAX_AXES: ClassVar[int] = 6
 
     def __init__(self, axes: Iterable[Axis]) -> None:
         self.axes = list(axes)

@@ -14,8 +14,11 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from typing import Protocol
 
+from mypy_extensions import mypyc_attr
+
 from mcl.axis import Axis
 from mcl.channel import AxisChannel
+from mcl.errors import ConditionTimeout
 from mcl.faults import FaultLog, Injectable
 
 
@@ -37,10 +40,6 @@ class Plant(Protocol):
     def sense(self) -> None:
         """Sample every axis' inputs for the servo cycle at the current instant."""
         ...
-
-
-class ConditionTimeout(TimeoutError):
-    """``until`` did not become true within the simulated ``timeout``."""
 
 
 def ticks_per(period: float, timestep: float, what: str) -> int:
@@ -143,6 +142,7 @@ class Runtime:
         return (tick - start) * dt
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)
 class Machine:
     """Named axes on a plant with their lockstep runtime: the surface scenarios program against.
 

@@ -9,6 +9,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from mcl import native
+
+COMPILED = native.activate("scenes", __path__)
+"""The per-physics-step modules (plant, drives) run compiled (see :mod:`mcl.native`)."""
+
 from scenes import gantry, single_axis
 from scenes.machine import AxisDef, DemoProgram, MachineDef, Signal
 from scenes.procedures import HomingRecipe

@@ -20,9 +20,17 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+from scenes.errors import WiringError
 
-class WiringError(ValueError):
-    """The model does not provide what an axis needs; the message says what and what would fit."""
+__all__ = [
+    "Device",
+    "DeviceDrive",
+    "Drive",
+    "DrivenDevice",
+    "ElectricAmplifier",
+    "SpringDamper",
+    "WiringError",
+]
 
 
 class Drive(Protocol):
