@@ -41,6 +41,7 @@ pytest: setup
 test: lint typecheck pytest
 
 bench: setup
+	$(PY) -m tests.benchmarks.machines
 	$(PY) -m tests.benchmarks.servo_cycle
 	$(PY) -m tests.benchmarks.gantry
 	$(PY) -m tests.benchmarks.viewer

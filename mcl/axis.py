@@ -468,12 +468,14 @@ class Axis:
         hold.status = Status.Active
         self.active = hold
 
-    def _ramp_down(self, state: AxisState) -> None:
+    def _ramp_down(self, state: AxisState) -> Halt:
+        """Stop on the maximum ramp from the model state; the ramp becomes the active command."""
         ramp = Halt(MC_BufferMode.Aborting, self.max_ramp())
         ramp.state = state
         self._start(ramp, self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp, successor=None)
         self.active = ramp
         self.state = state
+        return ramp
 
     def fault(self, code: int, open_loop: bool = False, stop_pushing: bool = False) -> None:
         """Axis error: latch ``code`` in AxErrorID, end all commands with it, go to ErrorStop.
@@ -679,9 +681,7 @@ class Axis:
         self.active = None
         if failed and ve != 0.0:  # a blending successor failed to start: stop on the max ramp
             self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = pe, ve, ae, t_end
-            self._ramp_down(AxisState.DiscreteMotion)
-            assert self.active is not None
-            return self.active.setpoint(self, t - t_end)
+            return self._ramp_down(AxisState.DiscreteMotion).setpoint(self, t - t_end)
         if self._powering_off:
             self._open_loop()
         elif self.state == AxisState.ErrorStop:

@@ -36,23 +36,52 @@ class Limits:
     jerk: float = math.inf
 
 
+Segment = tuple[float, float, float, float, float]
+"""A phase of constant jerk: start time [s], position [u], velocity [u/s], acceleration [u/s²]
+and jerk [u/s³] at its start."""
+
+
+def _segments(t0: float, traj: Any, offset: float) -> list[Segment]:
+    """The phases of a ruckig trajectory (its brake pre-profile, then its seven phases) from
+    ``t0`` on, positions shifted by ``offset``; the last one never ends (constant velocity)."""
+    profile = traj.profiles[0][0]
+    if profile.accel.duration > 0.0:
+        raise PlanningError("a trajectory with an acceleration post-profile is not expected")
+    out: list[Segment] = []
+    t = t0
+    for part, phases in ((profile.brake, 2), (profile, 7)):
+        ts, ps, vs, accs, js = part.t, part.p, part.v, part.a, part.j
+        for i in range(phases):
+            if ts[i] > 0.0:
+                out.append((t, ps[i] + offset, vs[i], accs[i], js[i]))
+                t += ts[i]
+    out.append((t0 + traj.duration, profile.p[7] + offset, profile.v[7], profile.a[7], 0.0))
+    return out
+
+
 class Profile:
     """A planned motion: position, velocity and acceleration as functions of time.
 
-    Made of one or more ruckig trajectories laid end to end; past its duration the profile
-    continues at its final velocity (used for blending and velocity moves).
+    Made of one or more ruckig trajectories laid end to end, evaluated as phases of constant
+    jerk (the same integration as ruckig's); past its duration the profile continues at its final
+    velocity (used for blending and velocity moves).
     """
 
-    __slots__ = ("_pieces", "duration", "end_position", "end_velocity")
+    __slots__ = ("_pieces", "_segments", "duration", "end_position", "end_velocity")
 
     def __init__(self, pieces: list[tuple[float, Any, float]]) -> None:
         """Args: pieces: ``(start time [s], ruckig.Trajectory, position offset [u])`` in order."""
         self._pieces = pieces
+        segments: list[Segment] = []
+        for t0, traj, offset in pieces:
+            if segments:
+                segments.pop()  # the previous piece's open end
+            segments += _segments(t0, traj, offset)
+        self._segments = segments
         t0, last, offset = pieces[-1]
         self.duration: float = t0 + last.duration
-        p, v, _ = last.at_time(last.duration)
-        self.end_position: float = p[0] + offset
-        self.end_velocity: float = v[0]
+        self.end_position: float = segments[-1][1]
+        self.end_velocity: float = segments[-1][2]
 
     def then(self, other: Profile) -> Profile:
         """This profile followed by ``other`` (which starts where this one ends)."""
@@ -61,13 +90,17 @@ class Profile:
 
     def at(self, t: float) -> tuple[float, float, float]:
         """Position [u], velocity [u/s] and acceleration [u/s²] at ``t`` seconds after the start."""
-        pieces = self._pieces
-        i = len(pieces) - 1
-        while i and t < pieces[i][0]:
+        segments = self._segments
+        i = len(segments) - 1
+        while i and t < segments[i][0]:
             i -= 1
-        t0, traj, offset = pieces[i]
-        p, v, a = traj.at_time(t - t0)
-        return p[0] + offset, v[0], a[0]
+        start, p, v, a, j = segments[i]
+        dt = t - start
+        return (
+            p + dt * (v + dt * (a / 2.0 + dt * j / 6.0)),
+            v + dt * (a + dt * j / 2.0),
+            a + dt * j,
+        )
 
 
 class _Planner(threading.local):

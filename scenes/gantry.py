@@ -115,12 +115,27 @@ class Demo:
     def __init__(self, scene: Scene) -> None:
         self.scene = scene
         self.axes = [scene.axes[n] for n in ("X", "Y", "Z")]
-        self.power = [mcl.MC_Power() for _ in self.axes]
+        group = self.group = mcl.AxesGroup("gantry", corner_tolerance=0.02)
+        # constant inputs are bound once; a scan passes only what changes (Enable, Execute)
+        self.power = [mcl.MC_Power(Axis=axis) for axis in self.axes]
         self.home = {n: HomeAxis(scene.axes[n], HOMING[n]) for n in ("X", "Y", "Z")}
-        self.group = mcl.AxesGroup("gantry", corner_tolerance=0.02)
-        self.add = [mcl.MC_AddAxisToGroup() for _ in self.axes]
-        self.enable = mcl.MC_GroupEnable()
-        self.moves = [[mcl.MC_MoveLinearAbsolute() for _ in batch] for batch in PATH]
+        self.add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=axis) for axis in self.axes]
+        self.enable = mcl.MC_GroupEnable(AxesGroup=group)
+        self.moves = [
+            [
+                mcl.MC_MoveLinearAbsolute(
+                    AxesGroup=group,
+                    Position=position,
+                    Velocity=PATH_VELOCITY,
+                    Acceleration=2000.0,
+                    Deceleration=2000.0,
+                    Jerk=20000.0,
+                    BufferMode=mode,
+                )
+                for position, mode in batch
+            ]
+            for batch in PATH
+        ]
         self.index = 0
         self._timer = 0.0
         self.error = ""
@@ -153,27 +168,24 @@ class Demo:
     def __call__(self) -> None:
         """One PLC scan."""
         step = self.STEPS[self.index]
-        for axis, power in zip(self.axes, self.power, strict=True):
-            power(Axis=axis, Enable=True)
+        for power in self.power:
+            power.Enable = True
+            power()
         self.home["Z"](Execute=step == "home Z")
         for name in ("X", "Y"):
             self.home[name](Execute=step == "home X and Y")
-        for axis, add in zip(self.axes, self.add, strict=True):
-            add(AxesGroup=self.group, Axis=axis, Execute=step == "group X, Y, Z")
-        self.enable(AxesGroup=self.group, Execute=step == "group X, Y, Z" and self.add[-1].Done)
+        grouping = step == "group X, Y, Z"
+        for add in self.add:
+            add.Execute = grouping
+            add()
+        self.enable.Execute = grouping and self.add[-1].Done
+        self.enable()
         batch_of = self.BATCH_OF
-        for b, (batch, moves) in enumerate(zip(PATH, self.moves, strict=True)):
-            for (position, mode), move in zip(batch, moves, strict=True):
-                move(
-                    AxesGroup=self.group,
-                    Execute=batch_of.get(step) == b,
-                    Position=position,
-                    Velocity=PATH_VELOCITY,
-                    Acceleration=2000.0,
-                    Deceleration=2000.0,
-                    Jerk=20000.0,
-                    BufferMode=mode,
-                )
+        for b, moves in enumerate(self.moves):
+            start = batch_of.get(step) == b
+            for move in moves:
+                move.Execute = start
+                move()
         for fb in self._blocks:
             if fb.Error:
                 self.error = f"{step}: error {fb.ErrorID}"

@@ -36,30 +36,29 @@ class HomeAxis:
 
     def __init__(self, axis: mcl.Axis, recipe: HomingRecipe) -> None:
         self.axis = axis
-        self.recipe = recipe
-        self.approach = mcl.MC_StepAbsSwitch()
-        self.pulse = mcl.MC_StepRefPulse()
-        self.Done = self.Busy = self.Error = False
-        self.ErrorID = 0
-
-    def __call__(self, Execute: bool) -> None:
-        """One PLC scan."""
-        r = self.recipe
-        self.approach(
-            Axis=self.axis,
-            Execute=Execute,
+        self.recipe = r = recipe
+        self.approach = mcl.MC_StepAbsSwitch(
+            Axis=axis,
             Direction=r.direction,
             SwitchMode=r.switch_mode,
             Velocity=r.search_velocity,
         )
-        self.pulse(
-            Axis=self.axis,
-            Execute=Execute,
+        self.pulse = mcl.MC_StepRefPulse(
+            Axis=axis,
             Direction=r.index_direction,
             Velocity=r.index_velocity,
             SetPosition=r.set_position,
             BufferMode=mcl.MC_BufferMode.Buffered,
         )
+        self.Done = self.Busy = self.Error = False
+        self.ErrorID = 0
+
+    def __call__(self, Execute: bool) -> None:
+        """One PLC scan."""
+        approach, pulse = self.approach, self.pulse
+        approach.Execute = pulse.Execute = Execute
+        approach()
+        pulse()
         failed = self.approach if self.approach.Error else self.pulse
         self.Error = failed.Error
         self.ErrorID = failed.ErrorID

@@ -329,3 +329,37 @@ def test_invalid_limits_raise_planning_error_in_velocity_to_and_blend_to():
         trajectory.velocity_to(0.0, 0.0, 0.0, 50.0, Limits(100.0, NAN, 1000.0))
     with pytest.raises(PlanningError):
         trajectory.blend_to(0.0, 0.0, 0.0, 10.0, Limits(100.0, 1000.0, -1.0), 50.0)
+
+
+def test_profiles_evaluate_like_ruckig_between_phase_boundaries():
+    """The profile's own constant-jerk evaluation agrees with ruckig's ``at_time``."""
+    import random
+
+    from mcl import trajectory
+
+    rng = random.Random(7)
+    worst = 0.0
+    for k in range(400):
+        jerk = rng.choice([math.inf, rng.uniform(1e3, 1e6)])
+        limits = Limits(
+            rng.uniform(10, 1000), rng.uniform(100, 20000), rng.uniform(100, 20000), jerk
+        )
+        p0, v0 = rng.uniform(-100, 100), rng.uniform(-2000, 2000)
+        a0 = rng.uniform(-1000, 1000) if jerk != math.inf else 0.0
+        try:
+            if k % 2:
+                profile = trajectory.move_to(p0, v0, a0, rng.uniform(-500, 500), limits)
+            else:
+                profile = trajectory.velocity_to(p0, v0, a0, rng.uniform(-1000, 1000), limits)
+        except trajectory.PlanningError:
+            continue
+        for _ in range(20):
+            t = rng.uniform(0.0, profile.duration * 1.2)
+            start, traj, offset = max(
+                (piece for piece in profile._pieces if piece[0] <= t), key=lambda x: x[0]
+            )
+            (p,), (v,), (a,) = traj.at_time(t - start)
+            mine = profile.at(t)
+            for x, y in zip(mine, (p + offset, v, a), strict=True):
+                worst = max(worst, abs(x - y) / max(1.0, abs(y)))
+    assert worst < 1e-9

@@ -1,27 +1,32 @@
 """Benchmark: cost of a servo cycle on simulated axes, and the following error of a long move.
 
-Prints JSON. ``us_per_servo_cycle`` is the wall time of one servo period of the whole stack
-(PLC program with FB calls every 2 ms, trajectory, regulator, supervision, simulated plant with two
-0.5 ms substeps) divided by the number of servo cycles; ``library_us`` subtracts the plant alone.
+Prints JSON per mode (compiled where built, and pure Python, each in a fresh process).
+``us_per_servo_cycle`` is the wall time of one servo period of the whole stack (PLC program with
+FB calls every 2 ms in the bind-once style, trajectory, regulator, supervision, simulated plant
+with two 0.5 ms substeps) divided by the number of servo cycles; ``library_us`` subtracts the
+plant alone; ``per_axis_us`` is the slope of ``library_us`` from 1 to 100 axes.
 Run: ``python -m tests.benchmarks.servo_cycle``.
 """
 
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 import time
 
 import mcl
-from tests.conftest import CONSTANTS
+from tests.helpers import CONSTANTS
+
+AXES = (1, 3, 10, 30, 100)
 
 
 def _machine(n: int) -> mcl.SimMachine:
     names = [f"A{i}" for i in range(n)]
     machine = mcl.SimMachine({name: mcl.SimAxisParams(start=0.2) for name in names})
-    setup = mcl.GT_SetConstant()
     for axis in machine.axes.values():
-        setup(Axis=axis, Execute=False)
-        setup(Axis=axis, Execute=True, **CONSTANTS)
+        mcl.GT_SetConstant(Axis=axis, **CONSTANTS)(Execute=True)
     return machine
 
 
@@ -29,27 +34,24 @@ def servo_cycle_cost(n: int, seconds: float = 2.0) -> dict[str, float]:
     """Wall time per servo cycle with ``n`` axes moving back and forth [µs]."""
     machine = _machine(n)
     axes = list(machine.axes.values())
-    powers = [mcl.MC_Power() for _ in axes]
-    moves = [mcl.MC_MoveRelative() for _ in axes]
+    powers = [mcl.MC_Power(Axis=axis, Enable=True) for axis in axes]
+    limits = dict(Velocity=400.0, Acceleration=4000.0, Deceleration=4000.0, Jerk=100000.0)
+    moves = [mcl.MC_MoveRelative(Axis=axis, **limits) for axis in axes]
     toggle = [False]
     distance = [200.0]
 
     def program() -> None:
-        for axis, power, move in zip(axes, powers, moves, strict=True):
-            power(Axis=axis, Enable=True)
-            move(
-                Axis=axis,
-                Execute=toggle[0],
-                Distance=distance[0],
-                Velocity=400.0,
-                Acceleration=4000.0,
-                Deceleration=4000.0,
-                Jerk=100000.0,
-            )
+        for power in powers:
+            power()
+        for move in moves:
+            move.Execute = toggle[0]
+            move()
         if all(m.Done for m in moves) or not toggle[0]:
             toggle[0] = not toggle[0]
             if toggle[0]:
                 distance[0] = -distance[0]
+                for move in moves:
+                    move.Distance = distance[0]
 
     machine.run(program, timeout=0.1)
     cycles = round(seconds / machine.runtime.servo_period)
@@ -60,8 +62,7 @@ def servo_cycle_cost(n: int, seconds: float = 2.0) -> dict[str, float]:
     start = time.perf_counter()
     for _ in range(cycles):  # one servo period: sample the inputs, two physics steps
         plant.sense()
-        plant.step()
-        plant.step()
+        plant.step(2)
     plant_only = (time.perf_counter() - start) / cycles * 1e6
     return {
         "axes": n,
@@ -108,13 +109,35 @@ def following_error() -> dict[str, float]:
     }
 
 
-def main() -> None:
-    """Print the benchmark as JSON."""
-    result = {
-        "servo_cycle": [servo_cycle_cost(n) for n in (1, 3, 30)],
+def mode_report() -> dict[str, object]:
+    """The figures in this process' mode."""
+    cycles = [servo_cycle_cost(n) for n in AXES]
+    slope = (cycles[-1]["library_us"] - cycles[0]["library_us"]) / (AXES[-1] - AXES[0])
+    return {
+        "mode": "compiled" if mcl.COMPILED else "pure Python",
+        "servo_cycle": cycles,
+        "per_axis_us": round(slope, 2),
         "move_300mm_400mm_s": following_error(),
     }
-    print(json.dumps(result, indent=2))
+
+
+def main() -> None:
+    """Print the benchmark as JSON, compiled (where built) and pure Python."""
+    if "--this-mode" in sys.argv:
+        print(json.dumps(mode_report()))
+        return
+    reports = []
+    for pure in ([False] if mcl.COMPILED else []) + [True]:
+        env = {**os.environ, "MCL_PURE_PYTHON": "1" if pure else ""}
+        out = subprocess.run(
+            [sys.executable, "-m", "tests.benchmarks.servo_cycle", "--this-mode"],
+            env=env,
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout
+        reports.append(json.loads(out))
+    print(json.dumps(reports, indent=2))
 
 
 if __name__ == "__main__":
