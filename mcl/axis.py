@@ -12,10 +12,10 @@ from collections import deque
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from mcl.channel import AxisChannel
 from mcl.command import Command, Halt, Hold, MoveTo, MoveVelocity, Status, Stop, blend_velocity
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
 from mcl.errors import ErrorID
-from mcl.io import AxisIO
 from mcl.servo import Regulator, ServoConstants
 from mcl.trajectory import Limits, PlanningError
 
@@ -96,7 +96,9 @@ class Axis:
         name: the axis' name in messages and traces.
     """
 
-    def __init__(self, io: AxisIO, config: AxisConfig | None = None, name: str = "axis") -> None:
+    def __init__(
+        self, io: AxisChannel, config: AxisConfig | None = None, name: str = "axis"
+    ) -> None:
         self.io = io
         self.config = config = config if config is not None else AxisConfig()
         self.name = name

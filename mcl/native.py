@@ -40,9 +40,11 @@ derived from a builtin cannot be a native class) and the I/O protocol (runtime-c
 
 def compiled_sources() -> list[Path]:
     """The source files that the compiled build covers: every module of mcl but
-    :data:`NOT_COMPILED`, and the per-physics-step modules of scenes (plant, drives)."""
+    :data:`NOT_COMPILED`, the per-physics-step modules of scenes (plant, drives) and its PLC
+    procedures (run every scan)."""
     mcl = sorted(p for p in (ROOT / "mcl").glob("*.py") if p.name not in NOT_COMPILED)
-    return [*mcl, ROOT / "scenes" / "plant.py", ROOT / "scenes" / "drives.py"]
+    scenes = ("plant.py", "drives.py", "procedures.py")
+    return [*mcl, *(ROOT / "scenes" / name for name in scenes)]
 
 
 def digest(path: Path) -> str:

@@ -7,15 +7,17 @@ works while the model stands still and the axis is outside its in-position windo
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import Final
 
-DAC_CODES = 4095
+DAC_CODES: Final = 4095
 """Largest DAC code; ±4095 ↔ ±10.5 V."""
-DAC_FULL_SCALE = 10.5
+DAC_FULL_SCALE: Final = 10.5
 """Voltage at the largest DAC code [V]."""
-VOLT_LIMIT = 10.0
+VOLT_LIMIT: Final = 10.0
 """Clip of the analog command in closed loop [V]."""
-_VOLTS_PER_CODE = DAC_FULL_SCALE / DAC_CODES
+_VOLTS_PER_CODE: Final = DAC_FULL_SCALE / DAC_CODES
 
 
 def dac(volts: float) -> float:
@@ -29,7 +31,7 @@ def dac(volts: float) -> float:
         volts = VOLT_LIMIT
     elif volts <= -VOLT_LIMIT:
         volts = -VOLT_LIMIT
-    return round(volts / _VOLTS_PER_CODE) * _VOLTS_PER_CODE
+    return math.floor(volts / _VOLTS_PER_CODE + 0.5) * _VOLTS_PER_CODE
 
 
 def dac_code_volts(code: int) -> float:

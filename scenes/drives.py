@@ -14,11 +14,12 @@ belongs to the scene (``get_state``/``set_state``), so resets and replays are bi
 
 from __future__ import annotations
 
-from typing import Protocol
+from typing import Any, Protocol
 
 import mujoco
 import numpy as np
 import numpy.typing as npt
+from mypy_extensions import mypyc_attr
 
 from scenes.errors import WiringError
 
@@ -33,20 +34,21 @@ __all__ = [
 ]
 
 
-class Drive(Protocol):
-    """Applies an axis command to the physics."""
+@mypyc_attr(allow_interpreted_subclasses=True)
+class Drive:
+    """Applies an axis command to the physics (a base class: the compiled build calls it
+    directly)."""
 
     def apply(self, volts: float, enabled: bool, brake: bool) -> None:
         """Analog command [V], amplifier on, holding brake engaged."""
-        ...
+        raise NotImplementedError
 
     def get_state(self) -> npt.NDArray[np.float64]:
         """What the drive changed in the model (restored with :meth:`set_state`)."""
-        ...
+        return np.zeros(0)
 
     def set_state(self, state: npt.NDArray[np.float64]) -> None:
         """Restore a state taken with :meth:`get_state`."""
-        ...
 
 
 class Device(Protocol):
@@ -77,7 +79,7 @@ class DrivenDevice(Device, Protocol):
         ...
 
 
-class ElectricAmplifier:
+class ElectricAmplifier(Drive):
     """A ±10 V velocity-mode servo amplifier: the MJCF actuator ``<axis>_amp``.
 
     Drive enable switches the actuator's group off and on (``opt.disableactuator``); the holding
@@ -100,6 +102,7 @@ class ElectricAmplifier:
         brake_force: float,
     ) -> None:
         self.model, self.data = model, data
+        self._ctrl: Any = memoryview(data.ctrl)  # item access without numpy scalars
         self.actuator = actuator
         self.dof = dof
         self.group_bit = 1 << int(model.actuator_group[actuator])
@@ -110,7 +113,7 @@ class ElectricAmplifier:
         self.apply(0.0, False, True)
 
     def apply(self, volts: float, enabled: bool, brake: bool) -> None:
-        self.data.ctrl[self.actuator] = volts
+        self._ctrl[self.actuator] = volts
         if enabled != self.enabled:
             self.enabled = enabled
             opt = self.model.opt
@@ -130,7 +133,7 @@ class ElectricAmplifier:
         self.apply(float(self.data.ctrl[self.actuator]), bool(state[0]), bool(state[1]))
 
 
-class DeviceDrive:
+class DeviceDrive(Drive):
     """The axis' command goes into a :class:`DrivenDevice` (e.g. a valve-controlled cylinder).
 
     The device itself keeps the command as part of its state; this drive only forwards it.
@@ -141,12 +144,6 @@ class DeviceDrive:
 
     def apply(self, volts: float, enabled: bool, brake: bool) -> None:
         self.device.apply(volts, enabled, brake)
-
-    def get_state(self) -> npt.NDArray[np.float64]:
-        return np.zeros(0)
-
-    def set_state(self, state: npt.NDArray[np.float64]) -> None:
-        pass
 
 
 class SpringDamper:

@@ -139,17 +139,23 @@ class Demo:
         self.index = 0
         self._timer = 0.0
         self.error = ""
-        self._blocks: list[Any] = [
-            *self.home.values(),
-            *self.add,
-            self.enable,
-            *(m for ms in self.moves for m in ms),
-        ]
+        self._watched = [self._blocks_of(step) for step in self.STEPS]
+        """Per step, the blocks whose error stops the demo."""
         self.blocks: dict[str, Any] = {
             **{f"home{n}": h for n, h in self.home.items()},
             **{f"move{b}.{i}": m for b, ms in enumerate(self.moves) for i, m in enumerate(ms)},
         }
         """The blocks a report watches, by name."""
+
+    def _blocks_of(self, step: str) -> tuple[Any, ...]:
+        """The blocks that act in ``step``."""
+        if step.startswith("home"):
+            return tuple(self.home.values())
+        if step.startswith("group"):
+            return (*self.add, self.enable)
+        if step in self.BATCH_OF:
+            return tuple(self.moves[self.BATCH_OF[step]])
+        return ()
 
     @property
     def step(self) -> str:
@@ -186,7 +192,7 @@ class Demo:
             for move in moves:
                 move.Execute = start
                 move()
-        for fb in self._blocks:
+        for fb in self._watched[self.index]:
             if fb.Error:
                 self.error = f"{step}: error {fb.ErrorID}"
                 return

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -135,6 +136,7 @@ class MujocoAxisIO(AxisChannel):
         self.rotary = kind == int(mujoco.mjtJoint.mjJNT_HINGE)
         """A hinge joint: the coordinate is an angle [rad]."""
         self.qpos_adr = int(model.jnt_qposadr[self.joint])
+        self._qpos: Any = memoryview(data.qpos)  # item access without numpy scalars
         self.dof = int(model.jnt_dofadr[self.joint])
         if wiring.drive == "electric":
             _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{p}{a}_amp")
@@ -263,8 +265,8 @@ class MujocoAxisIO(AxisChannel):
 
     def sense(self, t: float) -> None:
         """Sample encoder, switches, probe and analog inputs at time ``t`` [s]."""
-        data = self.data
-        q = float(data.qpos[self.qpos_adr])
+        qpos = self._qpos
+        q: float = qpos[self.qpos_adr]
         (nlo, nhi), (plo, phi), (rlo, rhi) = self.windows
         if self.rotary:
             n, pos, r = (_wrap(q + offset) for offset in self.offsets)
@@ -276,7 +278,7 @@ class MujocoAxisIO(AxisChannel):
             plo <= pos <= phi,
             nlo <= n <= nhi,
             rlo <= r <= rhi,
-            None if self._probe_qpos is None else float(data.qpos[self._probe_qpos]),
+            None if self._probe_qpos is None else qpos[self._probe_qpos],
             () if self._analog is None else self._analog(),
         )
 
