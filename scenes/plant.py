@@ -173,10 +173,11 @@ class MujocoAxisIO(AxisChannel):
             self._window(p, a, kind) if kind in wiring.switches else (math.inf, -math.inf, 0.0)
             for kind in SWITCHES
         ]
-        self.windows = tuple((lo, hi) for lo, hi, _ in windows)
+        self.windows: tuple[tuple[float, float], ...] = tuple((lo, hi) for lo, hi, _ in windows)
         """Per switch kind (:data:`SWITCHES`), the window in which it is actuated: of the joint
         coordinate on a slide; on a hinge, of the angle ``wrap(q + offsets[i])`` [rad]."""
-        self.offsets = tuple(offset for _, _, offset in windows)
+        (self._nlo, self._nhi), (self._plo, self._phi), (self._rlo, self._rhi) = self.windows
+        self.offsets: tuple[float, ...] = tuple(offset for _, _, offset in windows)
         """Per switch kind, the angle from the switch to its cam at ``q = 0`` (hinge) [rad]."""
         self._analog = wiring.analog
         self.drive_model: Drive | None = self._drive(p, a, wiring, devices or {})
@@ -267,7 +268,6 @@ class MujocoAxisIO(AxisChannel):
         """Sample encoder, switches, probe and analog inputs at time ``t`` [s]."""
         qpos = self._qpos
         q: float = qpos[self.qpos_adr]
-        (nlo, nhi), (plo, phi), (rlo, rhi) = self.windows
         if self.rotary:
             n, pos, r = (_wrap(q + offset) for offset in self.offsets)
         else:
@@ -275,9 +275,9 @@ class MujocoAxisIO(AxisChannel):
         self.sample(
             t,
             q,
-            plo <= pos <= phi,
-            nlo <= n <= nhi,
-            rlo <= r <= rhi,
+            self._plo <= pos <= self._phi,
+            self._nlo <= n <= self._nhi,
+            self._rlo <= r <= self._rhi,
             None if self._probe_qpos is None else qpos[self._probe_qpos],
             () if self._analog is None else self._analog(),
         )
