@@ -12,12 +12,10 @@ Run: ``python -m tests.benchmarks.machines``.
 
 from __future__ import annotations
 
-import json
-import os
-import subprocess
-import sys
 import time
 from typing import Any
+
+from tests.benchmarks import report_in_both_modes
 
 CHUNK = 0.1
 """Simulated seconds per measured chunk [s]."""
@@ -64,6 +62,9 @@ def machine(name: str) -> dict[str, Any]:
     cycles = simulated / scene.runtime.servo_period
     return {
         "machine": name,
+        "physics": "MuJoCo"
+        if scene.has_model
+        else "simulated axes (a few lines of Euler, no engine)",
         "simulated_s": round(simulated, 1),
         "demo_real_time_factor": round(simulated / stack, 1),
         "bare_physics_real_time_factor": round(simulated / bare, 1),
@@ -84,30 +85,9 @@ def mode_report() -> dict[str, Any]:
     }
 
 
-def in_mode(pure: bool) -> dict[str, Any]:
-    """:func:`mode_report` in a fresh process, compiled or pure Python."""
-    env = {**os.environ, "MCL_PURE_PYTHON": "1" if pure else ""}
-    out = subprocess.run(
-        [sys.executable, "-m", "tests.benchmarks.machines", "--this-mode"],
-        env=env,
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout
-    result: dict[str, Any] = json.loads(out)
-    return result
-
-
 def main() -> None:
     """Print the benchmark as JSON, compiled (where built) and pure Python."""
-    if "--this-mode" in sys.argv:
-        print(json.dumps(mode_report()))
-        return
-    import mcl
-
-    reports = [in_mode(pure=False)] if mcl.COMPILED else []
-    reports.append(in_mode(pure=True))
-    print(json.dumps(reports, indent=2))
+    report_in_both_modes("tests.benchmarks.machines", mode_report)
 
 
 if __name__ == "__main__":

@@ -10,13 +10,10 @@ Run: ``python -m tests.benchmarks.servo_cycle``.
 
 from __future__ import annotations
 
-import json
-import os
-import subprocess
-import sys
 import time
 
 import mcl
+from tests.benchmarks import report_in_both_modes
 from tests.helpers import CONSTANTS
 
 AXES = (1, 3, 10, 30, 100)
@@ -123,21 +120,7 @@ def mode_report() -> dict[str, object]:
 
 def main() -> None:
     """Print the benchmark as JSON, compiled (where built) and pure Python."""
-    if "--this-mode" in sys.argv:
-        print(json.dumps(mode_report()))
-        return
-    reports = []
-    for pure in ([False] if mcl.COMPILED else []) + [True]:
-        env = {**os.environ, "MCL_PURE_PYTHON": "1" if pure else ""}
-        out = subprocess.run(
-            [sys.executable, "-m", "tests.benchmarks.servo_cycle", "--this-mode"],
-            env=env,
-            check=True,
-            capture_output=True,
-            text=True,
-        ).stdout
-        reports.append(json.loads(out))
-    print(json.dumps(reports, indent=2))
+    report_in_both_modes("tests.benchmarks.servo_cycle", mode_report)
 
 
 if __name__ == "__main__":
