@@ -96,7 +96,12 @@ def main(argv: list[str] | None = None) -> int:
         print("no C compiler found: no compiled build")
     elif not args.status:
         print("building the compiled modules (mypyc) …", flush=True)
-        build()
+        try:
+            build()
+        except SystemExit as failure:
+            if not args.if_stale:
+                raise
+            print(f"{failure}; running pure Python")  # setup goes on without the build
         reset()
     print(f"mcl runs {mode()}")
     return 0

@@ -88,7 +88,8 @@ class GroupMember(Command):
     def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
         if self.signal:
             return self._last, 0.0, 0.0
-        p, v, a = self.group._setpoint(self.index, self.t0 + t)
+        # the servo instant itself (not t0 + t), so every member reads the same path point
+        p, v, a = self.group._setpoint(self.index, axis.t_cycle)
         if self.signal:  # released by this very evaluation: the path stands at its end
             return self._last, 0.0, 0.0
         self._last = p

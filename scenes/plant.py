@@ -307,6 +307,7 @@ class MujocoPlant:
         self._hooks = [d.before_step for d in self.devices.values()]
         mujoco.mj_forward(model, data)
         self.ios = {w.axis: MujocoAxisIO(model, data, w, self.devices) for w in wirings}
+        self._channels = list(self.ios.values())
         self._spec = mujoco.mjtState.mjSTATE_INTEGRATION
 
     @property
@@ -329,7 +330,7 @@ class MujocoPlant:
     def sense(self) -> None:
         """Sample every axis' inputs."""
         t = float(self.data.time)
-        for io in self.ios.values():
+        for io in self._channels:
             io.sense(t)
 
     def get_state(self) -> list[npt.NDArray[np.float64]]:
