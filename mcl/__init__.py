@@ -1,7 +1,8 @@
 """mcl — the PLCopen motion library of the Teco MotionControlLib (GT-x75x servo modules).
 
 Function blocks keep PLCopen's and Teco's names; see docs/reference.md for the behaviour contract.
-``mcl`` imports neither mujoco nor viser: it drives anything that implements :class:`AxisIO`.
+``mcl`` imports neither mujoco nor viser: it drives any plant that subclasses
+:class:`AxisChannel` (the :class:`AxisIO` contract).
 """
 
 from mcl import native

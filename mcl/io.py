@@ -1,9 +1,10 @@
 """The I/O boundary: what a GT-x75x servo module sees of one axis.
 
-`mcl` drives any object that implements :class:`AxisIO`, and so could a real module. Both plants
-of this project implement it through :class:`mcl.channel.AxisChannel`: the pure-Python simulated
-axes of :mod:`mcl.simaxis` and the MuJoCo plant of ``scenes``. Once per servo cycle the servo core
-reads the inputs (sampled at the same instant) and then calls :meth:`AxisIO.write`.
+:class:`AxisIO` is the contract; :class:`mcl.channel.AxisChannel` implements it once, and an
+:class:`mcl.Axis` takes an ``AxisChannel``. A plant (the pure-Python simulated axes of
+:mod:`mcl.simaxis`, the MuJoCo plant of ``scenes``, or a real module) subclasses it and supplies
+the physics. Once per servo cycle the servo core reads the inputs (sampled at the same instant) and
+then calls :meth:`AxisIO.write`.
 """
 
 from __future__ import annotations
