@@ -25,7 +25,8 @@ from mcl.administrative import (
     MC_Reset,
 )
 from mcl.axis import Axis, AxisConfig
-from mcl.channel import AxisChannel, Marks
+from mcl.channel import IDEAL as IDEAL_SENSORS
+from mcl.channel import AxisChannel, Marks, Sensors
 from mcl.enums import AxisState, GroupState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.errors import ErrorID, error_text
 from mcl.group import AxesGroup
@@ -75,6 +76,7 @@ from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant
 from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
 
 __all__ = [
+    "IDEAL_SENSORS",
     "AxesGroup",
     "Axis",
     "AxisChannel",
@@ -135,6 +137,7 @@ __all__ = [
     "Module",
     "Plant",
     "Runtime",
+    "Sensors",
     "ServoConstants",
     "SimAxis",
     "SimAxisParams",

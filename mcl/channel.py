@@ -13,10 +13,12 @@ from __future__ import annotations
 
 import math
 import random
+import zlib
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
 from mypy_extensions import mypyc_attr
 
 from mcl import faults as flt
@@ -24,6 +26,8 @@ from mcl.encoder import IncrementalEncoder
 from mcl.servo import DAC_FULL_SCALE
 
 _SWITCH_INDEX = {"lim_pos": 0, "lim_neg": 1, "ref": 2, "tp": 3}
+NO_SWITCHES: tuple[tuple[float, float], ...] = ((math.inf, -math.inf),) * 3
+"""Switch windows of an axis without switches (LIM+, LIM−, REF never actuated)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,6 +92,71 @@ class Marks:
         return found
 
 
+@dataclass(frozen=True, slots=True)
+class Sensors:
+    """What makes an axis' sensors and module real rather than ideal (all zero: ideal).
+
+    The defaults are those of a precision machine axis: precision limit switches (mechanical
+    plunger or inductive precision sensors: a few µm repeatability, some µm hysteresis), an
+    optical encoder whose reading jitters by a fraction of a count, an index pulse that is not
+    gated to one quadrature state, and a module that writes the command computed from one
+    sample at the start of the next servo cycle.
+
+    Attributes:
+        switch_hysteresis: travel past its trip point before a switch releases [m or rad].
+        switch_repeatability: standard deviation of a switch's trip point, drawn anew at each
+            edge [m or rad].
+        encoder_noise: standard deviation of the position the encoder counts (vibration,
+            interpolation jitter) [counts].
+        index_jitter: standard deviation of the counter value the index edge latches [counts];
+            the latch rounds to a whole count.
+        output_delay: servo cycles between sampling the inputs and the command reaching the
+            drive (0 or 1).
+        seed: seed of the noise; each axis draws its own sequence (from the seed and its name).
+    """
+
+    switch_hysteresis: float = 10.0e-6
+    switch_repeatability: float = 2.0e-6
+    encoder_noise: float = 0.2
+    index_jitter: float = 0.3
+    output_delay: int = 1
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("switch_hysteresis", "switch_repeatability", "encoder_noise", "index_jitter"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f"Sensors.{name} must be finite and >= 0, got {value!r}")
+        if self.output_delay not in (0, 1):
+            raise ValueError(
+                f"Sensors.output_delay must be 0 or 1 servo cycles, got {self.output_delay!r}"
+            )
+
+
+class Normals:
+    """Standard normal numbers from a seeded generator, drawn in blocks (cheap per sample)."""
+
+    __slots__ = ("_block", "_generator", "_i")
+
+    def __init__(self, seed: int) -> None:
+        self._generator = np.random.default_rng(seed)
+        self._block: list[float] = []
+        self._i = 0
+
+    def next(self) -> float:
+        """The next number (mean 0, standard deviation 1)."""
+        i = self._i
+        if i == len(self._block):
+            self._block = self._generator.standard_normal(1024).tolist()
+            i = 0
+        self._i = i + 1
+        return self._block[i]
+
+
+IDEAL = Sensors(0.0, 0.0, 0.0, 0.0, 0)
+"""Ideal sensors: exact switches and encoder, the command applied in the cycle it is computed."""
+
+
 @mypyc_attr(allow_interpreted_subclasses=True)
 class AxisChannel:
     """The I/O of one axis as the module sees it; implements :class:`mcl.io.AxisIO`.
@@ -102,6 +171,10 @@ class AxisChannel:
         probe_delay: sensor delay between a mark and the latch [s].
         has_drive: False for an encoder-only axis (a measuring wheel): :meth:`write` is ignored.
         digital_outputs: number of digital outputs a program may set.
+        windows: per switch (LIM+, LIM−, REF) the interval of the switch coordinate the plant
+            passes to :meth:`sample` in which the switch is actuated [m or rad]; an empty
+            interval (lo > hi) for a switch the axis does not have.
+        sensors: the sensors' imperfections (default: a precision machine; :data:`IDEAL`).
     """
 
     def __init__(
@@ -116,13 +189,25 @@ class AxisChannel:
         probe_delay: float = 0.0,
         has_drive: bool = True,
         digital_outputs: int = 0,
+        windows: Sequence[tuple[float, float]] = NO_SWITCHES,
+        sensors: Sensors | None = None,
     ) -> None:
+        if len(windows) != 3 or any(not lo <= hi and lo != math.inf for lo, hi in windows):
+            raise ValueError(
+                f"axis {name}: windows must be three (lo, hi) intervals for LIM+, LIM- and REF "
+                f"(lo <= hi, or (inf, -inf) for a missing switch), got {windows!r}"
+            )
+        sensors = Sensors() if sensors is None else sensors
+        self.sensors = sensors
+        rng = Normals(sensors.seed * 1_000_003 + zlib.crc32(name.encode()))
         if not (math.isfinite(probe_delay) and probe_delay >= 0.0):
             raise ValueError(f"axis {name}: probe_delay must be >= 0 s, got {probe_delay!r}")
         self.name = name
         self.resolution = resolution
         """Travel per encoder count [m or rad]."""
-        self.encoder = IncrementalEncoder(resolution, counts_per_rev, origin, index_width)
+        self.encoder = IncrementalEncoder(
+            resolution, counts_per_rev, origin, index_width, sensors.index_jitter, rng
+        )
         self.has_drive = has_drive
         self.probe = probe
         self.probe_delay = probe_delay
@@ -154,6 +239,17 @@ class AxisChannel:
         self._rngs: dict[str, random.Random] = {}
         self._disabled_at = -math.inf
         self._enable_request = False
+        self._rng = rng
+        self._noise = sensors.encoder_noise * resolution
+        self._hysteresis = sensors.switch_hysteresis
+        self._spread = sensors.switch_repeatability
+        self._delayed = sensors.output_delay == 1
+        self._pending: tuple[float, bool] | None = None
+        (self._plo, self._phi), (self._nlo, self._nhi), (self._rlo, self._rhi) = windows
+        self._physical = [False, False, False]
+        """Per switch, the level the switch itself has (before faults)."""
+        self._trip = [0.0, 0.0, 0.0]
+        """Per switch, this edge's deviation of the trip point (repeatability) [m or rad]."""
 
     # ------------------------------------------------------------------ faults
     @property
@@ -195,9 +291,9 @@ class AxisChannel:
         self,
         t: float,
         x: float,
-        lim_pos: bool,
-        lim_neg: bool,
-        ref: bool,
+        at_pos: float,
+        at_neg: float,
+        at_ref: float,
         probe_q: float | None = None,
         analog: Sequence[float] = (),
     ) -> None:
@@ -206,15 +302,25 @@ class AxisChannel:
         Args:
             t: the servo instant [s].
             x: true position of the axis [m or rad].
-            lim_pos, lim_neg, ref: true switch levels.
+            at_pos, at_neg, at_ref: where LIM+, LIM− and REF see their cam, in the coordinate
+                of their windows (the axis position on a slide; the angle from switch to cam on
+                a hinge) [m or rad].
             probe_q: the coordinate the probe marks are on (default: ``x``).
             analog: true analog input voltages [V].
         """
         enc = self.encoder
+        lim_pos = self._actuated(0, at_pos)
+        lim_neg = self._actuated(1, at_neg)
+        ref = self._actuated(2, at_ref)
+        x_enc = x - self._shift  # the shift keeps what a cleared fault lost
+        if self._noise:
+            x_enc += self._noise * self._rng.next()
         if self._faults:
-            lim_pos, lim_neg, ref, analog = self._faulty_inputs(t, x, lim_pos, lim_neg, ref, analog)
+            lim_pos, lim_neg, ref, analog = self._faulty_inputs(
+                t, x, x_enc, lim_pos, lim_neg, ref, analog
+            )
         else:
-            enc.update(x - self._shift)  # the shift keeps what a cleared fault lost
+            enc.update(x_enc)
             self.counts = enc.counts
         self.index = enc.index and self.encoder_ok
         self.index_count = enc.index_count
@@ -224,6 +330,34 @@ class AxisChannel:
         if self.probe is not None:
             self._sample_probe(t, x, x if probe_q is None else probe_q)
         self.t, self._x = t, x
+        pending = self._pending
+        if pending is not None:  # the module's output latch: last cycle's outputs
+            self._pending = None
+            self._output(pending[0], pending[1])
+
+    def _actuated(self, i: int, at: float) -> bool:
+        """Switch ``i`` at coordinate ``at``: on inside its window (shifted by this edge's
+        repeatability), released only ``switch_hysteresis`` outside it."""
+        if i == 0:
+            lo, hi = self._plo, self._phi
+        elif i == 1:
+            lo, hi = self._nlo, self._nhi
+        else:
+            lo, hi = self._rlo, self._rhi
+        j = self._trip[i]
+        on = self._physical[i]
+        if on:
+            h = self._hysteresis
+            now = lo - h + j <= at <= hi + h - j
+        else:
+            now = lo + j <= at <= hi - j
+        if now != on:
+            self._physical[i] = now
+            if self._spread:
+                # the next edge's trip point, within half the hysteresis of the nominal one
+                limit = 0.5 * self._hysteresis if self._hysteresis else math.inf
+                self._trip[i] = max(-limit, min(limit, self._spread * self._rng.next()))
+        return now
 
     def _sample_probe(self, t: float, x: float, q: float) -> None:
         probe, delay = self.probe, self.probe_delay
@@ -263,6 +397,7 @@ class AxisChannel:
         self,
         t: float,
         x: float,
+        x_enc: float,
         lim_pos: bool,
         lim_neg: bool,
         ref: bool,
@@ -275,7 +410,10 @@ class AxisChannel:
         if isinstance(encoder, flt.EncoderFreeze | flt.EncoderWireBreak):
             assert self._frozen_at is not None
             self._shift = x - self._frozen_at
-        enc.update(x - self._shift)
+            x_enc = self._frozen_at
+        elif isinstance(encoder, flt.EncoderLostCounts):
+            x_enc -= encoder.fraction * (x - self._x)
+        enc.update(x_enc)
         self.counts = enc.counts
         if isinstance(encoder, flt.EncoderNoise):
             self.counts += self._rngs["encoder"].randint(-encoder.counts, encoder.counts)
@@ -309,9 +447,17 @@ class AxisChannel:
 
     # ------------------------------------------------------------------ outputs
     def write(self, volts: float, enable: bool) -> None:
-        """Set the analog command [V] and the drive enable (:class:`mcl.io.AxisIO`)."""
+        """Set the analog command [V] and the drive enable (:class:`mcl.io.AxisIO`); with
+        ``sensors.output_delay`` 1 they reach the drive at the next :meth:`sample`."""
         if not self.has_drive:
             return
+        if self._delayed:
+            self._pending = (volts, enable)
+        else:
+            self._output(volts, enable)
+
+    def _output(self, volts: float, enable: bool) -> None:
+        """The module's outputs reach the amplifier and the brake (through their faults)."""
         if self._faults:
             volts, on, brake = self._faulty_outputs(volts, enable)
         else:

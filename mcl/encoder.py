@@ -7,14 +7,24 @@ index level and latched index count that :class:`mcl.io.AxisIO` exposes.
 from __future__ import annotations
 
 import math
+from typing import Protocol
+
+
+class Normal(Protocol):
+    """A source of standard normal numbers."""
+
+    def next(self) -> float:
+        """The next number (mean 0, standard deviation 1)."""
+        ...
 
 
 class IncrementalEncoder:
     """Quantizes a position [m] into counts and latches the index pulse NI like the module's FPGA.
 
     The index pulse is high while the absolute count modulo ``counts_per_rev`` is below
-    ``index_width``: once per motor revolution. Its rising edge is latched exactly (no sampling
-    jitter): moving forward at the first count of the window, moving backward at the last.
+    ``index_width``: once per motor revolution. Its rising edge is latched between two samples
+    (no sampling jitter): moving forward at the first count of the window, moving backward at the
+    last, give or take the edge's own jitter (``index_jitter``, rounded to whole counts).
     The counter starts at 0 at ``origin`` (the position at power-up of the module), so the axis
     coordinate means nothing until the axis is homed.
 
@@ -23,13 +33,17 @@ class IncrementalEncoder:
         counts_per_rev: counts per motor revolution (lead / resolution).
         origin: physical position [m] where the counter reads 0.
         index_width: width of the index pulse [counts].
+        index_jitter: standard deviation of the latched count [counts] (0: exact).
+        rng: the random source of the jitter (needed when ``index_jitter`` > 0).
     """
 
     __slots__ = (
         "_abs",
         "_inv_res",
+        "_jitter",
         "_n",
         "_origin",
+        "_rng",
         "_width",
         "counts",
         "index",
@@ -38,7 +52,13 @@ class IncrementalEncoder:
     )
 
     def __init__(
-        self, resolution: float, counts_per_rev: int, origin: float = 0.0, index_width: int = 1
+        self,
+        resolution: float,
+        counts_per_rev: int,
+        origin: float = 0.0,
+        index_width: int = 1,
+        index_jitter: float = 0.0,
+        rng: Normal | None = None,
     ) -> None:
         if not resolution > 0.0:
             raise ValueError(f"encoder resolution must be > 0 m/count, got {resolution}")
@@ -50,6 +70,10 @@ class IncrementalEncoder:
         self._inv_res = 1.0 / resolution
         self._n = int(counts_per_rev)
         self._width = int(index_width)
+        if index_jitter and rng is None:
+            raise ValueError("an encoder with index jitter needs a random source (rng)")
+        self._jitter = float(index_jitter)
+        self._rng = rng
         self._origin = self._absolute(origin)
         self._abs = self._origin
         self.counts = 0
@@ -87,5 +111,7 @@ class IncrementalEncoder:
         self.index = c % n < width
 
     def _latch(self, absolute_count: int) -> None:
+        if self._jitter and self._rng is not None:
+            absolute_count += round(self._jitter * self._rng.next())
         self.index_count = absolute_count - self._origin
         self.index_seq += 1

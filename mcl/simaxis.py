@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from mcl.axis import Axis, AxisConfig
-from mcl.channel import AxisChannel, Marks
+from mcl.channel import IDEAL, AxisChannel, Marks, Sensors
 from mcl.module import Module
 from mcl.runtime import Machine, Runtime
 
@@ -45,6 +45,9 @@ class SimAxisParams:
         has_drive: False: an encoder-only axis (a measuring wheel); writes are ignored.
         digital_outputs: number of digital outputs a program may set.
         analog: voltages of the analog inputs (constant transducer readings) [V].
+        sensors: the imperfections of its sensors and module (None: ideal ones,
+            :data:`mcl.channel.IDEAL`: the simulated axis checks logic; ``mcl.Sensors()`` gives
+            those of a real machine).
     """
 
     mass: float = 20.0
@@ -71,6 +74,7 @@ class SimAxisParams:
     has_drive: bool = True
     digital_outputs: int = 0
     analog: tuple[float, ...] = ()
+    sensors: Sensors | None = None
 
 
 class SimAxis(AxisChannel):
@@ -91,6 +95,8 @@ class SimAxis(AxisChannel):
             probe_delay=p.probe_delay,
             has_drive=p.has_drive,
             digital_outputs=p.digital_outputs,
+            windows=((p.lim_pos, math.inf), (-math.inf, p.lim_neg), (p.ref_low, p.ref_high)),
+            sensors=IDEAL if p.sensors is None else p.sensors,
         )
         self.x = p.start
         """Position [m]."""
@@ -138,14 +144,7 @@ class SimAxis(AxisChannel):
     def sense(self, t: float | None = None) -> None:
         """Sample encoder, switches and probe at the current position and time ``t`` [s]."""
         p, x = self.params, self.x
-        self.sample(
-            self.t if t is None else t,
-            x,
-            x >= p.lim_pos,
-            x <= p.lim_neg,
-            p.ref_low <= x <= p.ref_high,
-            analog=p.analog,
-        )
+        self.sample(self.t if t is None else t, x, x, x, x, analog=p.analog)
 
 
 class SimPlant:

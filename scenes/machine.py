@@ -77,6 +77,9 @@ class AxisDef:
         digital_outputs: digital outputs a program may set on the axis' channel.
         analog: names of device signals wired to the axis' analog inputs, in channel order.
         sim: the physics of a simulated axis (machines without an MJCF model only).
+        sensors: the imperfections of the axis' switches, encoder and module (None: the
+            defaults of :class:`mcl.Sensors`, a precision machine; :data:`mcl.IDEAL_SENSORS`:
+            ideal). On a simulated axis it replaces ``sim.sensors``.
     """
 
     config: mcl.AxisConfig
@@ -92,6 +95,7 @@ class AxisDef:
     digital_outputs: int = 0
     analog: tuple[str, ...] = ()
     sim: mcl.SimAxisParams | None = None
+    sensors: mcl.Sensors | None = None
 
 
 UNIT_SCALES = {"mm": 1000.0, "m": 1.0, "um": 1e6, "deg": 180.0 / math.pi, "rad": 1.0}

@@ -19,7 +19,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-from mcl.channel import AxisChannel, Marks
+from mcl.channel import AxisChannel, Marks, Sensors
 from scenes.drives import Device, DeviceDrive, Drive, DrivenDevice, ElectricAmplifier, WiringError
 
 SWITCHES = ("lim_neg", "lim_pos", "ref")
@@ -57,6 +57,8 @@ class AxisWiring:
         probe: the touch-probe source (None: TP stays low).
         digital_outputs: digital outputs a program may set.
         analog: reads the analog inputs [V] once per servo cycle (None: none).
+        sensors: the imperfections of the axis' sensors (None: the defaults of
+            :class:`mcl.channel.Sensors`).
     """
 
     axis: str
@@ -67,6 +69,7 @@ class AxisWiring:
     probe: Probe | None = None
     digital_outputs: int = 0
     analog: Callable[[], Sequence[float]] | None = None
+    sensors: Sensors | None = None
 
 
 def numeric(
@@ -158,6 +161,16 @@ class MujocoAxisIO(AxisChannel):
             if probe is not None and probe.joint is not None
             else None
         )
+        windows = [
+            self._window(p, a, kind) if kind in wiring.switches else (math.inf, -math.inf, 0.0)
+            for kind in SWITCHES
+        ]
+        self.windows: tuple[tuple[float, float], ...] = tuple((lo, hi) for lo, hi, _ in windows)
+        """Per switch kind (:data:`SWITCHES`), the window in which it is actuated: of the joint
+        coordinate on a slide; on a hinge, of the angle ``wrap(q + offsets[i])`` [rad]."""
+        self.offsets: tuple[float, ...] = tuple(offset for _, _, offset in windows)
+        """Per switch kind, the angle from the switch to its cam at ``q = 0`` (hinge) [rad]."""
+        neg, pos, ref = self.windows
         super().__init__(
             wiring.axis,
             self.resolution,
@@ -168,17 +181,9 @@ class MujocoAxisIO(AxisChannel):
             probe_delay=probe.delay if probe is not None else 0.0,
             has_drive=wiring.drive != "encoder",
             digital_outputs=wiring.digital_outputs,
+            windows=(pos, neg, ref),
+            sensors=wiring.sensors,
         )
-        windows = [
-            self._window(p, a, kind) if kind in wiring.switches else (math.inf, -math.inf, 0.0)
-            for kind in SWITCHES
-        ]
-        self.windows: tuple[tuple[float, float], ...] = tuple((lo, hi) for lo, hi, _ in windows)
-        """Per switch kind (:data:`SWITCHES`), the window in which it is actuated: of the joint
-        coordinate on a slide; on a hinge, of the angle ``wrap(q + offsets[i])`` [rad]."""
-        (self._nlo, self._nhi), (self._plo, self._phi), (self._rlo, self._rhi) = self.windows
-        self.offsets: tuple[float, ...] = tuple(offset for _, _, offset in windows)
-        """Per switch kind, the angle from the switch to its cam at ``q = 0`` (hinge) [rad]."""
         self._analog = wiring.analog
         self.drive_model: Drive | None = self._drive(p, a, wiring, devices or {})
         self.write(0.0, False)
@@ -275,9 +280,9 @@ class MujocoAxisIO(AxisChannel):
         self.sample(
             t,
             q,
-            self._plo <= pos <= self._phi,
-            self._nlo <= n <= self._nhi,
-            self._rlo <= r <= self._rhi,
+            pos,
+            n,
+            r,
             None if self._probe_qpos is None else qpos[self._probe_qpos],
             () if self._analog is None else self._analog(),
         )

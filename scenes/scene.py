@@ -86,6 +86,8 @@ class Scene(mcl.Machine):
             machine's.
         trace_every: record the trace every N servo cycles (0 = no trace).
         positions: where each machine's origin sits in the world [m], by machine name.
+        sensors: the sensors of every axis, instead of each axis' own (e.g.
+            ``mcl.IDEAL_SENSORS`` to compare a scenario against ideal switches and encoders).
 
     Raises:
         WiringError: the model does not provide what an axis needs (the message says what).
@@ -100,9 +102,15 @@ class Scene(mcl.Machine):
         plc_period: float | None = None,
         trace_every: int = 1,
         positions: Mapping[str, Sequence[float]] | None = None,
+        sensors: mcl.Sensors | None = None,
     ) -> None:
         if not machines:
             raise ValueError("a scene needs at least one machine")
+        if sensors is not None:
+            machines = [
+                replace(m, axes={a: replace(x, sensors=sensors) for a, x in m.axes.items()})
+                for m in machines
+            ]
         self.machines = list(machines)
         self.name = self.machines[0].name if len(self.machines) == 1 else "scene"
         """The registry name of the (first) machine."""
@@ -170,6 +178,8 @@ class Scene(mcl.Machine):
             position = starts.get(a, machine.start.get(a))
             if position is not None:
                 params = replace(params, start=position)
+            if spec.sensors is not None:
+                params = replace(params, sensors=spec.sensors)
             sims[a] = mcl.SimAxis(params)
         plant = mcl.SimPlant([s for s in sims.values() if isinstance(s, mcl.SimAxis)])
         scales = {a: unit_and_scale(spec, rotary=False) for a, spec in machine.axes.items()}
@@ -199,6 +209,10 @@ class Scene(mcl.Machine):
             for a, spec in m.axes.items():
                 wirings.append(self._wiring(m, a, spec))
         plant = MujocoPlant(model, data, wirings, self.devices)
+        for device in self.devices.values():
+            connect = getattr(device, "connect", None)
+            if connect is not None:  # a device that reads channel outputs (a knife valve)
+                connect(plant.ios)
         ios: dict[str, mcl.channel.AxisChannel] = {}
         scales: dict[str, tuple[str, float]] = {}
         for m in self.machines:
@@ -236,6 +250,7 @@ class Scene(mcl.Machine):
             probe=spec.probe,
             digital_outputs=spec.digital_outputs,
             analog=analog,
+            sensors=spec.sensors,
         )
 
     def _truth(self, axis: str) -> mcl.trace.Reader:

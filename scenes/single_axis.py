@@ -2,7 +2,8 @@
 
 Runs on the pure-Python simulated axis (no physics engine) and prints what a commissioning
 engineer watches: positions, states and the output edges of every function block. The program
-is written the way a PLC programmer writes it: one scan function with a step counter.
+is written the way a PLC programmer writes it: one scan function with a step counter, the
+blocks' constant inputs bound once.
 """
 
 from __future__ import annotations
@@ -31,12 +32,31 @@ class Demo:
     """The demo's PLC program; call it once per PLC cycle. ``step`` says what it does."""
 
     def __init__(self, scene: Scene) -> None:
-        self.X = scene.axes["X"]
+        X = self.X = scene.axes["X"]
         self.index = 0
         self.error = ""
-        self.power, self.move = mcl.MC_Power(), mcl.MC_MoveRelative()
-        self.first, self.second, self.third = (mcl.MC_MoveRelative() for _ in range(3))
-        self.velocity, self.stop = mcl.MC_MoveVelocity(), mcl.MC_Stop()
+        blend = mcl.MC_BufferMode.BlendingNext
+        # constant inputs are bound once; a scan sets only Enable and Execute
+        self.power = mcl.MC_Power(Axis=X)
+        self.move = mcl.MC_MoveRelative(
+            Axis=X,
+            Distance=300.0,
+            Velocity=400.0,
+            Acceleration=4000.0,
+            Deceleration=4000.0,
+            Jerk=100000.0,
+        )
+        self.first = mcl.MC_MoveRelative(
+            Axis=X, Distance=-100.0, Velocity=300.0, Acceleration=3000.0
+        )
+        self.second = mcl.MC_MoveRelative(
+            Axis=X, Distance=-100.0, Velocity=150.0, Acceleration=3000.0, BufferMode=blend
+        )
+        self.third = mcl.MC_MoveRelative(
+            Axis=X, Distance=-50.0, Velocity=300.0, Acceleration=3000.0, BufferMode=blend
+        )
+        self.velocity = mcl.MC_MoveVelocity(Axis=X, Velocity=100.0, Acceleration=1000.0)
+        self.stop = mcl.MC_Stop(Axis=X, Deceleration=2000.0)
         self.blocks: dict[str, Any] = {
             name: getattr(self, name)
             for name in ("power", "move", "first", "second", "third", "velocity", "stop")
@@ -60,36 +80,17 @@ class Demo:
     def __call__(self) -> None:
         """One PLC scan."""
         X, step = self.X, self.index
-        blend = mcl.MC_BufferMode.BlendingNext
-        self.power(Axis=X, Enable=True)
-        self.move(
-            Axis=X,
-            Execute=step == 1,
-            Distance=300.0,
-            Velocity=400.0,
-            Acceleration=4000.0,
-            Deceleration=4000.0,
-            Jerk=100000.0,
-        )
-        self.first(Axis=X, Execute=step == 2, Distance=-100.0, Velocity=300.0, Acceleration=3000.0)
-        self.second(
-            Axis=X,
-            Execute=step == 2,
-            Distance=-100.0,
-            Velocity=150.0,
-            Acceleration=3000.0,
-            BufferMode=blend,
-        )
-        self.third(
-            Axis=X,
-            Execute=step == 2,
-            Distance=-50.0,
-            Velocity=300.0,
-            Acceleration=3000.0,
-            BufferMode=blend,
-        )
-        self.velocity(Axis=X, Execute=step == 3, Velocity=100.0, Acceleration=1000.0)
-        self.stop(Axis=X, Execute=step == 4, Deceleration=2000.0)
+        self.power.Enable = True
+        self.power()
+        self.move.Execute = step == 1
+        self.move()
+        for fb in (self.first, self.second, self.third):
+            fb.Execute = step == 2
+            fb()
+        self.velocity.Execute = step == 3
+        self.velocity()
+        self.stop.Execute = step == 4
+        self.stop()
         if (
             (step == 0 and self.power.Status)
             or (step == 1 and self.move.Done)

@@ -2,7 +2,8 @@
 
 ``mcl.SimAxis`` on an ``mcl.SimPlant`` and ``scenes.plant.MujocoAxisIO`` (X of the gantry) are
 driven open loop with constant commands; what the channel reports (counts, index latch, switches)
-is compared with the physical position of the plant.
+is compared with the physical position of the plant. Both run with ideal sensors, so the contract
+holds exactly; the sensors' imperfections have their own tests (tests/test_sensors.py).
 """
 
 from __future__ import annotations
@@ -122,7 +123,7 @@ class Channel:
 
 
 def sim_channel() -> Channel:
-    p = mcl.SimAxisParams(start=0.3)
+    p = mcl.SimAxisParams(start=0.3, sensors=mcl.IDEAL_SENSORS)
     sim = mcl.SimAxis(p)
     plant = mcl.SimPlant([sim], 0.0005)
 
@@ -148,7 +149,9 @@ def sim_channel() -> Channel:
 
 
 def mujoco_channel() -> Channel:
-    scene = gantry.build(start={"X": 0.3, "Y": 0.3, "Z": -0.1}, trace_every=0)
+    scene = gantry.build(
+        start={"X": 0.3, "Y": 0.3, "Z": -0.1}, trace_every=0, sensors=mcl.IDEAL_SENSORS
+    )
     model, data, plant = scene.model, scene.data, scene.plant
     io = scene.io("X")
 
