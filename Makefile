@@ -45,6 +45,7 @@ bench: setup
 	$(PY) -m tests.benchmarks.servo_cycle
 	$(PY) -m tests.benchmarks.gantry
 	$(PY) -m tests.benchmarks.viewer
+	$(PY) -m tests.benchmarks.trace
 
 clean:
 	rm -rf $(VENV) .build .mypy_cache .ruff_cache

@@ -85,6 +85,10 @@ class Scene(mcl.Machine):
         plc_period: PLC cycle [s] (integer multiple of the servo period); default: the first
             machine's.
         trace_every: record the trace every N servo cycles (0 = no trace).
+        trace_seconds: how much of the trace is kept in memory: the last ``trace_seconds`` of
+            simulated time [s] (older samples are dropped, or streamed with ``trace_file``).
+        trace_file: a CSV file that receives every trace sample (keep everything on disk);
+            complete after ``scene.trace.flush()`` or ``scene.trace.close()``.
         positions: where each machine's origin sits in the world [m], by machine name.
         sensors: the sensors of every axis, instead of each axis' own (e.g.
             ``mcl.IDEAL_SENSORS`` to compare a scenario against ideal switches and encoders).
@@ -103,6 +107,8 @@ class Scene(mcl.Machine):
         trace_every: int = 1,
         positions: Mapping[str, Sequence[float]] | None = None,
         sensors: mcl.Sensors | None = None,
+        trace_seconds: float = 30.0,
+        trace_file: str | Path | None = None,
     ) -> None:
         if not machines:
             raise ValueError("a scene needs at least one machine")
@@ -164,6 +170,8 @@ class Scene(mcl.Machine):
             truth={n: self._truth(n) for n in self.axes},
             signals={n: self._reader(s) for n, s in self.signals.items()},
             events=lambda: self.faults.events,
+            keep=max(1, round(trace_seconds / (self.runtime.servo_period * max(trace_every, 1)))),
+            stream=trace_file if trace_every else None,
         )
         if trace_every:
             self.runtime.observers.append(self.trace)

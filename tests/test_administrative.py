@@ -389,6 +389,13 @@ ERROR_TEXTS: dict[int, tuple[str, str]] = {
     12: ("constants not set", "nejsou zadány konstanty"),
     13: ("axis is powered", "osa je power on"),
     14: ("axis has no drive (encoder only)", "osa nemá pohon (jen enkodér)"),
+    15: (
+        "synchronisation not reachable before MasterSyncPosition",
+        "synchronizace není dosažitelná před MasterSyncPosition",
+    ),
+    16: ("master reversed during synchronisation", "master osa couvla během synchronizace"),
+    17: ("master axis error", "chyba master osy"),
+    18: ("slave is not geared", "slave osa není ve vazbě na master"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import csv
+import itertools
 
+import numpy as np
 import pytest
 
 import mcl
+import scenes
 from mcl.trace import FIELDS, Trace
 from tests.helpers import configure, power_on
 
@@ -53,3 +56,72 @@ def test_trace_decimation_and_errors():
         Trace(machine.axes, every=0)
     trace.clear()
     assert trace.rows["X"] == []
+
+
+def test_the_trace_keeps_a_bounded_window_of_the_latest_samples():
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
+    trace = Trace(machine.axes, keep=100)
+    machine.runtime.observers.append(trace)
+    machine.run(timeout=1.0)  # 1000 servo cycles
+    times = trace.column("X", "t")
+    assert 100 <= len(times) < 200
+    assert times[-1] == pytest.approx(machine.time - 0.001)
+    assert all(b - a == pytest.approx(0.001) for a, b in itertools.pairwise(times))
+    assert trace.samples == 1000
+    assert trace.nbytes <= 200 * len(FIELDS) * 8 * 1.2
+    memory = trace.nbytes
+    machine.run(timeout=2.0)
+    assert trace.nbytes <= max(memory, 200 * len(FIELDS) * 8) * 1.2
+
+
+def test_a_streamed_trace_writes_every_sample_once_to_its_file(tmp_path):
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
+    X = machine.axes["X"]
+    configure(X)
+    power_on(machine, X)
+    everything = Trace(machine.axes, keep=10**6)
+    streamed = Trace(machine.axes, keep=64, stream=tmp_path / "stream.csv")
+    machine.runtime.observers += [everything, streamed]
+    move = mcl.MC_MoveRelative(Axis=X, Distance=50.0, Velocity=100.0)
+    machine.run(lambda: move(Execute=True), timeout=0.4)
+    streamed.flush()  # a flush mid-run writes nothing twice
+    machine.run(lambda: move(Execute=True), timeout=0.3)
+    streamed.close()
+    with (tmp_path / "stream.csv").open() as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == [f"X.{field}" for field in FIELDS]
+    assert len(rows) - 1 == everything.samples == 700
+    expected = everything.rows["X"]
+    for got, want in zip(rows[1:], expected, strict=True):
+        assert [float(v) for v in got] == pytest.approx(list(want), nan_ok=True)
+    assert len(streamed.column("X", "t")) < 128  # only the window stays in memory
+
+
+def test_a_scene_keeps_the_stated_seconds_of_trace():
+    scene = scenes.load("single_axis", trace_seconds=0.05)
+    scene.run(timeout=0.5)
+    times = scene.trace.column("X", "t")
+    assert 0.05 - 1e-9 <= times[-1] - times[0] + 0.001 < 0.1 + 1e-9
+
+
+def test_a_trace_streamed_as_numpy_records_loads_with_named_columns(tmp_path):
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
+    everything = Trace(machine.axes, keep=10**6)
+    streamed = Trace(machine.axes, keep=50, stream=tmp_path / "trace.npy")
+    machine.runtime.observers += [everything, streamed]
+    machine.run(timeout=0.3)
+    streamed.flush()  # complete after each flush
+    assert len(np.load(tmp_path / "trace.npy")) == 300
+    machine.run(timeout=0.2)
+    streamed.close()
+    data = np.load(tmp_path / "trace.npy")
+    assert data.dtype.names == tuple(f"X.{field}" for field in FIELDS)
+    assert len(data) == 500
+    assert list(data["X.t"]) == everything.column("X", "t")
+    assert list(data["X.actual"]) == everything.column("X", "actual")
+
+
+def test_a_stream_needs_a_csv_or_npy_file(tmp_path):
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
+    with pytest.raises(ValueError, match=r"\.csv .* \.npy"):
+        Trace(machine.axes, stream=tmp_path / "trace.parquet")
