@@ -14,17 +14,29 @@ from mcl.servo import ServoConstants, dac_code_volts
 
 
 class GT_SetConstant(ExecuteFB):
-    """Writes the servo constants of the axis (MotionControlLib §3.1); ``Ka`` is this library's
-    extension.
+    """Writes the servo constants of the axis (MotionControlLib §3.1); ``Ka``, ``Kf``, ``FfNeg``
+    and ``Deadband`` are this library's extensions.
 
     Inputs: Kp [V/u], Ki [V/(u·s)], Kd [V·s/u], Ff [-], Kc [1/s], Vmax [u/s at 10 V],
     LimPos, LimNeg [u] (LimPos <= LimNeg: no software limits), Ki1 [V/(u·s)], Filter [ms],
-    Ka [s]. Vmax must be > 0, gains and Filter >= 0, all finite; else EParam.
+    Ka [s], Kf [V], FfNeg [-] (0 = as Ff), Deadband [V] (see :class:`ServoConstants`).
+    Vmax must be > 0, gains, Filter and Deadband >= 0, all finite; else EParam.
+
+    Software limits (active once the axis has Ref, not on a modulo axis): a command whose
+    target lies beyond one is refused (Ecil 8) and leaves the axis alone; a target exactly on a
+    limit is valid. While the axis runs, the model (set) position crossing a limit in the
+    outward direction (a velocity move, jogging, gearing) stops the axis with ERRSWP 2006 /
+    ERRSWN 2007 on the maximum ramp. The actual position may pass a limit by the following
+    error the loop allows (DevMax; a settling overshoot of a move to the limit is no error);
+    moving outward more than DevMax beyond it (possible only where the following error is not
+    supervised, e.g. SpeedMode 1) is ERRSWP / ERRSWN as well. Moving back inward is always
+    allowed.
     """
 
     # the fields of ServoConstants, in order and with its defaults (a test keeps them equal)
     INPUTS: ClassVar[tuple[str, ...]] = (
-        "Kp", "Ki", "Kd", "Ff", "Kc", "Vmax", "LimPos", "LimNeg", "Ki1", "Filter", "Ka"
+        "Kp", "Ki", "Kd", "Ff", "Kc", "Vmax", "LimPos", "LimNeg", "Ki1", "Filter", "Ka", "Kf",
+        "FfNeg", "Deadband",
     )  # fmt: skip
     Kp: float = 0.0
     Ki: float = 0.0
@@ -37,6 +49,9 @@ class GT_SetConstant(ExecuteFB):
     Ki1: float = 0.0
     Filter: float = 0.0
     Ka: float = 0.0
+    Kf: float = 0.0
+    FfNeg: float = 0.0
+    Deadband: float = 0.0
 
     def _begin(self) -> int:
         values = {f.name: number(getattr(self, f.name)) for f in dataclasses.fields(ServoConstants)}
@@ -59,7 +74,8 @@ class MC_Power(EnableFB):
     Inputs: Enable (level), SpeedMode (0 closed position loop, 1 open loop: output voltage =
     model velocity × 10 V / Vmax), BufferMode (accepted for compatibility).
     Outputs: Status (loop closed, axis not Disabled), Error, ErrorID. Enable=TRUE from Disabled
-    clears the axis' Ref flag.
+    clears the axis' Ref flag. After a GT_EStop the axis stays Disabled (Status FALSE, no error)
+    until Enable has been FALSE once and the E-stop's Enable is FALSE (see GT_EStop).
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("SpeedMode", "BufferMode")

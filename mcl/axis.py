@@ -43,6 +43,10 @@ class AxisConfig:
             at 0 V this long [s], so the velocity-mode amplifier brakes the axis with its own
             velocity loop before the enable drops and the holding brake engages (0 = the enable
             drops at once and the axis coasts).
+        release_time: after running into a mechanical block (MC_StepBlock, GT_MoveAbsBlock's
+            TorqueLimit) the drive lets go this long [s] with the integral action off, so the
+            compressed block springs the axis back (or a load sags onto Kp alone) before the
+            axis backs off by the in-position window and is held clear of the block.
     """
 
     resolution: float = 0.001
@@ -57,6 +61,7 @@ class AxisConfig:
     modulo: float = 0.0
     servo_period: float = 0.001
     quick_stop_time: float = 0.1
+    release_time: float = 0.05
     unit: str = "mm"
 
     def __post_init__(self) -> None:
@@ -73,7 +78,7 @@ class AxisConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"AxisConfig.{name} must be a finite number > 0, got {value!r}")
-        for name in ("jerk", "max_jerk", "modulo", "quick_stop_time"):
+        for name in ("jerk", "max_jerk", "modulo", "quick_stop_time", "release_time"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f"AxisConfig.{name} must be a finite number >= 0, got {value!r}")
@@ -154,7 +159,12 @@ class Axis:
 
         self.active: Command | None = None
         self.queue: deque[Command] = deque()
-        self._stop: Stop | None = None
+        self.estop_latched = False
+        """An emergency stop happened and MC_Power has not been switched off since."""
+        self._estops: list[object] = []
+        """The GT_EStop blocks whose Enable is TRUE: the axis cannot be powered."""
+        self._stops: list[Stop] = []
+        """The MC_Stop commands that hold the axis in Stopping while their FB's Execute is TRUE."""
         self._powering_off = False
         self._pos_prev = self.actual
         self._vel_alpha = 1.0
@@ -326,12 +336,16 @@ class Axis:
         return ahead if ahead - start <= start - behind else behind
 
     def rebase(self, delta: float) -> None:
-        """Shift the coordinate system by ``delta`` [u] (homing): actual and model move together."""
+        """Shift the coordinate system by ``delta`` [u] (homing, a gearing block zeroing its
+        master): actual and model move together, and the active command's motion goes on
+        physically unchanged."""
         self.offset += delta
         self.actual += delta
         self._pos_prev += delta
         self.sp_pos += delta
         self.POS = self._wrap(self.actual)
+        if self.active is not None:
+            self.active.rebase(delta)
 
     # ------------------------------------------------------------------ commands
     def submit(self, cmd: Command) -> None:
@@ -340,8 +354,9 @@ class Axis:
 
         Aborting: starts now (the active command and the queue report Aborted). Buffered and
         blending: queued behind the active command; a blending mode re-plans the active command
-        so that it ends at its target with the blending velocity. A command that cannot be planned
-        ends with Error ``EParam`` and leaves the axis as it was.
+        so that it ends at its target with the blending velocity. A command that cannot be planned,
+        or that would queue behind one that takes no successor (MC_GearIn), ends with Error
+        ``EParam`` and leaves the axis as it was.
         """
         cmd.status = Status.Queued
         if cmd.buffer_mode == MC_BufferMode.Aborting or (self.active is None and not self.queue):
@@ -359,6 +374,10 @@ class Axis:
             self._abort_all(except_cmd=cmd)
             self.active = cmd
             self.state = cmd.state
+            return
+        last = self.queue[-1] if self.queue else self.active
+        if last is not None and not last.accepts_buffered:
+            cmd.status, cmd.error_id = Status.Error, ErrorID.EParam
             return
         self.queue.append(cmd)
         if len(self.queue) == 1 and self.active is not None:
@@ -426,8 +445,14 @@ class Axis:
     # ------------------------------------------------------------------ power, reset, errors
     def power(self, enable: bool, speed_mode: int = 0) -> None:
         """MC_Power, level-sensitive: close or open the loop (docs/reference.md, Axis state
-        machine)."""
+        machine).
+
+        After an emergency stop the axis stays Disabled while a GT_EStop holds it and until
+        ``power(False)`` has acknowledged the stop: keeping Enable TRUE never restarts it.
+        """
         if enable:
+            if self.estop_latched or self._estops:
+                return
             if self.state == AxisState.Disabled and not self._powering_off:
                 self.analog_volts = None
                 self.speed_mode = speed_mode
@@ -439,6 +464,7 @@ class Axis:
                 else:
                     self.state = AxisState.StandStill
             return
+        self.estop_latched = False
         if self.state == AxisState.Disabled or self._powering_off:
             return
         self._abort_all()
@@ -456,7 +482,7 @@ class Axis:
 
     def _open_loop(self) -> None:
         self._quick_stop_until = -math.inf
-        self._stop = None
+        self._stops.clear()
         self.loop_closed = False
         self._powering_off = False
         self.active = None
@@ -491,7 +517,7 @@ class Axis:
         if self.state in (AxisState.ErrorStop, AxisState.Disabled):
             return
         self.AxErrorID = int(code)
-        self._stop = None
+        self._stops.clear()
         self._abort_all(status=Status.Error, error_id=int(code))
         self._powering_off = False
         self.state = AxisState.ErrorStop
@@ -533,16 +559,34 @@ class Axis:
         return True
 
     def emergency_stop(self) -> None:
-        """GT_EStop on this axis: immediate stop, loop open, brake on, errors cleared, Disabled."""
+        """GT_EStop on this axis: immediate stop, loop open, brake on, errors cleared, Disabled;
+        latched until ``power(False)`` (see :meth:`power`)."""
+        self.estop_latched = True
         self._abort_all()
         self.AxErrorID = 0
         self.analog_volts = None
         self._open_loop()
 
+    def hold_estop(self, source: object, active: bool) -> None:
+        """A GT_EStop (``source``) holds the axis Disabled while ``active`` (its Enable)."""
+        estops = self._estops
+        if active and source not in estops:
+            estops.append(source)
+        elif not active and source in estops:
+            estops.remove(source)
+
     def begin_stop(self, cmd: Stop) -> None:
-        """MC_Stop: aborts everything, ramps down and holds the axis in Stopping."""
-        self._stop = cmd
+        """MC_Stop: aborts everything, ramps down and holds the axis in Stopping.
+
+        Every Stop keeps holding the axis while its ``hold`` (its FB's Execute) is TRUE, also
+        after a later Stop has taken over the ramp: the axis leaves Stopping for StandStill only
+        once the last ramp is done and no Stop holds it any more (docs/reference.md, MC_Stop).
+        """
+        stops = self._stops = [s for s in self._stops if s.hold]
+        stops.append(cmd)
         self.submit(cmd)
+        if cmd.status == Status.Error:
+            stops.remove(cmd)
 
     def set_analog(self, volts: float | None) -> None:
         """GT_Analog: drive the DAC directly while Disabled (None ends it)."""
@@ -618,9 +662,9 @@ class Axis:
             if cmd.signal and (self.queue or cmd.finished()):
                 p, v, a = self._handover(cmd, t, p, v, a)
         self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = p, v, a, t
-        stop = self._stop
-        if stop is not None and not stop.hold and self.active is None:
-            self._stop = None
+        stops = self._stops
+        if stops and self.active is None and not any(s.hold for s in stops):
+            stops.clear()
             if self.state == AxisState.Stopping:
                 self.state = AxisState.StandStill
 
@@ -712,7 +756,12 @@ class Axis:
                 return
         c = self.constants
         if self.Ref and c is not None and c.sw_limits_active and not self.config.modulo:
-            if actual > c.LimPos and v > 0.0:
+            # the model must not pass a limit moving outward (half a count: rounding of the
+            # profile); the actual position may lag or overshoot the model by the
+            # following-error budget DevMax (beyond it only where that is not supervised)
+            p, config = self.sp_pos, self.config
+            margin = 0.5 * config.resolution
+            if v > 0.0 and (p > c.LimPos + margin or actual > c.LimPos + config.dev_max):
                 self.fault(ErrorID.ERRSWP)
-            elif actual < c.LimNeg and v < 0.0:
+            elif v < 0.0 and (p < c.LimNeg - margin or actual < c.LimNeg - config.dev_max):
                 self.fault(ErrorID.ERRSWN)

@@ -52,6 +52,8 @@ class Command:
     """State of the axis when the command ends with nothing queued behind it."""
     blendable = False
     ignores_limit_switches = False
+    accepts_buffered = True
+    """A buffered or blending command may queue behind this one (not behind MC_GearIn)."""
 
     def __init__(self, buffer_mode: MC_BufferMode = MC_BufferMode.Aborting) -> None:
         self.buffer_mode = buffer_mode
@@ -93,6 +95,11 @@ class Command:
         """
         return t, p, v, a
 
+    def rebase(self, delta: float) -> None:
+        """The axis coordinate moved by ``delta`` [u] while this command runs (a gearing block
+        zeroes its master): the motion goes on physically unchanged. Commands that read the
+        axis state every cycle need nothing."""
+
 
 class ProfileCommand(Command):
     """A command that follows one planned profile."""
@@ -116,6 +123,12 @@ class ProfileCommand(Command):
         profile = self.profile
         assert profile is not None
         return (profile.duration, *profile.at(profile.duration))
+
+    def rebase(self, delta: float) -> None:
+        if self.profile is not None:
+            self.profile = self.profile.shifted(delta)
+        if self.target is not None:
+            self.target += delta
 
 
 class MoveTo(ProfileCommand):
@@ -191,6 +204,81 @@ class Hold(Command):
 
     def finished(self) -> bool:
         return False
+
+    def rebase(self, delta: float) -> None:
+        self.position += delta
+
+
+class BlockRelease:
+    """How the drive lets go of a mechanical block it has run into (MC_StepBlock, the
+    TorqueLimit of GT_MoveAbsBlock): it stops pushing at once and then holds the axis just clear
+    of the block, so that no integral action can wind up against it.
+
+    1. Release, for ``AxisConfig.release_time``: the model restarts from the actual position
+       of the detection, at rest (or, where the axis is still moving, with ``velocity``, and
+       stops on the maximum ramp), and the integral action (Ki and Ki1) is cleared and held at
+       zero, so only ``Kp·e`` acts: the compressed block springs the axis back (a load such as
+       gravity sags until ``Kp·e`` carries it) and the drive presses with at most Kp times that
+       spring-back.
+    2. Back off: from where the release left the model, it moves to the in-position window (at
+       least two encoder counts) away from the actual position at that instant, away from the
+       block, jerk-limited with ``limits``; the full regulator then holds the axis there, clear
+       of the block.
+    3. ``done`` once the back-off has ended and the axis is within the in-position window.
+
+    Args:
+        axis: the blocked axis.
+        t: the instant of the detection, on the owning command's time base [s].
+        toward: +1 / −1, the side of the block.
+        limits: the ramp of the back-off.
+        velocity: the actual velocity to stop from [u/s]; 0 for an axis at rest.
+    """
+
+    def __init__(
+        self, axis: Axis, t: float, toward: float, limits: Limits, velocity: float = 0.0
+    ) -> None:
+        self.toward = 1.0 if toward > 0.0 else -1.0
+        self.limits = limits
+        ramp = axis.max_ramp()
+        self.ramp = trajectory.stop(axis.actual, velocity, 0.0, ramp.deceleration, ramp.jerk)
+        """The model during the release."""
+        self.t_start = t
+        self.t_end = t + max(axis.config.release_time, self.ramp.duration)
+        """When the release ends and the back-off starts [s]."""
+        self.profile: Profile | None = None
+        self.done = False
+        if axis.regulator is not None:
+            axis.regulator.clear_integral()
+
+    def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
+        """Model position, velocity, acceleration at ``t`` (the owning command's time base)."""
+        profile = self.profile
+        if profile is None:
+            p, v, a = self.ramp.at(t - self.t_start)
+            if t < self.t_end:
+                if axis.regulator is not None:
+                    axis.regulator.clear_integral()
+                return p, v, a
+            config = axis.config
+            backoff = max(config.in_position, 2.0 * config.resolution)
+            target = axis.actual - self.toward * backoff
+            self.t_end = t
+            profile = trajectory.move_to(p, 0.0, 0.0, target, self.limits)
+            self.profile = profile
+        p, v, a = profile.at(t - self.t_end)
+        if (
+            not self.done
+            and t - self.t_end >= profile.duration
+            and abs(p - axis.actual) <= axis.config.in_position
+        ):
+            self.done = True
+        return p, v, a
+
+    def rebase(self, delta: float) -> None:
+        """The axis coordinate moved by ``delta`` [u]: the motion goes on physically unchanged."""
+        self.ramp = self.ramp.shifted(delta)
+        if self.profile is not None:
+            self.profile = self.profile.shifted(delta)
 
 
 def blend_velocity(

@@ -13,7 +13,7 @@ import math
 from typing import TYPE_CHECKING, ClassVar
 
 from mcl import trajectory
-from mcl.command import Command
+from mcl.command import BlockRelease, Command
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.errors import ErrorID
 from mcl.fb import MotionFB, non_negative, number, positive
@@ -210,7 +210,8 @@ class SwitchSearch(HomingStep):
 
 class BlockSearch(HomingStep):
     """Drive against a mechanical stop until the velocity falls below 5 % of Velocity and the
-    following error exceeds DevRef; then stop pushing (set point = actual position)."""
+    following error exceeds DevRef; then stop pushing and back off clear of the stop
+    (:class:`~mcl.command.BlockRelease`); ``signal`` once the axis holds there in position."""
 
     def __init__(
         self,
@@ -222,29 +223,33 @@ class BlockSearch(HomingStep):
     ) -> None:
         super().__init__(buffer_mode, limits, direction, supervision)
         self.dev_ref = dev_ref
-        self.hold = 0.0
+        self.release: BlockRelease | None = None
 
     def search(
         self, axis: Axis, t: float, p: float, v: float, a: float
     ) -> tuple[float, float, float]:
         if abs(axis.VEL) < 0.05 * self.velocity and abs(axis.following_error) > self.dev_ref:
             self.searching = False
-            self.signal = True
-            if axis.regulator is not None:
-                axis.regulator.reset()
-            self.hold = axis.actual
-            return self.hold, 0.0, 0.0
+            release = self.release = BlockRelease(axis, t, self.direction, self.limits)
+            return release.setpoint(axis, t)
         return p, v, a
 
     def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
-        if not self.searching:
-            return self.hold, 0.0, 0.0
-        return super().setpoint(axis, t)
+        release = self.release
+        if release is None:
+            return super().setpoint(axis, t)
+        p, v, a = release.setpoint(axis, t)
+        self.signal = release.done
+        return p, v, a
 
     def handover_state(
         self, t: float, p: float, v: float, a: float
     ) -> tuple[float, float, float, float]:
-        return t, self.hold, 0.0, 0.0
+        return t, p, v, a
+
+    def rebase(self, delta: float) -> None:
+        if self.release is not None:
+            self.release.rebase(delta)
 
 
 class RefPulseSearch(HomingStep):
@@ -288,22 +293,35 @@ class RefPulseSearch(HomingStep):
 
 
 class SetCoordinate(Command):
-    """MC_StepDirect / MC_FinishHoming: no motion; set the coordinate (or keep it) and Ref."""
+    """MC_StepDirect / MC_FinishHoming: no motion; set the coordinate (or keep it) and Ref.
+
+    The coordinate is set at the model position the axis stands at (where the preceding step
+    holds it; the actual position at StandStill): SetPosition is then the position the axis is
+    commanded to, the loop's residual error stays as it was.
+    """
 
     state = AxisState.Homing
 
     def __init__(self, buffer_mode: MC_BufferMode, set_position: float | None) -> None:
         super().__init__(buffer_mode)
         self.set_position = set_position
+        self.position = 0.0
+        """The model position it keeps [u]: where the preceding step left it, rebased."""
 
     def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        delta = 0.0
         if self.set_position is not None:
-            axis.rebase(self.set_position - axis.actual)
+            delta = self.set_position - p
+            axis.rebase(delta)
+        self.position = p + delta
         axis.Ref = True
 
     def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
         self.signal = True
-        return axis.sp_pos, 0.0, 0.0
+        return self.position, 0.0, 0.0
+
+    def rebase(self, delta: float) -> None:
+        self.position += delta
 
 
 # --------------------------------------------------------------------------- function blocks
@@ -407,7 +425,15 @@ class MC_StepLimitSwitch(_HomingFB):
 class MC_StepBlock(_HomingFB):
     """Drive against a mechanical stop (MotionControlLib §6.3): found when the actual velocity is
     below 5 % of Velocity and the following error exceeds TorqueLimit (= DevRef [u], 0 < DevRef <
-    DevMax); then stop pushing. The axis stays in Homing."""
+    DevMax). The axis stays in Homing.
+
+    Once the stop is found the drive stops pushing at once: the model stands at the actual
+    position and the integral action (Ki, Ki1) is cleared and held off for
+    ``AxisConfig.release_time``, so the compressed stop springs the axis back; then the axis
+    backs off by the in-position window and is held there, clear of the stop, with the full
+    regulator. Done once it is in position there: that is the reference point a following
+    MC_StepDirect sets.
+    """
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         checked = self._checks()
@@ -441,7 +467,12 @@ class MC_StepRefPulse(_HomingFB):
 
 class MC_StepDirect(MotionFB):
     """Set SetPosition [u] at the current standstill position (MotionControlLib §6.5); Ref,
-    StandStill."""
+    StandStill.
+
+    The standstill position is the one the axis is held at: after an approach step the model
+    position that step ended with (after MC_StepBlock: clear of the stop, see there), at
+    StandStill the actual position. No motion; the drive keeps holding the axis where it is.
+    """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("SetPosition",)
     SetPosition: float = 0.0

@@ -5,7 +5,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from mcl.command import Command, Halt, MoveTo, MoveVelocity, Status, Stop
+from mcl import trajectory
+from mcl.command import BlockRelease, Command, Halt, MoveTo, MoveVelocity, Status, Stop
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
 from mcl.errors import ErrorID
 from mcl.fb import FunctionBlock, MotionFB, non_negative, number, positive
@@ -113,7 +114,9 @@ class MC_MoveAbsolute(_MoveFB):
 
 
 class MoveToBlock(MoveTo):
-    """MoveTo that stops early on ExtStop or when the following error exceeds TorqueLimit."""
+    """MoveTo that stops early on ExtStop (maximum ramp) or when the following error exceeds
+    TorqueLimit (the drive lets go of the block and holds the axis clear of it,
+    :class:`~mcl.command.BlockRelease`)."""
 
     blendable = False
 
@@ -130,26 +133,54 @@ class MoveToBlock(MoveTo):
         self.ramp = ramp
         self.ext_stop = False
         self.stopping = False
+        self.release: BlockRelease | None = None
 
     def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
+        release = self.release
+        if release is not None:
+            p, v, a = release.setpoint(axis, t)
+            self.signal = release.done
+            return p, v, a
         p, v, a = super().setpoint(axis, t)
-        blocked = 0.0 < self.torque_limit < abs(axis.following_error)
-        if not self.stopping and not self.signal and (self.ext_stop or blocked):
-            from mcl import trajectory
-
+        if self.stopping or self.signal:
+            return p, v, a
+        e = axis.following_error
+        if 0.0 < self.torque_limit < abs(e):
+            v = axis.VEL  # still moving (not yet at rest: 5 % of Velocity): stop from there
+            v = v if abs(v) >= 0.05 * self.velocity else 0.0
+            self.release = release = BlockRelease(axis, t, e, self.limits, v)
+            self.signal = False
+            return release.setpoint(axis, t)
+        if self.ext_stop:
             self.stopping = True
             self.profile = trajectory.stop(p, v, a, self.ramp.deceleration, self.ramp.jerk)
             self.t0 += t
-            return p, v, a
         return p, v, a
+
+    def handover_state(
+        self, t: float, p: float, v: float, a: float
+    ) -> tuple[float, float, float, float]:
+        if self.release is not None:
+            return t, p, v, a
+        return super().handover_state(t, p, v, a)
+
+    def rebase(self, delta: float) -> None:
+        super().rebase(delta)
+        if self.release is not None:
+            self.release.rebase(delta)
 
 
 class GT_MoveAbsBlock(MC_MoveAbsolute):
     """MoveAbsolute that stops at a mechanical block or on ``ExtStop`` (MotionControlLib §3.9).
 
     ``ExtStop`` (level, read every scan) stops at once on the axis' maximum ramp, e.g. from a
-    pressure comparison; a following error above ``TorqueLimit`` (> 0; 0 = off) [u] stops the
-    motion without opening the loop. Done at standstill.
+    pressure comparison; Done at standstill. A following error above ``TorqueLimit`` (> 0;
+    0 = off) [u] means the axis has run into a block: the loop stays closed but the drive stops
+    pushing at once (the model restarts at the actual position, integral action cleared; an
+    axis still moving faster than 5 % of Velocity stops from there on the maximum ramp) and
+    lets the block spring the axis back for ``AxisConfig.release_time``; then the axis backs
+    off by the in-position window and is held there, clear of the block; Done once it is in
+    position.
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("ExtStop", "TorqueLimit")
@@ -294,18 +325,28 @@ class MC_Halt(MotionFB):
 class MC_Stop(MotionFB):
     """Stop the axis (MotionControlLib §3.13): Stopping until Done AND NOT Execute.
 
-    While Execute is TRUE no other motion command is accepted (EAxStop 6).
+    While Execute is TRUE no other motion command is accepted (EAxStop 6). Several instances
+    may stop one axis: a later one takes over the ramp (the earlier reports CommandAborted), but
+    every instance keeps holding the axis in Stopping while its own Execute is TRUE; the axis
+    goes to StandStill once the ramp is done and the Execute of every instance that stopped it
+    is FALSE.
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("Deceleration", "Jerk")
     Deceleration: float = 0.0
     Jerk: float = 0.0
 
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
+        self._holding: Stop | None = None
+        """The Stop this instance's Execute holds the axis with."""
+
     def __call__(self, **inputs: Any) -> None:
         """One PLC scan; the axis leaves Stopping once Done and Execute is FALSE."""
         super().__call__(**inputs)
-        if isinstance(self._cmd, Stop):
-            self._cmd.hold = bool(self.Execute)
+        holding = self._holding
+        if holding is not None:
+            holding.hold = bool(self.Execute)
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         axis = self.axis
@@ -319,6 +360,9 @@ class MC_Stop(MotionFB):
 
     def _submit(self, cmd: Command) -> int:
         assert isinstance(cmd, Stop)
+        if self._holding is not None:
+            self._holding.hold = False  # restarted: the new Stop holds in its place
+        self._holding = cmd
         self.axis.begin_stop(cmd)
         return 0
 
@@ -402,6 +446,12 @@ class GT_EStop(FunctionBlock):
 
     On the rising edge of Enable: all axes stop at once, loops open, brakes engage, errors are
     cleared, every axis goes Disabled. ``Done`` while Enable is TRUE and all axes are Disabled.
+
+    The stop latches, as an emergency stop must not end in an automatic restart: while Enable
+    is TRUE no axis of the module can be powered, and after Enable has fallen an axis powers up
+    again only once its MC_Power has been called with Enable = FALSE (acknowledging the stop)
+    and then with Enable = TRUE. An MC_Power whose Enable stays TRUE through the emergency stop
+    keeps its axis Disabled (Status FALSE, no error).
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("Enable",)
@@ -421,6 +471,9 @@ class GT_EStop(FunctionBlock):
         if enable and not self._prev:
             for member in axes:
                 member.emergency_stop()
+        if enable or self._prev:
+            for member in axes:
+                member.hold_estop(self, enable)
         self._prev = enable
         self.Done = enable and all(m.state == AxisState.Disabled for m in axes)
 

@@ -7,24 +7,30 @@ direction), so the tool point stays on the straight line. Ramp elements bring a 
 a standstill along its current direction (MC_GroupStop, aborts, member faults).
 
 Corner blending (BlendingLow/Previous/Next/High): the first segment is planned to reach the
-corner with the blending velocity ``v_b`` and zero acceleration, the second starts there with
-``v_b``. Around the corner instant ``t_c`` a window of duration ``T`` mixes the two straight
-motions, each extended through the corner at ``v_b``::
+corner ``c`` with the blending velocity ``v_b`` and zero acceleration, the second starts there
+with ``v_b`` (at the corner instant ``t_c``). Let ``d`` be the path coordinate relative to the
+corner: ``d < 0`` on the first segment (direction ``u1``), ``d > 0`` on the second (``u2``).
+Within ``|d| < D`` (the blend's reach) the path is rounded::
 
-    p(t) = q1(t) + σ(x)·(q2(t) − q1(t)),   x = (t − t_c + T/2) / T,   σ = 10x³ − 15x⁴ + 6x⁵
+    p = c + (d − g)·u1 + g·u2,   g = 2D·G(x),   x = (d + D) / (2D),
+    σ = 10x³ − 15x⁴ + 6x⁵,   G(x) = ∫₀ˣ σ = 5x⁴/2 − 3x⁵ + x⁶
 
-so position, velocity and acceleration stay continuous and the path speed does not drop to zero;
-the path passes the corner point itself at ``t_c``. ``T = 3.75·v_b·max_i(|Δu_i| / A_i)`` (``Δu`` =
-change of the unit direction) keeps the blend's own contribution to the acceleration of axis
-``i`` within ``A_i``, the smaller path acceleration/deceleration of the two segments (at most the
-axis' ``max_acceleration``); the window is lengthened if the sum with the segments' own
-acceleration would exceed an axis' ``max_acceleration``. ``v_b`` starts at the BufferMode's
-velocity (capped by every member's Vmax along both segments) and is lowered until the blended
-path stays within the group's corner tolerance (:attr:`mcl.AxesGroup.corner_tolerance`) of the
-polyline, checked numerically over the window, and the window covers at most the second half of
-the first segment and the first half of the second. If no blending velocity fits, or the corner
-is a reversal (above about 177°), the path stops at the corner as with Buffered. Collinear
-segments hand over at ``v_b`` without a window.
+so ``ṗ = ḋ·((1 − σ)·u1 + σ·u2)``: the direction turns smoothly from ``u1`` to ``u2``, position,
+velocity and acceleration stay continuous, the path speed does not drop to zero, and the rounded
+corner lies on the inside of the turn (every point is ``c − a·u1 + b·u2`` with ``a, b ≥ 0``), so
+no axis moves backwards in a blend. ``D = 0.9375·v_b²·max_i(|Δu_i| / A_i)`` (``Δu`` = change of
+the unit direction) keeps the blend's own contribution to the acceleration of axis ``i``,
+``ḋ²·σ'·|Δu_i| / (2D)``, within ``A_i``, the smaller path acceleration/deceleration of the two
+segments (at most the axis' ``max_acceleration``); the reach is lengthened if the sum with the
+segments' own acceleration would exceed an axis' ``max_acceleration``. ``v_b`` starts at the
+BufferMode's velocity (capped by every member's Vmax along both segments) and is lowered until
+the blended path stays within 90 % of the group's corner tolerance
+(:attr:`mcl.AxesGroup.corner_tolerance`) of the polyline, checked numerically over the blend (the
+rest is left to the axes, which follow the curve of the set point with a few µm of contour
+error), and the reach covers at most the second half of the first segment and the first half of
+the second. If no blending velocity fits,
+or the corner is a reversal (above about 177°), the path stops at the corner as with Buffered.
+Collinear segments hand over at ``v_b`` without a window.
 
 This module knows nothing of axes beyond their machine data (:class:`PathPlanner`); running the
 path, its queue and the member axes is :mod:`mcl.group`'s job.
@@ -59,6 +65,9 @@ _BLEND_TRIES: Final = 16
 _BLEND_STRETCH: Final = (1.0, 1.3, 1.7, 2.2)
 """Longer blend windows tried while an axis would exceed its max_acceleration."""
 _FITS, _TOO_HARD, _NO_FIT = 0, 1, 2
+_SETPOINT_SHARE: Final = 0.9
+"""Share of the corner tolerance the blended set point may use; the rest is left for the axes'
+contour error in the curve, so that the tool itself stays within the tolerance."""
 
 
 # ---------------------------------------------------------------------- geometry
@@ -125,9 +134,11 @@ class PathCommand:
 
 
 class Blend:
-    """A corner blend: the window of ``2·half`` seconds around ``t_c`` (module docstring)."""
+    """A corner blend: the rounding within ``reach`` of the corner (module docstring); it runs
+    from about ``begin`` to ``end`` (the end is estimated: the blend lasts until the second
+    segment is ``reach`` past the corner)."""
 
-    __slots__ = ("corner", "half", "speed", "successor", "t_c", "u_in", "u_out")
+    __slots__ = ("begin", "corner", "end", "reach", "speed", "successor", "t_c", "u_in", "u_out")
 
     def __init__(
         self,
@@ -136,7 +147,9 @@ class Blend:
         u_out: Vector,
         speed: float,
         t_c: float,
-        half: float,
+        reach: float,
+        begin: float,
+        end: float,
         successor: Element,
     ) -> None:
         self.corner = corner
@@ -144,18 +157,15 @@ class Blend:
         self.u_out = u_out
         self.speed = speed
         self.t_c = t_c
-        self.half = half
+        self.reach = reach
+        self.begin = begin
+        self.end = end
         self.successor = successor
 
     @property
-    def begin(self) -> float:
-        """Start of the window [s]."""
-        return self.t_c - self.half
-
-    @property
-    def end(self) -> float:
-        """End of the window [s]."""
-        return self.t_c + self.half
+    def half(self) -> float:
+        """Half the blend's (estimated) duration [s]; 0 for collinear segments."""
+        return 0.5 * (self.end - self.begin)
 
     def line(self, unit: Vector, t: float) -> tuple[Vector, Vector]:
         """Position and velocity on the straight line through the corner at the blending speed."""
@@ -168,21 +178,32 @@ class Blend:
         q1: tuple[Vector, Vector, Vector],
         q2: tuple[Vector, Vector, Vector],
     ) -> tuple[Vector, Vector, Vector]:
-        """Blend the incoming motion ``q1`` into the outgoing ``q2`` (position, velocity,
-        acceleration vectors) at time ``t`` inside the window."""
-        width = 2.0 * self.half
-        x = min(1.0, max(0.0, (t - self.begin) / width))
-        s, ds, dds = _smooth(x)
-        ds /= width
-        dds /= width * width
-        (p1, v1, a1), (p2, v2, a2) = q1, q2
-        p, v, a = [], [], []
-        for i in range(len(p1)):
-            dp, dv, da = p2[i] - p1[i], v2[i] - v1[i], a2[i] - a1[i]
-            p.append(p1[i] + s * dp)
-            v.append(v1[i] + s * dv + ds * dp)
-            a.append(a1[i] + s * da + 2.0 * ds * dv + dds * dp)
-        return p, v, a
+        """The blended path at time ``t`` (position, velocity, acceleration vectors) from the
+        incoming motion ``q1`` (before ``t_c``) or the outgoing ``q2`` (after it); outside the
+        reach it is that motion itself."""
+        corner, u1, u2 = self.corner, self.u_in, self.u_out
+        p, v, a = q1 if t < self.t_c else q2
+        u = u1 if t < self.t_c else u2
+        d = dot([p[i] - corner[i] for i in range(len(p))], u)
+        reach = self.reach
+        if d <= -reach:
+            return q1
+        if d >= reach:
+            return q2
+        dd, ddd = dot(v, u), dot(a, u)
+        width = 2.0 * reach
+        x = (d + reach) / width
+        sigma, dsigma, _ = _smooth(x)
+        x2 = x * x
+        g = width * x2 * x2 * (2.5 - 3.0 * x + x2)
+        curve = dd * dd * dsigma / width
+        pos, vel, acc = [], [], []
+        for i in range(len(u1)):
+            mixed = u1[i] + sigma * (u2[i] - u1[i])
+            pos.append(corner[i] + (d - g) * u1[i] + g * u2[i])
+            vel.append(dd * mixed)
+            acc.append(ddd * mixed + curve * (u2[i] - u1[i]))
+        return pos, vel, acc
 
 
 class Element:
@@ -249,13 +270,16 @@ class Element:
 
     def point(self, t: float) -> tuple[Vector, Vector, Vector]:
         """Path point at time ``t`` including the corner blends [mm], [mm/s], [mm/s²]."""
-        q = self.at(t)
+        assert self.profile is not None
+        s, v, a = self.profile.at(t - self.t0)
+        unit = self.unit
+        q = (along(self.start, unit, s), [v * u for u in unit], [a * u for u in unit])
         blend = self.blend_out
-        if blend is not None and blend.half > 0.0 and t > blend.begin:
+        if blend is not None and blend.reach > 0.0 and t > blend.begin:
             p2, v2 = blend.line(blend.u_out, t)
             q = blend.mix(t, q, (p2, v2, [0.0] * len(p2)))
         blend = self.blend_in
-        if blend is not None and blend.half > 0.0 and t < blend.end:
+        if blend is not None and blend.reach > 0.0 and (t < blend.end or s < blend.reach):
             p1, v1 = blend.line(blend.u_in, t)
             q = blend.mix(t, (p1, v1, [0.0] * len(p1)), q)
         return q
@@ -280,6 +304,42 @@ def ramp_element(
 
 
 # ---------------------------------------------------------------------- planning
+def _time_at(profile: Profile, t0: float, s: float, t_lo: float, t_hi: float) -> float:
+    """The time in [t_lo, t_hi] at which a forward ``profile`` started at ``t0`` reaches ``s``
+    (bisection; ``profile.at(t_lo − t0) <= s <= profile.at(t_hi − t0)``) [s]."""
+    for _ in range(48):
+        mid = 0.5 * (t_lo + t_hi)
+        if profile.at(mid - t0)[0] < s:
+            t_lo = mid
+        else:
+            t_hi = mid
+    return t_hi
+
+
+def _blend(
+    element: Element,
+    nxt: Element,
+    profile: Profile,
+    t0: float,
+    speed: float,
+    t_c: float,
+    reach: float,
+) -> Blend | None:
+    """The blend of ``reach`` at the end of ``element`` into ``nxt``, its start and (estimated)
+    end found on the incoming profile and on ``nxt`` planned without its own successor; None if
+    the reach exceeds half of either segment or lies behind the path's current point."""
+    start = element.length - reach
+    if reach > 0.5 * element.length or reach > 0.5 * nxt.length or profile.at(0.0)[0] > start:
+        return None
+    begin = _time_at(profile, t0, start, t0, t_c)
+    try:
+        after = trajectory.move_to(0.0, speed, 0.0, nxt.length, nxt.limits)
+    except PlanningError:
+        return None
+    end = _time_at(after, t_c, reach, t_c, t_c + after.duration)
+    return Blend(element.end, element.unit, nxt.unit, speed, t_c, reach, begin, end, nxt)
+
+
 class PathPlanner:
     """Plans path elements and corner blends for members with the given machine data.
 
@@ -419,10 +479,12 @@ class PathPlanner:
                 break
             t_c = t0 + profile.duration
             if straight:
-                return profile, Blend(element.end, u1, u2, speed, t_c, 0.0, nxt)
+                return profile, Blend(element.end, u1, u2, speed, t_c, 0.0, t_c, t_c, nxt)
             for stretch in _BLEND_STRETCH:
-                half = 1.875 * speed * k * stretch
-                blend = Blend(element.end, u1, u2, speed, t_c, half, nxt)
+                reach = 0.9375 * speed * speed * k * stretch
+                blend = _blend(element, nxt, profile, t0, speed, t_c, reach)
+                if blend is None:
+                    break  # a longer reach would not fit the segments either
                 verdict = self._blend_fits(element, nxt, profile, t0, blend, now)
                 if verdict == _FITS:
                     return profile, blend
@@ -440,33 +502,31 @@ class PathPlanner:
         blend: Blend,
         now: float,
     ) -> int:
-        """Whether a blend window is acceptable: ``_FITS``, ``_TOO_HARD`` (an axis would exceed
-        its max_acceleration: try a longer window) or ``_NO_FIT``.
+        """Whether a blend is acceptable: ``_FITS``, ``_TOO_HARD`` (an axis would exceed its
+        max_acceleration: try a longer reach) or ``_NO_FIT``.
 
-        It fits when it starts in the future and after the element's own incoming blend, covers
-        at most the second half of ``element`` and the first half of ``nxt`` (the start of
-        ``nxt`` is estimated by planning it without its own successor), keeps the path within
-        :attr:`corner_tolerance` of the polyline and every axis within its max_acceleration.
+        It fits when it starts in the future and after the element's own incoming blend (its
+        reach covers at most the second half of ``element`` and the first half of ``nxt``,
+        :func:`_blend`; the motion on ``nxt`` is estimated by planning it without its own
+        successor), keeps the path within
+        :data:`_SETPOINT_SHARE` of :attr:`corner_tolerance` of the polyline and every axis within
+        its max_acceleration.
         """
         if blend.begin <= now or blend.begin < t0:
             return _NO_FIT
         if element.blend_in is not None and blend.begin < element.blend_in.end:
             return _NO_FIT
-        if profile.at(blend.begin - t0)[0] < 0.5 * element.length:
-            return _NO_FIT
         try:
             after = trajectory.move_to(0.0, blend.speed, 0.0, nxt.length, nxt.limits)
         except PlanningError:
             return _NO_FIT
-        if after.at(blend.half)[0] > 0.5 * nxt.length:
-            return _NO_FIT
         u1, u2 = element.unit, nxt.unit
         width = 2.0 * blend.half
-        tolerance = self.corner_tolerance
+        tolerance = self.corner_tolerance * _SETPOINT_SHARE
         worst = 0.0
         too_hard = False
-        for k in range(1, _BLEND_SAMPLES):
-            t = blend.begin + width * k / _BLEND_SAMPLES
+        times = [blend.begin + width * k / _BLEND_SAMPLES for k in range(1, _BLEND_SAMPLES)]
+        for t in (*times, blend.t_c):
             if t <= blend.t_c:
                 s, v, a = profile.at(t - t0)
                 p2, v2 = blend.line(u2, t)

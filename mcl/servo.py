@@ -1,8 +1,10 @@
 """Servo core of one GT-x75x axis: position regulator and DAC.
 
-``u = Kp·e + Ki·∫e + Kd·ė + (10 V/Vmax)·(Ff·v + Ka·a)``, with back-calculation anti-windup
-(``Kc``) when the 12-bit DAC output saturates at ±10 V, and ``Ki1`` integral action that only
-works while the model stands still and the axis is outside its in-position window.
+``u = Kp·e + Ki·∫e + Kd·ė + (10 V/Vmax)·(Ff·v + Ka·a) + clip((10 V/Vmax)·v, ±Kf)`` (for
+``v < 0`` the feed-forward scaled by FfNeg/Ff; plus the deadband compensation), with
+back-calculation anti-windup (``Kc``) when the 12-bit DAC output saturates at ±10 V, and ``Ki1``
+integral action that only works while the model stands still and the axis is outside its
+in-position window.
 """
 
 from __future__ import annotations
@@ -61,6 +63,18 @@ class ServoConstants:
         Filter: time constant of the low-pass on the measured velocity VEL [ms].
         Ka: acceleration feed-forward [s]: the drive's lag plus half a servo period
             (beyond the Teco library; it keeps the following error small while accelerating).
+        Kf: friction feed-forward [V]: the voltage that makes up for the drive's Coulomb
+            friction while the axis moves, so the integrator need not build it up at each
+            start; it adds ``clip((10 V/Vmax)·v, ±Kf)`` (v = model velocity), i.e. it fades in
+            over the first ``Kf·Vmax/10`` of speed (beyond the Teco library).
+        FfNeg: velocity feed-forward for negative model velocities [-]; 0 = the same as Ff.
+            For a drive whose speed per volt differs by direction (a differential cylinder:
+            extend and retract differ by the area ratio); the acceleration feed-forward is
+            scaled alike, by FfNeg/Ff (beyond the Teco library).
+        Deadband: valve overlap compensation [V]: ``Deadband·clip(10·u/Deadband, ±1)`` is
+            added to the command ``u``, so an overlapped spool opens as soon as the loop asks
+            for flow; it rises linearly over ``|u| < Deadband/10`` so that it does not chatter
+            around 0 V (beyond the Teco library).
     """
 
     Kp: float = 0.0
@@ -74,6 +88,9 @@ class ServoConstants:
     Ki1: float = 0.0
     Filter: float = 0.0
     Ka: float = 0.0
+    Kf: float = 0.0
+    FfNeg: float = 0.0
+    Deadband: float = 0.0
 
     @property
     def sw_limits_active(self) -> bool:
@@ -84,13 +101,16 @@ class ServoConstants:
 class Regulator:
     """Discrete PID position regulator with feed-forward, anti-windup and DAC output."""
 
-    __slots__ = ("_e_prev", "_ff", "_integral", "c", "period")
+    __slots__ = ("_e_prev", "_ff", "_integral", "_neg", "c", "period")
 
     def __init__(self, constants: ServoConstants, period: float) -> None:
         """Args: constants: the axis' servo constants; period: servo period [s]."""
         self.c = constants
         self.period = period
         self._ff = 10.0 / constants.Vmax if constants.Vmax > 0.0 else 0.0
+        ff, neg = constants.Ff, constants.FfNeg
+        self._neg = neg / ff if neg > 0.0 and ff > 0.0 else 1.0
+        """Feed-forward factor for negative model velocities (FfNeg/Ff)."""
         self._integral = 0.0
         self._e_prev = 0.0
 
@@ -98,6 +118,11 @@ class Regulator:
         """Clear the integrator and the derivative memory (loop (re)closed)."""
         self._integral = 0.0
         self._e_prev = 0.0
+
+    def clear_integral(self) -> None:
+        """Clear the integral action (Ki and Ki1 share one integrator); the derivative memory
+        stays, so no derivative kick follows."""
+        self._integral = 0.0
 
     def carry_over(self, other: Regulator) -> None:
         """Take over the integrator of the regulator this one replaces (no bump)."""
@@ -120,12 +145,17 @@ class Regulator:
         c = self.c
         period = self.period
         ff = self._ff
+        feed = ff * (c.Ff * v_model + c.Ka * a_model)
         u = (
             c.Kp * e
             + self._integral
             + c.Kd * (e - self._e_prev) / period
-            + ff * (c.Ff * v_model + c.Ka * a_model)
+            + (feed * self._neg if v_model < 0.0 else feed)
+            + max(-c.Kf, min(c.Kf, ff * v_model))
         )
+        db = c.Deadband
+        if db > 0.0:
+            u += max(-db, min(db, 10.0 * u))
         out = dac(u)
         ki = c.Ki + c.Ki1 if settle else c.Ki
         # back-calculation, at most the whole excess per cycle (stable for any Kc)

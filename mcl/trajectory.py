@@ -83,6 +83,10 @@ class Profile:
         self.end_position: float = segments[-1][1]
         self.end_velocity: float = segments[-1][2]
 
+    def shifted(self, delta: float) -> Profile:
+        """The same motion in a coordinate system moved by ``delta`` [u]."""
+        return Profile([(t0, traj, offset + delta) for t0, traj, offset in self._pieces])
+
     def then(self, other: Profile) -> Profile:
         """This profile followed by ``other`` (which starts where this one ends)."""
         offset = self.duration
@@ -221,6 +225,51 @@ def velocity_to(p0: float, v0: float, a0: float, v_target: float, limits: Limits
     traj = _plan(
         ruckig.ControlInterface.Velocity, p0, v0, a0, 0.0, v_target, vmax, rate, rate, limits.jerk
     )
+    return Profile([(0.0, traj, 0.0)])
+
+
+_sync_planner = _Planner()
+"""A second planner for :func:`sync_to`, whose input keeps its own velocity floor and duration."""
+
+
+def sync_to(
+    p0: float, v0: float, a0: float, target: float, v_end: float, limits: Limits, duration: float
+) -> Profile:
+    """Motion from (p0, v0, a0) to ``target`` arriving with ``v_end`` and no acceleration,
+    never moving against the direction of ``v_end`` and taking at least ``duration`` [s].
+
+    The profile takes exactly ``duration`` when that is possible within the limits, longer when
+    the motion needs more time (the caller compares ``Profile.duration``). Speeding up uses
+    ``limits.acceleration``, slowing down ``limits.deceleration``; ``|v_end|`` must not exceed
+    ``limits.velocity``.
+
+    Raises:
+        PlanningError: no such motion (the target lies behind, or is too close to reach
+            ``v_end`` without backing up), or invalid inputs.
+    """
+    calculate, inp = _sync_planner.tools
+    inp.control_interface = ruckig.ControlInterface.Position
+    inp.current_position = [p0]
+    inp.current_velocity = [v0]
+    inp.current_acceleration = [a0]
+    inp.target_position = [target]
+    inp.target_velocity = [v_end]
+    acc, dec, vmax = limits.acceleration, limits.deceleration, limits.velocity
+    if v_end >= 0.0:
+        inp.max_velocity, inp.min_velocity = [vmax], [0.0]
+        inp.max_acceleration, inp.min_acceleration = [acc], [-dec]
+    else:
+        inp.max_velocity, inp.min_velocity = [0.0], [-vmax]
+        inp.max_acceleration, inp.min_acceleration = [dec], [-acc]
+    inp.max_jerk = [limits.jerk]
+    inp.minimum_duration = duration
+    traj = ruckig.Trajectory(1)
+    try:
+        result = calculate(inp, traj)
+    except (ruckig.RuckigError, RuntimeError, ValueError) as exc:
+        raise PlanningError(str(exc).strip()) from exc
+    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
+        raise PlanningError(f"no trajectory: {result}")
     return Profile([(0.0, traj, 0.0)])
 
 

@@ -1,8 +1,12 @@
 """The three-axis gantry (models/gantry.xml) wired to three mcl axes X, Y, Z.
 
-Commissioning data: encoder 1 µm per count, Vmax from the amplifiers' velocity at 10 V, position
-loop gain Kv = Kp·Vmax/10 ≈ 150 1/s, acceleration feed-forward Ka = m_eff/Kamp + current lag +
-half a servo period ≈ 7 ms, integral action for friction (and gravity on Z).
+Commissioning data: encoder 1 µm per count, Vmax = the axis velocity at 10 V (3000 rpm of each
+motor), servo constants found by ``python -m scenes.commissioning gantry X`` (Y, Z): velocity
+steps on each amplifier give its gain, lag and friction; Ff corrects the gain, Ka = the lag plus
+the module's delays, Kv = 1/(2·lag) ≈ 195 1/s, Kf the friction's voltage, Ki a corner at Kv/8
+(what is left, and the weight on Z).
+Software limits 2 mm outside the working travel, inside the LIM switches (5 mm outside it); from
+Vmax the error-stop ramp (max_deceleration) ends before the hard stops.
 """
 
 from __future__ import annotations
@@ -15,7 +19,15 @@ from scenes.procedures import HomeAxis, HomingRecipe
 from scenes.scene import Scene
 
 
-def _spec(vmax: float, kp: float, ki: float, max_acc: float, homing: HomingRecipe) -> AxisDef:
+def _spec(
+    vmax: float,
+    gains: tuple[float, float, float, float, float],
+    travel: tuple[float, float],
+    homing: HomingRecipe,
+) -> AxisDef:
+    """One gantry axis: ``gains`` = (Kp, Ki, Ff, Ka, Kf) from the commissioning procedure,
+    ``travel`` = working travel [mm] (the software limits lie SW_MARGIN outside it)."""
+    kp, ki, ff, ka, kf = gains
     return AxisDef(
         config=mcl.AxisConfig(
             resolution=0.001,
@@ -24,30 +36,43 @@ def _spec(vmax: float, kp: float, ki: float, max_acc: float, homing: HomingRecip
             acceleration=2000.0,
             deceleration=2000.0,
             jerk=50000.0,
-            max_acceleration=max_acc,
-            max_deceleration=max_acc,
+            max_acceleration=20000.0,
+            max_deceleration=20000.0,
         ),
         constants=mcl.ServoConstants(
-            Kp=kp, Ki=ki, Ff=1.0, Kc=50.0, Vmax=vmax, Filter=2.0, Ka=0.007, Ki1=0.0
+            Kp=kp,
+            Ki=ki,
+            Ff=ff,
+            Kc=50.0,
+            Vmax=vmax,
+            LimPos=travel[1] + SW_MARGIN,
+            LimNeg=travel[0] - SW_MARGIN,
+            Filter=2.0,
+            Ka=ka,
+            Kf=kf,
+            Ki1=0.0,
         ),
         homing=homing,
     )
 
 
+SW_MARGIN = 2.0
+"""Software limits outside the working travel [mm]; the LIM switches trip 5 mm outside it."""
+
 HOMING = {
     # REF is on below its edge: search away from it (SwitchNegative), stop where it goes off,
     # then the next index pulse in the positive direction is the origin. SetPosition makes the
-    # coordinate equal the joint coordinate in mm (index pulses at 120, 90 and -20 mm).
+    # coordinate equal the joint coordinate in mm (index pulses at 120, 100 and -20 mm).
     "X": HomingRecipe(set_position=120.0),
-    "Y": HomingRecipe(set_position=90.0),
+    "Y": HomingRecipe(set_position=100.0),
     "Z": HomingRecipe(set_position=-20.0, search_velocity=25.0),
 }
 """REF switch + index homing of each axis."""
 
 AXES = {
-    "X": _spec(vmax=1000.0, kp=1.5, ki=75.0, max_acc=20000.0, homing=HOMING["X"]),
-    "Y": _spec(vmax=1000.0, kp=1.5, ki=75.0, max_acc=20000.0, homing=HOMING["Y"]),
-    "Z": _spec(vmax=500.0, kp=3.0, ki=150.0, max_acc=20000.0, homing=HOMING["Z"]),
+    "X": _spec(1000.0, (1.9565, 47.78, 1.0015, 0.00256, 0.006), (0.0, 1000.0), HOMING["X"]),
+    "Y": _spec(1000.0, (1.9638, 48.05, 1.0033, 0.00256, 0.0133), (0.0, 600.0), HOMING["Y"]),
+    "Z": _spec(500.0, (3.9466, 97.17, 1.0018, 0.00254, 0.0143), (-250.0, 0.0), HOMING["Z"]),
 }
 """Commissioning data of the gantry axes (user units mm)."""
 
@@ -84,6 +109,17 @@ PATH_VELOCITY = 200.0
 """Path velocity [mm/s]."""
 DWELL = 0.3
 """Gripper time at pick and place [s]."""
+ZIGZAG_START = {"X": 0.3, "Y": 0.1, "Z": -0.1}
+"""Joint coordinates [m] where the contour test path (:data:`ZIGZAG`) starts."""
+ZIGZAG = (
+    (150.0, 60.0, -40.0),
+    (-150.0, 60.0, -40.0),
+    (150.0, 60.0, 40.0),
+    (-150.0, 60.0, 40.0),
+    (150.0, 60.0, 0.0),
+)
+"""A zigzag in space: five straight segments [mm] (X, Y, Z distances), turning by 129–138° at
+each corner; the contour measurement of the gantry (tests and benchmark) runs it."""
 
 
 class Demo:

@@ -54,14 +54,17 @@ def _vertices(run):
     return [run["samples"][0][1], *corners]
 
 
-def test_tool_stays_on_the_straight_segments(run):
-    """Contour error of the tool point away from the blended corners: under 50 µm."""
+def test_tool_stays_on_the_straight_segments_and_within_the_corner_tolerance(run):
+    """Contour error of the tool point: under 20 µm away from the blended corners, within the
+    group's corner tolerance at them."""
     vertices = _vertices(run)
     points = np.array([p for _, p in run["samples"]])
     errors = distance_to_polyline(points, vertices)
     away = np.min([np.linalg.norm(points - v, axis=1) for v in vertices], axis=0) > 0.005
     assert away.sum() > 1000  # most of the path is straight
-    assert errors[away].max() < 50e-6
+    assert errors[away].max() < 20e-6
+    tolerance = run["program"].group.corner_tolerance * 1e-3  # mm → m
+    assert errors.max() <= tolerance, f"{errors.max() * 1e6:.1f} µm"
 
 
 def test_blended_corners_do_not_stop_the_tool(run):

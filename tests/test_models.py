@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import mujoco
@@ -117,7 +118,7 @@ def test_drive_parameters_are_consistent(model: mujoco.MjModel) -> None:
         np.testing.assert_array_equal(model.actuator_ctrlrange[a], [-10.0, 10.0])
         assert model.actuator_gainprm[a, 0] == pytest.approx(kamp * vmax / 10.0)
         assert model.actuator_biasprm[a, 2] == pytest.approx(-kamp)
-        assert model.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_FILTER
+        assert model.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_FILTEREXACT
         assert model.actuator_forcelimited[a]
         # the hard stops lie beyond the LIM trip points, which lie beyond the travel
         lo, hi = model.jnt_range[j]
@@ -223,3 +224,76 @@ def test_obstacle_blocks_x(fresh: mujoco.MjModel, which: str, volts: float, q_bl
     d.ctrl[m.actuator("X_amp").id] = volts
     run(m, d, 1.0)
     assert d.qpos[m.joint("X").id] == pytest.approx(q_block, abs=0.002)
+
+
+def readme_axes_table() -> dict[str, list[list[float]]]:
+    """The gantry's axes table of models/README.md: row label → numbers per axis column."""
+    text = (MODELS / "README.md").read_text(encoding="utf-8")
+    section = text[text.index("## gantry") :]
+    table = section[section.index("### Axes") : section.index("\n\n", section.index("| |"))]
+    rows: dict[str, list[list[float]]] = {}
+    number = re.compile(r"[-−]?\d+(?:\.\d+)?(?:e[-−]?\d+)?")
+    for line in table.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) != 4 or cells[0] in ("", "---"):
+            continue
+        rows[cells[0]] = [
+            [float(n.replace("−", "-")) for n in number.findall(c.replace("×", " "))]
+            for c in cells[1:]
+        ]
+    return rows
+
+
+def test_readme_axes_table_matches_the_model(model: mujoco.MjModel) -> None:
+    """Every model number in the README's gantry table is the model's (and the catalogue rows
+    add up to the inertia and force the model uses)."""
+    rows = readme_axes_table()
+
+    def row(label: str) -> list[list[float]]:
+        matches = [v for k, v in rows.items() if k.startswith(label)]
+        assert len(matches) == 1, (label, list(rows))
+        return matches[0]
+
+    for i, ax in enumerate(AXES):
+        j, a = model.joint(ax).id, model.actuator(f"{ax}_amp").id
+        dof = model.jnt_dofadr[j]
+        lo, hi = model.jnt_range[j]
+        lead = num(model, f"{ax}_lead")[0]
+        m = model.body_subtreemass[model.jnt_bodyid[j]]
+        meff = m + model.dof_armature[dof]
+        kamp = num(model, f"{ax}_kamp")[0]
+        np.testing.assert_allclose(
+            row("LIM− trip / LIM+ trip")[i],
+            [trip(model, ax, "lim_neg"), trip(model, ax, "lim_pos")],
+        )
+        np.testing.assert_allclose(row("hard stop")[i], [lo, hi])
+        np.testing.assert_allclose(row("working travel")[i][:2], num(model, f"{ax}_travel"))
+        assert row("LIM trip to hard stop")[i] == pytest.approx(
+            [(trip(model, ax, "lim_neg") - lo) * 1e3], abs=1e-9
+        )
+        assert row("LIM trip to hard stop")[i][0] == pytest.approx(
+            (hi - trip(model, ax, "lim_pos")) * 1e3
+        )
+        assert row("REF edge")[i] == pytest.approx([trip(model, ax, "ref")])
+        assert row("moving mass")[i][0] == pytest.approx(m)
+        assert row("screw lead")[i] == pytest.approx([lead])
+        J = num(model, f"{ax}_J")[0]
+        assert row("J motor + coupling + screw")[i] == pytest.approx([J])
+        parts = row("rotor inertia")[i][0] + row("coupling")[i][-1] + row("screw inertia")[i][-1]
+        assert parts == pytest.approx(J, rel=0.005)
+        assert row("armature")[i][0] == pytest.approx(model.dof_armature[dof], abs=5e-4)
+        assert row("effective mass")[i][0] == pytest.approx(meff, abs=5e-3)
+        assert row("damping")[i] == pytest.approx(
+            [model.dof_damping[dof], model.dof_frictionloss[dof]]
+        )
+        assert row("vmax at 10 V")[i][-1] == pytest.approx(num(model, f"{ax}_vmax")[0])
+        assert row("Kamp")[i] == pytest.approx([kamp])
+        assert row("gainprm")[i] == pytest.approx([model.actuator_gainprm[a, 0]])
+        assert row("velocity-loop pole")[i][0] == pytest.approx(kamp / meff, abs=0.5)
+        assert row("current-loop lag")[i] == pytest.approx([model.actuator_dynprm[a, 0]])
+        fmax = model.actuator_forcerange[a, 1]
+        assert row("Fmax")[i] == pytest.approx([fmax])
+        assert row("peak torque")[i][0] * 2 * math.pi / lead * 0.9 == pytest.approx(fmax, rel=0.005)
+        assert row("counts_per_rev")[i] == pytest.approx(
+            [num(model, f"{ax}_counts_per_rev")[0], num(model, f"{ax}_index_width")[0]]
+        )
