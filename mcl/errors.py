@@ -28,6 +28,15 @@ class ErrorID(IntEnum):
     EpowerOff = 13
     ENoDrive = 14
     """Beyond the Teco library: a motion or power command on an encoder-only axis (no drive)."""
+    ESyncUnreachable = 15
+    """Beyond the Teco library (MC_GearInPos): the slave cannot synchronise before
+    MasterSyncPosition within Velocity/Acceleration/Deceleration/Jerk without backing up."""
+    EMasterReversed = 16
+    """Beyond the Teco library (MC_GearInPos): the master moved back during synchronisation."""
+    EMasterError = 17
+    """Beyond the Teco library (gearing): the master is in ErrorStop or its encoder failed."""
+    ENotGeared = 18
+    """Beyond the Teco library (MC_GearOut): the slave is not geared to a master."""
     EGroupMember = 1000
     EGroupFull = 1001
     ENotGroupMember = 1003
@@ -57,6 +66,13 @@ _TEXTS: dict[int, tuple[str, str]] = {
     12: ("constants not set", "nejsou zadány konstanty"),
     13: ("axis is powered", "osa je power on"),
     14: ("axis has no drive (encoder only)", "osa nemá pohon (jen enkodér)"),
+    15: (
+        "synchronisation not reachable before MasterSyncPosition",
+        "synchronizace není dosažitelná před MasterSyncPosition",
+    ),
+    16: ("master reversed during synchronisation", "master osa couvla během synchronizace"),
+    17: ("master axis error", "chyba master osy"),
+    18: ("slave is not geared", "slave osa není ve vazbě na master"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

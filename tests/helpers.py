@@ -38,7 +38,7 @@ def configure(axis: mcl.Axis, **overrides: float) -> None:
     assert fb.Done, fb.ErrorID
 
 
-def power_on(machine: mcl.SimMachine, axis: mcl.Axis, referenced: bool = True) -> mcl.MC_Power:
+def power_on(machine: mcl.Machine, axis: mcl.Axis, referenced: bool = True) -> mcl.MC_Power:
     """Power the axis through MC_Power and, if ``referenced``, confirm its coordinate with
     MC_FinishHoming (the coordinate stays, Ref is set); takes 10 ms of simulated time."""
     power, finish = mcl.MC_Power(), mcl.MC_FinishHoming()

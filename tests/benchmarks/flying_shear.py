@@ -1,0 +1,262 @@
+"""Benchmark: the flying shear's cut statistics and its real-time factor.
+
+Every length comes from the physics (the strip joint M is the truth; a cut is where the knife edge
+sat on the strip when the blade came down). Figures:
+
+- cut to length, 21 cuts (20 pieces) of 1500 mm at 60 m/min with ±1 % ripple and no slip: length
+  error mean, standard deviation, worst; per cut the carriage/strip speed mismatch, how far the
+  blade slid on the strip, the drag force;
+- 120 m/min: whether 1500 mm pieces fit the carriage's stroke and acceleration, and the figures
+  at the shortest length tried that does;
+- measuring-wheel slip (−0.2 %, −0.5 %, and a random part) in length mode: the pieces grow;
+- cut to mark (Zeroing 2, Delay = sensor delay) without and with slip, with and without the
+  register that learns the wheel's scale; Delay 0 against Delay = sensor delay (zeroing error in
+  counts, cut-to-mark shift);
+- the line speed changed after StartSync (−10 % … +50 %) or at InSync: what the cut does;
+- an unsynchronised cut (knife dropped with the carriage standing): the drag force;
+- the real-time factor of the 60 m/min scenario against the bare physics of the same model
+  (MuJoCo and the machine's devices, and MuJoCo alone), measured in the same run in chunks of
+  0.1 s (as ``tests.benchmarks.machines`` does).
+
+Prints JSON per mode (compiled where built, and pure Python, each in a fresh process).
+Run: ``python -m tests.benchmarks.flying_shear``.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from typing import Any
+
+from tests.benchmarks import report_in_both_modes
+
+CHUNK = 0.1
+"""Simulated seconds per measured chunk [s]."""
+COUNT = 0.025
+"""One count of the measuring wheel [mm]."""
+
+
+def _scene(slip: float = 0.0, random_slip: float = 0.0) -> Any:
+    import scenes
+    from scenes import flying_shear as fs
+
+    scene = scenes.load("flying_shear", start=fs.MACHINE.demo_start, trace_every=0)
+    wheel = scene.devices["wheel"]
+    assert isinstance(wheel, fs.MeasuringWheel)
+    wheel.slip, wheel.random = slip, random_slip
+    return scene
+
+
+def _stats(values: list[float]) -> dict[str, float]:
+    if not values:
+        return {}
+    worst: float = max(values, key=abs)
+    return {
+        "mean": round(statistics.fmean(values), 4),
+        "std": round(statistics.pstdev(values), 4),
+        "worst": round(worst, 4),
+    }
+
+
+def _cuts(demo: Any) -> dict[str, Any]:
+    """The figures of a finished (or stopped) demo."""
+    cuts = demo.recorder.cuts
+    lengths = [c.length for c in cuts if c.length is not None]
+    return {
+        "pieces": len(lengths),
+        "error": demo.error,
+        "length_mm": _stats(lengths),
+        "error_mm": _stats(demo.errors()),
+        "speed_mismatch_pct_worst": round(
+            100 * max((c.speed_mismatch for c in cuts), default=0), 3
+        ),
+        "blade_slide_mm_worst": round(max((c.slide for c in cuts), default=0.0), 4),
+        "drag_N_mean": round(statistics.fmean(c.drag for c in cuts), 1) if cuts else None,
+        "drag_N_worst": round(max((c.drag for c in cuts), default=0.0), 1),
+        "blade_contact_ms": round(1000 * statistics.fmean(c.contact for c in cuts), 1)
+        if cuts
+        else None,
+    }
+
+
+def run_job(job: Any, slip: float = 0.0, random_slip: float = 0.0, timeout: float = 120.0) -> Any:
+    """The demo with ``job`` run to its end or its error."""
+    from scenes import flying_shear as fs
+
+    scene = _scene(slip, random_slip)
+    demo = fs.Demo(scene, job)
+    scene.run(demo, until=lambda: demo.done or bool(demo.error), timeout=timeout)
+    return demo
+
+
+def real_time_factor() -> dict[str, Any]:
+    """The 60 m/min scenario (21 cuts) against the bare physics of the same model (MuJoCo and
+    the machine's devices; and MuJoCo alone), chunk by chunk; with its cut figures."""
+    from scenes import flying_shear as fs
+    from tests.benchmarks.machines import bare_stepper
+
+    scene = _scene()
+    demo = fs.Demo(scene, fs.CutJob())
+    physics = bare_stepper(scene, with_devices=True)
+    mujoco_alone = bare_stepper(scene, with_devices=False)
+    steps = round(CHUNK / scene.plant.timestep)
+    stack = bare = alone = simulated = 0.0
+    while not (demo.done or demo.error) and simulated < 120.0:
+        start = time.perf_counter()
+        scene.run(demo, timeout=CHUNK)
+        stack += time.perf_counter() - start
+        start = time.perf_counter()
+        physics(steps)
+        bare += time.perf_counter() - start
+        start = time.perf_counter()
+        mujoco_alone(steps)
+        alone += time.perf_counter() - start
+        simulated += CHUNK
+    return {
+        "simulated_s": round(simulated, 1),
+        "scenario_real_time_factor": round(simulated / stack, 1),
+        "bare_physics_real_time_factor": round(simulated / bare, 1),
+        "ratio": round(bare / stack, 3),
+        "ratio_to_mujoco_alone": round(alone / stack, 3),
+        "us_per_servo_cycle": round(stack / (simulated / scene.runtime.servo_period) * 1e6, 1),
+        "cuts": _cuts(demo),
+    }
+
+
+def high_speed() -> dict[str, Any]:
+    """120 m/min: 1500 mm pieces, then longer ones until they fit."""
+    from scenes import flying_shear as fs
+
+    tried = {}
+    for length in (1500.0, 2000.0, 2300.0, 2350.0, 2450.0):
+        demo = run_job(fs.CutJob(speed=2000.0, length=length, cuts=11))
+        tried[f"{length:.0f}"] = _cuts(demo)
+    return tried
+
+
+def slip() -> dict[str, Any]:
+    """Length mode with a slipping wheel: the pieces grow by the slip."""
+    from scenes import flying_shear as fs
+
+    out = {}
+    for constant, rms in ((-0.002, 0.0), (-0.005, 0.0), (0.0, 0.001)):
+        demo = run_job(fs.CutJob(cuts=6), slip=constant, random_slip=rms)
+        out[f"slip {constant:+.1%} random {rms:.1%}"] = _cuts(demo)
+    return out
+
+
+def marks() -> dict[str, Any]:
+    """Cut to mark: slip and register, and the probe delay."""
+    from scenes import flying_shear as fs
+
+    out: dict[str, Any] = {}
+    for constant, register in ((0.0, True), (-0.005, False), (-0.005, True)):
+        demo = run_job(fs.CutJob(cuts=8, mode="mark", register=register), slip=constant)
+        out[f"slip {constant:+.1%} register {register}"] = {
+            **_cuts(demo),
+            "scale_learned": round(demo.scale, 6),
+        }
+    for delay in (fs.SENSOR_DELAY * 1000.0, 0.0):
+        scene = _scene()
+        demo = fs.Demo(scene, fs.CutJob(cuts=6, mode="mark", register=False, delay=delay))
+        zeroing = fs.ZeroingRecorder(scene)
+        scene.runtime.observers.append(zeroing)
+        scene.run(demo, until=lambda d=demo: d.done or bool(d.error), timeout=60.0)
+        out[f"Delay {delay:g} ms"] = {
+            "zeroing_error_counts": [round(e / COUNT, 2) for e in zeroing.errors],
+            "mark_error_mm": _stats(demo.errors()),
+            "error": demo.error,
+        }
+    return out
+
+
+def speed_change() -> dict[str, Any]:
+    """The line speed changed (2000 mm/s²) as soon as StartSync rises for the second cut, or
+    as soon as InSync rises (the knife then comes down while the line accelerates)."""
+    import mcl
+    from scenes import flying_shear as fs
+
+    out = {}
+    cases = [(f, "StartSync") for f in (0.9, 1.03, 1.06, 1.1, 1.2, 1.3, 1.5)] + [(1.1, "InSync")]
+    for factor, at in cases:
+        scene = _scene()
+        demo = fs.Demo(scene, fs.CutJob(cuts=3))
+        change = mcl.MC_MoveVelocity(
+            Axis=scene.axes["L"], Velocity=1000.0 * factor, Acceleration=2000.0
+        )
+        started = [False]
+
+        def program(
+            demo: Any = demo, change: Any = change, started: list[bool] = started, at: str = at
+        ) -> None:
+            demo()
+            started[0] = started[0] or (demo.cut == 2 and getattr(demo.gear, at))
+            change(Execute=started[0])
+
+        scene.run(program, until=lambda d=demo: d.done or bool(d.error), timeout=60.0)
+        out[f"x{factor} at {at}"] = {
+            **_cuts(demo),
+            "slave_state": scene.axes["S"].state.name,
+            "knife_output": scene.io("S").outputs[0],
+        }
+    return out
+
+
+def unsynchronised_drag() -> dict[str, Any]:
+    """The knife dropped on the strip at 60 m/min with the carriage standing (powered)."""
+    import mcl
+    from scenes import flying_shear as fs
+
+    scene = _scene()
+    L, S = scene.axes["L"], scene.axes["S"]
+    power = [mcl.MC_Power(Axis=L, Enable=True), mcl.MC_Power(Axis=S, Enable=True)]
+    line = mcl.MC_MoveVelocity(Axis=L, Velocity=1000.0, Acceleration=1000.0)
+    down = mcl.MC_WriteDigitalOutput(Axis=S, OutputNumber=0, Value=True)
+    knife = scene.devices["knife"]
+    assert isinstance(knife, fs.KnifeCylinder)
+    state = {"drop": False, "drag": 0.0}
+
+    def program() -> None:
+        for p in power:
+            p()
+        line(Execute=power[0].Status)
+        down(Execute=state["drop"])
+        state["drag"] = max(state["drag"], abs(knife.drag))
+
+    scene.run(program, until=lambda: line.InVelocity, timeout=5.0)
+    scene.run(program, timeout=0.5)
+    strip = scene.data.joint(f"{fs.PREFIX}M").qvel
+    carriage = scene.data.joint(f"{fs.PREFIX}S").qpos
+    before, q0 = float(strip[0]), float(carriage[0])
+    state["drop"] = True
+    scene.run(program, timeout=0.2)
+    return {
+        "drag_N_worst": round(state["drag"], 1),
+        "grip_limit_N": round(knife.mu * (knife.force + knife.weight), 1),
+        "carriage_dragged_mm": round(1000.0 * (float(carriage[0]) - q0), 2),
+        "strip_speed_m_s_before_after": [round(before, 3), round(float(strip[0]), 3)],
+    }
+
+
+def mode_report() -> dict[str, Any]:
+    """Every figure in this process' mode."""
+    import mcl
+
+    return {
+        "mode": "compiled" if mcl.COMPILED else "pure Python",
+        "length_60_m_min": real_time_factor(),
+        "length_120_m_min": high_speed(),
+        "slip_length_mode": slip(),
+        "cut_to_mark": marks(),
+        "master_speed_change_after_start_sync": speed_change(),
+        "unsynchronised_cut": unsynchronised_drag(),
+    }
+
+
+def main() -> None:
+    """Print the benchmark as JSON, compiled (where built) and pure Python."""
+    report_in_both_modes("tests.benchmarks.flying_shear", mode_report)
+
+
+if __name__ == "__main__":
+    main()
