@@ -1,0 +1,742 @@
+"""Valve-controlled hydraulic cylinder: the math, its MuJoCo device and a simulated hydraulic axis.
+
+MuJoCo has no hydraulic actuator. :class:`ValveCylinder` holds the whole hydraulic model in plain
+floats (SI units, pressures in Pa gauge):
+
+- **Valve**: a 4/3 servo or proportional valve. The ±10 V command (after an optional hysteresis,
+  a play of ``hysteresis`` of the spool stroke) drives the spool ``x`` (−1 … +1 of its stroke)
+  through second-order dynamics ``ẍ = ω²·(u/10 − x) − 2ζω·ẋ``, integrated exactly for a command
+  held over the step, the spool stopped at its ends. Positive ``x`` opens P→A and B→T (the
+  cylinder extends, the axis' positive direction), negative ``x`` opens P→B and A→T. An edge
+  opens ``max(|x| − overlap, 0)`` plus its clearance leakage ``leakage``; its flow is
+  ``Q = Q_N · opening · root(Δp/Δp_N)`` (rated per edge: ``Q_N`` at ``Δp_N`` = 35 bar), with the
+  sign-safe root ``root(r) = r/(r² + r_lam²)^¼``: ``sign(r)·√|r|`` for ``|Δp|`` well above the
+  laminar transition ``Δp_lam``, linear (laminar) below it, smooth and finite in slope at 0.
+- **Cylinder**: differential, areas ``A_A = π/4·D²`` (piston) and ``A_B = A_A − π/4·d²``
+  (annulus); chamber volumes ``V_A = V0_A + A_A·s`` and ``V_B = V0_B + A_B·(stroke − s)``, ``s``
+  the extension, the dead volumes ``V0`` (hoses, valve, cylinder ends) never zero.
+- **Chambers**: ``dp/dt = β/V·(Q_valve − Q_relief ∓ A·v ∓ Q_internal)``, ``β`` the effective
+  bulk modulus; internal leakage across the piston ``Q_internal = C_i·(p_A − p_B)``; a relief
+  valve on each port opens above its cracking pressure with a linear characteristic
+  ``K_r·(p − p_relief)``; a chamber cannot fall below tank pressure (it cavitates and refills
+  through the anti-cavitation check valves). The load-holding valve, when closed, blocks port B.
+- **Force** on the piston ``F = p_A·A_A − p_B·A_B`` (+ = extending); seal friction (Coulomb)
+  ``F_c = F_0 + f_p·(p_A·A_A + p_B·A_B)`` grows with the pressures on the seals.
+
+**Integration.** Per physics step ``dt``: the spool first (exact), then each chamber with the
+backward (implicit) Euler method, solved by a safeguarded Newton iteration on the scalar,
+strictly increasing residual ``p − p_n − dt·β/V·Q_net(p)``. Implicit, because a chamber pressed
+solid builds 200 bar in about a millisecond: its pressure equation is stiff (eigenvalue
+``β/V·∂Q/∂p`` of some 10⁴ 1/s against a step of 5·10⁻⁴ s), and the relief valve's characteristic is
+stiffer still; backward Euler is stable for any stiffness and reaches the steady pressure in
+one step where an explicit step would overshoot. The piston velocity and the chamber volumes are
+taken at the start of the step (the mechanics then integrates with the new force: a symplectic
+splitting, stable for ``ω_h·dt < 2``; here ``ω_h·dt`` ≤ 0.7). The internal leakage uses the
+pressures of the start of the step (its time constant is seconds).
+
+Everything that evolves is the state (:meth:`ValveCylinder.get_state`), so a reset or replay is
+bit-identical.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+from mcl.channel import IDEAL, AxisChannel, Sensors
+from scenes.errors import WiringError
+
+BAR = 1.0e5
+"""One bar [Pa]."""
+LPM = 1.0e-3 / 60.0
+"""One litre per minute [m³/s]."""
+
+__all__ = [
+    "BAR",
+    "LPM",
+    "Cylinder",
+    "CylinderDevice",
+    "HydraulicAxis",
+    "HydraulicPlant",
+    "Supply",
+    "Valve",
+    "ValveCylinder",
+    "natural_frequency",
+    "steady_state",
+]
+
+
+@dataclass(frozen=True)
+class Valve:
+    """A 4/3 servo or proportional valve (each of the four control edges rated alike).
+
+    Attributes:
+        rated_flow: flow of one fully open edge at ``rated_dp`` [m³/s].
+        rated_dp: pressure drop per edge of the rating [Pa] (35 bar).
+        frequency: natural frequency of the spool dynamics [Hz].
+        damping: damping ratio of the spool dynamics (0 < ζ < 1).
+        overlap: spool overlap (deadband) as a fraction of the spool stroke [-] (0 = zero lap).
+        hysteresis: full width of the command's play as a fraction of the stroke [-].
+        leakage: clearance of each edge as an equivalent opening [-] (flow at 0 V).
+        laminar_dp: pressure drop below which an edge's flow turns laminar [Pa].
+    """
+
+    rated_flow: float = 40.0 * LPM
+    rated_dp: float = 35.0 * BAR
+    frequency: float = 60.0
+    damping: float = 0.7
+    overlap: float = 0.0
+    hysteresis: float = 0.0
+    leakage: float = 0.0
+    laminar_dp: float = 0.2 * BAR
+
+    def __post_init__(self) -> None:
+        for name in ("rated_flow", "rated_dp", "frequency", "laminar_dp"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"Valve.{name} must be a finite number > 0, got {value!r}")
+        if not 0.0 < self.damping < 1.0:
+            raise ValueError(f"Valve.damping must be in (0, 1), got {self.damping!r}")
+        for name in ("overlap", "hysteresis", "leakage"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and 0.0 <= value < 0.5):
+                raise ValueError(f"Valve.{name} must be in [0, 0.5), got {value!r}")
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """A differential cylinder.
+
+    Attributes:
+        bore: piston diameter D [m].
+        rod: rod diameter d [m].
+        stroke: stroke [m].
+        dead_volume_a, dead_volume_b: oil volume of each side at its end of the stroke
+            (hoses, valve, cylinder end) [m³].
+        coulomb: seal friction without pressure [N].
+        pressure_friction: seal friction per newton of hydraulic force on the seals [-].
+        internal_leakage: leakage across the piston per pressure difference [m³/(s·Pa)].
+    """
+
+    bore: float = 0.080
+    rod: float = 0.056
+    stroke: float = 0.300
+    dead_volume_a: float = 1.0e-4
+    dead_volume_b: float = 1.0e-4
+    coulomb: float = 250.0
+    pressure_friction: float = 0.005
+    internal_leakage: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("bore", "stroke", "dead_volume_a", "dead_volume_b"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"Cylinder.{name} must be a finite number > 0, got {value!r}")
+        if not 0.0 <= self.rod < self.bore:
+            raise ValueError(f"Cylinder.rod must be in [0, bore), got {self.rod!r}")
+        for name in ("coulomb", "pressure_friction", "internal_leakage"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f"Cylinder.{name} must be finite and >= 0, got {value!r}")
+
+    @property
+    def area_a(self) -> float:
+        """Piston area A_A [m²]."""
+        return math.pi / 4.0 * self.bore * self.bore
+
+    @property
+    def area_b(self) -> float:
+        """Annulus area A_B [m²]."""
+        return math.pi / 4.0 * (self.bore * self.bore - self.rod * self.rod)
+
+
+@dataclass(frozen=True)
+class Supply:
+    """Supply, tank, relief valves and oil.
+
+    Attributes:
+        supply: constant supply pressure (pump with accumulator) [Pa].
+        tank: tank pressure [Pa].
+        relief: cracking pressure of the relief valve on each port [Pa].
+        relief_gain: relief flow per pressure above cracking [m³/(s·Pa)].
+        bulk_modulus: effective bulk modulus β of the oil with hoses and air [Pa].
+    """
+
+    supply: float = 200.0 * BAR
+    tank: float = 0.0
+    relief: float = 220.0 * BAR
+    relief_gain: float = 60.0 * LPM / (10.0 * BAR)
+    bulk_modulus: float = 1.2e9
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.tank) and self.tank >= 0.0):
+            raise ValueError(f"Supply.tank must be finite and >= 0, got {self.tank!r}")
+        if not (math.isfinite(self.supply) and self.supply > self.tank):
+            raise ValueError(f"Supply.supply must be above the tank pressure, got {self.supply!r}")
+        if not (math.isfinite(self.relief) and self.relief > self.tank):
+            raise ValueError(f"Supply.relief must be above the tank pressure, got {self.relief!r}")
+        for name in ("relief_gain", "bulk_modulus"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"Supply.{name} must be a finite number > 0, got {value!r}")
+
+
+def natural_frequency(cylinder: Cylinder, supply: Supply, extension: float, mass: float) -> float:
+    """Hydraulic natural frequency of a mass on the two oil columns, valve closed [Hz]:
+    ``ω_h = √(β/m · (A_A²/V_A + A_B²/V_B))``.
+
+    Args:
+        cylinder, supply: the cylinder and the oil.
+        extension: piston extension s [m].
+        mass: moving mass [kg].
+    """
+    v_a = cylinder.dead_volume_a + cylinder.area_a * extension
+    v_b = cylinder.dead_volume_b + cylinder.area_b * (cylinder.stroke - extension)
+    stiffness = supply.bulk_modulus * (cylinder.area_a**2 / v_a + cylinder.area_b**2 / v_b)
+    return math.sqrt(stiffness / mass) / (2.0 * math.pi)
+
+
+class ValveCylinder:
+    """The hydraulic state of one valve and cylinder, integrated one physics step at a time.
+
+    Args:
+        valve, cylinder, supply: the hydraulic data.
+        dt: the step [s].
+    """
+
+    def __init__(self, valve: Valve, cylinder: Cylinder, supply: Supply, dt: float) -> None:
+        if not (math.isfinite(dt) and dt > 0.0):
+            raise ValueError(f"step must be a finite number > 0 s, got {dt!r}")
+        self.valve, self.cylinder, self.supply, self.dt = valve, cylinder, supply, dt
+        self.area_a = cylinder.area_a
+        self.area_b = cylinder.area_b
+        self.command = 0.0
+        """Valve command [V] (0 while the drive is disabled)."""
+        self.hold = True
+        """The load-holding valve blocks port B (drive disabled)."""
+        self.spool = 0.0
+        """Spool position x [-], −1 … +1 of its stroke."""
+        self.spool_rate = 0.0
+        """Spool velocity [1/s]."""
+        self.play = 0.0
+        """Output of the hysteresis play: the command the spool follows [-]."""
+        self.p_a = 0.0
+        """Pressure in chamber A [Pa]."""
+        self.p_b = 0.0
+        """Pressure in chamber B [Pa]."""
+        w = 2.0 * math.pi * valve.frequency
+        z = valve.damping
+        wd = w * math.sqrt(1.0 - z * z)
+        e = math.exp(-z * w * dt)
+        c, s = math.cos(wd * dt), math.sin(wd * dt)
+        self._phi = (
+            e * (c + z * w / wd * s),
+            e * s / wd,
+            -e * w * w / wd * s,
+            e * (c - z * w / wd * s),
+        )
+        self._qn = valve.rated_flow
+        self._inv_dpn = 1.0 / valve.rated_dp
+        self._lam2 = (valve.laminar_dp / valve.rated_dp) ** 2
+        self.iterations = 0
+        """Newton iterations of the last step (both chambers)."""
+
+    # ------------------------------------------------------------------ flows
+    def root(self, dp: float) -> float:
+        """The sign-safe root of the flow law: ``root(Δp/Δp_N)`` [-]."""
+        r = dp * self._inv_dpn
+        return r / math.sqrt(math.sqrt(r * r + self._lam2))
+
+    def _root_slope(self, dp: float) -> float:
+        """d root(Δp/Δp_N) / dΔp [1/Pa]."""
+        r = dp * self._inv_dpn
+        s = r * r + self._lam2
+        return (0.5 * r * r + self._lam2) / (s * math.sqrt(math.sqrt(s))) * self._inv_dpn
+
+    def openings(self) -> tuple[float, float, float, float]:
+        """Equivalent openings of the edges P→A, A→T, P→B, B→T [-] at the current spool."""
+        valve = self.valve
+        x, lap, leak = self.spool, valve.overlap, valve.leakage
+        pos = x - lap if x > lap else 0.0
+        neg = -x - lap if -x > lap else 0.0
+        return pos + leak, neg + leak, neg + leak, pos + leak
+
+    def flow_a(self, p: float) -> float:
+        """Valve and relief flow into chamber A at pressure ``p`` [m³/s] (current spool)."""
+        pa_in, at_out, _, _ = self.openings()
+        return self._valve_flow(p, pa_in, at_out)
+
+    def flow_b(self, p: float) -> float:
+        """Valve and relief flow into chamber B at pressure ``p`` [m³/s] (current spool and
+        load-holding valve)."""
+        _, _, pb_in, bt_out = self.openings()
+        if self.hold:
+            return self._valve_flow(p, 0.0, 0.0)
+        return self._valve_flow(p, pb_in, bt_out)
+
+    def _valve_flow(self, p: float, inlet: float, outlet: float) -> float:
+        supply = self.supply
+        q = self._qn * (inlet * self.root(supply.supply - p) - outlet * self.root(p - supply.tank))
+        if p > supply.relief:
+            q -= supply.relief_gain * (p - supply.relief)
+        return q
+
+    # ------------------------------------------------------------------ integration
+    def force(self) -> float:
+        """Hydraulic force on the piston, + = extending [N]."""
+        return self.p_a * self.area_a - self.p_b * self.area_b
+
+    def friction(self) -> float:
+        """Seal friction at the current pressures (Coulomb, magnitude) [N]."""
+        c = self.cylinder
+        return c.coulomb + c.pressure_friction * (self.p_a * self.area_a + self.p_b * self.area_b)
+
+    def volumes(self, extension: float) -> tuple[float, float]:
+        """Chamber volumes V_A, V_B at an extension [m³] (the dead volume at least)."""
+        c = self.cylinder
+        s = min(max(extension, 0.0), c.stroke)
+        return c.dead_volume_a + self.area_a * s, c.dead_volume_b + self.area_b * (c.stroke - s)
+
+    def step(self, extension: float, velocity: float) -> float:
+        """Integrate valve and chambers over one step; returns the new hydraulic force [N].
+
+        Args:
+            extension: piston extension s at the start of the step [m].
+            velocity: extension velocity at the start of the step [m/s].
+        """
+        self._spool_step()
+        v_a, v_b = self.volumes(extension)
+        beta_dt = self.supply.bulk_modulus * self.dt
+        leak = self.cylinder.internal_leakage * (self.p_a - self.p_b)
+        pa_in, at_out, pb_in, bt_out = self.openings()
+        if self.hold:
+            pb_in = bt_out = 0.0
+        self.iterations = 0
+        p_a = self._chamber(self.p_a, beta_dt / v_a, pa_in, at_out, -self.area_a * velocity - leak)
+        p_b = self._chamber(self.p_b, beta_dt / v_b, pb_in, bt_out, self.area_b * velocity + leak)
+        self.p_a, self.p_b = p_a, p_b
+        return p_a * self.area_a - p_b * self.area_b
+
+    def _spool_step(self) -> None:
+        valve = self.valve
+        u = 0.1 * self.command
+        h = 0.5 * valve.hysteresis
+        play = self.play
+        if u > play + h:
+            play = u - h
+        elif u < play - h:
+            play = u + h
+        self.play = play
+        d = self.spool - play
+        r = self.spool_rate
+        f11, f12, f21, f22 = self._phi
+        x = play + f11 * d + f12 * r
+        r = f21 * d + f22 * r
+        if x > 1.0:
+            x, r = 1.0, 0.0
+        elif x < -1.0:
+            x, r = -1.0, 0.0
+        self.spool, self.spool_rate = x, r
+
+    def _chamber(self, p0: float, k: float, inlet: float, outlet: float, q_ext: float) -> float:
+        """Backward Euler for one chamber: the root of ``g(p) = p − p0 − k·(Q(p) + q_ext)``.
+
+        ``g`` increases strictly (the inflow falls and the outflow and relief flow rise with
+        ``p``), so the root is unique; Newton steps that leave the bracket are replaced by
+        bisection. A root below tank pressure means cavitation: the tank pressure.
+        """
+        supply = self.supply
+        ps, pt, relief, kr = supply.supply, supply.tank, supply.relief, supply.relief_gain
+        inv, c = self._inv_dpn, self._lam2
+        a_in, a_out = self._qn * inlet, self._qn * outlet
+        lo = pt
+        r = (ps - pt) * inv
+        hi = max(p0, pt) + k * (a_in * r / math.sqrt(math.sqrt(r * r + c)) + max(q_ext, 0.0)) + 1.0
+        p = min(max(p0, lo), hi)
+        iterations = 0
+        for _ in range(60):
+            iterations += 1
+            r1 = (ps - p) * inv
+            s1 = r1 * r1 + c
+            f1 = math.sqrt(math.sqrt(s1))
+            r2 = (p - pt) * inv
+            s2 = r2 * r2 + c
+            f2 = math.sqrt(math.sqrt(s2))
+            q = a_in * r1 / f1 - a_out * r2 / f2
+            slope = (
+                a_in * (0.5 * r1 * r1 + c) / (s1 * f1) + a_out * (0.5 * r2 * r2 + c) / (s2 * f2)
+            ) * inv
+            if p > relief:
+                q -= kr * (p - relief)
+                slope += kr
+            g = p - p0 - k * (q + q_ext)
+            if g >= 0.0:
+                if p <= pt:
+                    p = pt  # the chamber cavitates at tank pressure
+                    break
+                hi = p
+            else:
+                lo = p
+            step = g / (1.0 + k * slope)
+            if -1.0e-3 < step < 1.0e-3:
+                p -= step
+                break
+            p -= step
+            if p <= lo or p >= hi:
+                p = pt if p <= lo == pt else 0.5 * (lo + hi)
+                if hi - lo < 1.0e-3:
+                    break
+        self.iterations += iterations
+        return p if p > pt else pt
+
+    # ------------------------------------------------------------------ state
+    def get_state(self) -> list[float]:
+        """Everything that evolves: command, hold, spool, spool rate, play, p_A, p_B."""
+        return [
+            self.command,
+            1.0 if self.hold else 0.0,
+            self.spool,
+            self.spool_rate,
+            self.play,
+            self.p_a,
+            self.p_b,
+        ]
+
+    def set_state(self, state: list[float]) -> None:
+        """Restore a state taken with :meth:`get_state`."""
+        self.command = state[0]
+        self.hold = state[1] != 0.0
+        self.spool, self.spool_rate, self.play, self.p_a, self.p_b = state[2:7]
+
+    def holding_pressures(self, load: float) -> None:
+        """Set the pressures that hold ``load`` [N] (+ = pulling the piston out) at rest with
+        the other chamber at tank pressure (a ram hanging on its oil)."""
+        tank = self.supply.tank
+        if load > 0.0:
+            self.p_a, self.p_b = tank, tank + load / self.area_b if self.area_b > 0.0 else tank
+        else:
+            self.p_a, self.p_b = tank - load / self.area_a, tank
+
+
+def steady_state(
+    hydraulics: ValveCylinder, spool: float, load: float, extension: float = 0.0
+) -> tuple[float, float, float]:
+    """The flow law's steady state: a spool held at ``spool`` moving a piston against a constant
+    ``load`` [N] (+ = pulling it out) and its seal friction. Returns ``(velocity [m/s], p_A,
+    p_B [Pa])``; velocity 0 where the friction holds the piston.
+
+    Solved by bisection on the velocity, the two chamber pressures by bisection of their flow
+    balance (valve, relief and internal leakage, the load-holding valve open).
+    """
+    h = ValveCylinder(hydraulics.valve, hydraulics.cylinder, hydraulics.supply, hydraulics.dt)
+    h.spool, h.hold = spool, False
+    supply, cylinder = h.supply, h.cylinder
+    ci = cylinder.internal_leakage
+    top = max(supply.supply, supply.relief) * 2.0
+
+    def pressures(v: float) -> tuple[float, float]:
+        # flow balance of both chambers; the internal leakage couples them (fixed point)
+        cell = [0.5 * supply.supply, 0.5 * supply.supply]  # p_A, p_B
+
+        def into_a(p: float) -> float:
+            return h.flow_a(p) - ci * (p - cell[1]) - h.area_a * v
+
+        def into_b(p: float) -> float:
+            return h.flow_b(p) + ci * (cell[0] - p) + h.area_b * v
+
+        for _ in range(50):
+            previous = cell[0]
+            cell[0] = _bisect(into_a, top)
+            cell[1] = _bisect(into_b, top)
+            if abs(cell[0] - previous) < 1.0e-3:
+                break
+        return cell[0], cell[1]
+
+    def net(v: float, sign: float) -> float:
+        p_a, p_b = pressures(v)
+        h.p_a, h.p_b = p_a, p_b
+        return p_a * h.area_a - p_b * h.area_b + load - sign * h.friction()
+
+    vmax = 4.0 * h._qn * (1.0 + h.valve.leakage) * math.sqrt(top / h.valve.rated_dp) / h.area_b
+    if net(0.0, 1.0) <= 0.0 <= net(0.0, -1.0):
+        p_a, p_b = pressures(0.0)
+        return 0.0, p_a, p_b
+    if net(0.0, 1.0) > 0.0:
+        lo, hi = 0.0, vmax
+        sign = 1.0
+    else:
+        lo, hi = -vmax, 0.0
+        sign = -1.0
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        if net(mid, sign) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+    v = 0.5 * (lo + hi)
+    p_a, p_b = pressures(v)
+    return v, p_a, p_b
+
+
+def _bisect(flow: Callable[[float], float], top: float) -> float:
+    """The pressure in [0, top] where a decreasing ``flow(p)`` crosses zero [Pa]."""
+    lo, hi = 0.0, top
+    if flow(lo) <= 0.0:
+        return lo
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        if flow(mid) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+# ---------------------------------------------------------------------------------- devices
+class Transducer:
+    """An analog sensor as the PLC's input card reads it: a range mapped to 0–10 V, seeded
+    Gaussian noise, clipped to 0–10 V and quantized to ``bits``.
+
+    Args:
+        full_scale: the value at 10 V (in the measured unit, e.g. Pa or N).
+        bits: resolution of the input card.
+        noise: standard deviation of the noise [V].
+        seed: seed of the noise.
+    """
+
+    def __init__(self, full_scale: float, bits: int, noise: float, seed: int) -> None:
+        if not (math.isfinite(full_scale) and full_scale > 0.0):
+            raise ValueError(f"full_scale must be a finite number > 0, got {full_scale!r}")
+        self.volts_per_unit = 10.0 / full_scale
+        self.lsb = 10.0 / (2**bits - 1)
+        self.noise = noise
+        self.state = float((seed * 2654435761 + 12345) % 2147483647 or 1)
+        """State of the noise generator (a Lehmer generator; part of the device state)."""
+
+    def _uniform(self) -> float:
+        s = (self.state * 48271.0) % 2147483647.0
+        self.state = s
+        return s / 2147483647.0
+
+    def volts(self, value: float) -> float:
+        """The reading of ``value`` [V]."""
+        v = value * self.volts_per_unit
+        if self.noise > 0.0:
+            u1 = self._uniform()
+            u2 = self._uniform()
+            v += self.noise * math.sqrt(-2.0 * math.log(u1)) * math.cos(2.0 * math.pi * u2)
+        v = min(max(v, 0.0), 10.0)
+        return math.floor(v / self.lsb + 0.5) * self.lsb
+
+
+class CylinderDevice:
+    """A valve-controlled cylinder on a MuJoCo slide joint: the drive of a ``"device"`` axis.
+
+    Before every physics step it integrates :class:`ValveCylinder` with the joint's position
+    and velocity, writes the hydraulic force into ``qfrc_applied`` and the seal friction into
+    the joint's ``frictionloss``. The joint coordinate is the extension minus ``origin``
+    (positive = extending). :meth:`apply` takes the ±10 V (disabled: 0 V and the load-holding
+    valve closed). :meth:`analog` reads the pressure transducers ``"p_A"``, ``"p_B"`` and the
+    load cell ``"load"`` as the input card sees them.
+
+    Args:
+        model, data: the compiled model and its data (positions current).
+        joint: the cylinder's slide joint (prefixed name).
+        valve, cylinder, supply: the hydraulic data.
+        transducer: full scale [Pa], bits, noise [V] of the pressure transducers.
+        load_cell: full scale [N], bits, noise [V] of the load cell.
+        load: reads the true force on the load cell [N] (None: no load cell, it reads 0 V).
+        origin: extension at joint coordinate 0 [m].
+        seed: seed of the sensor noise.
+    """
+
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        data: mujoco.MjData,
+        joint: str,
+        valve: Valve,
+        cylinder: Cylinder,
+        supply: Supply,
+        transducer: tuple[float, int, float],
+        load_cell: tuple[float, int, float] = (1.0, 12, 0.0),
+        load: Any = None,
+        origin: float = 0.0,
+        seed: int = 0,
+    ) -> None:
+        j = model.joint(joint)
+        if int(j.type[0]) != int(mujoco.mjtJoint.mjJNT_SLIDE):
+            raise WiringError(f"cylinder joint {joint!r} must be a slide joint")
+        self.qpos = int(j.qposadr[0])
+        self.dof = int(j.dofadr[0])
+        self.origin = origin
+        self.hydraulics = h = ValveCylinder(valve, cylinder, supply, float(model.opt.timestep))
+        self._qpos: Any = memoryview(data.qpos)
+        self._qvel: Any = memoryview(data.qvel)
+        self._applied: Any = memoryview(data.qfrc_applied)
+        self._friction: Any = memoryview(model.dof_frictionloss)
+        self.transducers = [Transducer(*transducer, seed=seed * 3 + i) for i in range(2)]
+        self.load_cell = Transducer(*load_cell, seed=seed * 3 + 2)
+        self._load = load
+        # at rest the ram hangs on its oil: the pressures that hold the joint's bias force
+        h.holding_pressures(-float(data.qfrc_bias[self.dof]))
+        self._write()
+
+    def extension(self) -> float:
+        """Piston extension [m]."""
+        q: float = self._qpos[self.qpos]
+        return q + self.origin
+
+    def _write(self) -> None:
+        h = self.hydraulics
+        self._applied[self.dof] = h.p_a * h.area_a - h.p_b * h.area_b
+        self._friction[self.dof] = h.friction()
+
+    def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Integrate valve and chambers over the coming step; set force and seal friction."""
+        q: float = self._qpos[self.qpos]
+        v: float = self._qvel[self.dof]
+        h = self.hydraulics
+        self._applied[self.dof] = h.step(q + self.origin, v)
+        self._friction[self.dof] = h.friction()
+
+    def apply(self, volts: float, enabled: bool, brake: bool) -> None:
+        """Valve command [V]; disabled: 0 V; ``brake``: the load-holding valve closes."""
+        h = self.hydraulics
+        h.command = volts if enabled else 0.0
+        h.hold = brake
+
+    def analog(self, name: str) -> float:
+        """An analog input [V]: ``"p_A"``, ``"p_B"`` (pressure transducers) or ``"load"``."""
+        h = self.hydraulics
+        if name == "p_A":
+            return self.transducers[0].volts(h.p_a)
+        if name == "p_B":
+            return self.transducers[1].volts(h.p_b)
+        if name == "load":
+            return self.load_cell.volts(float(self._load()) if self._load is not None else 0.0)
+        raise WiringError(f"no analog input {name!r}; inputs: 'p_A', 'p_B', 'load'")
+
+    def get_state(self) -> npt.NDArray[np.float64]:
+        rng = [t.state for t in (*self.transducers, self.load_cell)]
+        return np.array([*self.hydraulics.get_state(), *rng])
+
+    def set_state(self, state: npt.NDArray[np.float64]) -> None:
+        values = [float(v) for v in state]
+        self.hydraulics.set_state(values[:7])
+        for t, s in zip((*self.transducers, self.load_cell), values[7:10], strict=True):
+            t.state = s
+        self._write()
+
+
+# ----------------------------------------------------------------------------- simulated axis
+class HydraulicAxis(AxisChannel):
+    """A simulated hydraulic axis for unit tests: the same :class:`ValveCylinder` moving a mass
+    (semi-implicit Euler, seal friction at velocity level, stiff end stops at 0 and the stroke),
+    with pressure transducers on analog inputs 0 (A) and 1 (B) [V, 0–10 V for 0–250 bar].
+
+    The position is the extension [m]; positive volts extend.
+
+    Args:
+        hydraulics: the valve and cylinder (its step is the axis' timestep).
+        mass: moving mass [kg].
+        load: constant external force, + = pulling the piston out (a hanging weight) [N].
+        viscous: viscous friction [N·s/m].
+        resolution: travel per encoder count [m].
+        start: extension at power-up [m].
+        sensors: sensor imperfections (default: ideal).
+    """
+
+    STOP_STIFFNESS = 5.0e8
+    """End-stop stiffness [N/m] (a stiff contact, stable at the step for masses ≥ 50 kg)."""
+
+    def __init__(
+        self,
+        hydraulics: ValveCylinder,
+        mass: float,
+        load: float = 0.0,
+        viscous: float = 0.0,
+        resolution: float = 5.0e-6,
+        start: float = 0.0,
+        sensors: Sensors | None = None,
+    ) -> None:
+        super().__init__(
+            "hydraulic",
+            resolution,
+            10000,
+            start,
+            sensors=IDEAL if sensors is None else sensors,
+        )
+        self.hydraulics = hydraulics
+        self.mass, self.load, self.viscous = mass, load, viscous
+        self.x = start
+        """Extension [m]."""
+        self.v = 0.0
+        """Extension velocity [m/s]."""
+        hydraulics.holding_pressures(load)
+        self.full_scale = 250.0 * BAR
+        self.sense()
+
+    def drive(self, volts: float, enabled: bool, brake: bool) -> None:
+        h = self.hydraulics
+        h.command = volts if enabled else 0.0
+        h.hold = brake
+
+    def step(self) -> None:
+        """Integrate one step of the hydraulics' timestep."""
+        h = self.hydraulics
+        dt = h.dt
+        f = h.step(self.x, self.v) + self.load - self.viscous * self.v
+        x = self.x
+        stroke = h.cylinder.stroke
+        if x < 0.0:
+            f -= self.STOP_STIFFNESS * x
+        elif x > stroke:
+            f -= self.STOP_STIFFNESS * (x - stroke)
+        v = self.v + f / self.mass * dt
+        dv = h.friction() / self.mass * dt
+        if v > dv:
+            v -= dv
+        elif v < -dv:
+            v += dv
+        else:
+            v = 0.0
+        self.v = v
+        self.x = x + v * dt
+
+    def sense(self, t: float | None = None) -> None:
+        """Sample encoder and pressures at time ``t`` [s]."""
+        h = self.hydraulics
+        scale = 10.0 / self.full_scale
+        analog = (min(max(h.p_a * scale, 0.0), 10.0), min(max(h.p_b * scale, 0.0), 10.0))
+        self.sample(self.t if t is None else t, self.x, self.x, self.x, self.x, analog=analog)
+
+
+class HydraulicPlant:
+    """Steps one :class:`HydraulicAxis`; implements :class:`mcl.runtime.Plant`."""
+
+    def __init__(self, axis: HydraulicAxis) -> None:
+        self.axis = axis
+        self.timestep = axis.hydraulics.dt
+        self._ticks = 0
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self._ticks * self.timestep
+
+    def step(self, n: int = 1) -> None:
+        """``n`` steps."""
+        for _ in range(n):
+            self.axis.step()
+        self._ticks += n
+
+    def sense(self) -> None:
+        """Sample the axis' inputs."""
+        self.axis.sense(self.time)

@@ -1,0 +1,343 @@
+"""The hydraulic press (models/hydraulic_press.xml): a valve-controlled cylinder pressing a part.
+
+One mcl axis ``R``, the ram's stroke in mm (0 = top, positive = down), driven by the Python
+device ``cylinder`` (:class:`scenes.hydraulics.CylinderDevice`: servo valve, differential
+cylinder, oil columns) with ±10 V. Its analog inputs: 0 = pressure A, 1 = pressure B
+(0–250 bar → 0–10 V, 12 bit, seeded noise), 2 = the load cell under the part (0–150 kN → 0–10 V).
+
+:class:`Demo` is the press cycle: home to block against the top stop (MC_StepBlock, then
+MC_StepDirect), rapid approach at 250 mm/s, slow down 5 mm before the part and press at 20 mm/s
+(GT_MoveAbsBlock, blended) until side A reaches 150 bar (ExtStop from the pressure comparison),
+hold 75 kN for 0.5 s (MC_ForceControl on the pressure-derived force, buffered behind the stroke
+so that it takes over in the servo cycle the stroke stops), decompress over 100 ms
+(MC_ForceControl ramping down) and return to the top.
+
+Commissioning data (measured on the model, see models/README.md): Vmax = 300 mm/s, the free
+extension speed at +10 V with the ram's weight; retracting runs 207 mm/s at −10 V, so
+FfNeg = 300/207 = 1.45. Position gain Kv = Kp·Vmax/10 = 30 1/s, well below 2·ζ_h·ω_h (the
+lowest hydraulic natural frequency is 80 Hz = 505 1/s, its damping 0.1–0.2), which leaves room
+for the valve's lag and the module's delays; Ka = the valve's lag 2ζ/ω = 3.7 ms plus the module's
+delays (1.5 ms). The force loop: on the part the force rises about 330 kN/s per volt of valve
+command, so the admittance Gain = 5 mm/s per kN (through the feed-forward: 0.17 V per kN) puts its
+crossover near 55 rad/s (see mcl.force).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import mujoco
+
+import mcl
+from scenes.hydraulics import BAR, Cylinder, CylinderDevice, Supply, Valve
+from scenes.machine import AxisDef, MachineDef, Signal
+from scenes.plant import numeric
+from scenes.scene import Scene
+
+PREFIX = "press/"
+"""The prefix of the machine's names in a scene's model."""
+MASS = 200.0
+"""Moving mass of the ram with piston and rod [kg]."""
+WEIGHT = MASS * 9.81 / 1000.0
+"""The ram's weight [kN] (it adds to the pressing force)."""
+PART = 250.0
+"""Stroke position where the punch touches the part [mm] (the recipe's part height)."""
+PRESSURE_STOP = 150.0
+"""Side-A pressure that ends the pressing stroke [bar]."""
+HOLD_FORCE = 75.0
+"""Force held during the dwell [kN]."""
+DWELL = 0.5
+"""Dwell at the force [s]."""
+DECOMPRESSION = 0.1
+"""Time of the decompression ramp [s]."""
+TOP = 10.0
+"""Top position of the cycle [mm]."""
+BAR_PER_VOLT = 25.0
+"""Pressure transducers: 250 bar at 10 V."""
+
+
+def cylinder_data(model: mujoco.MjModel, prefix: str = "") -> tuple[Valve, Cylinder, Supply]:
+    """The valve, cylinder and supply of the model's numerics (models/README.md).
+
+    Raises:
+        WiringError: a numeric is missing, of the wrong size or out of range.
+    """
+    bore, rod, stroke = numeric(model, f"{prefix}R_cylinder", 3, 0.0)
+    dead_a, dead_b = numeric(model, f"{prefix}R_dead_volume", 2, 0.0)
+    coulomb, pressure_friction = numeric(model, f"{prefix}R_seal_friction", 2, -1e-300)
+    (leakage,) = numeric(model, f"{prefix}R_internal_leakage", 1, -1e-300)
+    flow, dp, frequency, damping = numeric(model, f"{prefix}R_valve", 4, 0.0)
+    overlap, hysteresis, clearance, laminar = numeric(model, f"{prefix}R_valve_spool", 4, -1e-300)
+    supply, tank, relief, relief_gain, beta = numeric(model, f"{prefix}R_supply", 5, -1e-300)
+    return (
+        Valve(flow, dp, frequency, damping, overlap, hysteresis, clearance, laminar),
+        Cylinder(bore, rod, stroke, dead_a, dead_b, coulomb, pressure_friction, leakage),
+        Supply(supply, tank, relief, relief_gain, beta),
+    )
+
+
+class ContactForce:
+    """Reads the force between punch and part (spring and hard block) from the physics [N].
+
+    Args:
+        model, data: the compiled model and its data.
+        prefix: the machine's name prefix in the model.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+        self.model, self.data = model, data
+        self.tendon = int(model.tendon(f"{prefix}workpiece").id)
+        self.sensor = int(model.sensor(f"{prefix}workpiece_block").adr[0])
+
+    def __call__(self) -> float:
+        model, data, tendon = self.model, self.data, self.tendon
+        length = float(data.ten_length[tendon])
+        rest = float(model.tendon_lengthspring[tendon, 0])
+        spring = float(model.tendon_stiffness[tendon]) * (rest - length) if length < rest else 0.0
+        return spring + float(data.sensordata[self.sensor])
+
+
+def make_cylinder(model: mujoco.MjModel, data: mujoco.MjData, prefix: str) -> CylinderDevice:
+    """The press cylinder device of a compiled model (a :data:`DeviceFactory`)."""
+    valve, cylinder, supply = cylinder_data(model, prefix)
+    full, bits, noise = numeric(model, f"{prefix}R_transducer", 3, 0.0)
+    cell, cell_bits, cell_noise = numeric(model, f"{prefix}R_load_cell", 3, 0.0)
+    return CylinderDevice(
+        model,
+        data,
+        f"{prefix}R",
+        valve,
+        cylinder,
+        supply,
+        (float(full), round(bits), float(noise)),
+        (float(cell), round(cell_bits), float(cell_noise)),
+        load=ContactForce(model, data, prefix),
+    )
+
+
+AREA_A = math.pi / 4.0 * 0.080**2
+"""Piston area of the 80 mm bore [m²]."""
+AREA_B = AREA_A - math.pi / 4.0 * 0.056**2
+"""Annulus area with the 56 mm rod [m²]."""
+FORCE_INPUTS = {
+    "InputNumber": 0,
+    "Scale": BAR_PER_VOLT * BAR * AREA_A / 1000.0,
+    "InputNumber2": 1,
+    "Scale2": -BAR_PER_VOLT * BAR * AREA_B / 1000.0,
+    "Offset": WEIGHT,
+}
+"""MC_ForceControl inputs that make its force the pressing force in kN from the two pressure
+transducers: ``p_A·A_A − p_B·A_B`` plus the ram's weight."""
+FORCE_GAIN = 5.0
+"""Admittance of the force loop [mm/s per kN]."""
+
+HOMING = {
+    "Direction": mcl.MC_Direction.MC_Negative,
+    "Velocity": 10.0,
+    "TorqueLimit": 1.0,
+    "TimeLimit": 40.0,
+}
+"""MC_StepBlock inputs: up against the top stop at 10 mm/s; found at standstill with a following
+error of 1 mm (1 V on the valve: side B near supply pressure)."""
+REFERENCE = 0.05
+"""Coordinate set where the homed ram is held, clear of the top stop [mm]."""
+
+AXES = {
+    "R": AxisDef(
+        config=mcl.AxisConfig(
+            resolution=0.005,
+            dev_max=5.0,
+            in_position=0.05,
+            acceleration=2000.0,
+            deceleration=2000.0,
+            jerk=0.0,
+            max_acceleration=5000.0,
+            max_deceleration=20000.0,
+        ),
+        constants=mcl.ServoConstants(
+            Kp=1.0,
+            Ki=5.0,
+            Ff=1.0,
+            FfNeg=1.45,
+            Kc=50.0,
+            Vmax=300.0,
+            LimPos=295.0,
+            LimNeg=-1.0,
+            Filter=2.0,
+            Ka=0.0052,
+        ),
+        drive="device",
+        device="cylinder",
+        analog=("p_A", "p_B", "load"),
+    )
+}
+"""The ram axis (user unit mm)."""
+
+
+STEPS = (
+    "power on",
+    "home to block",
+    "set the reference",
+    "rapid approach",
+    "press to 150 bar",
+    "hold the force",
+    "decompress",
+    "return",
+    "done",
+)
+
+
+class Demo:
+    """The press cycle; call once per PLC cycle. ``step`` says what it does, ``done`` when the
+    cycle is complete."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        R = self.R = scene.axes["R"]
+        self.index = 0
+        self.error = ""
+        self._since = 0.0
+        self.power = mcl.MC_Power(Axis=R)
+        self.block = mcl.MC_StepBlock(Axis=R, **HOMING)
+        self.direct = mcl.MC_StepDirect(
+            Axis=R, SetPosition=REFERENCE, BufferMode=mcl.MC_BufferMode.Buffered
+        )
+        self.pressure = mcl.MC_ReadAnalogInput(Axis=R, InputNumber=0)
+        self.approach = mcl.MC_MoveAbsolute(
+            Axis=R, Position=PART - 5.0, Velocity=250.0, Acceleration=3000.0, Deceleration=3000.0
+        )
+        self.press = mcl.GT_MoveAbsBlock(
+            Axis=R,
+            Position=PART + 10.0,
+            Velocity=20.0,
+            Acceleration=3000.0,
+            Deceleration=3000.0,
+            BufferMode=mcl.MC_BufferMode.BlendingLow,
+        )
+        self.hold = mcl.MC_ForceControl(
+            Axis=R,
+            Force=HOLD_FORCE,
+            ForceRamp=200.0,
+            Velocity=20.0,
+            Gain=FORCE_GAIN,
+            Tolerance=0.5,
+            BufferMode=mcl.MC_BufferMode.Buffered,
+            **FORCE_INPUTS,
+        )
+        self.decompress = mcl.MC_ForceControl(
+            Axis=R,
+            Force=2.0,
+            ForceRamp=(HOLD_FORCE - 2.0) / DECOMPRESSION,
+            Velocity=20.0,
+            Gain=FORCE_GAIN,
+            Tolerance=1.0,
+            **FORCE_INPUTS,
+        )
+        self.retract = mcl.MC_MoveAbsolute(
+            Axis=R, Position=TOP, Velocity=200.0, Acceleration=2000.0, Deceleration=2000.0
+        )
+        self.blocks: dict[str, Any] = {
+            name: getattr(self, name)
+            for name in ("power", "block", "direct", "approach", "press", "hold", "decompress")
+        }
+        self.blocks["retract"] = self.retract
+        """The blocks a report watches, by name."""
+        self.peak = 0.0
+        """Highest side-A pressure read while pressing [bar]."""
+
+    @property
+    def step(self) -> str:
+        """What the program is doing."""
+        return self.error or STEPS[self.index]
+
+    @property
+    def done(self) -> bool:
+        """The cycle is complete."""
+        return self.index == len(STEPS) - 1
+
+    def _next(self) -> None:
+        self.index += 1
+        self._since = self.scene.time
+
+    def __call__(self) -> None:
+        """One PLC scan."""
+        step = STEPS[self.index]
+        self.power(Enable=True)
+        self.pressure(Enable=True)
+        p_a = self.pressure.Value * BAR_PER_VOLT
+        homing = step in ("home to block", "set the reference")
+        self.block(Execute=homing)
+        self.direct(Execute=homing)
+        pressing = step in ("rapid approach", "press to 150 bar")
+        self.approach(Execute=pressing)
+        self.press(Execute=pressing, ExtStop=p_a >= PRESSURE_STOP)
+        # queued behind the pressing stroke: it takes over in the servo cycle the stroke stops
+        self.hold(Execute=step in ("rapid approach", "press to 150 bar", "hold the force"))
+        self.decompress(Execute=step == "decompress")
+        self.retract(Execute=step == "return")
+        if step == "press to 150 bar":
+            self.peak = max(self.peak, p_a)
+        for name, fb in self.blocks.items():
+            if fb.Error:
+                self.error = f"{step}: {name} error {fb.ErrorID}"
+                return
+        elapsed = self.scene.time - self._since
+        if (
+            (step == "power on" and self.power.Status)
+            or (step == "home to block" and self.block.Done)
+            or (step == "set the reference" and self.direct.Done)
+            or (step == "rapid approach" and self.approach.Done)
+            or (step == "press to 150 bar" and self.press.Done)
+            or (step == "hold the force" and elapsed >= DWELL)
+            or (step == "decompress" and elapsed >= DECOMPRESSION and self.decompress.InForce)
+            or (step == "return" and self.retract.Done)
+        ):
+            self._next()
+
+
+def _device(scene: Scene) -> CylinderDevice:
+    device = scene.devices["cylinder"]
+    assert isinstance(device, CylinderDevice)
+    return device
+
+
+def _signal_pressure_a(scene: Scene) -> float:
+    return _device(scene).hydraulics.p_a / BAR
+
+
+def _signal_pressure_b(scene: Scene) -> float:
+    return _device(scene).hydraulics.p_b / BAR
+
+
+def _signal_force(scene: Scene) -> float:
+    return ContactForce(scene.model, scene.data, PREFIX)() / 1000.0
+
+
+def _signal_hydraulic(scene: Scene) -> float:
+    return _device(scene).hydraulics.force() / 1000.0
+
+
+def _signal_valve(scene: Scene) -> float:
+    return _device(scene).hydraulics.spool
+
+
+MACHINE = MachineDef(
+    name="press",
+    description="hydraulic press: servo valve, 80/56 cylinder, 200 kg ram, part on a spring",
+    model="hydraulic_press.xml",
+    axes=AXES,
+    devices={"cylinder": make_cylinder},
+    demo=Demo,
+    signals={
+        "pressure_A": Signal("bar", _signal_pressure_a),
+        "pressure_B": Signal("bar", _signal_pressure_b),
+        "force": Signal("kN", _signal_force),
+        "force_hydraulic": Signal("kN", _signal_hydraulic),
+        "valve": Signal("-", _signal_valve),
+    },
+    servo_period=0.001,
+    plc_period=0.001,
+    demo_start={"R": 0.03},
+)
+"""The hydraulic press in the registry."""
