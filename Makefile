@@ -44,6 +44,8 @@ bench: setup
 	$(PY) -m tests.benchmarks.machines
 	$(PY) -m tests.benchmarks.servo_cycle
 	$(PY) -m tests.benchmarks.gantry
+	$(PY) -m tests.benchmarks.flying_shear
+	$(PY) -m tests.benchmarks.press
 	$(PY) -m tests.benchmarks.viewer
 	$(PY) -m tests.benchmarks.trace
 

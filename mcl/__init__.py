@@ -29,6 +29,8 @@ from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, Marks, Sensors
 from mcl.enums import AxisState, GroupState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.errors import ErrorID, error_text
+from mcl.force import MC_ForceControl
+from mcl.gearing import MC_GearIn, MC_GearInPos, MC_GearOut
 from mcl.group import AxesGroup
 from mcl.group_fb import (
     MC_AddAxisToGroup,
@@ -100,6 +102,10 @@ __all__ = [
     "MC_BufferMode",
     "MC_Direction",
     "MC_FinishHoming",
+    "MC_ForceControl",
+    "MC_GearIn",
+    "MC_GearInPos",
+    "MC_GearOut",
     "MC_GroupDisable",
     "MC_GroupEnable",
     "MC_GroupReadActualPosition",

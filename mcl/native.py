@@ -40,10 +40,10 @@ derived from a builtin cannot be a native class) and the I/O protocol (runtime-c
 
 def compiled_sources() -> list[Path]:
     """The source files that the compiled build covers: every module of mcl but
-    :data:`NOT_COMPILED`, the per-physics-step modules of scenes (plant, drives) and its PLC
-    procedures (run every scan)."""
+    :data:`NOT_COMPILED`, the per-physics-step modules of scenes (plant, drives, the devices of
+    the flying shear and the hydraulics) and its PLC procedures (run every scan)."""
     mcl = sorted(p for p in (ROOT / "mcl").glob("*.py") if p.name not in NOT_COMPILED)
-    scenes = ("plant.py", "drives.py", "procedures.py")
+    scenes = ("plant.py", "drives.py", "procedures.py", "shear_devices.py", "hydraulics.py")
     return [*mcl, *(ROOT / "scenes" / name for name in scenes)]
 
 

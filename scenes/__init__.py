@@ -14,12 +14,14 @@ from mcl import native
 COMPILED = native.activate("scenes", __path__)
 """The per-physics-step modules (plant, drives) run compiled (see :mod:`mcl.native`)."""
 
-from scenes import gantry, single_axis
+from scenes import flying_shear, gantry, press, single_axis
 from scenes.machine import AxisDef, DemoProgram, MachineDef, Signal
 from scenes.procedures import HomingRecipe
 from scenes.scene import Scene
 
-MACHINES: dict[str, MachineDef] = {m.name: m for m in (gantry.MACHINE, single_axis.MACHINE)}
+MACHINES: dict[str, MachineDef] = {
+    m.name: m for m in (flying_shear.MACHINE, gantry.MACHINE, press.MACHINE, single_axis.MACHINE)
+}
 """The registry: every machine by name."""
 
 __all__ = [
