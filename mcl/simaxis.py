@@ -19,6 +19,16 @@ from mcl.module import Module
 from mcl.runtime import Machine, Runtime
 
 
+def after_friction(v: float, dv: float) -> float:
+    """Velocity ``v`` [m/s] after Coulomb friction took up to ``dv`` [m/s] of it in one step;
+    it stops at zero rather than reverse."""
+    if v > dv:
+        return v - dv
+    if v < -dv:
+        return v + dv
+    return 0.0
+
+
 @dataclass(frozen=True, slots=True)
 class SimAxisParams:
     """Physical data of a simulated axis (SI units).
@@ -129,13 +139,7 @@ class SimAxis(AxisChannel):
             f -= p.stop_stiffness * (x - p.stop_neg)
         v += f / p.mass * dt
         friction = p.coulomb + (p.brake_force if self.brake else 0.0)
-        dv = friction / p.mass * dt
-        if v > dv:
-            v -= dv
-        elif v < -dv:
-            v += dv
-        else:
-            v = 0.0
+        v = after_friction(v, friction / p.mass * dt)
         x += v * dt
         if x > self.blocked_at:
             x, v = self.blocked_at, min(v, 0.0)

@@ -127,6 +127,22 @@ class _Planner(threading.local):
 _planner = _Planner()
 
 
+def _solve(calculate: Any, inp: Any) -> Any:
+    """The trajectory ``calculate`` (a ruckig planner) finds for ``inp``.
+
+    Raises:
+        PlanningError: ruckig found none (the message says why).
+    """
+    traj = ruckig.Trajectory(1)
+    try:
+        result = calculate(inp, traj)
+    except (ruckig.RuckigError, RuntimeError, ValueError) as exc:
+        raise PlanningError(str(exc).strip()) from exc
+    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
+        raise PlanningError(f"no trajectory: {result}")
+    return traj
+
+
 def _plan(
     interface: Any,
     p0: float,
@@ -150,14 +166,7 @@ def _plan(
     inp.max_acceleration = [acc_up]
     inp.min_acceleration = [-acc_down]
     inp.max_jerk = [jerk]
-    traj = ruckig.Trajectory(1)
-    try:
-        result = calculate(inp, traj)
-    except (ruckig.RuckigError, RuntimeError, ValueError) as exc:
-        raise PlanningError(str(exc).strip()) from exc
-    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
-        raise PlanningError(f"no trajectory: {result}")
-    return traj
+    return _solve(calculate, inp)
 
 
 def move_to(
@@ -263,14 +272,7 @@ def sync_to(
         inp.max_acceleration, inp.min_acceleration = [dec], [-acc]
     inp.max_jerk = [limits.jerk]
     inp.minimum_duration = duration
-    traj = ruckig.Trajectory(1)
-    try:
-        result = calculate(inp, traj)
-    except (ruckig.RuckigError, RuntimeError, ValueError) as exc:
-        raise PlanningError(str(exc).strip()) from exc
-    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
-        raise PlanningError(f"no trajectory: {result}")
-    return Profile([(0.0, traj, 0.0)])
+    return Profile([(0.0, _solve(calculate, inp), 0.0)])
 
 
 def stop(p0: float, v0: float, a0: float, deceleration: float, jerk: float) -> Profile:

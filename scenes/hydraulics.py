@@ -50,6 +50,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mcl.channel import IDEAL, AxisChannel, Sensors
+from mcl.simaxis import after_friction
 from scenes.errors import WiringError
 
 BAR = 1.0e5
@@ -699,14 +700,7 @@ class HydraulicAxis(AxisChannel):
             f -= self.STOP_STIFFNESS * x
         elif x > stroke:
             f -= self.STOP_STIFFNESS * (x - stroke)
-        v = self.v + f / self.mass * dt
-        dv = h.friction() / self.mass * dt
-        if v > dv:
-            v -= dv
-        elif v < -dv:
-            v += dv
-        else:
-            v = 0.0
+        v = after_friction(self.v + f / self.mass * dt, h.friction() / self.mass * dt)
         self.v = v
         self.x = x + v * dt
 

@@ -89,13 +89,20 @@ class ContactForce:
         self.model, self.data = model, data
         self.tendon = int(model.tendon(f"{prefix}workpiece").id)
         self.sensor = int(model.sensor(f"{prefix}workpiece_block").adr[0])
+        # item access without numpy scalars (the part may be changed: rest and stiffness are read
+        # from the model every time)
+        self._length: Any = memoryview(data.ten_length)
+        self._rest: Any = memoryview(model.tendon_lengthspring.reshape(-1))
+        self._stiffness: Any = memoryview(model.tendon_stiffness)
+        self._sensors: Any = memoryview(data.sensordata)
 
     def __call__(self) -> float:
-        model, data, tendon = self.model, self.data, self.tendon
-        length = float(data.ten_length[tendon])
-        rest = float(model.tendon_lengthspring[tendon, 0])
-        spring = float(model.tendon_stiffness[tendon]) * (rest - length) if length < rest else 0.0
-        return spring + float(data.sensordata[self.sensor])
+        tendon = self.tendon
+        length: float = self._length[tendon]
+        rest: float = self._rest[2 * tendon]
+        spring = self._stiffness[tendon] * (rest - length) if length < rest else 0.0
+        force: float = spring + self._sensors[self.sensor]
+        return force
 
 
 def make_cylinder(model: mujoco.MjModel, data: mujoco.MjData, prefix: str) -> CylinderDevice:
@@ -263,19 +270,27 @@ class Demo:
     def __call__(self) -> None:
         """One PLC scan."""
         step = STEPS[self.index]
-        self.power(Enable=True)
-        self.pressure(Enable=True)
-        p_a = self.pressure.Value * BAR_PER_VOLT
-        homing = step in ("home to block", "set the reference")
-        self.block(Execute=homing)
-        self.direct(Execute=homing)
-        pressing = step in ("rapid approach", "press to 150 bar")
-        self.approach(Execute=pressing)
-        self.press(Execute=pressing, ExtStop=p_a >= PRESSURE_STOP)
+        # inputs set as attributes, blocks called without keywords: the cheap way per scan
+        power, pressure, block, direct = self.power, self.pressure, self.block, self.direct
+        approach, press, hold = self.approach, self.press, self.hold
+        power.Enable = pressure.Enable = True
+        power()
+        pressure()
+        p_a = pressure.Value * BAR_PER_VOLT
+        block.Execute = direct.Execute = step in ("home to block", "set the reference")
+        block()
+        direct()
+        approach.Execute = press.Execute = step in ("rapid approach", "press to 150 bar")
+        press.ExtStop = p_a >= PRESSURE_STOP
+        approach()
+        press()
         # queued behind the pressing stroke: it takes over in the servo cycle the stroke stops
-        self.hold(Execute=step in ("rapid approach", "press to 150 bar", "hold the force"))
-        self.decompress(Execute=step == "decompress")
-        self.retract(Execute=step == "return")
+        hold.Execute = step in ("rapid approach", "press to 150 bar", "hold the force")
+        hold()
+        self.decompress.Execute = step == "decompress"
+        self.decompress()
+        self.retract.Execute = step == "return"
+        self.retract()
         if step == "press to 150 bar":
             self.peak = max(self.peak, p_a)
         for name, fb in self.blocks.items():

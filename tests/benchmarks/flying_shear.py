@@ -25,7 +25,6 @@ Run: ``python -m tests.benchmarks.flying_shear``.
 from __future__ import annotations
 
 import statistics
-import time
 from typing import Any
 
 from tests.benchmarks import report_in_both_modes
@@ -93,32 +92,12 @@ def real_time_factor() -> dict[str, Any]:
     """The 60 m/min scenario (21 cuts) against the bare physics of the same model (MuJoCo and
     the machine's devices; and MuJoCo alone), chunk by chunk; with its cut figures."""
     from scenes import flying_shear as fs
-    from tests.benchmarks.machines import bare_stepper
+    from tests.benchmarks.machines import against_bare_physics
 
     scene = _scene()
     demo = fs.Demo(scene, fs.CutJob())
-    physics = bare_stepper(scene, with_devices=True)
-    mujoco_alone = bare_stepper(scene, with_devices=False)
-    steps = round(CHUNK / scene.plant.timestep)
-    stack = bare = alone = simulated = 0.0
-    while not (demo.done or demo.error) and simulated < 120.0:
-        start = time.perf_counter()
-        scene.run(demo, timeout=CHUNK)
-        stack += time.perf_counter() - start
-        start = time.perf_counter()
-        physics(steps)
-        bare += time.perf_counter() - start
-        start = time.perf_counter()
-        mujoco_alone(steps)
-        alone += time.perf_counter() - start
-        simulated += CHUNK
     return {
-        "simulated_s": round(simulated, 1),
-        "scenario_real_time_factor": round(simulated / stack, 1),
-        "bare_physics_real_time_factor": round(simulated / bare, 1),
-        "ratio": round(bare / stack, 3),
-        "ratio_to_mujoco_alone": round(alone / stack, 3),
-        "us_per_servo_cycle": round(stack / (simulated / scene.runtime.servo_period) * 1e6, 1),
+        **against_bare_physics(scene, demo, lambda: demo.done or bool(demo.error), 120.0),
         "cuts": _cuts(demo),
     }
 

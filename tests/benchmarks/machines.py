@@ -3,8 +3,10 @@
 For each machine the demo (PLC program included) runs from its demo start in chunks of 0.1 s of
 simulated time; after each chunk the same number of physics steps runs alone on a copy of the
 model (MuJoCo's ``mj_step`` and the machine's devices — hydraulics, a roll's ripple, a knife
-valve: the physics MuJoCo does not model; simulated axes: their plant), so both see the same
-machine load at the same moment. Prints JSON per mode (compiled and pure Python, each in a fresh
+valve: the physics MuJoCo does not model; simulated axes: their plant), started from the state
+the scene had at the chunk's start (positions, velocities, controls, drive enables, device
+states), so both integrate the same machine in the same situation and see the same machine load
+at the same moment. Prints JSON per mode (compiled and pure Python, each in a fresh
 process): the demo's real-time factor, the bare physics' real-time factor and their ratio (1.0 =
 the stack costs nothing beyond the physics), µs per servo cycle; for a machine with devices also
 the ratio to MuJoCo alone and the devices' cost per physics step. A machine of simulated axes has
@@ -25,36 +27,65 @@ CHUNK = 0.1
 """Simulated seconds per measured chunk [s]."""
 
 
-def bare_stepper(scene: Any, with_devices: bool) -> Any:
-    """Steps the same physics alone: a copy of the model with its own MjData (and, with
-    ``with_devices``, fresh instances of the machine's devices: hydraulics, roll ripple, a knife
-    valve — the physics MuJoCo does not model), or fresh simulated axes."""
-    import copy
+class BarePhysics:
+    """The same physics alone: a copy of the model with its own MjData (with ``devices``, fresh
+    instances of the machine's devices: hydraulics, roll ripple, a knife valve — the physics
+    MuJoCo does not model), or fresh simulated axes.
 
-    import mujoco
+    :meth:`sync` (untimed) copies the scene's present — positions, velocities, controls, drive
+    enables and brakes, the devices' states — so that :meth:`step` integrates the same machine
+    in the same situation (contacts, pressures) as the scene's next chunk.
+    """
 
-    import mcl
-    import scenes
-    from scenes.plant import MujocoPlant
+    def __init__(self, scene: Any, devices: bool) -> None:
+        import copy
 
-    if scene.has_model:
-        model = copy.deepcopy(scene.model)  # devices may write model fields (equality data)
-        data = mujoco.MjData(model)
-        data.qpos[:] = scene.data.qpos
-        mujoco.mj_forward(model, data)
-        definition = scenes.definition(scene.name)
-        devices = (
-            {d: f(model, data, f"{scene.name}/") for d, f in definition.devices.items()}
-            if with_devices
+        import mujoco
+
+        import mcl
+        import scenes
+        from scenes.plant import MujocoPlant
+
+        self.scene = scene
+        if not scene.has_model:
+            plant = scene.plant
+            assert isinstance(plant, mcl.SimPlant)
+            bare = mcl.SimPlant([mcl.SimAxis(axis.params) for axis in plant.axes], plant.timestep)
+            for axis in bare.axes:
+                axis.write(1.0, True)  # moving, as the demo's axes are
+            self.step = bare.step
+            return
+        self.model = copy.deepcopy(scene.model)  # devices may write model fields (equality data)
+        self.data = mujoco.MjData(self.model)
+        self.devices = (
+            {
+                d: f(self.model, self.data, f"{scene.name}/")
+                for d, f in scenes.definition(scene.name).devices.items()
+            }
+            if devices
             else {}
         )
-        return MujocoPlant(model, data, [], devices).step
-    plant = scene.plant
-    assert isinstance(plant, mcl.SimPlant)
-    bare = mcl.SimPlant([mcl.SimAxis(axis.params) for axis in plant.axes], plant.timestep)
-    for axis in bare.axes:
-        axis.write(1.0, True)  # moving, as the demo's axes are
-    return bare.step
+        self.spec = mujoco.mjtState.mjSTATE_INTEGRATION
+        self.step = MujocoPlant(self.model, self.data, [], self.devices).step
+
+    def sync(self) -> None:
+        """Take over the scene's present state (not timed)."""
+        if not self.scene.has_model:
+            return
+        import mujoco
+        import numpy as np
+
+        scene, model, data = self.scene, self.model, self.data
+        size = mujoco.mj_stateSize(scene.model, self.spec)
+        state = np.empty(size)
+        mujoco.mj_getState(scene.model, scene.data, state, self.spec)
+        mujoco.mj_setState(model, data, state, self.spec)
+        model.opt.disableactuator = scene.model.opt.disableactuator
+        model.dof_frictionloss[:] = scene.model.dof_frictionloss
+        model.eq_data[:] = scene.model.eq_data
+        for name, device in self.devices.items():
+            device.set_state(scene.devices[name].get_state())
+        mujoco.mj_forward(model, data)
 
 
 def machine(name: str) -> dict[str, Any]:
@@ -64,39 +95,54 @@ def machine(name: str) -> dict[str, Any]:
     definition = scenes.definition(name)
     scene = scenes.load(name, start=definition.demo_start, trace_every=0)
     program = scenes.demo(scene)
-    physics = bare_stepper(scene, with_devices=True)
-    mujoco_alone = bare_stepper(scene, with_devices=False)
-    steps = round(CHUNK / scene.plant.timestep)
-    stack = bare = alone = simulated = 0.0
-    while not (program.done or program.error) and simulated < 300.0:
-        start = time.perf_counter()
-        scene.run(program, timeout=CHUNK)
-        stack += time.perf_counter() - start
-        start = time.perf_counter()
-        physics(steps)
-        bare += time.perf_counter() - start
-        start = time.perf_counter()
-        mujoco_alone(steps)
-        alone += time.perf_counter() - start
-        simulated += CHUNK
-    cycles = simulated / scene.runtime.servo_period
-    physics_steps = simulated / scene.plant.timestep
+    figures = against_bare_physics(scene, program, lambda: program.done or bool(program.error))
     devices = scenes.definition(name).devices
     return {
         "machine": name,
         "physics": ("MuJoCo" + (f" + devices {sorted(devices)}" if devices else ""))
         if scene.has_model
         else "simulated axes (a few lines of Euler, no engine)",
+        **figures,
+        "demo_error": program.error,
+    }
+
+
+def against_bare_physics(
+    scene: Any, program: Any, finished: Any, longest: float = 300.0
+) -> dict[str, Any]:
+    """Run ``program`` on ``scene`` in chunks of :data:`CHUNK` until ``finished()``, each chunk
+    followed by the same physics alone (:class:`BarePhysics`, with and without the devices);
+    returns the real-time factors, their ratios and µs per servo cycle."""
+    physics = BarePhysics(scene, devices=True)
+    mujoco_alone = BarePhysics(scene, devices=False)
+    steps = round(CHUNK / scene.plant.timestep)
+    stack = bare = alone = simulated = 0.0
+    while not finished() and simulated < longest:
+        physics.sync()
+        mujoco_alone.sync()
+        start = time.perf_counter()
+        scene.run(program, timeout=CHUNK)
+        stack += time.perf_counter() - start
+        start = time.perf_counter()
+        physics.step(steps)
+        bare += time.perf_counter() - start
+        start = time.perf_counter()
+        mujoco_alone.step(steps)
+        alone += time.perf_counter() - start
+        simulated += CHUNK
+    with_devices = scene.has_model and bool(physics.devices)
+    return {
         "simulated_s": round(simulated, 1),
         "demo_real_time_factor": round(simulated / stack, 1),
         "bare_physics_real_time_factor": round(simulated / bare, 1),
         "ratio": round(bare / stack, 2) if scene.has_model else None,
-        "ratio_to_mujoco_alone": round(alone / stack, 2) if devices else None,
-        "us_per_servo_cycle": round(stack / cycles * 1e6, 1),
-        "us_per_physics_step_in_devices": round((bare - alone) / physics_steps * 1e6, 2)
-        if devices
+        "ratio_to_mujoco_alone": round(alone / stack, 2) if with_devices else None,
+        "us_per_servo_cycle": round(stack / (simulated / scene.runtime.servo_period) * 1e6, 1),
+        "us_per_physics_step_in_devices": round(
+            (bare - alone) / (simulated / scene.plant.timestep) * 1e6, 2
+        )
+        if with_devices
         else None,
-        "demo_error": program.error,
     }
 
 
