@@ -320,6 +320,27 @@ class Demo:
             return [c.mark for c in cuts]
         return [c.length - self.job.length for c in cuts if c.length is not None]
 
+    @property
+    def results(self) -> list[dict[str, float | int | None]]:
+        """One row per cut, from the physics: its length and error, its distance from the print
+        mark, the carriage/strip speed mismatch and the blade's drag (shown by the viewer)."""
+        rows: list[dict[str, float | int | None]] = []
+        for k, cut in enumerate(self.recorder.cuts):
+            error = None
+            if cut.length is not None:
+                error = cut.mark if self.job.mode == "mark" else cut.length - self.job.length
+            rows.append(
+                {
+                    "cut": k,
+                    "length [mm]": cut.length,
+                    "error [mm]": error,
+                    "from mark [mm]": cut.mark,
+                    "mismatch [%]": 100.0 * cut.speed_mismatch,
+                    "drag [N]": cut.drag,
+                }
+            )
+        return rows
+
     def summary(self) -> str:
         """The pieces' errors: count, mean and worst [mm]."""
         errors = self.errors()

@@ -251,6 +251,9 @@ class Demo:
         self.blocks["retract"] = self.retract
         """The blocks a report watches, by name."""
         self.peak = 0.0
+        self.results: list[dict[str, float | str]] = []
+        """One row per finished step: when, where the ram stood, pressure and force (from the
+        physics; shown by the viewer)."""
         """Highest side-A pressure read while pressing [bar]."""
 
     @property
@@ -264,8 +267,19 @@ class Demo:
         return self.index == len(STEPS) - 1
 
     def _next(self) -> None:
+        scene = self.scene
+        self.results.append(
+            {
+                "step": STEPS[self.index],
+                "ended [s]": scene.time,
+                "took [s]": scene.time - self._since,
+                "ram [mm]": scene.joint_position("R") * 1000.0,
+                "p_A [bar]": float(scene.signal("pressure_A")),
+                "force [kN]": float(scene.signal("force")),
+            }
+        )
         self.index += 1
-        self._since = self.scene.time
+        self._since = scene.time
 
     def __call__(self) -> None:
         """One PLC scan."""

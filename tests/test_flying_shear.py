@@ -157,6 +157,11 @@ def test_cut_to_length_at_60_m_min_from_the_physics():
         assert c.slide < 0.5  # the blade stays where it came down [mm]
         assert 0.0 < c.drag < 500.0  # and hardly pulls on the strip [N]
         assert c.contact > 0.02
+    # the table the viewer shows: one row per cut, the first (the head cut) without a length
+    rows = demo.results
+    assert [row["cut"] for row in rows] == list(range(7))
+    assert rows[0]["length [mm]"] is None
+    assert [row["error [mm]"] for row in rows[1:]] == pytest.approx(errors)
 
 
 def test_the_knife_goes_down_only_in_sync():
