@@ -27,7 +27,15 @@ DriveKind = Literal["electric", "device", "encoder"]
 
 
 class DemoProgram(Protocol):
-    """A machine's demo: a PLC program (call once per PLC cycle) that reports its progress."""
+    """A machine's demo: a PLC program (call once per PLC cycle) that reports its progress.
+
+    A demo may also expose a results table (optional, not part of the protocol's required
+    members): an attribute or property ``results``, a sequence of rows, oldest first, each a
+    mapping column name → value (``float``, ``int``, ``str`` or ``None``), e.g. one row per cut
+    ``{"cut": 3, "length [mm]": 1500.12, "error [mm]": 0.12}``. The columns are those of the last
+    row, in its order (put units in the names); floats are shown with 3 decimals. The viewer
+    shows the last rows in a table while the demo runs and after it ended.
+    """
 
     @property
     def done(self) -> bool:

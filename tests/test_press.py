@@ -24,6 +24,7 @@ from scenes.press import (
     REFERENCE,
     TOP,
     WEIGHT,
+    Demo,
 )
 
 FULL_SCALE = 200.0 * BAR * np.pi / 4.0 * 0.080**2 / 1000.0
@@ -252,10 +253,12 @@ def test_force_control_refuses_bad_inputs_and_leaves_the_axis_alone(bad):
 def test_the_demo_reports_each_step_with_pressure_and_force_from_the_physics():
     scene = scenes.load("press", start=scenes.definition("press").demo_start, trace_every=0)
     program = scenes.demo(scene)
+    assert isinstance(program, Demo)
     scene.run(program, until=lambda: program.done or bool(program.error), timeout=30.0)
     rows = {row["step"]: row for row in program.results}
     assert program.done and list(rows)[-1] == "return"
     held = rows["hold the force"]
     assert held["took [s]"] == pytest.approx(0.5, abs=0.002)
-    assert 70.0 < held["force [kN]"] < 80.0 and 140.0 < held["p_A [bar]"] < 165.0
+    force, pressure = float(held["force [kN]"]), float(held["p_A [bar]"])
+    assert 70.0 < force < 80.0 and 140.0 < pressure < 165.0
     assert rows["return"]["force [kN]"] == 0.0

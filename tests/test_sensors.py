@@ -198,7 +198,10 @@ def test_the_gantry_homes_to_within_one_count_with_its_real_sensors():
             power(Enable=True)
             home(Execute=power.Status)
 
-        scene.run(program, until=lambda h=home: h.Done or h.Error, timeout=60.0)
+        def homed(home: HomeAxis = home) -> bool:
+            return home.Done or home.Error
+
+        scene.run(program, until=homed, timeout=60.0)
         scene.run(program, timeout=0.3)
         assert home.Done and X.Ref
         samples = []

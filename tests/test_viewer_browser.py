@@ -7,6 +7,7 @@ machine in the chooser. What a panel shows comes from the machine definition in 
 
 from __future__ import annotations
 
+import itertools
 import os
 import re
 import shutil
@@ -14,15 +15,18 @@ import socket
 import subprocess
 import time
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import imageio.v3 as iio
 import numpy as np
 import pytest
+import viser
 
 import scenes
 from tests.test_viewer_session import SHEAR
 from viewer.app import Viewer, port_available
+from viewer.operator import Move
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
@@ -104,9 +108,21 @@ def page(browser: Browser, viewer: Viewer) -> Iterator[Page]:
     try:
         p.goto(viewer.url)
         p.get_by_role("button", name="Power", exact=True).wait_for(timeout=30_000)
+        take_control(p, viewer)
         yield p
     finally:
         context.close()
+
+
+def take_control(page: Page, viewer: Viewer) -> int:
+    """Press Take control and wait until the app names this page's client as the operator."""
+    before = set(viewer.server.get_clients())
+    page.get_by_role("button", name="Take control", exact=True).click()
+    wait_for(lambda: viewer.app.control.owner is not None, 5.0, "control to be taken")
+    owner = viewer.app.control.owner
+    assert owner is not None and owner in before
+    page.get_by_text(f"operator #{owner}").first.wait_for(timeout=5_000)
+    return owner
 
 
 def wait_for(condition: Callable[[], bool], timeout: float, what: str) -> None:
@@ -208,7 +224,9 @@ def test_the_chooser_lists_the_registry_and_switches_machines_both_ways(
     page.get_by_text("no 3-D model").first.wait_for(timeout=5_000)
     unit = session.scene.axes["X"].config.unit
     page.get_by_text(f"Jog velocity [{unit}/s]").wait_for(timeout=5_000)
-    assert page.get_by_role("button", name="Home", exact=True).count() == 0  # no recipe
+    page.get_by_text("Homing", exact=True).first.wait_for(timeout=5_000)
+    (homing,) = [h for h in viewer.app._scene_inputs if getattr(h, "label", "") == "Homing"]
+    assert "recipe" not in homing.options  # no recipe: index pulse or set position only
 
     page.get_by_role("button", name="Power", exact=True).click()
     wait_for(lambda: session.snapshot.axes["X"].powered, 5.0, "X powered")
@@ -243,14 +261,149 @@ def test_the_machine_definition_decides_what_the_panels_show(
             for name in ("Power", "Home", "Jog+", "Jog−", "Stop"):
                 assert p.get_by_role("button", name=name, exact=True).count() == 0, name
             # signals panel: name, value, unit
-            p.get_by_text("cut_force").wait_for(timeout=5_000)
+            p.get_by_role("cell", name="cut_force").wait_for(timeout=5_000)
             # knife: unit deg, a drive, two digital outputs, only a REF switch, no recipe
             p.get_by_role("tab", name="knife", exact=True).click()
             p.get_by_text("Jog velocity [deg/s]").wait_for(timeout=5_000)
             for name in ("Power", "Jog+", "Jog−", "Stop"):
                 assert p.get_by_role("button", name=name, exact=True).count() == 1, name
-            assert p.get_by_role("button", name="Home", exact=True).count() == 0
-            assert p.get_by_text("DO1").count() == 1 and p.get_by_text("LIM+").count() == 0
+            (homing,) = [h for h in shear.app._scene_inputs if getattr(h, "label", "") == "Homing"]
+            assert "recipe" not in homing.options
+            assert p.get_by_text("LIM+").count() == 0
+            knife = shear.app._axes["knife"].html
+            assert knife.count(">DO1<") + knife.count(" DO1<") == 1  # one output lamp
+            p.get_by_text("DO1", exact=True).first.wait_for(timeout=5_000)
         finally:
             context.close()
     assert port_available("127.0.0.1", port)
+
+
+# ------------------------------------------------------------------ commissioning (issue 12)
+
+
+def test_a_page_of_another_origin_cannot_operate_anything(browser: Browser, viewer: Viewer) -> None:
+    """A hostile page that even knows the token cannot open the websocket."""
+    clients = len(viewer.server.get_clients())
+    context = browser.new_context()
+    try:
+        p = context.new_page()
+        hostile = (
+            "<html><body><script>"
+            f"const ws = new WebSocket('ws://127.0.0.1:{viewer.port}/?token={viewer.token}',"
+            f" ['viser-v{viser.__version__}']);"
+            "ws.onopen = () => { document.title = 'open'; };"
+            "ws.onerror = () => { document.title = 'refused'; };"
+            "</script></body></html>"
+        )
+        p.route(
+            "http://attacker.example/",
+            lambda route: route.fulfill(status=200, content_type="text/html", body=hostile),
+        )
+        p.goto("http://attacker.example/")
+        p.wait_for_function("document.title !== ''", timeout=10_000)
+        assert p.title() == "refused"
+    finally:
+        context.close()
+    assert len(viewer.server.get_clients()) == clients
+
+
+def test_one_operator_in_control_the_others_watch(
+    browser: Browser, page: Page, viewer: Viewer
+) -> None:
+    session = viewer.session
+    context = browser.new_context(viewport={"width": 1280, "height": 1000})
+    try:
+        other = context.new_page()
+        other.goto(viewer.url)
+        other.get_by_role("button", name="Power", exact=True).wait_for(timeout=120_000)
+        owner = viewer.app.control.owner
+        powered = session.snapshot.axes["X"].powered
+        other.get_by_role("button", name="Power", exact=True).click()  # a watcher
+        other.get_by_text("take control first").first.wait_for(timeout=10_000)
+        assert session.snapshot.axes["X"].powered == powered
+        assert viewer.app.control.owner == owner
+        newcomer = take_control(other, viewer)
+        assert newcomer != owner
+        page.get_by_text("Control taken").first.wait_for(timeout=10_000)
+        page.get_by_text(f"operator #{newcomer}").first.wait_for(timeout=10_000)
+    finally:
+        context.close()
+    wait_for(lambda: viewer.app.control.owner is None, 10.0, "control to be freed on leaving")
+    take_control(page, viewer)
+
+
+def test_move_to_a_typed_position(page: Page, viewer: Viewer) -> None:
+    session = viewer.session
+    if not session.snapshot.axes["X"].powered:
+        page.get_by_role("button", name="Power", exact=True).click()
+        wait_for(lambda: session.snapshot.axes["X"].powered, 5.0, "X powered")
+    start = session.scene.joint_position("X")
+    box = page.get_by_label("Distance [mm]", exact=True)
+    box.scroll_into_view_if_needed()
+    box.fill("30")
+    box.press("Enter")
+    wait_for(
+        lambda: any(
+            getattr(h, "label", "") == "Distance [mm]" and h.value == 30.0
+            for h in viewer.app._scene_inputs
+        ),
+        5.0,
+        "the distance to arrive",
+    )
+    page.get_by_role("button", name="Move by", exact=True).click()
+    wait_for(lambda: session.snapshot.axes["X"].message == "Move by: done", 10.0, "the move")
+    moved = (session.scene.joint_position("X") - start) * 1e3
+    assert moved == pytest.approx(30.0, abs=0.1)
+
+
+def test_stop_all_from_any_page_stops_the_axes(
+    browser: Browser, page: Page, viewer: Viewer
+) -> None:
+    session = viewer.session
+    session.requests("X").set_power(True)
+    wait_for(lambda: session.snapshot.axes["X"].powered, 5.0, "X powered")
+    context = browser.new_context(viewport={"width": 1280, "height": 1000})
+    try:
+        watcher = context.new_page()
+        watcher.goto(viewer.url)
+        stop = watcher.get_by_role("button", name="STOP all axes", exact=True)
+        stop.wait_for(timeout=120_000)
+        session.requests("X").move(Move("relative", 500.0, 100.0, 1000.0))
+        wait_for(lambda: abs(session.snapshot.axes["X"].velocity) > 50.0, 5.0, "X to move")
+        stop.click(timeout=120_000)  # the watcher has no control: STOP all works anyway
+        wait_for(lambda: abs(session.snapshot.axes["X"].velocity) < 0.5, 5.0, "X to stop")
+        x = session.scene.joint_position("X")
+        time.sleep(0.3)
+        assert abs(session.scene.joint_position("X") - x) < 1e-4
+    finally:
+        context.close()
+
+
+def test_the_scope_exports_what_it_shows_as_csv(page: Page, viewer: Viewer) -> None:
+    button = page.get_by_role("button", name="Export CSV", exact=True)
+    button.scroll_into_view_if_needed()
+    with page.expect_download(timeout=15_000) as info:
+        button.click()
+    text = Path(info.value.path()).read_text()
+    header, *lines = text.splitlines()
+    names = viewer.app.scope_shown[0]
+    assert header.split(",") == ["t [s]", *names] and len(lines) > 10
+    t = [float(line.split(",")[0]) for line in lines]
+    assert all(b > a for a, b in itertools.pairwise(t))
+
+
+def test_ending_the_demo_leaves_a_usable_machine(page: Page, viewer: Viewer) -> None:
+    session = viewer.session
+    page.get_by_role("button", name="Run demo", exact=True).click()
+    wait_for(lambda: bool(session.snapshot.groups), 120.0, "the demo to group the axes")
+    assert session.snapshot.demo.running
+    page.get_by_role("button", name="End demo", exact=True).click()
+    wait_for(lambda: not session.snapshot.demo.running, 30.0, "the demo to end")
+    wait_for(lambda: not session.snapshot.groups, 10.0, "the group to be released")
+    x = session.snapshot.axes["X"]
+    assert x.referenced and x.powered and x.group == ""
+    start = session.scene.joint_position("X")
+    page.get_by_role("button", name="Step+", exact=True).first.click()
+    wait_for(lambda: "Move by" in session.snapshot.axes["X"].message, 10.0, "the step")
+    wait_for(lambda: session.snapshot.axes["X"].message == "Move by: done", 10.0, "the step")
+    assert (session.scene.joint_position("X") - start) * 1e3 == pytest.approx(1.0, abs=0.05)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import errno
 import http.client
+import logging
 import math
 import os
 import signal
@@ -20,6 +21,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -27,8 +29,10 @@ import viser
 import viser.infra
 
 import mcl
+import mcl.faults
 import scenes
 import viewer.__main__ as cli
+import viewer.app as app_module
 from scenes.scene import Scene
 from viewer.app import (
     DEFAULT_HOST,
@@ -40,10 +44,13 @@ from viewer.app import (
     ViewerApp,
     axis_panel_html,
     port_available,
+    results_html,
+    scope_csv,
     signals_html,
 )
-from viewer.operator import DEADMAN
-from viewer.session import AxisView, Session, choices
+from viewer.operator import DEADMAN, Move
+from viewer.security import LOG_BURST, AccessPolicy, BoundedLog
+from viewer.session import RESULTS_SHOWN, SCOPE_SECONDS, AxisView, Session, choices
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -400,16 +407,22 @@ def test_the_gantry_demo_starts(clock: FakeClock) -> None:
     assert all(v.powered for v in session.snapshot.axes.values())
 
 
-def test_history_holds_the_last_seconds_of_following_error_and_volts(
+def test_the_scope_recorder_holds_the_last_seconds_of_every_channel(
     session: Session, clock: FakeClock
 ) -> None:
     session.requests("X").set_power(True)
-    run(session, clock, 5.0, jog=("X", 1))
-    t, fe, volts = session.snapshot.history["X"]
-    assert len(t) == len(fe) == len(volts) > 100
+    run(session, clock, 9.0)
+    run(session, clock, 2.0, jog=("X", 1))
+    t, values = session.recorder.series()
+    names = [c.name for c in session.recorder.channels]
+    assert values.shape == (len(names), t.size) and t.size > 100
     assert np.all(np.diff(t) > 0.0)
-    assert 3.5 < t[-1] - t[0] <= 4.0 and t[-1] <= session.snapshot.time
+    assert SCOPE_SECONDS - 0.5 < t[-1] - t[0] <= SCOPE_SECONDS + 1e-9
+    assert t[-1] <= session.snapshot.time
+    volts = values[names.index("X command")]
     assert volts[-1] > 1.0  # jogging at 100 mm/s needs ~1 V
+    position = values[names.index("X position")]
+    assert position[-1] - position[0] > 100.0  # the jog, in mm
 
 
 # ------------------------------------------------------------------------------- the app
@@ -487,6 +500,10 @@ def test_the_page_offers_no_code_execution_and_no_file_access(
         "GuiHtmlMessage",
         "GuiDropdownMessage",
         "GuiButtonMessage",
+        "GuiNumberMessage",
+        "GuiPanelMessage",
+        "GuiSetPanelPositionMessage",
+        "GuiSetPanelWidthMessage",
         "GuiTabGroupMessage",
         "GuiSliderMessage",
         "GuiUplotMessage",
@@ -604,7 +621,8 @@ def test_single_axis_runs_its_demo_to_done_without_a_model(clock: FakeClock) -> 
     x = view(session)
     assert x.state == "StandStill" and x.joint == ""
     assert x.joint_position == pytest.approx(session.scene.joint_position("X"))
-    t, _, volts = session.snapshot.history["X"]
+    t, values = session.recorder.series()
+    volts = values[[c.name for c in session.recorder.channels].index("X command")]
     assert len(t) > 100 and np.abs(volts).max() > 0.1
 
 
@@ -638,19 +656,19 @@ def test_units_shown_come_from_the_axis_config(server: viser.ViserServer, shear:
     assert {a.config.unit for a in shear.scene.axes.values()} == {"m", "deg"}
 
 
-def test_the_plot_labels_follow_the_selected_axis_unit(
+def test_the_scope_labels_carry_each_channel_unit(
     server: viser.ViserServer, shear: Session
 ) -> None:
     app = ViewerApp(shear, server)
     shear.advance(10)
     app.frame()
-    assert app.plot_labels[1] == "following error [m]"  # the first axis, master
-    assert app._plot_axis is not None
-    app._plot_axis.value = "knife"  # type: ignore[misc]  # viser's setter exists
+    assert app.scope_shown[0] == ("master position [m]",)  # the master has no drive
+    app._scope_traces[0].value = "knife following error"  # type: ignore[misc]
+    app._scope_traces[1].value = "knife DO1"  # type: ignore[misc]
     shear.advance(10)
     app._last_plot = -math.inf
     app.frame()
-    assert app.plot_labels[1] == "following error [deg]"
+    assert app.scope_shown[0][:2] == ("knife following error [deg]", "knife DO1 [0/1]")
 
 
 def test_an_encoder_only_axis_has_no_drive_buttons(
@@ -659,7 +677,10 @@ def test_an_encoder_only_axis_has_no_drive_buttons(
     app = ViewerApp(shear, server)
     app.frame()
     assert app.axis_widgets["master"] == ["Reset"]
-    assert app.axis_widgets["knife"] == ["Power", "Reset", "Jog+", "Jog−", "Stop"]  # no recipe
+    knife = app.axis_widgets["knife"]
+    assert knife[:6] == ["Power", "Reset", "Home", "Jog+", "Jog−", "Stop"]
+    (homing,) = [h for h in app._scene_inputs if getattr(h, "label", "") == "Homing"]
+    assert "recipe" not in homing.options  # no recipe: index pulse or set position only
     master = view(shear, "master")
     assert not master.has_drive and view(shear, "knife").has_drive
     page = axis_panel_html(master)
@@ -745,7 +766,8 @@ def test_the_viewer_binds_the_loopback_interface_by_default() -> None:
         port = probe.getsockname()[1]
     with Viewer(port=port, demo=False) as v:
         assert v.host == "127.0.0.1" and v.port == port
-        assert v.url == f"http://127.0.0.1:{port}"
+        assert v.url == f"http://127.0.0.1:{port}/?token={v.token}"
+        assert v.token is not None and len(v.token) >= 32 and not v.exposed
     assert port_available("127.0.0.1", port)
 
 
@@ -803,3 +825,545 @@ def test_ctrl_c_stops_the_viewer_cleanly() -> None:
     assert f"viewer: gantry at http://127.0.0.1:{port}" in output
     assert "viewer: stopping" in output and "Traceback" not in output
     assert port_available("127.0.0.1", port)
+
+
+# ------------------------------------------------------------------ security (issue 12)
+
+
+def _http(
+    port: int, path: str, host: str | None = None, **headers: str
+) -> tuple[int, dict[str, str]]:
+    """GET ``path`` with an explicit Host header; (status, headers)."""
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    connection.putrequest("GET", path, skip_host=True)
+    connection.putheader("Host", host or f"127.0.0.1:{port}")
+    for name, value in headers.items():
+        connection.putheader(name.replace("_", "-"), value)
+    connection.endheaders()
+    response = connection.getresponse()
+    response.read()
+    connection.close()
+    return response.status, dict(response.getheaders())
+
+
+def _websocket(port: int, origin: str | None, token: str) -> str:
+    """Open the viser websocket like a page of ``origin``; "open" or why it was refused."""
+    import asyncio
+
+    import websockets.asyncio.client
+
+    async def attempt() -> str:
+        try:
+            async with websockets.asyncio.client.connect(
+                f"ws://127.0.0.1:{port}/?token={token}",
+                origin=origin,  # type: ignore[arg-type]
+                subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+                open_timeout=10,
+            ) as connection:
+                await asyncio.wait_for(connection.recv(), 10)
+                return "open"
+        except websockets.exceptions.InvalidStatus as exc:
+            return f"refused {exc.response.status_code}"
+
+    return asyncio.run(attempt())
+
+
+@pytest.fixture(scope="module")
+def guarded() -> Iterator[Viewer]:
+    """The gantry viewer with its access policy, on a free loopback port."""
+    with Viewer("gantry", port=0, demo=False) as v:
+        yield v
+
+
+def test_only_the_token_opens_the_page_and_it_comes_back_as_a_cookie(guarded: Viewer) -> None:
+    port, token = guarded.port, guarded.token
+    assert token is not None and guarded.url.endswith(f"/?token={token}")
+    status, headers = _http(port, f"/?token={token}")
+    assert status == 200
+    cookie = headers["Set-Cookie"]
+    assert f"mcl_viewer_token_{port}={token}" in cookie and "HttpOnly" in cookie
+    assert "SameSite=Strict" in cookie
+    assert _http(port, "/")[0] == 403
+    assert _http(port, "/?token=guess")[0] == 403
+    assert _http(port, "/", Cookie=f"mcl_viewer_token_{port}={token}")[0] == 200
+    assert _http(port, "/", Cookie=f"mcl_viewer_token_{port}=guess")[0] == 403
+
+
+def test_a_foreign_host_header_is_refused(guarded: Viewer) -> None:
+    port, token = guarded.port, guarded.token
+    for host in (f"attacker.example:{port}", "attacker.example", f"127.0.0.1:{port + 1}"):
+        assert _http(port, f"/?token={token}", host=host)[0] == 403, host
+    for host in (f"localhost:{port}", f"127.0.0.1:{port}"):
+        assert _http(port, f"/?token={token}", host=host)[0] == 200, host
+
+
+def test_every_response_forbids_framing_and_carries_a_content_policy(guarded: Viewer) -> None:
+    port, token = guarded.port, guarded.token
+    for path in (f"/?token={token}", "/", "/nothing-here"):
+        _, headers = _http(port, path)
+        csp = headers["Content-Security-Policy"]
+        assert "frame-ancestors 'none'" in csp and "object-src 'none'" in csp, path
+        assert headers["X-Frame-Options"] == "DENY"
+        assert headers["X-Content-Type-Options"] == "nosniff"
+        assert headers["Referrer-Policy"] == "no-referrer"  # the token never leaks
+
+
+def test_a_long_path_gives_414_and_one_log_line(
+    guarded: Viewer, caplog: pytest.LogCaptureFixture
+) -> None:
+    with caplog.at_level(logging.WARNING):
+        status, _ = _http(guarded.port, "/" + "a" * 4000 + f"?token={guarded.token}")
+    assert status == 414
+    lines = [r for r in caplog.records if "too long" in r.getMessage()]
+    assert len(lines) == 1 and lines[0].exc_info is None
+    assert guarded.token is not None
+    assert guarded.token not in caplog.text  # the query (with the token) is never logged
+
+
+def test_only_a_same_origin_websocket_with_the_token_connects(guarded: Viewer) -> None:
+    port, token = guarded.port, guarded.token
+    assert token is not None
+    clients = len(guarded.server.get_clients())
+    assert _websocket(port, "http://attacker.example", token) == "refused 403"
+    assert _websocket(port, None, token) == "refused 403"
+    assert _websocket(port, f"http://127.0.0.1:{port + 1}", token) == "refused 403"
+    assert _websocket(port, f"http://127.0.0.1:{port}", "guess") == "refused 403"
+    assert len(guarded.server.get_clients()) == clients
+    assert _websocket(port, f"http://127.0.0.1:{port}", token) == "open"
+
+
+def test_malformed_messages_drop_the_client_with_bounded_one_line_logs(
+    guarded: Viewer, caplog: pytest.LogCaptureFixture
+) -> None:
+    import asyncio
+
+    import websockets.asyncio.client
+
+    port, token = guarded.port, guarded.token
+
+    async def send_garbage() -> int:
+        closed = 0
+        for _ in range(LOG_BURST + 10):
+            async with websockets.asyncio.client.connect(
+                f"ws://127.0.0.1:{port}/?token={token}",
+                origin=f"http://127.0.0.1:{port}",  # type: ignore[arg-type]
+                subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+            ) as connection:
+                await connection.send(b"\xc1 not msgpack")
+                try:
+                    while True:
+                        await asyncio.wait_for(connection.recv(), 10)
+                except websockets.exceptions.ConnectionClosed:
+                    closed += 1
+        return closed
+
+    guarded.policy.log = BoundedLog(logging.getLogger("viewer.security"))
+    with caplog.at_level(logging.WARNING):
+        assert asyncio.run(send_garbage()) == LOG_BURST + 10  # each one was dropped
+    records = [r for r in caplog.records if r.name.startswith(("viewer", "websockets", "asyncio"))]
+    assert all(r.exc_info is None and "\n" not in r.getMessage() for r in records)
+    assert "Traceback" not in caplog.text
+    assert len(records) <= LOG_BURST + 1
+
+
+def test_binding_beyond_loopback_needs_a_token_and_warns_with_the_real_address() -> None:
+    with pytest.raises(ValueError, match="token is mandatory"):
+        AccessPolicy("0.0.0.0", 8080, None)
+    AccessPolicy("127.0.0.1", 8080, None)  # loopback may go without
+    with Viewer("single_axis", host="0.0.0.0", port=0, demo=False) as v:
+        assert v.exposed and v.token is not None
+        assert "0.0.0.0" not in v.url and "localhost" not in v.url and v.token in v.url
+        warning = v.warning()
+        assert "WARNING" in warning and v.url in warning
+        with pytest.raises(ValueError):
+            Viewer("single_axis", host="0.0.0.0", port=0, demo=False, token=False)
+
+
+# ------------------------------------------------------------------ GUI values and control
+
+
+def _gui_update(app: ViewerApp, client_id: int, handle: Any, value: Any) -> None:
+    """Deliver a GUI value from page ``client_id`` as the websocket would."""
+    import asyncio
+
+    import viser._messages
+
+    message = viser._messages.GuiUpdateMessage(handle._impl.uuid, {"value": value})
+    asyncio.run(app.gate._on_update(client_id, message))  # type: ignore[arg-type]
+
+
+def test_a_nan_or_out_of_range_value_is_refused_and_not_passed_on(
+    monkeypatch: pytest.MonkeyPatch, server: viser.ViserServer, session: Session
+) -> None:
+    sent: list[Any] = []
+    original = viser.infra.WebsockServer.queue_message
+
+    def spy(self: viser.infra.WebsockServer, message: viser.infra.Message) -> None:
+        sent.append(message)
+        original(self, message)
+
+    app = ViewerApp(session, server)
+    slider = next(h for h in app._scene_inputs if getattr(h, "label", "").startswith("Jog velo"))
+    app.control.take(7)
+    before = slider.value
+    monkeypatch.setattr(viser.infra.WebsockServer, "queue_message", spy)
+    for bad in (math.nan, math.inf, -1.0, 1e12, "10", True, None):
+        _gui_update(app, 7, slider, bad)
+    assert slider.value == before
+    assert not any(type(m).__name__ == "GuiUpdateMessage" for m in sent)  # nothing re-broadcast
+    assert session.requests("X").jog_velocity == 0.0
+    refused = [e.text for e in session.snapshot.events] + [e.text for e in session._events]
+    assert any("refused" in text for text in refused)
+
+
+def test_a_page_without_control_cannot_operate(
+    server: viser.ViserServer, session: Session, clock: FakeClock
+) -> None:
+    app = ViewerApp(session, server)
+    power = app._axes["X"].power
+    assert power is not None
+    _gui_update(app, 3, power, True)  # nobody in control
+    run(session, clock, 0.1)
+    assert not view(session).powered
+    assert any("take control first" in e.text for e in session.snapshot.events)
+    app.control.take(3)
+    _gui_update(app, 4, power, True)  # another page
+    run(session, clock, 0.1)
+    assert not view(session).powered
+    # STOP all is for everyone
+    assert app.gate.rules[app._stop_all._impl.uuid].control is False
+
+
+def test_the_server_renews_the_deadman_of_a_held_jog_until_release(
+    server: viser.ViserServer, session: Session, clock: FakeClock
+) -> None:
+    """A slow page sends hold messages late: the server keeps the jog alive meanwhile."""
+    app = ViewerApp(session, server)
+    session.requests("X").set_power(True)
+    run(session, clock, 0.2)
+    app.control.take(5)
+    monkey_clients = {5: object()}
+    app.server.get_clients = lambda: monkey_clients  # type: ignore[method-assign,assignment,return-value]
+    with app._holds_lock:
+        app._holds[5] = app_module._Hold(session.snapshot.generation, "X", 1, time.monotonic())
+    start = session.scene.joint_position("X")
+    for _ in range(10):  # 0.5 s of simulated jogging with no hold message, renewed per frame
+        app.renew_holds()
+        run(session, clock, 0.05)
+    assert view(session).jogging == 1
+    assert session.scene.joint_position("X") - start > 0.005
+    app._drop_holds(5)  # release
+    run(session, clock, 0.3)
+    assert view(session).jogging == 0
+
+
+# ------------------------------------------------------------------ commissioning
+
+
+def test_ending_the_demo_releases_the_group_and_leaves_a_homed_usable_machine(
+    clock: FakeClock,
+) -> None:
+    session = Session("gantry", clock=clock)
+    session.start_demo()
+    for _ in range(200):
+        run(session, clock, 0.1)
+        if session.snapshot.groups:
+            break
+    assert session.snapshot.groups, "the gantry demo groups its axes"
+    session.end_demo()
+    run(session, clock, 1.0)
+    assert session.snapshot.groups == ()
+    assert all(v.referenced and v.powered and not v.group for v in session.snapshot.axes.values())
+    start = session.scene.joint_position("X")
+    run(session, clock, 0.5, jog=("X", 1))
+    assert session.scene.joint_position("X") - start > 0.002
+    assert not any("1000" in v.last_error for v in session.snapshot.axes.values())
+
+
+def test_a_refused_command_lands_in_the_error_history_with_timestamps(
+    session: Session, clock: FakeClock
+) -> None:
+    run(session, clock, 0.2)
+    before = time.time()
+    session.requests("X").move(Move("relative", 10.0, 100.0, 1000.0))  # not powered
+    run(session, clock, 0.1)
+    x = view(session)
+    assert x.last_error.startswith("Move by: error")
+    event = session.snapshot.events[-1]
+    assert event.source == "X" and event.text == x.last_error
+    assert before <= event.wall <= time.time()
+    assert event.time == pytest.approx(0.2, abs=0.01)  # simulated time of the refusal
+    assert "Move by: error" in axis_panel_html(x)
+
+
+def test_move_to_a_position_and_by_a_distance(session: Session, clock: FakeClock) -> None:
+    session.requests("X").set_power(True)
+    run(session, clock, 0.2)
+    start = session.scene.joint_position("X")
+    session.requests("X").move(Move("relative", 25.0, 200.0, 2000.0))
+    run(session, clock, 1.0)
+    assert (session.scene.joint_position("X") - start) * 1e3 == pytest.approx(25.0, abs=0.05)
+    session.requests("X").move(Move("absolute", 0.0, 200.0, 2000.0))
+    run(session, clock, 0.1)
+    assert view(session).last_error.startswith("Move to: error")  # no reference yet
+    session.requests("X").home()
+    for _ in range(40):
+        run(session, clock, 0.5)
+        if view(session).message == "Home: done":
+            break
+    target = view(session).position - 40.0
+    before = session.scene.joint_position("X")
+    session.requests("X").move(Move("absolute", target, 200.0, 2000.0))
+    run(session, clock, 1.0)
+    assert view(session).position == pytest.approx(target, abs=0.05)
+    assert (session.scene.joint_position("X") - before) * 1e3 == pytest.approx(-40.0, abs=0.05)
+    assert view(session).message == "Move to: done"
+    with pytest.raises(ValueError, match="velocity"):
+        Move("absolute", 1.0, math.nan, 1.0)
+
+
+def test_stop_all_stops_every_axis_and_the_demo(clock: FakeClock) -> None:
+    session = Session("gantry", clock=clock)
+    session.requests("X").set_power(True)
+    session.requests("Y").set_power(True)
+    run(session, clock, 0.2)
+    session.requests("X").move(Move("relative", 300.0, 200.0, 2000.0))
+    session.requests("Y").move(Move("relative", 300.0, 200.0, 2000.0))
+    run(session, clock, 0.3)
+    assert abs(view(session, "X").velocity) > 100.0
+    session.stop_all()
+    run(session, clock, 0.5)
+    for axis in ("X", "Y"):
+        assert abs(view(session, axis).velocity) < 0.5
+    x = session.scene.joint_position("X")
+    run(session, clock, 0.3)
+    assert session.scene.joint_position("X") == pytest.approx(x, abs=1e-5)
+    assert any(e.text == "STOP all axes" for e in session.snapshot.events)
+
+
+class ResultsDemo(StandInDemo):
+    """The stand-in demo with a results table (one row per scan, like one row per cut)."""
+
+    def __init__(self, scene: Scene) -> None:
+        super().__init__(scene)
+        self.results: list[dict[str, object]] = []
+
+    def __call__(self) -> None:
+        super().__call__()
+        n = len(self.results) + 1
+        self.results.append({"cut": n, "length [mm]": 1500.0 + n / 1000.0, "note": "<b>x</b>"})
+
+
+def test_a_demo_results_table_is_shown_escaped(server: viser.ViserServer, clock: FakeClock) -> None:
+    session = Session("gantry", clock=clock, demo=ResultsDemo)
+    session.start_demo()
+    run(session, clock, 0.1)
+    columns, rows = session.snapshot.results
+    assert columns == ("cut", "length [mm]", "note")
+    assert len(rows) == RESULTS_SHOWN and rows[-1][0] == str(len(rows[-1]) and int(rows[-1][0]))
+    assert rows[-1][1] == f"{1500.0 + int(rows[-1][0]) / 1000.0:.3f}"
+    page = results_html(session.snapshot)
+    assert "<b>x</b>" not in page and "&lt;b&gt;" in page
+    app = ViewerApp(session, server)
+    app.frame()
+    assert app._results is not None and app._results.content == page
+    session.end_demo()
+    run(session, clock, 0.1)
+    assert session.snapshot.results[0] == columns  # kept after the demo ended
+
+
+def test_the_scope_shows_channels_on_one_time_base_triggers_and_exports_csv(
+    server: viser.ViserServer, session: Session, clock: FakeClock
+) -> None:
+    app = ViewerApp(session, server)
+    names = [c.name for c in session.snapshot.channels]
+    assert {"X position", "X set point", "X following error", "X command", "X LIM+"} <= set(names)
+    app._scope_traces[3].value = "X REF"  # type: ignore[misc]
+    session.requests("X").set_power(True)
+    run(session, clock, 0.5)
+    app.frame()
+    shown, t, values = app.scope_shown
+    assert shown == (
+        "X following error [mm]",
+        "X command [V]",
+        "X position [mm]",
+        "X REF [0/1]",
+    )
+    assert values.shape == (4, t.size) and t.size > 50 and np.all(np.diff(t) > 0)
+    text = scope_csv(shown, t, values)
+    header, *lines = text.splitlines()
+    assert header == "t [s]," + ",".join(shown) and len(lines) == t.size
+    # Trigger on the error of any axis: a limit switch forced on gives one.
+    app._scope_trigger.value = "on any axis error"  # type: ignore[union-attr,misc]
+    app._scope_armed_since = session.snapshot.time
+    session.requests("X").move(Move("relative", 5.0, 100.0, 1000.0))
+    session.inject("X", mcl.faults.SwitchStuck("lim_pos", True))
+    for _ in range(60):
+        run(session, clock, 0.05)
+        app._last_plot = -math.inf
+        app.frame()
+        if app._scope_paused:
+            break
+    assert "triggered at" in app.scope_status
+    shown, t, values = app.scope_shown
+    at = app._scope_trigger_at
+    assert at is not None and t[0] < at < t[-1]
+    frozen = t.copy()
+    run(session, clock, 0.5)
+    app._last_plot = -math.inf
+    app.frame()
+    assert np.array_equal(app.scope_shown[1], frozen)  # paused: the capture stays
+
+
+def test_set_position_without_moving_and_homing_on_an_index_pulse(
+    session: Session, clock: FakeClock
+) -> None:
+    session.requests("X").set_power(True)
+    run(session, clock, 0.2)
+    joint = session.scene.joint_position("X")
+    session.requests("X").home("set position (no motion)", 123.0)
+    run(session, clock, 0.2)
+    x = view(session)
+    assert x.message == "Home: done" and x.referenced
+    assert x.position == pytest.approx(123.0, abs=0.01)
+    assert session.scene.joint_position("X") == pytest.approx(joint, abs=2e-6)  # no motion
+    session.requests("X").home("index pulse +", 0.0)
+    for _ in range(40):
+        run(session, clock, 0.25)
+        if not session.operator.axes["X"].homing:
+            break
+    x = view(session)
+    assert x.message == "Home: done" and x.referenced
+    assert abs(x.position) < 1.0  # 0 at the index pulse, then the stop ramp
+    assert session.scene.joint_position("X") > joint  # it searched in the positive direction
+    with pytest.raises(ValueError, match="homing procedure"):
+        session.requests("X").home("teleport", 0.0)
+
+
+def test_over_the_websocket_control_hotkey_steps_and_value_checks(guarded: Viewer) -> None:
+    """A real client: it must take control before its hotkey moves the axis, and a NaN it sends
+    is neither applied nor passed on to the other pages."""
+    import asyncio
+
+    import msgspec
+    import websockets.asyncio.client
+
+    app, session = guarded.app, guarded.session
+    session.requests("X").set_power(True)
+    wait_for(lambda: session.snapshot.axes["X"].powered, 10.0)
+    step_plus = next(c for c in app._commands if c._impl.props.label == "X step +")
+    slider = next(h for h in app._scene_inputs if getattr(h, "label", "").startswith("Jog velo"))
+    take = app._take
+
+    def send(kind: str, **fields: Any) -> bytes:
+        return msgspec.msgpack.encode({"type": kind, **fields})
+
+    async def operate() -> None:
+        async with websockets.asyncio.client.connect(
+            f"ws://127.0.0.1:{guarded.port}/?token={guarded.token}",
+            origin=f"http://127.0.0.1:{guarded.port}",  # type: ignore[arg-type]
+            subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+        ) as connection:
+            await asyncio.wait_for(connection.recv(), 10)
+            camera = {
+                "wxyz": [1.0, 0.0, 0.0, 0.0],
+                "position": [2.0, -2.0, 2.0],
+                "fov": 1.0,
+                "near": 0.01,
+                "far": 100.0,
+                "image_height": 600,
+                "image_width": 800,
+                "look_at": [0.0, 0.0, 0.0],
+                "up_direction": [0.0, 0.0, 1.0],
+            }
+            await connection.send(send("ViewerCameraMessage", **camera))  # viser: connected
+            for _ in range(100):
+                if guarded.server.get_clients():
+                    break
+                await asyncio.sleep(0.05)
+            start = session.scene.joint_position("X")
+            await connection.send(send("CommandTriggerMessage", uuid=step_plus._impl.uuid))
+            await asyncio.sleep(1.0)
+            assert session.scene.joint_position("X") == pytest.approx(start, abs=1e-6)
+            await connection.send(
+                send("GuiUpdateMessage", uuid=take._impl.uuid, updates={"value": True})
+            )
+            for _ in range(100):
+                if app.control.owner is not None:
+                    break
+                await asyncio.sleep(0.05)
+            assert app.control.owner is not None
+            await connection.send(send("CommandTriggerMessage", uuid=step_plus._impl.uuid))
+            for _ in range(100):
+                if session.snapshot.axes["X"].message == "Move by: done":
+                    break
+                await asyncio.sleep(0.05)
+            moved = (session.scene.joint_position("X") - start) * 1e3
+            assert moved == pytest.approx(1.0, abs=0.02)  # one Step (1 mm)
+            before = slider.value
+            await connection.send(
+                send("GuiUpdateMessage", uuid=slider._impl.uuid, updates={"value": math.nan})
+            )
+            await asyncio.sleep(0.5)
+            assert slider.value == before
+            assert session.requests("X").jog_velocity == 0.0
+
+    asyncio.run(operate())
+    assert any("invalid value nan" in e.text for e in session.snapshot.events)
+    assert any("take control first" in e.text for e in session.snapshot.events)
+
+
+def test_the_cli_refuses_to_serve_the_network_without_a_token(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    port = _free_port_for_cli()
+    assert cli.main(["--host", "0.0.0.0", "--no-token", "--port", str(port)]) == 2
+    assert "token is mandatory" in capsys.readouterr().err
+    assert port_available("0.0.0.0", port)
+
+
+def _free_port_for_cli() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port: int = probe.getsockname()[1]
+    return port
+
+
+def test_faults_offered_follow_the_definition_and_force_the_input(
+    server: viser.ViserServer, shear: Session, clock: FakeClock
+) -> None:
+    app = ViewerApp(shear, server)
+    (kind,) = [h for h in app._scene_inputs if getattr(h, "label", "") == "Fault"]
+    options = list(kind.options)
+    assert "knife: force REF on" in options and not any("LIM" in o for o in options)
+    assert "knife: amplifier fault" in options and "master: amplifier fault" not in options
+    assert "master: encoder freeze" in options
+    run(shear, clock, 0.05)
+    level = view(shear, "knife").ref
+    shear.inject("knife", mcl.faults.SwitchStuck("ref", not level))
+    run(shear, clock, 0.05)
+    assert view(shear, "knife").ref == (not level)
+    shear.clear_faults("knife")
+    run(shear, clock, 0.05)
+    assert view(shear, "knife").ref == level
+    texts = [e.text for e in shear.snapshot.events]
+    assert any(t.startswith("fault injected: SwitchStuck") for t in texts)
+    assert "faults cleared" in texts
+
+
+def test_tuning_writes_the_servo_constants_through_gt_setconstant(
+    session: Session, clock: FakeClock
+) -> None:
+    run(session, clock, 0.05)
+    constants = view(session).constants
+    assert constants is not None
+    session.requests("X").write_constants(dataclasses.replace(constants, Kp=2.0 * constants.Kp))
+    run(session, clock, 0.05)
+    written = session.scene.axes["X"].constants
+    assert written is not None and written.Kp == pytest.approx(2.0 * constants.Kp)
+    assert view(session).message == "Write constants: done"
+    session.requests("X").write_constants(dataclasses.replace(constants, Ki=-1.0))
+    run(session, clock, 0.05)
+    assert view(session).last_error.startswith("Write constants: error 5")  # EParam
+    assert session.scene.axes["X"].constants == written  # left alone
+    assert session.snapshot.events[-1].text == view(session).last_error

@@ -1,8 +1,9 @@
 """Command line: ``python -m viewer [--scene NAME] [--host H] [--port P] [--speed S] [--no-demo]``.
 
 Starts the browser viewer on a scene (the gantry with its demo program by default), prints the
-address to open and runs until Ctrl-C. Binds 127.0.0.1 unless ``--host`` says otherwise; exits
-with status 2 and a message when the port is taken.
+address to open (with the secret token of this start) and runs until Ctrl-C. Binds 127.0.0.1
+unless ``--host`` says otherwise; beyond loopback it warns and names the real address to open.
+Exits with status 2 and a message when the port is taken or the address cannot be served.
 """
 
 from __future__ import annotations
@@ -38,6 +39,21 @@ def parse_speed(text: str) -> float:
     if not (speed > 0.0 and math.isfinite(speed)):
         raise argparse.ArgumentTypeError(f"expected a number > 0 or 'max', got {text!r}")
     return speed
+
+
+def parse_fps(text: str) -> float:
+    """A ``--fps`` value: 1 … 60.
+
+    Raises:
+        argparse.ArgumentTypeError: If the text is not a number in that range.
+    """
+    try:
+        fps = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number 1 … 60, got {text!r}") from None
+    if not 1.0 <= fps <= 60.0:
+        raise argparse.ArgumentTypeError(f"fps must be 1 … 60, got {text!r}")
+    return fps
 
 
 def parse_port(text: str) -> int:
@@ -84,6 +100,24 @@ def parser() -> argparse.ArgumentParser:
         help="simulated seconds per wall second, e.g. 0.1 … 10, or 'max' (default 1)",
     )
     p.add_argument("--no-demo", action="store_true", help="do not start the scene's demo program")
+    p.add_argument(
+        "--fps",
+        type=parse_fps,
+        default=30.0,
+        help="3-D updates per second, 1 … 60 (default 30; lower it for a browser without GPU)",
+    )
+    p.add_argument(
+        "--no-token",
+        action="store_true",
+        help="serve without the secret token (loopback only; beyond loopback it is mandatory)",
+    )
+    p.add_argument(
+        "--allow-host",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="a further host name the viewer may be reached under (e.g. a DNS name); repeatable",
+    )
     return p
 
 
@@ -115,8 +149,18 @@ def serve(args: argparse.Namespace) -> int:
     """
     try:
         viewer = Viewer(
-            args.scene, host=args.host, port=args.port, speed=args.speed, demo=not args.no_demo
+            args.scene,
+            host=args.host,
+            port=args.port,
+            speed=args.speed,
+            demo=not args.no_demo,
+            token=not args.no_token,
+            fps=args.fps,
+            allowed_hosts=args.allow_host,
         )
+    except ValueError as exc:  # --no-token beyond loopback
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_PORT_IN_USE
     except PortInUseError as exc:
         print(f"error: {exc.strerror}", file=sys.stderr)
         return EXIT_PORT_IN_USE
@@ -132,6 +176,8 @@ def serve(args: argparse.Namespace) -> int:
     previous = signal.signal(signal.SIGTERM, on_terminate) if in_main_thread else None
     try:
         print(f"viewer: {args.scene} at {viewer.url}  (Ctrl-C to stop)", flush=True)
+        if viewer.exposed:
+            print(viewer.warning(), file=sys.stderr, flush=True)
         if not args.no_demo and not viewer.session.demo_available():
             print(f"viewer: scene {args.scene!r} has no demo program", flush=True)
         while not done.wait(0.5):

@@ -3,46 +3,67 @@
 :class:`ViewerApp` builds the control panel and the 3-D scene (:class:`ModelScene`) and runs a
 loop in its own thread that, up to ``fps`` times per second, takes the session's latest
 :class:`~viewer.session.Snapshot` and sends what changed: body poses, switch colours, the axis
-panels and the live plot. GUI callbacks only call :class:`Session` methods (request flags and
-queued commands); every viser object is modified by the update thread alone.
+panels, the error history and the scope. GUI callbacks only call :class:`Session` methods
+(request flags and queued commands) and the scope's own state; viser objects are modified by the
+update thread (and the notifications of the callbacks).
 
 :class:`Viewer` bundles server, session and app: ``Viewer(scene="gantry", port=8080)`` serves
-the viewer on ``http://127.0.0.1:8080`` until :meth:`Viewer.close`.
+the viewer on ``http://127.0.0.1:8080/?token=…`` until :meth:`Viewer.close`, behind the access
+policy of :mod:`viewer.security` (same origin, expected Host, token, security headers).
 
 Everything machine-specific comes from the registry (``scenes.MACHINES``) and the scene: the
 chooser lists ``sorted(scenes.MACHINES)``; each axis panel shows the axis' own unit, only the
 switches the machine definition gives it, its digital inputs and outputs, and drive buttons only
 if it has a drive (Home only with a homing recipe); a machine that publishes signals gets a
-signals panel; a machine of simulated axes (no MuJoCo model) shows a note instead of a 3-D model.
+signals panel (and scope channels); a demo with a ``results`` table gets a results panel; a
+machine of simulated axes (no MuJoCo model) shows a note instead of a 3-D model.
 
 The page offers no way to run code or touch files: no text inputs, no uploads, only buttons,
-dropdowns and sliders whose values are checked against fixed choices and ranges; viser's share
+dropdowns, sliders and number boxes whose values the :class:`~viewer.security.GuiGate` checks
+against fixed choices and finite ranges (and control) before viser applies them; viser's share
 tunnel and upload requests are refused (:func:`harden`).
 """
 
 from __future__ import annotations
 
+import csv
+import dataclasses
 import errno
-import functools
 import html
+import io
 import logging
 import math
 import socket
 import threading
 import time
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import mujoco
 import numpy as np
+import numpy.typing as npt
 import viser
 import viser.uplot
+from viser._messages import HotkeyKey
 
+import mcl.faults
 import scenes
 from viewer.model_scene import ModelScene
-from viewer.operator import AxisRequests
-from viewer.session import AxisView, Session, Snapshot, choices
+from viewer.operator import HOMING_PROCEDURES, AxisRequests, Move
+from viewer.security import (
+    AccessPolicy,
+    BoundedLog,
+    GuiGate,
+    button_value,
+    choice_of,
+    is_loopback,
+    make_token,
+    number_in,
+    secure_server,
+)
+from viewer.session import AxisView, Channel, Recorder, Session, Snapshot, choices
 
 log = logging.getLogger(__name__)
 
@@ -206,6 +227,12 @@ def axis_panel_html(view: AxisView) -> str:
         ("State", f"<b>{html.escape(view.state or '—')}</b>"),
         ("Error", f'<span style="color:#c62828">{error}</span>' if view.error else error),
     ]
+    if view.last_error:
+        rows.append(
+            ("Refused", f'<span style="color:#c62828">{html.escape(view.last_error)}</span>')
+        )
+    if view.group:
+        rows.append(("Group", html.escape(view.group)))
     lamps = "".join(
         _lamp(bool(getattr(view, field)), label, kind)
         for field, label, kind in SWITCH_LAMPS
@@ -250,6 +277,117 @@ def status_html(snapshot: Snapshot) -> str:
     )
 
 
+SCOPE_TRACES = 4
+"""Signals the scope shows at once."""
+
+SCOPE_WINDOWS = ("1 s", "2 s", "4 s", "10 s")
+"""Time bases the scope offers."""
+
+FREE_RUN = "free run"
+"""Scope trigger choice: no trigger."""
+
+ON_ERROR = "on any axis error"
+"""Scope trigger choice: the rising edge of any axis' error flag."""
+
+NO_TRACE = "—"
+"""Scope channel choice: nothing."""
+
+HOLD_TIMEOUT = 1.0
+"""Wall time [s] a held jog button stays held without a hold message from its page. The server
+renews the jog's dead-man every frame meanwhile, so a slow page (hold messages late) still jogs
+smoothly; release, disconnect or loss of control end the jog at once."""
+
+EVENTS_SHOWN = 15
+"""Entries of the error history the panel shows (newest first)."""
+
+STEPS = ("0.01", "0.1", "1", "10", "100")
+"""Incremental jog steps [u]."""
+
+STEP_KEYS: tuple[tuple[HotkeyKey, HotkeyKey], ...] = (
+    ("arrowright", "arrowleft"),
+    ("arrowup", "arrowdown"),
+    ("pageup", "pagedown"),
+)
+"""Hotkeys (with Shift) of Step+ and Step− of the first three driven axes; each press (and each
+key repeat while held) moves the axis by its Step."""
+
+FAULTS: dict[str, mcl.faults.Fault] = {
+    "force LIM+ on": mcl.faults.SwitchStuck("lim_pos", True),
+    "force LIM− on": mcl.faults.SwitchStuck("lim_neg", True),
+    "force REF on": mcl.faults.SwitchStuck("ref", True),
+    "force REF off": mcl.faults.SwitchStuck("ref", False),
+    "encoder freeze": mcl.faults.EncoderFreeze(),
+    "encoder wire break": mcl.faults.EncoderWireBreak(),
+    "drive not ready": mcl.faults.DriveNotReady(),
+    "amplifier fault": mcl.faults.AmplifierFault(),
+    "brake does not hold": mcl.faults.BrakeFailure(),
+    "analog offset 0.1 V": mcl.faults.AnalogOffset(0.1),
+}
+"""Inputs the panel can force and faults it can inject (``scene.faults``), by label; the panel
+offers each for the axes it applies to."""
+
+TUNING = (
+    ("Kp", "Kp [V/u]", 0.0, 1e6),
+    ("Ki", "Ki [V/(u·s)]", 0.0, 1e6),
+    ("Ff", "Ff [-]", 0.0, 10.0),
+    ("Ka", "Ka [s]", 0.0, 10.0),
+    ("LimPos", "LimPos [u]", -1e9, 1e9),
+    ("LimNeg", "LimNeg [u]", -1e9, 1e9),
+)
+"""Servo constants of the tuning panel: (GT_SetConstant input, label, min, max)."""
+
+FRAME_OUTLIER = 50.0
+"""Geoms bigger than this many times the median geom are left out of the camera framing."""
+
+VIEWS = {
+    "Fit": (0.9, -1.6, 0.9),
+    "Front": (0.0, -1.0, 0.15),
+    "Side": (1.0, 0.0, 0.15),
+    "Top": (0.0, -0.05, 1.0),
+}
+"""Camera presets: direction from the machine's centre to the camera."""
+
+
+class Control:
+    """Who operates: one client at a time holds control, the others watch (thread-safe)."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self.owner: int | None = None
+        """Client id of the operator in control (None: nobody)."""
+        self.since = 0.0
+        """Wall clock [s since the epoch] when the owner took control."""
+
+    def take(self, client_id: int) -> int | None:
+        """``client_id`` takes control; the client that had it (None: nobody)."""
+        with self._lock:
+            previous = self.owner
+            self.owner, self.since = client_id, time.time()
+        return previous
+
+    def release(self, client_id: int) -> bool:
+        """``client_id`` gives control up (if it has it); whether it had it."""
+        with self._lock:
+            if self.owner != client_id:
+                return False
+            self.owner = None
+            return True
+
+    def holds(self, client_id: int) -> bool:
+        """Whether ``client_id`` is in control."""
+        return self.owner == client_id
+
+
+@dataclass
+class _Hold:
+    """A jog button a page holds."""
+
+    generation: int
+    axis: str
+    direction: int
+    last: float
+
+
 @dataclass
 class _AxisWidgets:
     """The GUI elements of one axis panel."""
@@ -262,18 +400,80 @@ class _AxisWidgets:
     powered: bool | None = None
 
 
+def _utc(wall: float) -> str:
+    """Wall-clock time as ``HH:MM:SS.mmm`` UTC."""
+    return time.strftime("%H:%M:%S", time.gmtime(wall)) + f".{int(wall % 1.0 * 1000):03d}"
+
+
+def events_html(snapshot: Snapshot, shown: int = EVENTS_SHOWN) -> str:
+    """The error history, newest first: UTC time, simulated time, source, text (escaped)."""
+    events = snapshot.events[-shown:][::-1]
+    if not events:
+        return '<div style="font-size:0.85em;padding:0 0.75em">No errors.</div>'
+    rows = "".join(
+        f'<tr><td style="white-space:nowrap;font-family:monospace">{_utc(e.wall)}</td>'
+        f'<td style="white-space:nowrap;font-family:monospace">t={e.time:.3f}</td>'
+        f"<td>{html.escape(e.source)}</td><td>{html.escape(e.text)}</td></tr>"
+        for e in events
+    )
+    return (
+        f'<div style="font-size:0.8em;padding:0 0.75em"><table style="border-collapse:collapse">'
+        f"{rows}</table></div>"
+    )
+
+
+def results_html(snapshot: Snapshot) -> str:
+    """The demo's results table (last rows; texts escaped)."""
+    columns, rows = snapshot.results
+    if not columns:
+        return '<div style="font-size:0.85em;padding:0 0.75em">No results yet.</div>'
+    head = "".join(f'<th style="padding:0 0.4em">{html.escape(c)}</th>' for c in columns)
+    body = "".join(
+        "<tr>"
+        + "".join(
+            f'<td style="text-align:right;font-family:monospace;padding:0 0.4em">'
+            f"{html.escape(v)}</td>"
+            for v in row
+        )
+        + "</tr>"
+        for row in rows
+    )
+    return (
+        f'<div style="font-size:0.8em;padding:0 0.75em;overflow-x:auto">'
+        f'<table style="border-collapse:collapse"><tr>{head}</tr>{body}</table></div>'
+    )
+
+
+def scope_csv(
+    names: Sequence[str], t: npt.NDArray[np.float64], values: npt.NDArray[np.float64]
+) -> str:
+    """The scope's traces as CSV: ``t [s]`` then one column per trace (header with units)."""
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(["t [s]", *names])
+    for k in range(t.size):
+        writer.writerow([f"{t[k]:.6f}", *(f"{v:.9g}" for v in values[:, k])])
+    return out.getvalue()
+
+
 class ViewerApp:
     """Control panel and 3-D scene of a session in a viser server, updated by its own thread.
+
+    Every value a page sends passes a :class:`~viewer.security.GuiGate`: it must fit the
+    element (choices, finite ranges), and everything that operates the machine needs control
+    (:class:`Control`, the Take control button); STOP all, the camera views and the scope are
+    for everyone.
 
     Args:
         session: The simulation to show and operate.
         server: The viser server to build the GUI in.
         fps: Frames per second of the update loop [Hz] (poses and switch colours).
         panel_hz: Refresh rate of the axis panels and the status line [Hz].
-        plot_hz: Refresh rate of the live plot [Hz].
+        plot_hz: Refresh rate of the scope [Hz].
         environment_map: Light the scene with viser's HDRI environment map. It looks best but
             makes a browser without GPU (software WebGL) draw ~10× slower; the default lights
             the scene with a hemisphere light instead.
+        log: Where refused GUI messages are logged (bounded).
     """
 
     def __init__(
@@ -285,6 +485,7 @@ class ViewerApp:
         panel_hz: float = 10.0,
         plot_hz: float = 10.0,
         environment_map: bool = False,
+        log: BoundedLog | None = None,
     ) -> None:
         self.session = session
         self.server = server
@@ -297,27 +498,55 @@ class ViewerApp:
         """Wall time [s] of recent frames that had a new snapshot to send."""
         self.frames = 0
         """Frames that sent a new snapshot."""
+        self.panel_updates = 0
+        """Times the panels were refreshed."""
 
         self._model_scene: ModelScene | None = None
         self._generation = 0
         self._last: Snapshot | None = None
         self._last_panel = self._last_plot = -math.inf
-        self._plot_time = math.nan
         self._axes: dict[str, _AxisWidgets] = {}
         self._lamps: list[tuple[str, str, str, tuple[float, float, float]]] = []
         """Switch geoms coloured from the inputs: (axis, AxisView field, geom, lamp colour)."""
         self._note: viser.LabelHandle | None = None
         self._scene_gui: list[viser.GuiFolderHandle] = []
+        self._scene_inputs: list[Any] = []
+        self._commands: list[Any] = []
+        self._steps: dict[str, viser.GuiDropdownHandle[str]] = {}
         self._signals: viser.GuiHtmlHandle | None = None
         self._signals_html = ""
-        self._plot_unit = ""
-        self._plot: viser.GuiUplotHandle | None = None
-        self._plot_axis: viser.GuiDropdownHandle[str] | None = None
+        self._results: viser.GuiHtmlHandle | None = None
+        self._results_html = ""
+        self._events_html = ""
+        self._control_html = ""
         self._pause_label = ""
-        self._demo_label = ""
         self._status_html = self._demo_html = ""
+        self._bounds: tuple[npt.NDArray[np.float64], float] | None = None
+        self.control = Control()
+        """Who operates (the others watch)."""
+        self._holds: dict[int, _Hold] = {}
+        self._holds_lock = threading.Lock()
+        self._refusals: dict[tuple[int, str], float] = {}
+        # scope state
+        self._scope_plot: viser.GuiUplotHandle | None = None
+        self._scope_traces: list[viser.GuiDropdownHandle[str]] = []
+        self._scope_window: viser.GuiDropdownHandle[str] | None = None
+        self._scope_trigger: viser.GuiDropdownHandle[str] | None = None
+        self._scope_run: viser.GuiButtonHandle | None = None
+        self._scope_status: viser.GuiHtmlHandle | None = None
+        self._scope_paused = False
+        self._scope_armed_since = -math.inf
+        self._scope_trigger_at: float | None = None
+        self._scope_style: tuple[str, ...] = ()
+        self.scope_shown: tuple[tuple[str, ...], npt.NDArray[np.float64], npt.NDArray[np.float64]]
+        """What the scope shows: (trace names with units, t [s], values (traces × samples))."""
+        self.scope_shown = ((), np.zeros(0), np.zeros((0, 0)))
 
         harden(server)
+        self.gate = GuiGate(server, self.control.holds, self._refused, log=log)
+        """Checks every GUI value a page sends."""
+        server.on_client_connect(self._on_connect)
+        server.on_client_disconnect(self._on_disconnect)
         server.scene.set_up_direction("+z")
         if not environment_map:
             server.scene.configure_environment_map(None)
@@ -346,39 +575,168 @@ class ViewerApp:
         """The labels of the buttons of each axis panel (what the operator can press)."""
         return {name: list(w.buttons) for name, w in self._axes.items()}
 
+    # ------------------------------------------------------------------------- clients
+
+    def _on_connect(self, client: viser.ClientHandle) -> None:
+        client.add_notification(
+            f"You are operator #{client.client_id}",
+            "You watch. Press Take control to operate; STOP all works for everyone.",
+            auto_close_seconds=8.0,
+        )
+
+    def _on_disconnect(self, client: viser.ClientHandle) -> None:
+        self._drop_holds(client.client_id)
+        if self.control.release(client.client_id):
+            self.session.record_event("viewer", f"operator #{client.client_id} left: no control")
+
+    def _refused(self, client_id: int, label: str, reason: str) -> None:
+        """A page sent something the gate refused: history entry and a note (once a second)."""
+        now = time.monotonic()
+        key = (client_id, label)
+        if now - self._refusals.get(key, -math.inf) < 1.0:
+            return
+        self._refusals[key] = now
+        what = label or "an unknown input"
+        self.session.record_event("viewer", f"operator #{client_id}: {what} refused: {reason}")
+        client = self.server.get_clients().get(client_id)
+        if client is not None:
+            client.add_notification(f"{what}: refused", reason, color="red", auto_close_seconds=4.0)
+
+    def _drop_holds(self, client_id: int) -> None:
+        with self._holds_lock:
+            hold = self._holds.pop(client_id, None)
+        if hold is not None and hold.generation == self.session.snapshot.generation:
+            self.session.requests(hold.axis).release_jog()
+
+    def renew_holds(self) -> None:
+        """Renew the dead-man of every held jog button whose page is connected, in control
+        and sent a hold message within :data:`HOLD_TIMEOUT`; drop the others (jog ends)."""
+        now = time.monotonic()
+        clients = self.server.get_clients()
+        generation = self.session.snapshot.generation
+        with self._holds_lock:
+            holds = list(self._holds.items())
+        for client_id, hold in holds:
+            alive = (
+                client_id in clients
+                and self.control.holds(client_id)
+                and now - hold.last <= HOLD_TIMEOUT
+                and hold.generation == generation
+            )
+            if alive:
+                self.session.requests(hold.axis).jog(hold.direction)
+            else:
+                self._drop_holds(client_id)
+
     # ------------------------------------------------------------------------- GUI: static
 
+    def _button(
+        self,
+        label: str,
+        *,
+        control: bool = True,
+        **kwargs: Any,
+    ) -> viser.GuiButtonHandle:
+        """A button the gate lets pages press (those in control unless ``control`` is False)."""
+        button = self.server.gui.add_button(label, **kwargs)
+        self.gate.allow(button, button_value, control)
+        return button
+
     def _build_static_gui(self) -> None:
-        """Simulation controls and demo controls (independent of the scene)."""
+        """Control, simulation and demo controls (independent of the scene)."""
         gui = self.server.gui
         session = self.session
+        operator = gui.add_panel(order=-1)  # a window of its own: never scrolled out of sight
+        operator.float(x=15, y=-15, width=300)
+        with operator.add_tab("Operator", icon=viser.Icon.USER):
+            self._stop_all = self._button(
+                "STOP all axes",
+                control=False,
+                color="red",
+                icon=viser.Icon.HAND_STOP,
+                hint="Ends the demo, ramps every axis and group down (anyone may press it)",
+            )
+            self._control_status = gui.add_html("")
+            self._take = self._button(
+                "Take control", control=False, icon=viser.Icon.USER_CHECK, hint="Operate"
+            )
+            self._give = self._button(
+                "Release control", control=False, icon=viser.Icon.USER_X, hint="Watch only"
+            )
         with gui.add_folder("Simulation", order=0):
             self._status = gui.add_html("", order=0)
             self._scene_choice = gui.add_dropdown(
                 "Scene", choices(), initial_value=session.scene_name, order=1
             )
+            self.gate.allow(self._scene_choice, choice_of(choices()))
             labels = list(SPEEDS)
             current = speed_label(session.speed)
             if current not in labels:
                 labels.insert(0, current)
             self._speeds = {label: SPEEDS.get(label, session.speed) for label in labels}
             self._speed_choice = gui.add_dropdown("Speed", labels, initial_value=current, order=2)
-            self._pause = gui.add_button("Pause", icon=viser.Icon.PLAYER_PAUSE, order=3)
-            self._step = gui.add_button(
+            self.gate.allow(self._speed_choice, choice_of(labels))
+            self._pause = self._button("Pause", icon=viser.Icon.PLAYER_PAUSE, order=3)
+            self._step = self._button(
                 "Step",
                 hint="Pause and run one PLC cycle",
                 icon=viser.Icon.PLAYER_TRACK_NEXT,
                 order=4,
             )
-            self._reset = gui.add_button(
+            self._reset = self._button(
                 "Reset scene",
                 hint="Rebuild the scene from scratch",
                 icon=viser.Icon.REFRESH,
                 order=5,
             )
         with gui.add_folder("Demo", order=1):
-            self._demo_button = gui.add_button("Run demo", icon=viser.Icon.PLAYER_PLAY, order=0)
-            self._demo_step = gui.add_html("", order=1)
+            # two buttons, not a toggle: a click a slow page sends late must not restart a demo
+            self._demo_button = self._button("Run demo", icon=viser.Icon.PLAYER_PLAY, order=0)
+            self._end_demo = self._button(
+                "End demo",
+                icon=viser.Icon.PLAYER_STOP,
+                hint="Stop the demo and hand the machine over (its groups are released)",
+                order=0.5,
+            )
+            self._release = self._button(
+                "Release group",
+                icon=viser.Icon.UNLINK,
+                hint="Take the axes groups apart (MC_GroupDisable, MC_UngroupAllAxes)",
+                order=1,
+            )
+            self._demo_step = gui.add_html("", order=2)
+
+        @self._stop_all.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            with self._holds_lock:
+                clients = list(self._holds)
+            for client_id in clients:
+                self._drop_holds(client_id)
+            session.stop_all()
+
+        @self._take.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            if event.client_id is None:
+                return
+            previous = self.control.take(event.client_id)
+            if previous != event.client_id:
+                if previous is not None:
+                    self._drop_holds(previous)
+                    other = self.server.get_clients().get(previous)
+                    if other is not None:
+                        other.add_notification(
+                            "Control taken",
+                            f"Operator #{event.client_id} operates now; you watch.",
+                            color="yellow",
+                            auto_close_seconds=8.0,
+                        )
+                session.record_event("viewer", f"operator #{event.client_id} took control")
+
+        @self._give.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            if event.client_id is not None and self.control.release(event.client_id):
+                self._drop_holds(event.client_id)
+                session.record_event("viewer", f"operator #{event.client_id} released control")
 
         @self._scene_choice.on_update
         def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
@@ -410,15 +768,21 @@ class ViewerApp:
         @self._demo_button.on_click
         def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
             demo = session.snapshot.demo
-            if demo.running:
-                session.end_demo()
-            elif demo.available:
+            if demo.available and not demo.running:
                 session.start_demo()
+
+        @self._end_demo.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            session.end_demo()
+
+        @self._release.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            session.release_groups()
 
     # ------------------------------------------------------------------------- GUI: scene
 
     def _rebuild(self, snapshot: Snapshot) -> None:
-        """(Re)build the 3-D scene, the axis panels, the signals and the plot for a new scene."""
+        """(Re)build the 3-D scene and every panel of the scene for a new scene."""
         if self._model_scene is not None:
             self._model_scene.remove()
             self._model_scene = None
@@ -427,23 +791,34 @@ class ViewerApp:
             self._note = None
         for folder in self._scene_gui:
             folder.remove()
+        self.gate.forget(self._scene_inputs + self._commands)
+        for command in self._commands:
+            command.remove()
+        self._scene_inputs = []
+        self._commands = []
+        self._steps = {}
         self._scene_gui = []
         self._axes = {}
         self._lamps = []
         self._signals = None
         self._signals_html = ""
+        self._results = None
+        self._results_html = ""
+        self._events_html = ""
         self._last = None
         self._generation = snapshot.generation
-        self._plot_time = math.nan
-        self._plot_unit = ""
         self._last_panel = self._last_plot = -math.inf  # show the new scene's panels at once
+        self._bounds = None
+        with self._holds_lock:
+            self._holds.clear()
 
         model = snapshot.model
         if model is not None:
             data = mujoco.MjData(model)
             data.qpos[:] = snapshot.qpos
             mujoco.mj_kinematics(model, data)
-            self._place_camera(model, data)
+            self._bounds = _machine_bounds(model, data)
+            self._place_camera()
             data.xpos[:] = snapshot.xpos
             data.xquat[:] = snapshot.xquat
             self._model_scene = ModelScene(model, self.server, prefix="/scene", data=data)
@@ -474,29 +849,171 @@ class ViewerApp:
             with signals_folder:
                 self._signals_html = signals_html(snapshot)
                 self._signals = gui.add_html(self._signals_html)
-        plot_folder = gui.add_folder("Plot", order=4)
-        self._scene_gui.append(plot_folder)
-        with plot_folder:
-            names = list(snapshot.axes)
-            self._plot_axis = gui.add_dropdown("Axis", names, initial_value=names[0])
-            self._plot_unit = snapshot.axes[names[0]].unit
-            series, axes = _plot_style(self._plot_unit)
-            self._plot = gui.add_uplot(
-                data=(np.zeros(1), np.zeros(1), np.zeros(1)),
-                series=series,
-                scales={
-                    "x": viser.uplot.Scale(time=False, auto=True),
-                    "fe": viser.uplot.Scale(auto=True),
-                    "V": viser.uplot.Scale(auto=True),
-                },
-                axes=axes,
-                title=f"{names[0]}: following error and command",
-                aspect=1.4,
-            )
+        if snapshot.demo.available:
+            results_folder = gui.add_folder("Results", order=4)
+            self._scene_gui.append(results_folder)
+            with results_folder:
+                self._results_html = results_html(snapshot)
+                self._results = gui.add_html(self._results_html)
+        self._build_step_keys(generation)
+        self._build_scope(snapshot)
+        events_folder = gui.add_folder("Error history", order=6)
+        self._scene_gui.append(events_folder)
+        with events_folder:
+            self._events = gui.add_html(events_html(snapshot))
+        self._build_faults(snapshot, generation)
+        if model is not None:
+            self._build_views()
 
-        @self._plot_axis.on_update
-        def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
-            self._plot_time = math.nan  # redraw with the new axis at the next plot refresh
+    def _build_step_keys(self, generation: int) -> None:
+        """Shift+arrow keys (and PageUp/PageDown) step the first three driven axes."""
+        session = self.session
+        for name, (plus, minus) in zip(self._steps, STEP_KEYS, strict=False):
+            for key, sign in ((plus, 1.0), (minus, -1.0)):
+                label = f"{name} step {'+' if sign > 0 else '−'}"
+                command = self.server.gui.add_command(
+                    label, description=f"Move {name} by its Step", hotkey=key, modifier="shift"
+                )
+                self.gate.allow_command(command, label)
+                self._commands.append(command)
+
+                def step(event: Any, axis: str = name, s: float = sign) -> None:
+                    if session.snapshot.generation != generation:
+                        return
+                    view = session.snapshot.axes[axis]
+                    distance = s * float(self._steps[axis].value)
+                    velocity = 0.1 * (view.vmax if math.isfinite(view.vmax) else 100.0)
+                    session.requests(axis).move(
+                        Move("relative", distance, velocity, 10.0 * velocity)
+                    )
+
+                command.on_trigger(step)
+
+    def _build_views(self) -> None:
+        """Camera presets (each page moves its own camera; for everyone)."""
+        gui = self.server.gui
+        folder = gui.add_folder("View", order=8, expand_by_default=False)
+        self._scene_gui.append(folder)
+        with folder:
+            for label, direction in VIEWS.items():
+                button = self._button(label, control=False, hint=f"Camera: {label.lower()}")
+                self._scene_inputs.append(button)
+
+                def look(event: viser.GuiEvent[viser.GuiButtonHandle], d: Any = direction) -> None:
+                    if event.client is not None and self._bounds is not None:
+                        center, radius = self._bounds
+                        position = _camera_position(center, radius, d)
+                        event.client.camera.look_at = center
+                        event.client.camera.position = position
+
+                button.on_click(look)
+
+    def _build_faults(self, snapshot: Snapshot, generation: int) -> None:
+        """Forcing inputs and injecting faults through ``scene.faults``: one choice per axis and
+        fault it can have (switch faults only for its switches, drive faults only with a
+        drive)."""
+        gui = self.server.gui
+        session = self.session
+        choices_ = {
+            f"{name}: {label}": (name, fault)
+            for name, view in snapshot.axes.items()
+            for label, fault in FAULTS.items()
+            if _applies(fault, view)
+        }
+        labels = list(choices_)
+        names = list(snapshot.axes)
+        folder = gui.add_folder("Faults", order=7, expand_by_default=False)
+        self._scene_gui.append(folder)
+        with folder:
+            kind = gui.add_dropdown("Fault", labels, initial_value=labels[0])
+            self.gate.allow(kind, choice_of(labels))
+            inject = self._button("Inject", color="orange", icon=viser.Icon.BOLT)
+            axis = gui.add_dropdown("Clear axis", names, initial_value=names[0])
+            self.gate.allow(axis, choice_of(names))
+            clear = self._button("Clear faults", icon=viser.Icon.ERASER)
+            self._scene_inputs += [axis, kind, inject, clear]
+
+        @inject.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            if session.snapshot.generation == generation:
+                session.inject(*choices_[kind.value])
+
+        @clear.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            if session.snapshot.generation == generation:
+                session.clear_faults(axis.value)
+
+    def _build_scope(self, snapshot: Snapshot) -> None:
+        """The scope: several channels on one time base, run/pause, trigger, CSV export."""
+        gui = self.server.gui
+        names = [c.name for c in snapshot.channels]
+        digital = [c.name for c in snapshot.channels if c.digital]
+        first = next(iter(snapshot.axes))
+        defaults = [
+            f"{first} following error",
+            f"{first} command",
+            f"{first} position",
+            NO_TRACE,
+        ]
+        defaults = [d if d in names else NO_TRACE for d in defaults]
+        options = [NO_TRACE, *names]
+        triggers = [FREE_RUN, ON_ERROR, *(f"rising: {n}" for n in digital)]
+        folder = gui.add_folder("Scope", order=5)
+        self._scene_gui.append(folder)
+        self._scope_paused = False
+        self._scope_trigger_at = None
+        self._scope_style = ()
+        with folder:
+            self._scope_status = gui.add_html("")
+            self._scope_plot = gui.add_uplot(
+                data=(np.zeros(1), np.zeros(1)),
+                series=(viser.uplot.Series(label="t [s]"), viser.uplot.Series(label="")),
+                scales={"x": viser.uplot.Scale(time=False, auto=True)},
+                title="",
+                aspect=1.2,
+            )
+            self._scope_traces = []
+            for k in range(SCOPE_TRACES):
+                trace = gui.add_dropdown(f"Trace {k + 1}", options, initial_value=defaults[k])
+                self.gate.allow(trace, choice_of(options), control=False)
+                self._scope_traces.append(trace)
+            self._scope_window = gui.add_dropdown("Time base", SCOPE_WINDOWS, initial_value="4 s")
+            self.gate.allow(self._scope_window, choice_of(SCOPE_WINDOWS), control=False)
+            self._scope_trigger = gui.add_dropdown("Trigger", triggers, initial_value=FREE_RUN)
+            self.gate.allow(self._scope_trigger, choice_of(triggers), control=False)
+            run = self._button("Run / Pause", control=False, icon=viser.Icon.PLAYER_PAUSE)
+            export = self._button("Export CSV", control=False, icon=viser.Icon.DOWNLOAD)
+            self._scope_run = run
+            self._scene_inputs += [*self._scope_traces, self._scope_window, self._scope_trigger]
+            self._scene_inputs += [run, export]
+
+        @run.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            if self._scope_paused:
+                self._scope_paused = False
+                self._scope_trigger_at = None
+                self._scope_armed_since = self.session.snapshot.time
+            else:
+                self._scope_paused = True
+            self._last_plot = -math.inf
+
+        @export.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            names, t, values = self.scope_shown
+            if event.client is not None:
+                content = scope_csv(names, t, values).encode()
+                event.client.send_file_download("scope.csv", content, save_immediately=True)
+
+        def rearm(event: Any) -> None:
+            self._scope_trigger_at = None
+            self._scope_armed_since = self.session.snapshot.time
+            self._scope_paused = False
+            self._last_plot = -math.inf
+
+        self._scope_trigger.on_update(rearm)
+        for trace in self._scope_traces:
+            trace.on_update(lambda event: setattr(self, "_last_plot", -math.inf))
+        self._scope_window.on_update(lambda event: setattr(self, "_last_plot", -math.inf))
 
     def _build_axis_panel(self, name: str, view: AxisView, generation: int) -> _AxisWidgets:
         """Read-outs and buttons of one axis (inside its tab), as its definition says: an
@@ -516,45 +1033,72 @@ class ViewerApp:
 
             return callback
 
+        def button(label: str, **kwargs: Any) -> viser.GuiButtonHandle:
+            handle = self._button(label, **kwargs)
+            self._scene_inputs.append(handle)
+            buttons.append(label)
+            return handle
+
+        def number(label: str, value: float, low: float, high: float, step: float) -> Any:
+            handle = gui.add_number(label, initial_value=value, min=low, max=high, step=step)
+            self.gate.allow(handle, number_in(low, high))
+            self._scene_inputs.append(handle)
+            return handle
+
         panel = gui.add_html(axis_panel_html(view))
         buttons: list[str] = []
         power = None
         if view.has_drive:
-            power = gui.add_button(
-                "Power", color="gray", icon=viser.Icon.POWER, hint="MC_Power on/off"
-            )
+            power = button("Power", color="gray", icon=viser.Icon.POWER, hint="MC_Power on/off")
             power.on_click(on_click(lambda _: session.toggle_power(name)))
-            buttons.append("Power")
-        reset = gui.add_button(
-            "Reset", icon=viser.Icon.REFRESH_ALERT, hint="MC_Reset: clear the axis error"
-        )
+        reset = button("Reset", icon=viser.Icon.REFRESH_ALERT, hint="MC_Reset: clear the error")
         reset.on_click(on_click(AxisRequests.reset))
-        buttons.append("Reset")
         if not view.has_drive:
             return _AxisWidgets(panel=panel, power=None, unit=view.unit, buttons=tuple(buttons))
-        if view.homeable:
-            home = gui.add_button("Home", icon=viser.Icon.HOME, hint="The axis' homing recipe")
-            home.on_click(on_click(AxisRequests.home))
-            buttons.append("Home")
-        jog_pos = gui.add_button("Jog+", icon=viser.Icon.ARROW_RIGHT, hint="Hold to jog (GT_Jog)")
-        jog_neg = gui.add_button("Jog−", icon=viser.Icon.ARROW_LEFT, hint="Hold to jog (GT_Jog)")
-        for button, direction in ((jog_pos, 1), (jog_neg, -1)):
-            button.on_hold(
-                on_click(functools.partial(AxisRequests.jog, direction=direction)),
-                callback_hz=JOG_HOLD_HZ,
-            )
-            button.on_click(on_click(AxisRequests.release_jog))  # a click ends on release
-        stop = gui.add_button("Stop", color="red", icon=viser.Icon.HAND_STOP, hint="MC_Stop")
+        procedures = [p for p in HOMING_PROCEDURES if p != "recipe" or view.homeable]
+        procedure = gui.add_dropdown("Homing", procedures, initial_value=procedures[0])
+        self.gate.allow(procedure, choice_of(procedures))
+        self._scene_inputs.append(procedure)
+        home_position = number(f"Home position [{view.unit}]", 0.0, -1e9, 1e9, 0.001)
+        home = button("Home", icon=viser.Icon.HOME, hint="Run the chosen homing procedure")
+
+        @home.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            if current():
+                session.requests(name).home(procedure.value, float(home_position.value))
+
+        jog_pos = button("Jog+", icon=viser.Icon.ARROW_RIGHT, hint="Hold to jog (GT_Jog)")
+        jog_neg = button("Jog−", icon=viser.Icon.ARROW_LEFT, hint="Hold to jog (GT_Jog)")
+        for handle, direction in ((jog_pos, 1), (jog_neg, -1)):
+
+            def hold(event: viser.GuiEvent[viser.GuiButtonHandle], d: int = direction) -> None:
+                if current() and event.client_id is not None:
+                    with self._holds_lock:
+                        self._holds[event.client_id] = _Hold(generation, name, d, time.monotonic())
+                    session.requests(name).jog(d)
+
+            def release(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+                if event.client_id is not None:
+                    with self._holds_lock:
+                        self._holds.pop(event.client_id, None)
+                if current():
+                    session.requests(name).release_jog()
+
+            handle.on_hold(hold, callback_hz=JOG_HOLD_HZ)
+            handle.on_click(release)  # a click ends on release
+        stop = button("Stop", color="red", icon=viser.Icon.HAND_STOP, hint="MC_Stop")
         stop.on_click(on_click(AxisRequests.stop))
-        buttons += ["Jog+", "Jog−", "Stop"]
         vmax = view.vmax if math.isfinite(view.vmax) and view.vmax > 0.0 else 100.0
+        unit = view.unit
         velocity = gui.add_slider(
-            f"Jog velocity [{view.unit}/s]",
+            f"Jog velocity [{unit}/s]",
             min=round(0.01 * vmax, 3),
             max=round(vmax, 3),
             step=round(0.01 * vmax, 3),
             initial_value=round(0.1 * vmax, 3),
         )
+        self.gate.allow(velocity, number_in(round(0.01 * vmax, 3), round(vmax, 3)))
+        self._scene_inputs.append(velocity)
 
         @velocity.on_update
         def _(event: viser.GuiEvent[viser.GuiSliderHandle[float]]) -> None:
@@ -562,22 +1106,69 @@ class ViewerApp:
             if current() and math.isfinite(value) and 0.0 < value <= vmax:
                 session.requests(name).jog_velocity = value
 
-        return _AxisWidgets(panel=panel, power=power, unit=view.unit, buttons=tuple(buttons))
+        step = gui.add_dropdown(f"Step [{unit}]", STEPS, initial_value="1")
+        self.gate.allow(step, choice_of(STEPS))
+        self._scene_inputs.append(step)
+        self._steps[name] = step
+        step_pos = button("Step+", icon=viser.Icon.CHEVRON_RIGHT, hint="Move by one step")
+        step_neg = button("Step−", icon=viser.Icon.CHEVRON_LEFT, hint="Move back one step")
+        target = number(f"Target [{unit}]", 0.0, -1e9, 1e9, 0.001)
+        distance = number(f"Distance [{unit}]", 10.0, -1e9, 1e9, 0.001)
+        move_velocity = number(f"Velocity [{unit}/s]", round(0.1 * vmax, 3), 1e-6, vmax, 0.001)
+        acceleration = number(f"Acceleration [{unit}/s²]", round(vmax, 3), 1e-6, 1e9, 0.001)
+        move_to = button("Move to", icon=viser.Icon.TARGET, hint="MC_MoveAbsolute to Target")
+        move_by = button("Move by", icon=viser.Icon.ARROWS_HORIZONTAL, hint="MC_MoveRelative")
 
-    def _place_camera(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        def move(kind: str, value: Callable[[], float]) -> Callable[[Any], None]:
+            def callback(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+                if current():
+                    session.requests(name).move(
+                        Move(
+                            kind,
+                            float(value()),
+                            float(move_velocity.value),
+                            float(acceleration.value),
+                        )
+                    )
+
+            return callback
+
+        move_to.on_click(move("absolute", lambda: target.value))
+        move_by.on_click(move("relative", lambda: distance.value))
+        step_pos.on_click(move("relative", lambda: float(step.value)))
+        step_neg.on_click(move("relative", lambda: -float(step.value)))
+
+        constants = view.constants
+        with gui.add_folder("Tuning", expand_by_default=False):
+            fields = {
+                field: number(
+                    label.replace("u", unit, 1) if "[" in label else label,
+                    float(getattr(constants, field)) if constants is not None else 0.0,
+                    low,
+                    high,
+                    0.001,
+                )
+                for field, label, low, high in TUNING
+            }
+            write = button("Write constants", icon=viser.Icon.DEVICE_FLOPPY, hint="GT_SetConstant")
+
+        @write.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            base = session.snapshot.axes[name].constants
+            if not current() or base is None:
+                return
+            values = {field: float(handle.value) for field, handle in fields.items()}
+            session.requests(name).write_constants(dataclasses.replace(base, **values))
+
+        return _AxisWidgets(panel=panel, power=power, unit=unit, buttons=tuple(buttons))
+
+    def _place_camera(self) -> None:
         """Aim the initial camera of new clients at the machine (everything but planes)."""
-        solid = np.asarray(model.geom_type) != mujoco.mjtGeom.mjGEOM_PLANE
-        if not solid.any():
+        if self._bounds is None:
             return
-        rbound = np.asarray(model.geom_rbound)[solid][:, None]
-        xpos = np.asarray(data.geom_xpos)[solid]
-        low, high = (xpos - rbound).min(axis=0), (xpos + rbound).max(axis=0)
-        center = 0.5 * (low + high)
-        radius = 0.5 * float(np.linalg.norm(high - low))
-        direction = np.array([0.9, -1.6, 0.9])
-        direction /= np.linalg.norm(direction)
+        center, radius = self._bounds
         self.server.initial_camera.look_at = center
-        self.server.initial_camera.position = center + 1.7 * radius * direction
+        self.server.initial_camera.position = _camera_position(center, radius, VIEWS["Fit"])
 
     # ------------------------------------------------------------------------- update loop
 
@@ -601,6 +1192,7 @@ class ViewerApp:
         failing = False
         while not self._stopping.is_set():
             try:
+                self.renew_holds()
                 self.frame()
                 failing = False
             except Exception:  # keep the viewer alive; the next frame starts afresh
@@ -633,21 +1225,34 @@ class ViewerApp:
                 else:
                     model_scene.reset_geom_color(geom)
         now = time.monotonic()
-        if now - self._last_panel >= self._panel_period:
+        slack = 0.5 * self._frame_period  # e.g. every third frame at 30 fps for 10 Hz
+        if now - self._last_panel >= self._panel_period - slack:
             self._last_panel = now
             self._update_panels(snapshot)
-        if now - self._last_plot >= self._plot_period:
+        if now - self._last_plot >= self._plot_period - slack:
             self._last_plot = now
-            self._update_plot(snapshot)
+            self._update_scope(snapshot)
         self._last = snapshot
         self.frames += 1
         self.frame_costs.append(time.perf_counter() - start)
 
+    def _control_text(self) -> str:
+        owner = self.control.owner
+        if owner is None:
+            text = "Nobody is in control: press <b>Take control</b> to operate."
+        else:
+            text = f"In control: <b>operator #{owner}</b> since {_utc(self.control.since)[:8]} UTC"
+        return f'<div style="font-size:0.85em;padding:0 0.75em">{text}</div>'
+
     def _update_panels(self, snapshot: Snapshot) -> None:
-        """Status line, demo, buttons and axis read-outs (only what changed is sent)."""
+        """Status line, control, demo, buttons, axis read-outs, history (only changes sent)."""
+        self.panel_updates += 1
         status = status_html(snapshot)
         if status != self._status_html:
             self._status_html = self._status.content = status
+        control = self._control_text()
+        if control != self._control_html:
+            self._control_html = self._control_status.content = control
         pause_label = "Resume" if snapshot.paused else "Pause"
         if pause_label != self._pause_label:
             self._pause_label = self._pause.label = pause_label
@@ -655,14 +1260,11 @@ class ViewerApp:
                 viser.Icon.PLAYER_PLAY if snapshot.paused else viser.Icon.PLAYER_PAUSE
             )
         demo = snapshot.demo
-        demo_label = "End demo" if demo.running else "Run demo"
-        if demo_label != self._demo_label:
-            self._demo_label = self._demo_button.label = demo_label
-            self._demo_button.icon = (
-                viser.Icon.PLAYER_STOP if demo.running else viser.Icon.PLAYER_PLAY
-            )
-        if self._demo_button.disabled == demo.available:
-            self._demo_button.disabled = not demo.available
+        startable = demo.available and not demo.running
+        if self._demo_button.disabled == startable:
+            self._demo_button.disabled = not startable
+        if self._end_demo.disabled == demo.running:
+            self._end_demo.disabled = not demo.running
         if not demo.available:
             text = "This scene has no demo program."
         elif demo.error:
@@ -672,6 +1274,8 @@ class ViewerApp:
             text = prefix + html.escape(demo.step)
         else:
             text = "Not started."
+        if snapshot.groups:
+            text += "<br>Axes group: " + html.escape(", ".join(snapshot.groups))
         demo_html = f'<div style="font-size:0.85em;padding:0 0.75em">{text}</div>'
         if demo_html != self._demo_html:
             self._demo_html = self._demo_step.content = demo_html
@@ -687,55 +1291,185 @@ class ViewerApp:
             signals = signals_html(snapshot)
             if signals != self._signals_html:
                 self._signals_html = self._signals.content = signals
+        if self._results is not None:
+            results = results_html(snapshot)
+            if results != self._results_html:
+                self._results_html = self._results.content = results
+        events = events_html(snapshot)
+        if events != self._events_html:
+            self._events_html = self._events.content = events
 
-    def _update_plot(self, snapshot: Snapshot) -> None:
-        """Following error and command of the selected axis over the last seconds."""
-        plot, choice = self._plot, self._plot_axis
-        if plot is None or choice is None:
+    def _update_scope(self, snapshot: Snapshot) -> None:
+        """The scope's traces over the time base; frozen while paused or after a trigger."""
+        plot, window_choice, trigger = self._scope_plot, self._scope_window, self._scope_trigger
+        if plot is None or window_choice is None or trigger is None:
             return
-        name = choice.value
-        series = snapshot.history.get(name)
-        if series is None or snapshot.time == self._plot_time:
+        window = float(window_choice.value.split()[0])
+        channels = snapshot.channels
+        index = {c.name: k for k, c in enumerate(channels)}
+        chosen = [t.value for t in self._scope_traces if t.value in index]
+        recorder = self.session.recorder
+        if recorder.channels != channels:
+            return  # the session moved on to another scene: the next snapshot rebuilds
+        status = "running"
+        if self._scope_paused:
+            status = "paused"
+            if self._scope_trigger_at is not None:
+                status = f"triggered at t = {self._scope_trigger_at:.3f} s"
+            names = tuple(self.scope_shown[0])
+            if names == tuple(_trace_name(channels[index[n]]) for n in chosen):
+                self._scope_status_text(status)
+                return
+            t, values = self._scope_frozen_window(recorder, window)
+        else:
+            t, values = recorder.series(since=snapshot.time - window)
+            if trigger.value != FREE_RUN and t.size:
+                at = self._find_trigger(trigger.value, index, t, values)
+                if at is not None:
+                    self._scope_trigger_at = at
+                    if t[-1] >= at + 0.5 * window:
+                        self._scope_paused = True
+                        t, values = self._scope_frozen_window(recorder, window)
+                        status = f"triggered at t = {at:.3f} s"
+                    else:
+                        status = f"triggered at t = {at:.3f} s, recording"
+                else:
+                    status = "armed: waiting for " + trigger.value
+        rows = [index[n] for n in chosen]
+        shown = values[rows] if rows else np.zeros((0, t.size))
+        names = tuple(_trace_name(channels[k]) for k in rows)
+        self.scope_shown = (names, t, shown)
+        self._scope_status_text(status)
+        if t.size < 2 or not rows:
             return
-        t, fe, volts = series
-        if t.size < 2:
-            return
-        self._plot_time = snapshot.time
-        title = f"{name}: following error and command"
-        unit = snapshot.axes[name].unit
+        units = tuple("0/1" if channels[k].digital else channels[k].unit for k in rows)
         with self.server.atomic():
-            if plot.title != title:
-                plot.title = title
-            if unit != self._plot_unit:
-                self._plot_unit = unit
-                plot.series, plot.axes = _plot_style(unit)
-            plot.data = (t, fe, volts)
+            if (names, units) != (self._scope_style[: len(names)], self._scope_style[len(names) :]):
+                self._scope_style = (*names, *units)
+                plot.series, plot.axes, plot.scales = _scope_style(names, units)
+                plot.title = " · ".join(names)
+            plot.data = (t, *shown)
+
+    def _scope_frozen_window(
+        self, recorder: Recorder, window: float
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """The samples of a triggered capture (trigger in the middle) or the last window."""
+        at = self._scope_trigger_at
+        t_shown = self.scope_shown[1]
+        if at is None:
+            end = float(t_shown[-1]) if t_shown.size else self.session.snapshot.time
+            t, values = recorder.series(since=end - window)
+            keep = t <= end
+            return t[keep], values[:, keep]
+        t, values = recorder.series(since=at - 0.5 * window)
+        keep = t <= at + 0.5 * window
+        return t[keep], values[:, keep]
+
+    def _find_trigger(
+        self,
+        mode: str,
+        index: dict[str, int],
+        t: npt.NDArray[np.float64],
+        values: npt.NDArray[np.float64],
+    ) -> float | None:
+        """Time [s] of the first trigger edge after arming (None: none yet)."""
+        if self._scope_trigger_at is not None:
+            return self._scope_trigger_at
+        if mode == ON_ERROR:
+            rows = [k for n, k in index.items() if n.endswith(" error") and "following" not in n]
+        else:
+            name = mode.removeprefix("rising: ")
+            rows = [index[name]] if name in index else []
+        fresh = t > self._scope_armed_since
+        for k in rows:
+            level = values[k] > 0.5
+            edges = np.flatnonzero(level[1:] & ~level[:-1] & fresh[1:]) + 1
+            if edges.size:
+                return float(t[edges[0]])
+        return None
+
+    def _scope_status_text(self, status: str) -> None:
+        if self._scope_status is None:
+            return
+        content = (
+            f'<div style="font-size:0.85em;padding:0 0.75em">Scope: {html.escape(status)}</div>'
+        )
+        if self._scope_status.content != content:
+            self._scope_status.content = content
 
     @property
-    def plot_labels(self) -> tuple[str, ...]:
-        """The series labels of the live plot (its units follow the selected axis)."""
-        return (
-            tuple(str(s.get("label", "")) for s in self._plot.series)
-            if self._plot is not None
-            else ()
+    def scope_status(self) -> str:
+        """The scope's state line (running, paused, armed, triggered at …)."""
+        return self._scope_status.content if self._scope_status is not None else ""
+
+
+def _applies(fault: mcl.faults.Fault, view: AxisView) -> bool:
+    """Whether an axis can have ``fault``: a switch it has, a drive and brake if it has one."""
+    if isinstance(fault, mcl.faults.SwitchStuck):
+        return fault.switch in view.switches
+    if fault.key() in ("drive", "brake", "analog_out"):
+        return view.has_drive
+    return True
+
+
+def _trace_name(channel: Channel) -> str:
+    """A scope trace's label: name and unit."""
+    return f"{channel.name} [{channel.unit}]" if channel.unit else f"{channel.name} [0/1]"
+
+
+def _scope_style(
+    names: Sequence[str], units: Sequence[str]
+) -> tuple[
+    tuple[viser.uplot.Series, ...], tuple[viser.uplot.Axis, ...], dict[str, viser.uplot.Scale]
+]:
+    """Series, axes and scales of the scope: one y scale per unit, the first two with axes."""
+    colors = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd")
+    distinct = list(dict.fromkeys(units))
+    series = [viser.uplot.Series(label="t [s]")]
+    for k, (name, unit) in enumerate(zip(names, units, strict=True)):
+        series.append(
+            viser.uplot.Series(label=name, stroke=colors[k % len(colors)], width=1.5, scale=unit)
         )
+    axes = [viser.uplot.Axis(label="t [s]")]
+    for k, unit in enumerate(distinct[:2]):
+        axes.append(
+            viser.uplot.Axis(
+                scale=unit, label=f"[{unit}]", side=3 if k == 0 else 1, grid={"show": k == 0}
+            )
+        )
+    scales = {"x": viser.uplot.Scale(time=False, auto=True)}
+    for unit in distinct:
+        scales[unit] = (
+            viser.uplot.Scale(auto=False, range=(-0.1, 1.1))
+            if unit == "0/1"
+            else viser.uplot.Scale(auto=True)
+        )
+    return tuple(series), tuple(axes), scales
 
 
-def _plot_style(unit: str) -> tuple[tuple[viser.uplot.Series, ...], tuple[viser.uplot.Axis, ...]]:
-    """Series and axes of the live plot for an axis whose user unit is ``unit``."""
-    series = (
-        viser.uplot.Series(label="t [s]"),
-        viser.uplot.Series(
-            label=f"following error [{unit}]", stroke="#d62728", width=1.5, scale="fe"
-        ),
-        viser.uplot.Series(label="command [V]", stroke="#1f77b4", width=1.0, scale="V"),
-    )
-    axes = (
-        viser.uplot.Axis(label="t [s]"),
-        viser.uplot.Axis(scale="fe", label=f"FE [{unit}]"),
-        viser.uplot.Axis(scale="V", side=1, label="U [V]", grid={"show": False}),
-    )
-    return series, axes
+def _machine_bounds(
+    model: mujoco.MjModel, data: mujoco.MjData
+) -> tuple[npt.NDArray[np.float64], float] | None:
+    """Centre [m] and radius [m] of the machine: every geom but planes and those more than
+    :data:`FRAME_OUTLIER` times the median size (an endless strip); None: nothing solid."""
+    rbound_all = np.asarray(model.geom_rbound)
+    solid = np.asarray(model.geom_type) != mujoco.mjtGeom.mjGEOM_PLANE
+    if not solid.any():
+        return None
+    solid &= rbound_all <= FRAME_OUTLIER * float(np.median(rbound_all[solid]))
+    rbound = rbound_all[solid][:, None]
+    xpos = np.asarray(data.geom_xpos)[solid]
+    low, high = (xpos - rbound).min(axis=0), (xpos + rbound).max(axis=0)
+    return 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))
+
+
+def _camera_position(
+    center: npt.NDArray[np.float64], radius: float, direction: Sequence[float]
+) -> npt.NDArray[np.float64]:
+    """Camera position [m] looking at ``center`` from ``direction`` at a distance that shows
+    a sphere of ``radius``."""
+    d = np.asarray(direction, dtype=np.float64)
+    return center + 1.7 * radius * d / np.linalg.norm(d)
 
 
 class Viewer:
@@ -750,10 +1484,18 @@ class Viewer:
         fps: Frame rate of the 3-D updates [Hz].
         environment_map: Light the scene with an HDRI environment map (slow without a GPU).
         session: Use this session instead of making one (it is started and closed here).
+        token: The secret every connection must present: ``True`` makes a fresh one
+            (:func:`~viewer.security.make_token`), a string uses it, ``False`` serves without
+            one (loopback only).
+        allowed_hosts: Further host names the viewer may be reached under (a DNS name).
+
+    Every request and websocket passes :class:`~viewer.security.AccessPolicy` (same origin,
+    expected Host, token, security headers); :attr:`url` carries the token.
 
     Raises:
         PortInUseError: If the port is taken.
         OSError: If the address cannot be served for another reason (see :func:`port_available`).
+        ValueError: If ``token`` is False and ``host`` is not a loopback address.
     """
 
     def __init__(
@@ -767,13 +1509,20 @@ class Viewer:
         fps: float = 30.0,
         environment_map: bool = False,
         session: Session | None = None,
+        token: bool | str = True,
+        allowed_hosts: Iterable[str] = (),
     ) -> None:
+        secret = make_token() if token is True else (token or None)
+        self.policy = AccessPolicy(host, port, secret, allowed_hosts, BoundedLog())
+        """The checks every request passes."""
         if not port_available(host, port):
             raise PortInUseError(
                 errno.EADDRINUSE, f"port {port} on {host} is already in use; choose another --port"
             )
         self.session = session if session is not None else Session(scene, speed=speed)
-        self.server = viser.ViserServer(host=host, port=port, label="mcl testbench", verbose=False)
+        self.server = secure_server(
+            self.policy, host=host, port=port, label="mcl testbench", verbose=False
+        )
         try:
             if port and self.server.get_port() != port:  # viser moved on to another port
                 raise PortInUseError(
@@ -781,7 +1530,11 @@ class Viewer:
                     f"port {port} on {host} is already in use; choose another --port",
                 )
             self.app = ViewerApp(
-                self.session, self.server, fps=fps, environment_map=environment_map
+                self.session,
+                self.server,
+                fps=fps,
+                environment_map=environment_map,
+                log=self.policy.log,
             )
             if demo and self.session.demo_available():
                 self.session.start_demo()
@@ -804,9 +1557,29 @@ class Viewer:
 
     @property
     def url(self) -> str:
-        """Address to open in a browser."""
-        host = self.host
-        return f"http://[{host}]:{self.port}" if ":" in host else f"http://{host}:{self.port}"
+        """Address to open in a browser, with the token (the machine's real address when it
+        binds every interface)."""
+        return self.policy.url()
+
+    @property
+    def token(self) -> str | None:
+        """The secret of this start (None: served without one, loopback only)."""
+        return self.policy.token
+
+    @property
+    def exposed(self) -> bool:
+        """The viewer is reachable from other machines (it binds beyond loopback)."""
+        return not is_loopback(self.host)
+
+    def warning(self) -> str:
+        """What to tell when the viewer binds beyond loopback (empty on loopback)."""
+        if not self.exposed:
+            return ""
+        return (
+            f"WARNING: the viewer is reachable from the network, not just this machine. Open "
+            f"{self.url} ; anyone with this address (and its token) can operate the machine. "
+            f"Bind 127.0.0.1 to serve this machine only."
+        )
 
     def close(self) -> None:
         """Stop the update loop, the simulation thread and the server (frees the port)."""

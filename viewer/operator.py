@@ -9,14 +9,26 @@ Power          ``MC_Power``; a toggle: the request becomes "on" if the axis is D
                Until the operator first presses it the block is not called, so a running demo
                program keeps power in its own hands.
 Reset          ``MC_Reset``: Execute from the request until Done or Error, then released.
-Home           the scene's ``HomingRecipe`` through ``scenes.procedures.HomeAxis``: Execute until
+Home           the chosen homing procedure (:data:`HOMING_PROCEDURES`): the scene's
+               ``HomingRecipe`` through ``scenes.procedures.HomeAxis``, or ``MC_StepRefPulse`` on
+               the next index pulse in either direction, or ``MC_StepDirect`` (set the position
+               without moving); Execute until
                it is no longer Busy (Done, Error or aborted), then released.
 Jog+ / Jog−    ``GT_Jog`` (levels JogPos / JogNeg): a request is a dead-man deadline
                (:data:`DEADMAN` [s] of wall time) that every hold message of the browser refreshes;
                when it runs out — button released, tab closed, network gone — the jog stops.
 Stop           ``MC_Stop``: Execute from the request until Done (or Error), then released so that
                the axis leaves Stopping.
+Move           ``MC_MoveAbsolute`` (to a position) or ``MC_MoveRelative`` (by a distance) with the
+               operator's velocity and acceleration; a new move aborts the last one.
+Write          ``GT_SetConstant`` with the operator's servo constants (tuning).
+Release group  every axes group the scene's axes belong to: ``MC_GroupReset`` (from
+               GroupErrorStop), ``MC_GroupDisable`` (the group ramps to standstill), then
+               ``MC_UngroupAllAxes``: the axes can be jogged, moved and homed one by one again.
 =============  ===================================================================================
+
+A command a block refuses (an Error with its ErrorID) is reported through ``on_error`` (axis and
+text), so the panel can keep a history of refused commands and axis errors.
 
 Every scan also calls ``GT_AxStatusString`` and ``GT_AxErrStringEN`` for the panel's texts.
 """
@@ -38,8 +50,18 @@ DEADMAN = 0.2
 DEFAULT_JOG_FRACTION = 0.1
 """Default jog velocity as a fraction of the axis' Vmax (velocity at 10 V)."""
 
+HOMING_PROCEDURES = ("recipe", "index pulse +", "index pulse −", "set position (no motion)")
+"""Homing procedures of the Home button: the machine's recipe (REF and index, only where the
+definition gives one), MC_StepRefPulse in the positive or negative direction, MC_StepDirect."""
+
+INDEX_FRACTION = 0.02
+"""Index-search velocity of the index-pulse procedures without a recipe, as a fraction of Vmax."""
+
 Clock = Callable[[], float]
 """Monotonic wall clock [s]."""
+
+ErrorSink = Callable[[str, str], None]
+"""Hears of a refused command: (axis name, text)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,21 +72,54 @@ class Requests:
         power: ``True``/``False`` to switch the drive on/off, ``None``: no change of hands.
         toggle_power: a Power press to be resolved against the axis state.
         reset: a Reset press.
-        home: a Home press.
+        home: a Home press: (procedure of :data:`HOMING_PROCEDURES`, home position [u], used by
+            the index-pulse procedures and set position); None: none.
         stop: a Stop press.
         jog_pos: Jog+ is held (its dead-man deadline has not run out).
         jog_neg: Jog− is held.
         jog_velocity: jog velocity [u/s]; 0 = the default (a tenth of Vmax).
+        move: a move press: (``"absolute"`` or ``"relative"``, position or distance [u],
+            velocity [u/s], acceleration [u/s²]); None: none.
+        constants: servo constants to write with GT_SetConstant; None: none.
     """
 
     power: bool | None
     toggle_power: bool
     reset: bool
-    home: bool
+    home: tuple[str, float] | None
     stop: bool
     jog_pos: bool
     jog_neg: bool
     jog_velocity: float
+    move: Move | None = None
+    constants: mcl.ServoConstants | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Move:
+    """A move the operator asked for.
+
+    Attributes:
+        kind: ``"absolute"`` (to ``target``) or ``"relative"`` (by ``target``).
+        target: position or distance [u].
+        velocity: [u/s], > 0.
+        acceleration: acceleration and deceleration [u/s²], > 0.
+    """
+
+    kind: str
+    target: float
+    velocity: float
+    acceleration: float
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("absolute", "relative"):
+            raise ValueError(f"move kind must be 'absolute' or 'relative', got {self.kind!r}")
+        if not math.isfinite(self.target):
+            raise ValueError(f"move target must be a finite number, got {self.target}")
+        for name in ("velocity", "acceleration"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"move {name} must be a finite number > 0, got {value}")
 
 
 class AxisRequests:
@@ -85,10 +140,12 @@ class AxisRequests:
         self._power: bool | None = None
         self._toggle = False
         self._reset = False
-        self._home = False
+        self._home: tuple[str, float] | None = None
         self._stop = False
         self._jog_until = {1: -math.inf, -1: -math.inf}
         self._jog_velocity = 0.0
+        self._move: Move | None = None
+        self._constants: mcl.ServoConstants | None = None
 
     def set_power(self, on: bool) -> None:
         """Request the drive on (``True``) or off (``False``)."""
@@ -112,15 +169,36 @@ class AxisRequests:
         with self._lock:
             self._reset = True
 
-    def home(self) -> None:
-        """The Home button (the scene's homing recipe)."""
+    def home(self, procedure: str = "recipe", position: float = 0.0) -> None:
+        """The Home button: run ``procedure`` (one of :data:`HOMING_PROCEDURES`); ``position``
+        [u] is the coordinate an index-pulse procedure or set position gives the axis.
+
+        Raises:
+            ValueError: An unknown procedure or a position that is not finite.
+        """
+        if procedure not in HOMING_PROCEDURES:
+            raise ValueError(
+                f"homing procedure must be one of {HOMING_PROCEDURES}, got {procedure!r}"
+            )
+        if not math.isfinite(position):
+            raise ValueError(f"home position must be a finite number, got {position}")
         with self._lock:
-            self._home = True
+            self._home = (procedure, float(position))
 
     def stop(self) -> None:
         """The Stop button (MC_Stop)."""
         with self._lock:
             self._stop = True
+
+    def move(self, move: Move) -> None:
+        """The Move button: move to a position or by a distance (replaces a pending press)."""
+        with self._lock:
+            self._move = move
+
+    def write_constants(self, constants: mcl.ServoConstants) -> None:
+        """The Write button of the tuning panel (GT_SetConstant checks the values)."""
+        with self._lock:
+            self._constants = constants
 
     def jog(self, direction: int) -> None:
         """Hold Jog+ (``direction`` > 0) or Jog− (< 0) for another :data:`DEADMAN` seconds.
@@ -164,8 +242,13 @@ class AxisRequests:
                 jog_pos=now < self._jog_until[1],
                 jog_neg=now < self._jog_until[-1],
                 jog_velocity=self._jog_velocity,
+                move=self._move,
+                constants=self._constants,
             )
-            self._toggle = self._reset = self._home = self._stop = False
+            self._toggle = self._reset = self._stop = False
+            self._home = None
+            self._move = None
+            self._constants = None
         return requests
 
 
@@ -176,16 +259,37 @@ class AxisOperator:
         axis: The axis.
         requests: Its request flags.
         recipe: Its homing recipe; ``None``: the Home button reports that there is none.
+        on_error: Hears of every refused command and failed procedure: (axis name, text).
     """
 
-    def __init__(self, axis: mcl.Axis, requests: AxisRequests, recipe: HomingRecipe | None) -> None:
+    def __init__(
+        self,
+        axis: mcl.Axis,
+        requests: AxisRequests,
+        recipe: HomingRecipe | None,
+        on_error: ErrorSink | None = None,
+    ) -> None:
         self.axis = axis
         self.requests = requests
         self.power = mcl.MC_Power()
         self.reset = mcl.MC_Reset()
-        self.home = HomeAxis(axis, recipe) if recipe is not None else None
+        self.recipe = HomeAxis(axis, recipe) if recipe is not None else None
+        self.index_pulse = mcl.MC_StepRefPulse(Axis=axis)
+        self.set_position = mcl.MC_StepDirect(Axis=axis)
+        self.home: HomeAxis | mcl.MC_StepRefPulse | mcl.MC_StepDirect | None = None
+        """The homing procedure running or last run (None: none yet)."""
         self.jog = mcl.GT_Jog()
         self.stop = mcl.MC_Stop()
+        self.move_absolute = mcl.MC_MoveAbsolute()
+        self.move_relative = mcl.MC_MoveRelative()
+        self.set_constant = mcl.GT_SetConstant()
+        self._on_error = on_error
+        self.moving: mcl.MC_MoveAbsolute | mcl.MC_MoveRelative | None = None
+        """The move block the operator last started (None: no move of the operator)."""
+        self.group_stop = False
+        """Stop was pressed on a group member: the program releases its group."""
+        self.last_error = ""
+        """The last refused command, e.g. ``"Jog+: error 1000 (...)"`` (empty: none)."""
         self.status = mcl.GT_AxStatusString()
         self.error_text = mcl.GT_AxErrStringEN()
         self.power_request: bool | None = None
@@ -226,15 +330,12 @@ class AxisOperator:
                 self.resetting = False
                 self._report("Reset", self.reset.ErrorID)
 
-        if r.home:
-            if self.home is None:
-                self.message = "Home: no homing recipe for this axis"
-            else:
-                self.homing = True
+        if r.home is not None and not self.homing:
+            self._start_homing(*r.home)
         home = self.home
-        if home is not None and (self.homing or home.Busy or home.approach.Execute):
-            home(Execute=self.homing)
-            if self.homing and not home.Busy:
+        if home is not None and self.homing:
+            home(Execute=True)
+            if not home.Busy:
                 self.homing = False
                 if home.Done:
                     self.message = "Home: done"
@@ -242,6 +343,7 @@ class AxisOperator:
                     self._report("Home", home.ErrorID)
                 else:
                     self.message = "Home: aborted"
+                home(Execute=False)
 
         jog_pos, jog_neg = r.jog_pos, r.jog_neg
         if jog_pos or jog_neg or self.jog.Enable:
@@ -256,8 +358,38 @@ class AxisOperator:
             if self.jog.Error:
                 self._report("Jog+" if jog_pos else "Jog−", self.jog.ErrorID)
 
-        if r.stop:
-            self.stopping = True
+        move = r.move
+        if move is not None:
+            block = self.move_absolute if move.kind == "absolute" else self.move_relative
+            if self.moving is not None:
+                self.moving(Axis=axis, Execute=False)  # a fresh rising edge for the new move
+            target = {"Position" if move.kind == "absolute" else "Distance": move.target}
+            block(
+                Axis=axis,
+                Execute=True,
+                Velocity=move.velocity,
+                Acceleration=move.acceleration,
+                Deceleration=move.acceleration,
+                **target,
+            )
+            self.moving = block
+            self._check_move(block)
+        elif self.moving is not None:
+            self.moving(Axis=axis, Execute=True)
+            self._check_move(self.moving)
+
+        if r.constants is not None:
+            values = {f: getattr(r.constants, f) for f in mcl.GT_SetConstant.INPUTS}
+            self.set_constant(Axis=axis, Execute=True, **values)
+            self._report("Write constants", self.set_constant.ErrorID)
+            self.set_constant(Axis=axis, Execute=False)
+
+        if r.stop and axis.has_drive:
+            if axis.group is not None:
+                self.message = "Stop: the axis' group ramps down and is released"
+                self.group_stop = True
+            else:
+                self.stopping = True
         if self.stopping or self.stop.Execute:
             self.stop(Axis=axis, Execute=self.stopping)
             if self.stopping and (self.stop.Done or self.stop.Error):
@@ -272,20 +404,108 @@ class AxisOperator:
         vmax = constants.Vmax if constants is not None else 0.0
         return DEFAULT_JOG_FRACTION * vmax
 
+    def _start_homing(self, procedure: str, position: float) -> None:
+        """Set up the chosen homing procedure (called by the scan that takes the press)."""
+        axis = self.axis
+        if procedure == "recipe":
+            if self.recipe is None:
+                self.message = "Home: no homing recipe for this axis"
+                return
+            self.home = self.recipe
+        elif procedure == "set position (no motion)":
+            self.set_position.SetPosition = position
+            self.home = self.set_position
+        else:
+            pulse = self.index_pulse
+            pulse.Direction = (
+                mcl.MC_Direction.MC_Positive
+                if procedure.endswith("+")
+                else mcl.MC_Direction.MC_Negative
+            )
+            recipe = self.recipe.recipe if self.recipe is not None else None
+            constants = axis.constants
+            vmax = constants.Vmax if constants is not None else 0.0
+            pulse.Velocity = recipe.index_velocity if recipe is not None else INDEX_FRACTION * vmax
+            pulse.SetPosition = position
+            self.home = pulse
+        self.homing = True
+
+    def _check_move(self, block: mcl.MC_MoveAbsolute | mcl.MC_MoveRelative) -> None:
+        """Report a move that ended (Done, Error or aborted) and release its Execute."""
+        if block.Busy:
+            return
+        name = "Move to" if block is self.move_absolute else "Move by"
+        if block.Error:
+            self._report(name, block.ErrorID)
+        elif block.Done:
+            self.message = f"{name}: done"
+        else:
+            self.message = f"{name}: aborted"
+        block(Axis=self.axis, Execute=False)
+        self.moving = None
+
     def _report(self, command: str, error_id: int) -> None:
         if error_id:
             self.message = f"{command}: error {error_id} ({mcl.error_text(error_id)})"
+            self.last_error = self.message
+            if self._on_error is not None:
+                self._on_error(self.axis.name, self.message)
         else:
             self.message = f"{command}: done"
 
 
+class GroupRelease:
+    """Takes one axes group apart (one PLC scan per call): MC_GroupReset if it is in
+    GroupErrorStop, MC_GroupDisable (its motion ramps to standstill), MC_UngroupAllAxes.
+
+    Args:
+        group: The group.
+        on_error: Hears of a refusal: ("group <name>", text).
+    """
+
+    def __init__(self, group: mcl.AxesGroup, on_error: ErrorSink | None = None) -> None:
+        self.group = group
+        self.reset = mcl.MC_GroupReset(AxesGroup=group)
+        self.disable = mcl.MC_GroupDisable(AxesGroup=group)
+        self.ungroup = mcl.MC_UngroupAllAxes(AxesGroup=group)
+        self._on_error = on_error
+        self._steps: list[mcl.MC_GroupReset | mcl.MC_GroupDisable | mcl.MC_UngroupAllAxes] = []
+        if group.state == mcl.GroupState.GroupErrorStop:
+            self._steps.append(self.reset)
+        self._steps += [self.disable, self.ungroup]
+        self.done = False
+        """The group is empty (or the release ended with an error)."""
+
+    def __call__(self) -> None:
+        """One scan: the current step until Done or Error, then the next."""
+        if self.done:
+            return
+        block = self._steps[0]
+        block(Execute=True)
+        if block.Error:
+            if self._on_error is not None:
+                name = type(block).__name__
+                self._on_error(
+                    f"group {self.group.name}",
+                    f"{name}: error {block.ErrorID} ({mcl.error_text(block.ErrorID)})",
+                )
+            block(Execute=False)
+            self.done = True
+        elif block.Done:
+            block(Execute=False)
+            self._steps.pop(0)
+            self.done = not self._steps
+
+
 class OperatorProgram:
-    """The operator PLC program of a scene: one :class:`AxisOperator` per axis.
+    """The operator PLC program of a scene: one :class:`AxisOperator` per axis, and the release
+    of axes groups.
 
     Args:
         axes: The scene's axes by name.
         recipes: Homing recipes by axis name (axes without one cannot be homed).
         clock: Monotonic wall clock [s] for the jog dead-man deadlines.
+        on_error: Hears of every refused command: (axis or group, text).
     """
 
     def __init__(
@@ -293,20 +513,61 @@ class OperatorProgram:
         axes: Mapping[str, mcl.Axis],
         recipes: Mapping[str, HomingRecipe],
         clock: Clock = time.monotonic,
+        on_error: ErrorSink | None = None,
     ) -> None:
         self.requests = {name: AxisRequests(clock) for name in axes}
         """Request flags by axis name (the only thing the GUI writes)."""
         self.axes = {
-            name: AxisOperator(axis, self.requests[name], recipes.get(name))
+            name: AxisOperator(axis, self.requests[name], recipes.get(name), on_error)
             for name, axis in axes.items()
         }
         """Function blocks by axis name."""
         self._operators = list(self.axes.values())
+        self._on_error = on_error
+        self._release = threading.Event()
+        self.releasing: list[GroupRelease] = []
+        """Groups being taken apart."""
+
+    def groups(self) -> list[mcl.AxesGroup]:
+        """The axes groups the scene's axes belong to now."""
+        found: list[mcl.AxesGroup] = []
+        for operator in self._operators:
+            group = operator.axis.group
+            if isinstance(group, mcl.AxesGroup) and group not in found:
+                found.append(group)
+        return found
+
+    def release_groups(self) -> None:
+        """Take every axes group apart at the next scan (thread-safe)."""
+        self._release.set()
+
+    def stop_all(self) -> None:
+        """STOP for every axis (called from the PLC thread between two scans): jogs released,
+        groups taken apart (their motion ramps down), MC_Stop on every powered driven axis
+        outside a group."""
+        for name, requests in self.requests.items():
+            requests.release_jog()
+            if self.axes[name].axis.state != mcl.AxisState.Disabled:
+                requests.stop()
+        self._release.set()
 
     def __call__(self) -> None:
-        """One PLC scan of every axis' operator blocks."""
+        """One PLC scan: group releases first, then every axis' operator blocks."""
+        if self._release.is_set():
+            self._release.clear()
+            busy = {r.group for r in self.releasing}
+            self.releasing += [
+                GroupRelease(g, self._on_error) for g in self.groups() if g not in busy
+            ]
+        if self.releasing:
+            for release in self.releasing:
+                release()
+            self.releasing = [r for r in self.releasing if not r.done]
         for operator in self._operators:
             operator()
+            if operator.group_stop:
+                operator.group_stop = False
+                self._release.set()
 
     def release_power(self) -> None:
         """Hand every drive back to the other program (called from the PLC thread)."""

@@ -16,6 +16,7 @@ between two PLC cycles, so they never race with a running cycle.
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import queue
@@ -32,6 +33,7 @@ import numpy as np
 import numpy.typing as npt
 
 import mcl
+import mcl.faults
 import scenes
 from scenes import DemoProgram, MachineDef
 from scenes.plant import MujocoAxisIO
@@ -51,11 +53,49 @@ MAX_BATCH_WALL = 0.01
 """Wall time [s] after which the simulation thread interrupts a run of PLC cycles to apply
 commands and publish a snapshot."""
 
-HISTORY_SECONDS = 4.0
-"""Simulated seconds of following error and volts kept for the live plot."""
-
 HISTORY_SAMPLE = 0.004
-"""Sampling period [s] of simulated time of the plot history (rounded to whole PLC cycles)."""
+"""Sampling period [s] of simulated time of the scope channels (rounded to whole PLC cycles)."""
+
+SCOPE_SECONDS = 10.0
+"""Simulated seconds every scope channel keeps."""
+
+EVENTS_KEPT = 200
+"""Entries of the error history kept (oldest dropped)."""
+
+RESULTS_SHOWN = 10
+"""Rows of a demo's results table a snapshot carries (the last ones)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Event:
+    """One entry of the error history: an axis error, a refused command, a refused page.
+
+    Attributes:
+        wall: Wall-clock time [s since the epoch] (shown as UTC).
+        time: Simulated time [s].
+        source: Axis, group or ``"viewer"``.
+        text: What happened.
+    """
+
+    wall: float
+    time: float
+    source: str
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class Channel:
+    """One signal the scope can show.
+
+    Attributes:
+        name: ``"X position"``, ``"X LIM+"``, ``"pressure_A"``.
+        unit: ``"mm"``, ``"V"``, ``""`` for a digital signal (0 or 1).
+        digital: It is 0 or 1 (edges can trigger the scope).
+    """
+
+    name: str
+    unit: str
+    digital: bool
 
 
 @dataclass(frozen=True, slots=True)
@@ -94,6 +134,9 @@ class AxisView:
         homing: The operator's homing procedure runs.
         stopping: The operator's MC_Stop is executing.
         message: Outcome of the operator's last command.
+        last_error: The operator's last refused command with its error (empty: none).
+        group: Name of the axes group the axis belongs to (empty: none).
+        constants: The axis' servo constants (None before they are set).
     """
 
     name: str
@@ -124,6 +167,9 @@ class AxisView:
     homing: bool
     stopping: bool
     message: str
+    last_error: str = ""
+    group: str = ""
+    constants: mcl.ServoConstants | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -181,13 +227,16 @@ class Snapshot:
         axes: Axis views by axis name, in the scene's order.
         signals: The machine's published signals (``scene.signals``) in definition order;
             empty if it publishes none.
-        history: Per axis: sample times [s], following error [u], volts [V] of the last
-            :data:`HISTORY_SECONDS` of simulated time, oldest first.
         paused: The simulation is paused.
         speed: Requested speed: simulated seconds per wall second (``inf``: as fast as possible).
         realtime_factor: Achieved simulated seconds per wall second over the last second.
         demo: State of the demo program.
         fault: Text of an exception that paused the simulation (empty: none).
+        events: The error history, newest last (:data:`EVENTS_KEPT` at most).
+        results: The demo's results table: (column names, last :data:`RESULTS_SHOWN` rows as
+            texts); empty when the demo exposes none (see ``DemoProgram`` in scenes.machine).
+        channels: The scope channels of the scene (:class:`Recorder`).
+        groups: Names of the axes groups the axes belong to now.
     """
 
     generation: int
@@ -201,51 +250,119 @@ class Snapshot:
     xquat: npt.NDArray[np.float64]
     axes: Mapping[str, AxisView]
     signals: tuple[SignalView, ...]
-    history: Mapping[str, tuple[npt.NDArray[np.float64], ...]]
     paused: bool
     speed: float
     realtime_factor: float
     demo: DemoView
     fault: str
+    events: tuple[Event, ...] = ()
+    results: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]] = ((), ())
+    channels: tuple[Channel, ...] = ()
+    groups: tuple[str, ...] = ()
 
 
-class History:
-    """Ring buffer of following error and volts per axis, sampled every few PLC cycles.
+class Recorder:
+    """Every scope channel of a scene on one time base, in a ring buffer (thread-safe).
+
+    Per axis: position, set point, velocity, following error and command [V] (the last three
+    only with a drive), its switch inputs, index, digital outputs and an error flag (AxErrorID
+    ≠ 0); then the machine's published signals.
 
     Args:
-        axes: The axes by name.
-        length: Number of samples kept.
+        scene: The scene.
+        info: What the machine definition says about each axis (its switches).
+        length: Samples kept per channel.
     """
 
-    def __init__(self, axes: Mapping[str, mcl.Axis], length: int) -> None:
-        self._axes = list(axes.values())
-        self._names = list(axes)
+    def __init__(self, scene: Scene, info: Mapping[str, _AxisInfo], length: int) -> None:
+        channels: list[Channel] = []
+        readers: list[Callable[[], float]] = []
+
+        def add(name: str, unit: str, digital: bool, read: Callable[[], float]) -> None:
+            channels.append(Channel(name, unit, digital))
+            readers.append(read)
+
+        for name, axis in scene.axes.items():
+            unit = axis.config.unit
+            io = axis.io
+            add(f"{name} position", unit, False, functools.partial(_attribute, axis, "POS"))
+            if axis.has_drive:
+                add(f"{name} set point", unit, False, functools.partial(_set_point, axis))
+            add(f"{name} velocity", f"{unit}/s", False, functools.partial(_attribute, axis, "VEL"))
+            if axis.has_drive:
+                fe = functools.partial(_attribute, axis, "following_error")
+                add(f"{name} following error", unit, False, fe)
+                add(f"{name} command", "V", False, functools.partial(_attribute, axis, "volts"))
+            for switch in info[name].switches:
+                label = {"lim_neg": "LIM-", "lim_pos": "LIM+", "ref": "REF"}.get(switch, switch)
+                add(f"{name} {label}", "", True, functools.partial(_attribute, io, switch))
+            add(f"{name} index", "", True, functools.partial(_attribute, io, "index"))
+            for k in range(len(io.outputs)):
+                add(f"{name} DO{k}", "", True, functools.partial(_output, io, k))
+            add(f"{name} error", "", True, functools.partial(_axis_error, axis))
+        for signal_name, signal in scene.signals.items():
+            add(signal_name, signal.unit, False, _signal_reader(scene, signal.read))
+        self.channels = tuple(channels)
+        """The channels, in the order of :meth:`series`' rows."""
+        self._readers = readers
         self._length = max(int(length), 2)
         self._t = np.zeros(self._length)
-        self._values = np.zeros((len(self._axes), 2, self._length))
+        self._values = np.zeros((len(channels), self._length))
         self._next = 0
         self._count = 0
+        self._lock = threading.Lock()
 
     def record(self, t: float) -> None:
-        """Store one sample taken at simulated time ``t`` [s]."""
-        k = self._next
-        self._t[k] = t
-        values = self._values
-        for i, axis in enumerate(self._axes):
-            values[i, 0, k] = axis.following_error
-            values[i, 1, k] = axis.volts
-        self._next = (k + 1) % self._length
-        self._count = min(self._count + 1, self._length)
+        """Store one sample of every channel taken at simulated time ``t`` [s]."""
+        row = [read() for read in self._readers]
+        with self._lock:
+            k = self._next
+            self._t[k] = t
+            self._values[:, k] = row
+            self._next = (k + 1) % self._length
+            self._count = min(self._count + 1, self._length)
 
-    def series(self) -> dict[str, tuple[npt.NDArray[np.float64], ...]]:
-        """Copies of the recorded samples, oldest first: ``{axis: (t, fe, volts)}``."""
-        n, k = self._count, self._next
-        order = np.arange(k - n, k) % self._length
-        t = self._t[order]
-        return {
-            name: (t, self._values[i, 0, order], self._values[i, 1, order])
-            for i, name in enumerate(self._names)
-        }
+    def series(self, since: float = -math.inf) -> tuple[npt.NDArray[np.float64], ...]:
+        """Copies of the samples at or after ``since`` [s], oldest first: ``(t, values)`` with
+        values of shape (channels, samples)."""
+        with self._lock:
+            n, k = self._count, self._next
+            order = np.arange(k - n, k) % self._length
+            t = self._t[order]
+            keep = t >= since
+            return t[keep], self._values[:, order[keep]]
+
+
+def _attribute(owner: object, name: str) -> float:
+    """A number or flag attribute as a float (a flag: 0 or 1)."""
+    return float(getattr(owner, name))
+
+
+def _set_point(axis: mcl.Axis) -> float:
+    """An axis' set point [u]: actual position plus following error."""
+    return axis.POS + axis.following_error
+
+
+def _output(io: mcl.channel.AxisChannel, k: int) -> float:
+    """Digital output ``k`` of a channel: 0 or 1."""
+    return float(bool(io.outputs[k]))
+
+
+def _axis_error(axis: mcl.Axis) -> float:
+    """1 while the axis has an error (AxErrorID ≠ 0), else 0."""
+    return float(axis.AxErrorID != 0)
+
+
+def _signal_reader(scene: Scene, read: Callable[[Scene], float]) -> Callable[[], float]:
+    """A published signal as a scope reader (NaN when reading it fails)."""
+
+    def reader() -> float:
+        try:
+            return float(read(scene))
+        except Exception:
+            return math.nan
+
+    return reader
 
 
 @dataclass(frozen=True, slots=True)
@@ -324,6 +441,8 @@ class Session:
         self._demo_done_seen = False
         self._demo_step = ""
         self._demo_error = ""
+        self._events: deque[Event] = deque(maxlen=EVENTS_KEPT)
+        self._results: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]] = ((), ())
         self._install(scene, self._scene, self._operator)
 
     # ------------------------------------------------------------------------------ building
@@ -332,7 +451,9 @@ class Session:
         """Load a scene and make its operator program (in the calling thread)."""
         definition = scenes.definition(name)
         scene = scenes.load(name, **self._overrides)
-        return scene, OperatorProgram(scene.axes, definition.homing, self._clock)
+        return scene, OperatorProgram(
+            scene.axes, definition.homing, self._clock, on_error=self.record_event
+        )
 
     def _install(self, name: str, scene: Scene, operator: OperatorProgram) -> None:
         """Make a freshly built scene the running one (simulation thread or not yet running)."""
@@ -350,7 +471,11 @@ class Session:
         plc = scene.runtime.plc_period
         self._record_every = max(1, round(HISTORY_SAMPLE / plc))
         self._scan_count = 0
-        self._history = History(scene.axes, round(HISTORY_SECONDS / (plc * self._record_every)) + 1)
+        self._recorder = Recorder(
+            scene, self._axis_info, round(SCOPE_SECONDS / (plc * self._record_every)) + 1
+        )
+        self._axis_errors = {name: axis.AxErrorID for name, axis in scene.axes.items()}
+        self._results = ((), ())
         self._generation += 1
         self._fault = ""
         self._rebase = True
@@ -408,6 +533,15 @@ class Session:
     def running(self) -> bool:
         """Whether the simulation thread is alive."""
         return self._thread is not None and self._thread.is_alive()
+
+    @property
+    def recorder(self) -> Recorder:
+        """The scope channels of the current scene (read from any thread)."""
+        return self._recorder
+
+    def record_event(self, source: str, text: str) -> None:
+        """Add an entry to the error history (from any thread)."""
+        self._events.append(Event(time.time(), self._scene.time, source, text))
 
     def demo_available(self) -> bool:
         """Whether the current scene has a demo program."""
@@ -530,12 +664,63 @@ class Session:
         self._post(apply)
 
     def end_demo(self) -> None:
-        """Stop calling the demo program (its function blocks keep their last state)."""
+        """Stop calling the demo program and take its axes groups apart, so that every axis
+        can be homed, jogged and moved again (the axes keep power and reference)."""
 
         def apply() -> None:
             self._demo = None
+            self._operator.release_groups()
 
         self._post(apply)
+
+    def release_groups(self) -> None:
+        """The Release group button: take every axes group apart (its motion ramps down)."""
+        self._post(self._operator.release_groups)
+
+    def stop_all(self) -> None:
+        """STOP for all axes: ends the demo, releases jogs and groups (their motion ramps
+        down), MC_Stop on every other driven axis."""
+
+        def apply() -> None:
+            self._demo = None
+            self._operator.stop_all()
+
+        self.record_event("viewer", "STOP all axes")
+        self._post(apply)
+
+    def inject(self, axis: str, fault: mcl.faults.Fault) -> None:
+        """Inject ``fault`` on ``axis`` through ``scene.faults`` (between two PLC cycles).
+
+        Raises:
+            KeyError: If the scene has no such axis.
+        """
+        self.requests(axis)
+
+        def apply() -> None:
+            self._scene.faults.set(axis, fault)
+
+        self.record_event(axis, f"fault injected: {fault!r}")
+        self._post(apply)
+
+    def clear_faults(self, axis: str) -> None:
+        """Clear every injected fault of ``axis``.
+
+        Raises:
+            KeyError: If the scene has no such axis.
+        """
+        self.requests(axis)
+
+        def apply() -> None:
+            faults = self._scene.faults
+            for fault in faults.active(axis):
+                faults.clear(axis, fault)
+
+        self.record_event(axis, "faults cleared")
+        self._post(apply)
+
+    def active_faults(self, axis: str) -> list[mcl.faults.Fault]:
+        """The faults set on ``axis`` now."""
+        return list(self._scene.faults.active(axis))
 
     def toggle_power(self, axis: str) -> None:
         """The Power button of an axis: ends a running demo, then toggles the drive.
@@ -557,7 +742,7 @@ class Session:
     # ------------------------------------------------------------------------------ running
 
     def _scan(self) -> None:
-        """One PLC scan: demo program (while it runs), operator program, plot history."""
+        """One PLC scan: demo program (while it runs), operator program, scope channels."""
         demo = self._demo
         if demo is not None and not demo.done:
             try:
@@ -570,11 +755,23 @@ class Session:
                 self._demo_step = str(getattr(demo, "step", self._demo_step))
                 self._demo = None
                 self._demo_error = error
+                self.record_event("demo", error)
+                self._operator.release_groups()
+            elif demo.done:
+                self._operator.release_groups()
         self._operator()
+        errors = self._axis_errors
+        for name, axis in self._scene.axes.items():
+            code = axis.AxErrorID
+            if code != errors[name]:
+                errors[name] = code
+                if code:
+                    self.record_event(name, f"axis error {code} ({mcl.error_text(code)})")
         self._scan_count += 1
         if self._scan_count >= self._record_every:
             self._scan_count = 0
-            self._history.record(self._scene.runtime.time)
+            t = self._scene.runtime.time
+            self._recorder.record(t)
 
     def _run_cycles(self, cycles: int) -> None:
         """Run ``cycles`` PLC cycles; an exception pauses the simulation and is reported."""
@@ -704,6 +901,7 @@ class Session:
         if demo is not None:
             self._demo_step = str(demo.step)
             self._demo_done_seen = bool(demo.done)
+            self._results = _results_of(demo)
         views = {name: self._axis_view(name, axis) for name, axis in scene.axes.items()}
         model, data = self._model, self._data
         self._snapshot = Snapshot(
@@ -718,7 +916,6 @@ class Session:
             xquat=_copy(None if data is None else data.xquat, (0, 4)),
             axes=MappingProxyType(views),
             signals=tuple(self._signal_view(name) for name in scene.signals),
-            history=MappingProxyType(self._history.series()),
             paused=self._paused,
             speed=self._speed,
             realtime_factor=0.0 if self._paused else factor,
@@ -730,6 +927,10 @@ class Session:
                 error=self._demo_error,
             ),
             fault=self._fault,
+            events=tuple(self._events),
+            results=self._results,
+            channels=self._recorder.channels,
+            groups=tuple(g.name for g in self._operator.groups()),
         )
 
     def _signal_view(self, name: str) -> SignalView:
@@ -774,7 +975,32 @@ class Session:
             homing=op.homing,
             stopping=op.stopping,
             message=op.message,
+            last_error=op.last_error,
+            group=axis.group.name if isinstance(axis.group, mcl.AxesGroup) else "",
+            constants=axis.constants,
         )
+
+
+def _results_of(demo: DemoProgram) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
+    """The last :data:`RESULTS_SHOWN` rows of a demo's optional ``results`` as texts."""
+    try:
+        rows = list(getattr(demo, "results", ()) or ())[-RESULTS_SHOWN:]
+        if not rows:
+            return (), ()
+        columns = tuple(str(c) for c in rows[-1])
+        return columns, tuple(tuple(_cell(row.get(c)) for c in columns) for row in rows)
+    except Exception:  # a demo's table must not stop the simulation thread
+        log.debug("results of the demo failed", exc_info=True)
+        return (), ()
+
+
+def _cell(value: object) -> str:
+    """A table cell: numbers with 3 decimals, None empty, anything else as text."""
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return f"{value:.3f}"
+    return str(value)
 
 
 def _axis_info(definition: MachineDef, scene: Scene) -> dict[str, _AxisInfo]:

@@ -1,10 +1,21 @@
-"""Benchmark: the gantry demo at 1× with the browser viewer attached (30 Hz), ~10 s of wall time.
+"""Benchmark: the gantry with the browser viewer attached (30 Hz), ~10 s of wall time.
 
-Prints JSON: the achieved real-time factor (simulated seconds per wall second; 1.0 means the
-viewer keeps up and does not slow the simulation), the wall time of one viewer frame (poses,
-switch colours, and every third frame the panels and the plot) in µs, and the frame rate achieved.
-A headless Chromium (Playwright, ``/usr/bin/chromium``) is connected when available, so that the
-server really sends every message to a client.
+Prints JSON:
+
+- ``realtime_factor``: simulated seconds per wall second while the demo runs (1.0: the viewer
+  keeps up and does not slow the simulation);
+- ``fps_achieved``: frames per second the server sent (poses, lamps), ``panel_hz_achieved``:
+  refreshes per second of the axis panels, ``browser_fps``: frames per second the page drew
+  (``requestAnimationFrame`` in headless Chromium, software WebGL), ``browser_panel_hz``: how
+  often the page's status line changed in its DOM;
+- ``frame_update_us``: wall time of one server frame;
+- ``click_to_motion_ms``: from the click on *Step+* (Playwright's mouse click in the page) to the
+  first motion of the X joint in the physics (1 µm), ``hold_to_motion_ms`` for holding *Jog−*,
+  and ``request_to_motion_ms`` from the server-side request alone (PLC and servo pipeline);
+  median and max of several tries.
+
+A headless Chromium (Playwright, ``/usr/bin/chromium``) is connected when available; without it
+only the server-side figures are given.
 
 Run: ``python -m tests.benchmarks.viewer [seconds]``.
 """
@@ -12,42 +23,46 @@ Run: ``python -m tests.benchmarks.viewer [seconds]``.
 from __future__ import annotations
 
 import json
+import math
 import os
-import socket
 import statistics
 import sys
 import time
 from contextlib import ExitStack
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from viewer.app import Viewer
+from viewer.operator import Move
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Page
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
+TRIES = 5
+"""Clicks (and holds) timed for the latency figures."""
 
 
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port: int = sock.getsockname()[1]
-    return port
-
-
-def _connect_browser(stack: ExitStack, url: str) -> bool:
-    """Open the viewer in headless Chromium; False if Playwright or Chromium is missing."""
+def _connect_browser(stack: ExitStack, viewer: Viewer) -> Page | None:
+    """Open the viewer in headless Chromium and take control; None if Playwright or Chromium
+    is missing."""
     if not os.path.exists(CHROMIUM):
-        return False
+        return None
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
-        return False
+        return None
     playwright = stack.enter_context(sync_playwright())
     browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
     stack.callback(browser.close)
     page = browser.new_page(viewport={"width": 1280, "height": 900})
-    page.goto(url)
-    page.get_by_role("button", name="Power", exact=True).wait_for(timeout=30_000)
-    return True
+    page.goto(viewer.url)
+    page.get_by_role("button", name="Power", exact=True).wait_for(timeout=60_000)
+    page.get_by_role("button", name="Take control", exact=True).click()
+    deadline = time.monotonic() + 10.0
+    while viewer.app.control.owner is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return page
 
 
 def _percentile(values: list[float], q: float) -> float:
@@ -55,38 +70,161 @@ def _percentile(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, round(q * (len(ordered) - 1)))]
 
 
+def _browser_fps(page: Page, seconds: float = 2.0) -> float:
+    """Frames per second the page draws (requestAnimationFrame callbacks)."""
+    frames = page.evaluate(
+        """(ms) => new Promise((done) => {
+            let n = 0; const t0 = performance.now();
+            const tick = () => {
+                n += 1;
+                if (performance.now() - t0 < ms) requestAnimationFrame(tick); else done(n);
+            };
+            requestAnimationFrame(tick);
+        })""",
+        seconds * 1000.0,
+    )
+    return float(frames) / seconds
+
+
+def _browser_panel_hz(page: Page, seconds: float = 3.0) -> float:
+    """Times per second the page's status line (simulated time) changes in the DOM."""
+    changes = page.evaluate(
+        """(ms) => new Promise((done) => {
+            const all = Array.from(document.querySelectorAll('div'));
+            const inner = all.reverse().find((e) => e.textContent.includes(' · t = '));
+            if (!inner) { done(-1); return; }
+            // the HTML element's content is replaced on each update: watch its container
+            const line = inner.parentElement.parentElement;
+            let n = 0; let last = line.textContent;
+            const observer = new MutationObserver(() => {
+                if (line.textContent !== last) { n += 1; last = line.textContent; }
+            });
+            observer.observe(line, {subtree: true, childList: true, characterData: true});
+            setTimeout(() => { observer.disconnect(); done(n); }, ms);
+        })""",
+        seconds * 1000.0,
+    )
+    return float(changes) / seconds
+
+
+def _wait_motion(viewer: Viewer, start: float, timeout: float = 5.0) -> float:
+    """Wall time [s] when the X joint first moved 1 µm from ``start`` (NaN: it did not)."""
+    deadline = time.perf_counter() + timeout
+    while time.perf_counter() < deadline:
+        if abs(viewer.session.scene.joint_position("X") - start) > 1e-6:
+            return time.perf_counter()
+        time.sleep(0.0005)
+    return float("nan")
+
+
+def _latencies(page: Page, viewer: Viewer) -> dict[str, Any]:
+    """Click-to-motion (Step+) and hold-to-motion (Jog−) latencies [ms]."""
+    session = viewer.session
+    session.requests("X").set_power(True)
+    while not session.snapshot.axes["X"].powered:
+        time.sleep(0.01)
+    clicks: list[float] = []
+    holds: list[float] = []
+    step = page.get_by_role("button", name="Step+", exact=True).first
+    step.scroll_into_view_if_needed()
+    jog = page.get_by_role("button", name="Jog−", exact=True).first  # back towards the start
+    for _ in range(TRIES):
+        time.sleep(0.5)  # standing still
+        start = session.scene.joint_position("X")
+        box = step.bounding_box()
+        assert box is not None
+        page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        t0 = time.perf_counter()
+        page.mouse.down()
+        page.mouse.up()
+        clicks.append((_wait_motion(viewer, start) - t0) * 1e3)
+    for _ in range(TRIES):
+        time.sleep(0.5)
+        start = session.scene.joint_position("X")
+        jog.scroll_into_view_if_needed()
+        box = jog.bounding_box()
+        assert box is not None
+        page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        t0 = time.perf_counter()
+        page.mouse.down()
+        holds.append((_wait_motion(viewer, start) - t0) * 1e3)
+        time.sleep(0.2)
+        page.mouse.up()
+    return {"click_to_motion_ms": _summary(clicks), "hold_to_motion_ms": _summary(holds)}
+
+
+def _request_to_motion(viewer: Viewer) -> dict[str, Any]:
+    """From a Step request set by the server (what a click's callback does) to the first motion
+    of the X joint [ms]: the PLC and servo pipeline alone, without the browser."""
+    session = viewer.session
+    session.requests("X").set_power(True)
+    while not session.snapshot.axes["X"].powered:
+        time.sleep(0.01)
+    delays: list[float] = []
+    for k in range(TRIES):
+        time.sleep(0.5)
+        start = session.scene.joint_position("X")
+        t0 = time.perf_counter()
+        session.requests("X").move(Move("relative", (-1.0) ** k, 100.0, 1000.0))
+        delays.append((_wait_motion(viewer, start) - t0) * 1e3)
+    return _summary(delays)
+
+
+def _summary(delays: list[float]) -> dict[str, Any]:
+    """Median and max [ms] of the tries that moved, and how many did not."""
+    moved = [d for d in delays if math.isfinite(d)]
+    return {
+        "median": round(statistics.median(moved), 1) if moved else None,
+        "max": round(max(moved), 1) if moved else None,
+        "tries": len(delays),
+        "no_motion": len(delays) - len(moved),
+    }
+
+
 def run(seconds: float = 10.0) -> dict[str, Any]:
-    """Run the gantry demo at 1× with the viewer (and a browser) attached for ``seconds``."""
+    """Run the gantry demo at 1× with the viewer (and a browser) attached for ``seconds``, then
+    time clicks and holds."""
     with ExitStack() as stack:
-        viewer = Viewer("gantry", port=_free_port(), speed=1.0, demo=False, fps=30.0)
+        viewer = Viewer("gantry", port=0, speed=1.0, demo=False, fps=30.0)
         stack.callback(viewer.close)
-        browser = _connect_browser(stack, viewer.url)
+        page = _connect_browser(stack, viewer)
         session, app = viewer.session, viewer.app
         session.reset()  # start the demo on a fresh scene, after the page has loaded
         while session.snapshot.time > 0.1:
             time.sleep(0.01)
         session.start_demo()
         app.frame_costs.clear()
-        frames0, sim0, wall0 = app.frames, session.snapshot.time, time.monotonic()
-        time.sleep(seconds)
+        frames0, panels0 = app.frames, app.panel_updates
+        sim0, wall0 = session.snapshot.time, time.monotonic()
+        browser_fps = _browser_fps(page, min(seconds, 3.0)) if page is not None else None
+        browser_panel_hz = _browser_panel_hz(page, min(seconds, 3.0)) if page is not None else None
+        time.sleep(max(seconds - (time.monotonic() - wall0), 0.0))
         snapshot = session.snapshot
-        frames, sim, wall = app.frames, snapshot.time, time.monotonic()
+        frames, panels, sim, wall = app.frames, app.panel_updates, snapshot.time, time.monotonic()
         costs_us = [c * 1e6 for c in app.frame_costs]
+        session.end_demo()
+        latency = {"request_to_motion_ms": _request_to_motion(viewer)}
+        if page is not None:
+            latency.update(_latencies(page, viewer))
     elapsed = wall - wall0
     return {
         "scene": "gantry",
         "speed": 1.0,
-        "browser_connected": browser,
+        "browser_connected": page is not None,
         "wall_s": round(elapsed, 3),
         "simulated_s": round(sim - sim0, 3),
         "realtime_factor": round((sim - sim0) / elapsed, 4),
         "fps_target": 30.0,
         "fps_achieved": round((frames - frames0) / elapsed, 2),
+        "panel_hz_achieved": round((panels - panels0) / elapsed, 2),
+        "browser_fps": None if browser_fps is None else round(browser_fps, 1),
+        "browser_panel_hz": None if browser_panel_hz is None else round(browser_panel_hz, 1),
         "frame_update_us": {
             "median": round(statistics.median(costs_us), 1) if costs_us else None,
             "p95": round(_percentile(costs_us, 0.95), 1) if costs_us else None,
             "frames": len(costs_us),
         },
+        **latency,
         "demo_step_at_end": snapshot.demo.step,
     }
 
