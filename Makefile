@@ -34,9 +34,9 @@ typecheck: setup
 
 # the whole suite in the active mode, then again in pure Python when the active one is compiled
 pytest: setup
-	$(PY) -m pytest -n auto
+	$(PY) -m pytest -n auto --dist loadfile
 	@if $(PY) -c "import mcl, sys; sys.exit(not mcl.COMPILED)"; then \
-		echo "== the same suite in pure Python"; MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto; fi
+		echo "== the same suite in pure Python"; MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto --dist loadfile; fi
 
 test: lint typecheck pytest
 
