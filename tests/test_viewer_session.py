@@ -815,7 +815,9 @@ def test_ctrl_c_stops_the_viewer_cleanly() -> None:
     try:
         wait_for(lambda: any("viewer: gantry at" in line for line in lines), timeout=60.0)
         process.send_signal(signal.SIGINT)
-        assert process.wait(timeout=15) == 0
+        # well under a second on an idle machine; a loaded CI box with a browser running in
+        # parallel has been seen to need more than 15 s to wind the threads down
+        assert process.wait(timeout=60) == 0
     finally:
         if process.poll() is None:
             process.kill()
