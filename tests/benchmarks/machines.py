@@ -1,17 +1,18 @@
 """Benchmark: every machine of the registry running its demo, against its bare physics.
 
 For each machine the demo (PLC program included) runs from its demo start in chunks of 0.1 s of
-simulated time; after each chunk the same number of physics steps runs alone on a copy of the
-model (MuJoCo's ``mj_step`` and the machine's devices — hydraulics, a roll's ripple, a knife
-valve: the physics MuJoCo does not model; simulated axes: their plant), started from the state
-the scene had at the chunk's start (positions, velocities, controls, drive enables, device
-states), so both integrate the same machine in the same situation and see the same machine load
-at the same moment. Prints JSON per mode (compiled and pure Python, each in a fresh
-process): the demo's real-time factor, the bare physics' real-time factor and their ratio (1.0 =
-the stack costs nothing beyond the physics), µs per servo cycle; for a machine with devices also
-the ratio to MuJoCo alone and the devices' cost per physics step. A machine of simulated axes has
-no physics engine to compare against (its "physics" is a few arithmetic operations per axis), so
-its ratio is left out and its real-time factor and µs per cycle stand alone.
+simulated time. After each chunk the same physics runs alone for the same time, one servo period
+per call (as any controller of it must step it), on a copy of the model: MuJoCo's ``mj_step`` and
+the machine's devices (hydraulics, a roll's ripple, a knife valve: the physics MuJoCo does not
+model); simulated axes: their plant. It starts from the state the scene had at the chunk's start
+(positions, velocities, controls, drive enables, device states), so both integrate the same
+machine in the same situation and see the same machine load at the same moment. Prints JSON per
+mode (compiled and pure Python, each in a fresh process): the demo's real-time factor, the bare
+physics' real-time factor and their ratio (1.0 = the stack costs nothing beyond the physics), µs
+per servo cycle; for a machine with devices also the ratio to MuJoCo alone and the devices' cost
+per physics step. A machine of simulated axes has no physics engine to compare against (its
+"physics" is a few arithmetic operations per axis), so its ratio is left out and its real-time
+factor and µs per cycle stand alone.
 
 Run: ``python -m tests.benchmarks.machines``.
 """
@@ -115,7 +116,8 @@ def against_bare_physics(
     returns the real-time factors, their ratios and µs per servo cycle."""
     physics = BarePhysics(scene, devices=True)
     mujoco_alone = BarePhysics(scene, devices=False)
-    steps = round(CHUNK / scene.plant.timestep)
+    ticks = round(scene.runtime.servo_period / scene.plant.timestep)
+    periods = range(round(CHUNK / scene.runtime.servo_period))
     stack = bare = alone = simulated = 0.0
     while not finished() and simulated < longest:
         physics.sync()
@@ -124,10 +126,12 @@ def against_bare_physics(
         scene.run(program, timeout=CHUNK)
         stack += time.perf_counter() - start
         start = time.perf_counter()
-        physics.step(steps)
+        for _ in periods:  # a servo period per call, as any controller of it steps it
+            physics.step(ticks)
         bare += time.perf_counter() - start
         start = time.perf_counter()
-        mujoco_alone.step(steps)
+        for _ in periods:
+            mujoco_alone.step(ticks)
         alone += time.perf_counter() - start
         simulated += CHUNK
     with_devices = scene.has_model and bool(physics.devices)
