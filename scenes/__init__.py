@@ -15,7 +15,7 @@ COMPILED = native.activate("scenes", __path__)
 """The per-physics-step modules (plant, drives) run compiled (see :mod:`mcl.native`)."""
 
 from scenes import flying_shear, gantry, press, single_axis
-from scenes.machine import AxisDef, DemoProgram, MachineDef, Signal
+from scenes.machine import AxisDef, DemoProgram, MachineDef, Signal, StepSequence
 from scenes.procedures import HomingRecipe
 from scenes.scene import Scene
 
@@ -31,6 +31,7 @@ __all__ = [
     "MachineDef",
     "Scene",
     "Signal",
+    "StepSequence",
     "definition",
     "demo",
     "homing",

@@ -14,7 +14,7 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 import mcl
-from scenes.machine import AxisDef, MachineDef
+from scenes.machine import AxisDef, MachineDef, StepSequence
 from scenes.procedures import HomeAxis, HomingRecipe
 from scenes.scene import Scene
 
@@ -122,7 +122,7 @@ ZIGZAG = (
 each corner; the contour measurement of the gantry (tests and benchmark) runs it."""
 
 
-class Demo:
+class Demo(StepSequence):
     """The gantry demo: power, home Z then X and Y (REF + index), group the axes, then a
     pick-and-place cycle along straight lines (MC_MoveLinearAbsolute) with blended corners.
 
@@ -192,16 +192,6 @@ class Demo:
         if step in self.BATCH_OF:
             return tuple(self.moves[self.BATCH_OF[step]])
         return ()
-
-    @property
-    def step(self) -> str:
-        """What the program is doing."""
-        return self.error or self.STEPS[self.index]
-
-    @property
-    def done(self) -> bool:
-        """The cycle is complete."""
-        return self.index == len(self.STEPS) - 1
 
     def _next(self) -> None:
         self.index += 1

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal, Protocol
+from typing import TYPE_CHECKING, ClassVar, Literal, Protocol
 
 import mujoco
 
@@ -24,6 +24,26 @@ if TYPE_CHECKING:
     from scenes.scene import Scene
 
 DriveKind = Literal["electric", "device", "encoder"]
+
+
+class StepSequence:
+    """The usual shape of a demo program: a PLC step sequence. ``STEPS`` names the steps in
+    order (the last one means finished), ``index`` is the step now, a non-empty ``error`` stops
+    it; a subclass is called once per PLC cycle and advances ``index``."""
+
+    STEPS: ClassVar[tuple[str, ...]] = ("done",)
+    index = 0
+    error = ""
+
+    @property
+    def step(self) -> str:
+        """What the program is doing (or why it stopped)."""
+        return self.error or self.STEPS[self.index]
+
+    @property
+    def done(self) -> bool:
+        """The sequence is complete."""
+        return self.index == len(self.STEPS) - 1
 
 
 class DemoProgram(Protocol):

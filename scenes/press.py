@@ -31,7 +31,7 @@ import mujoco
 
 import mcl
 from scenes.hydraulics import BAR, Cylinder, CylinderDevice, Supply, Valve
-from scenes.machine import AxisDef, MachineDef, Signal
+from scenes.machine import AxisDef, MachineDef, Signal, StepSequence
 from scenes.plant import numeric
 from scenes.scene import Scene
 
@@ -195,9 +195,11 @@ STEPS = (
 )
 
 
-class Demo:
+class Demo(StepSequence):
     """The press cycle; call once per PLC cycle. ``step`` says what it does, ``done`` when the
     cycle is complete."""
+
+    STEPS = STEPS
 
     def __init__(self, scene: Scene) -> None:
         self.scene = scene
@@ -255,16 +257,6 @@ class Demo:
         """One row per finished step: when, where the ram stood, pressure and force (from the
         physics; shown by the viewer)."""
         """Highest side-A pressure read while pressing [bar]."""
-
-    @property
-    def step(self) -> str:
-        """What the program is doing."""
-        return self.error or STEPS[self.index]
-
-    @property
-    def done(self) -> bool:
-        """The cycle is complete."""
-        return self.index == len(STEPS) - 1
 
     def _next(self) -> None:
         scene = self.scene

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 import mcl
-from scenes.machine import AxisDef, MachineDef
+from scenes.machine import AxisDef, MachineDef, StepSequence
 from scenes.scene import Scene
 
 CONSTANTS = dict(Kp=3.0, Ki=150.0, Ff=1.0, Kc=50.0, Vmax=500.0, Filter=2.0, Ka=0.0065)
@@ -28,8 +28,10 @@ STEPS = (
 )
 
 
-class Demo:
+class Demo(StepSequence):
     """The demo's PLC program; call it once per PLC cycle. ``step`` says what it does."""
+
+    STEPS = STEPS
 
     def __init__(self, scene: Scene) -> None:
         X = self.X = scene.axes["X"]
@@ -62,16 +64,6 @@ class Demo:
             for name in ("power", "move", "first", "second", "third", "velocity", "stop")
         }
         """The blocks a report watches, by name."""
-
-    @property
-    def step(self) -> str:
-        """What the program is doing."""
-        return self.error or STEPS[self.index]
-
-    @property
-    def done(self) -> bool:
-        """The demo is complete."""
-        return self.index == len(STEPS) - 1
 
     def next(self) -> None:
         """Go to the next step."""
