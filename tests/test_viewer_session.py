@@ -807,6 +807,8 @@ def test_ctrl_c_stops_the_viewer_cleanly() -> None:
         stderr=subprocess.STDOUT,
         text=True,
         env={**os.environ, "PYTHONPATH": str(ROOT)},
+        # as in a terminal: a test worker may ignore SIGINT, and the child would inherit that
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     lines: list[str] = []
     assert process.stdout is not None
@@ -815,9 +817,7 @@ def test_ctrl_c_stops_the_viewer_cleanly() -> None:
     try:
         wait_for(lambda: any("viewer: gantry at" in line for line in lines), timeout=60.0)
         process.send_signal(signal.SIGINT)
-        # well under a second on an idle machine; a loaded CI box with a browser running in
-        # parallel has been seen to need more than 15 s to wind the threads down
-        assert process.wait(timeout=60) == 0
+        assert process.wait(timeout=15) == 0
     finally:
         if process.poll() is None:
             process.kill()
@@ -1012,7 +1012,14 @@ def test_a_nan_or_out_of_range_value_is_refused_and_not_passed_on(
     for bad in (math.nan, math.inf, -1.0, 1e12, "10", True, None):
         _gui_update(app, 7, slider, bad)
     assert slider.value == before
-    assert not any(type(m).__name__ == "GuiUpdateMessage" for m in sent)  # nothing re-broadcast
+    # nothing of the bad values re-broadcast (the panel's own refreshes of other elements may run
+    # meanwhile; a reset of this slider to its old value is allowed)
+    assert not any(
+        type(m).__name__ == "GuiUpdateMessage"
+        and m.uuid == slider._impl.uuid
+        and m.updates.get("value", before) != before
+        for m in sent
+    )
     assert session.requests("X").jog_velocity == 0.0
     refused = [e.text for e in session.snapshot.events] + [e.text for e in session._events]
     assert any("refused" in text for text in refused)
