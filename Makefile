@@ -36,7 +36,9 @@ typecheck: setup
 pytest: setup
 	$(PY) -m pytest -n auto --dist loadfile
 	@if $(PY) -c "import mcl, sys; sys.exit(not mcl.COMPILED)"; then \
-		echo "== the same suite in pure Python"; MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto --dist loadfile; fi
+		echo "== the same suite in pure Python (the browser tests drive the page, which is the same"; \
+		echo "   in both modes: they ran above)"; \
+		MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto --dist loadfile -m "not browser"; fi
 
 test: lint typecheck pytest
 
