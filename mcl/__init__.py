@@ -24,11 +24,11 @@ from mcl.administrative import (
     MC_ReadStatus,
     MC_Reset,
 )
-from mcl.axis import Axis, AxisConfig
+from mcl.axis import Axis, AxisConfig, AxisSnapshot
 from mcl.channel import IDEAL as IDEAL_SENSORS
-from mcl.channel import AxisChannel, Marks, Sensors
+from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
 from mcl.enums import AxisState, GroupState, MC_BufferMode, MC_Direction, MC_SwitchMode
-from mcl.errors import ErrorID, error_text
+from mcl.errors import ErrorID, StateError, error_text
 from mcl.force import MC_ForceControl
 from mcl.gearing import MC_GearIn, MC_GearInPos, MC_GearOut
 from mcl.group import AxesGroup
@@ -72,9 +72,9 @@ from mcl.motion import (
     MC_MoveVelocity,
     MC_Stop,
 )
-from mcl.runtime import ConditionTimeout, Machine, Plant, Runtime
+from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
-from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant
+from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
 from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
 
 __all__ = [
@@ -84,7 +84,9 @@ __all__ = [
     "AxisChannel",
     "AxisConfig",
     "AxisIO",
+    "AxisSnapshot",
     "AxisState",
+    "ChannelSnapshot",
     "ConditionTimeout",
     "ErrorID",
     "GT_Analog",
@@ -139,6 +141,7 @@ __all__ = [
     "MC_UngroupAllAxes",
     "MC_WriteDigitalOutput",
     "Machine",
+    "MachineState",
     "Marks",
     "Module",
     "Plant",
@@ -149,6 +152,8 @@ __all__ = [
     "SimAxisParams",
     "SimMachine",
     "SimPlant",
+    "SimPlantState",
+    "StateError",
     "error_text",
     "faults",
 ]

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
-from mcl.channel import AxisChannel
+from mcl.channel import AxisChannel, ChannelSnapshot
 from mcl.command import Command, Halt, Hold, MoveTo, MoveVelocity, Status, Stop, blend_velocity
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
-from mcl.errors import ErrorID
+from mcl.errors import ErrorID, StateError
 from mcl.servo import Regulator, ServoConstants
 from mcl.trajectory import Limits, PlanningError
 
@@ -82,6 +82,56 @@ class AxisConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f"AxisConfig.{name} must be a finite number >= 0, got {value!r}")
+
+
+@dataclass(frozen=True, slots=True)
+class AxisSnapshot:
+    """Everything an :class:`Axis` and its channel carry at one instant at rest
+    (:meth:`Axis.snapshot`): power and loop, reference (homing) and coordinate offset, error,
+    servo constants and regulator memory, the model (set point) state, the measured values
+    and the channel (:class:`~mcl.channel.ChannelSnapshot`). Positions [u], velocities [u/s],
+    times [s], volts [V].
+
+    Function blocks, axes groups and an armed touch probe belong to the PLC program, not to the
+    axis: they are not part of it.
+    """
+
+    name: str
+    config: AxisConfig
+    channel: ChannelSnapshot
+    state: AxisState
+    AxErrorID: int
+    POS: float
+    VEL: float
+    Ref: bool
+    opt_select: tuple[int, int]
+    constants: ServoConstants | None
+    regulator: tuple[float, float] | None
+    """Integral action [V] and last following error [u] (None: no constants yet)."""
+    speed_mode: int
+    loop_closed: bool
+    volts: float
+    offset: float
+    actual: float
+    sp_pos: float
+    sp_vel: float
+    sp_acc: float
+    t_sp: float
+    sp_time: float
+    t_cycle: float
+    quick_stop_until: float
+    following_error: float
+    captured: float
+    probe_position: float | None
+    hold: tuple[float, float] | None
+    """The position held in ErrorStop and the hold's start time (None: no hold)."""
+    estop_latched: bool
+    pos_prev: float
+    lim_prev: tuple[bool, ...]
+
+
+_AT_REST = (AxisState.Disabled, AxisState.StandStill, AxisState.ErrorStop)
+"""The axis states in which a state can be saved."""
 
 
 def _sign(x: float) -> float:
@@ -735,6 +785,153 @@ class Axis:
         else:
             self.state = cmd.end_state
         return pe, 0.0, 0.0
+
+    # ------------------------------------------------------------------ saved state
+    def rest_problem(self) -> str:
+        """Why the axis' state cannot be saved now, e.g. ``"axis X is in DiscreteMotion"``;
+        empty when it can (Disabled, StandStill or ErrorStop with no command running)."""
+        state = self.state
+        if state not in _AT_REST:
+            return f"axis {self.name} is in {state.name}"
+        active = self.active
+        if self.queue or (active is not None and not isinstance(active, Hold)):
+            return f"axis {self.name} is in {state.name} with its stop ramp still running"
+        if self.analog_volts is not None:
+            return f"axis {self.name} is driven by GT_Analog ({self.analog_volts:g} V)"
+        return ""
+
+    def snapshot(self) -> AxisSnapshot:
+        """The axis and its channel now, as an immutable value (see :meth:`restore`).
+
+        Function blocks are not part of it: they belong to the PLC program.
+
+        Raises:
+            StateError: a command is running (the message says which state the axis is in).
+        """
+        problem = self.rest_problem()
+        if problem:
+            raise StateError(
+                f"cannot save the state: {problem}; stop it first (MC_Halt or MC_Stop, "
+                f"GT_Analog off) and wait until it is in StandStill, Disabled or ErrorStop"
+            )
+        io = self.io
+        regulator = self.regulator
+        hold = self.active
+        return AxisSnapshot(
+            name=self.name,
+            config=self.config,
+            channel=io.snapshot(),
+            state=self.state,
+            AxErrorID=self.AxErrorID,
+            POS=self.POS,
+            VEL=self.VEL,
+            Ref=self.Ref,
+            opt_select=self.opt_select,
+            constants=replace(self.constants) if self.constants is not None else None,
+            regulator=regulator.memory() if regulator is not None else None,
+            speed_mode=self.speed_mode,
+            loop_closed=self.loop_closed,
+            volts=self.volts,
+            offset=self.offset,
+            actual=self.actual,
+            sp_pos=self.sp_pos,
+            sp_vel=self.sp_vel,
+            sp_acc=self.sp_acc,
+            t_sp=self.t_sp,
+            sp_time=self._sp_time,
+            t_cycle=self.t_cycle,
+            quick_stop_until=self._quick_stop_until,
+            following_error=self.following_error,
+            captured=self.captured,
+            probe_position=self.probe_position,
+            hold=(hold.position, hold.t0) if isinstance(hold, Hold) else None,
+            estop_latched=self.estop_latched,
+            pos_prev=self._pos_prev,
+            lim_prev=self._lim_prev,
+        )
+
+    def check_snapshot(self, snapshot: AxisSnapshot) -> None:
+        """Raise :class:`~mcl.errors.StateError` unless ``snapshot`` is of this axis: the same
+        name, machine data and channel settings."""
+        if snapshot.name != self.name:
+            raise StateError(
+                f"the state of axis {snapshot.name!r} cannot be restored into axis {self.name!r}"
+            )
+        if snapshot.config != self.config:
+            raise StateError(
+                f"axis {self.name}: the state was saved with other machine data "
+                f"({snapshot.config}); this axis has {self.config}"
+            )
+        self.io.check_snapshot(snapshot.channel)
+
+    def restore(self, snapshot: AxisSnapshot) -> None:
+        """Return the axis and its channel to the moment ``snapshot`` was taken.
+
+        Positions, velocities, set point, regulator, reference, power, errors and the channel
+        come back exactly, so the same program gives the same motion as after the snapshot.
+        Whatever the PLC program had on the axis is let go, as after a power cycle of the
+        program: running and queued commands end Aborted (their blocks show CommandAborted), a
+        waiting touch probe is cancelled, GT_EStop holds are released and an axes group the
+        axis belongs to is taken apart. A program built afterwards finds the axis as saved
+        (a powered axis stays powered until its MC_Power is called with Enable FALSE).
+
+        Raises:
+            StateError: the snapshot is of another axis (nothing is changed then).
+        """
+        self.check_snapshot(snapshot)
+        s = snapshot
+        self._abort_all()
+        self._stops.clear()
+        self._estops.clear()
+        group = self.group
+        if group is not None:
+            from mcl.group import AxesGroup
+
+            if isinstance(group, AxesGroup):
+                group._abort_tickets()  # its blocks show CommandAborted
+                group.ungroup()
+            self.group = None
+        self.probe_generation += 1  # a waiting MC_TouchProbe sees CommandAborted
+        self._probe_armed = False
+        self._probe_window = None
+        self.probe_position = s.probe_position
+        self._probe_seq = s.channel.tp_seq
+        self.io.restore(s.channel)
+        if s.constants is not None:
+            self.set_constants(replace(s.constants))
+            assert self.regulator is not None and s.regulator is not None
+            self.regulator.set_memory(s.regulator)
+        else:
+            self.constants = None
+            self.regulator = None
+            self._sw_limits = False
+            self._vel_alpha = 1.0
+        self.state = s.state
+        self.AxErrorID = s.AxErrorID
+        self.POS, self.VEL = s.POS, s.VEL
+        self.Ref = s.Ref
+        self.opt_select = s.opt_select
+        self.speed_mode = s.speed_mode
+        self.loop_closed = s.loop_closed
+        self.analog_volts = None
+        self.volts = s.volts
+        self.offset, self.actual = s.offset, s.actual
+        self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = s.sp_pos, s.sp_vel, s.sp_acc, s.t_sp
+        self._sp_time, self.t_cycle = s.sp_time, s.t_cycle
+        self._quick_stop_until = s.quick_stop_until
+        self.following_error = s.following_error
+        self.captured = s.captured
+        self.estop_latched = s.estop_latched
+        self._powering_off = False
+        self._pos_prev = s.pos_prev
+        self._lim_prev = s.lim_prev
+        self.queue.clear()
+        self.active = None
+        if s.hold is not None:
+            hold = Hold(s.hold[0], s.state)
+            hold.t0 = s.hold[1]
+            hold.status = Status.Active
+            self.active = hold
 
     def _supervise(self, e: float, v: float, actual: float, lim_pos: bool, lim_neg: bool) -> None:
         """Following error, limit switches and software limits: the servo core's supervision."""

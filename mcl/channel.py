@@ -11,18 +11,21 @@ of :mod:`mcl.faults`.
 
 from __future__ import annotations
 
+import copy
 import math
 import random
 import zlib
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from mypy_extensions import mypyc_attr
 
 from mcl import faults as flt
-from mcl.encoder import IncrementalEncoder
+from mcl.encoder import EncoderState, IncrementalEncoder
+from mcl.errors import StateError
 from mcl.servo import DAC_FULL_SCALE
 
 _SWITCH_INDEX = {"lim_pos": 0, "lim_neg": 1, "ref": 2, "tp": 3}
@@ -133,6 +136,21 @@ class Sensors:
             )
 
 
+@dataclass(frozen=True, slots=True)
+class NormalsState:
+    """Where a :class:`Normals` source is in its sequence.
+
+    Attributes:
+        generator: the bit generator's state (a private copy).
+        block: the block of numbers drawn ahead.
+        index: the next number's place in ``block``.
+    """
+
+    generator: dict[str, Any]
+    block: tuple[float, ...]
+    index: int
+
+
 class Normals:
     """Standard normal numbers from a seeded generator, drawn in blocks (cheap per sample)."""
 
@@ -152,9 +170,79 @@ class Normals:
         self._i = i + 1
         return self._block[i]
 
+    def snapshot(self) -> NormalsState:
+        """Where the sequence is now (:meth:`restore` continues it from here)."""
+        state: dict[str, Any] = copy.deepcopy(dict(self._generator.bit_generator.state))
+        return NormalsState(state, tuple(self._block), self._i)
+
+    def restore(self, state: NormalsState) -> None:
+        """Continue the sequence from a state taken with :meth:`snapshot`."""
+        self._generator.bit_generator.state = copy.deepcopy(state.generator)
+        self._block = list(state.block)
+        self._i = state.index
+
 
 IDEAL = Sensors(0.0, 0.0, 0.0, 0.0, 0)
 """Ideal sensors: exact switches and encoder, the command applied in the cycle it is computed."""
+
+
+def _same(a: object, b: object) -> bool:
+    """Equal settings; numbers computed from a model's geometry may differ in rounding
+    (1e-9 of their size)."""
+    if isinstance(a, tuple) and isinstance(b, tuple):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, float) and isinstance(b, float) and math.isfinite(a):
+        return abs(a - b) <= 1e-9 * max(1.0, abs(a))
+    return a == b
+
+
+@dataclass(frozen=True, slots=True)
+class ChannelSnapshot:
+    """Everything an :class:`AxisChannel` carries from one servo cycle to the next, at one
+    instant (:meth:`AxisChannel.snapshot`): the encoder, the switch levels and trip points, the
+    probe latch, the noise sequence, the injected faults and the outputs. Positions in the
+    channel's SI unit [m or rad], times [s], volts [V].
+
+    ``settings`` are the channel's fixed settings: a snapshot restores only into a channel built
+    with the same ones.
+    """
+
+    settings: tuple[tuple[str, object], ...]
+    encoder: EncoderState
+    noise: NormalsState
+    counts: int
+    index_count: int
+    index_seq: int
+    index: bool
+    lim_pos: bool
+    lim_neg: bool
+    ref: bool
+    tp: bool
+    tp_count: int
+    tp_seq: int
+    encoder_ok: bool
+    analog: tuple[float, ...]
+    inputs: tuple[bool, ...]
+    outputs: tuple[bool, ...]
+    volts: float
+    enabled: bool
+    brake: bool
+    t: float
+    x: float
+    q: float
+    history: tuple[tuple[float, float, float], ...]
+    latches: tuple[float, ...]
+    faults: tuple[flt.Fault, ...]
+    fault_rngs: tuple[tuple[str, tuple[Any, ...]], ...]
+    shift: float
+    frozen_at: float | None
+    edges: tuple[float, ...]
+    true_levels: tuple[bool, ...]
+    disabled_at: float
+    enable_request: bool
+    pending: tuple[float, bool] | None
+    physical: tuple[bool, ...]
+    trip: tuple[float, ...]
 
 
 @mypyc_attr(allow_interpreted_subclasses=True)
@@ -250,6 +338,121 @@ class AxisChannel:
         """Per switch, the level the switch itself has (before faults)."""
         self._trip = [0.0, 0.0, 0.0]
         """Per switch, this edge's deviation of the trip point (repeatability) [m or rad]."""
+
+    # ------------------------------------------------------------------ state
+    def settings(self) -> tuple[tuple[str, object], ...]:
+        """The fixed settings a :class:`ChannelSnapshot` must match, as (name, value) pairs."""
+        enc = self.encoder
+        return (
+            ("name", self.name),
+            ("resolution", self.resolution),
+            ("encoder", (enc._n, enc._width)),
+            ("has_drive", self.has_drive),
+            ("probe", (self.probe, self.probe_delay)),
+            ("digital_outputs", len(self.outputs)),
+            (
+                "switch windows",
+                ((self._plo, self._phi), (self._nlo, self._nhi), (self._rlo, self._rhi)),
+            ),
+            ("sensors", self.sensors),
+        )
+
+    def snapshot(self) -> ChannelSnapshot:
+        """Everything the channel carries, now (an immutable value; see :meth:`restore`)."""
+        return ChannelSnapshot(
+            settings=self.settings(),
+            encoder=self.encoder.snapshot(),
+            noise=self._rng.snapshot(),
+            counts=self.counts,
+            index_count=self.index_count,
+            index_seq=self.index_seq,
+            index=self.index,
+            lim_pos=self.lim_pos,
+            lim_neg=self.lim_neg,
+            ref=self.ref,
+            tp=self.tp,
+            tp_count=self.tp_count,
+            tp_seq=self.tp_seq,
+            encoder_ok=self.encoder_ok,
+            analog=tuple(self.analog),
+            inputs=tuple(self.inputs),
+            outputs=tuple(self.outputs),
+            volts=self.volts,
+            enabled=self.enabled,
+            brake=self.brake,
+            t=self.t,
+            x=self._x,
+            q=self._q,
+            history=tuple(self._history),
+            latches=tuple(self._latches),
+            faults=tuple(self._faults.values()),
+            fault_rngs=tuple((key, rng.getstate()) for key, rng in self._rngs.items()),
+            shift=self._shift,
+            frozen_at=self._frozen_at,
+            edges=tuple(self._edges),
+            true_levels=tuple(self._true),
+            disabled_at=self._disabled_at,
+            enable_request=self._enable_request,
+            pending=self._pending,
+            physical=tuple(self._physical),
+            trip=tuple(self._trip),
+        )
+
+    def check_snapshot(self, snapshot: ChannelSnapshot) -> None:
+        """Raise :class:`~mcl.errors.StateError` unless ``snapshot`` was taken from a channel
+        with this one's settings (the message names the settings that differ)."""
+        mine = dict(self.settings())
+        differ = [
+            f"{name} {value!r} (this channel: {mine.get(name)!r})"
+            for name, value in snapshot.settings
+            if not _same(mine.get(name), value)
+        ]
+        if differ or len(mine) != len(snapshot.settings):
+            raise StateError(
+                f"axis {self.name}: the state was saved from a channel with other settings: "
+                f"{'; '.join(differ) or 'other items'}; restore it into the machine it was "
+                f"saved from (built with the same sensors and model)"
+            )
+
+    def restore(self, snapshot: ChannelSnapshot) -> None:
+        """Return to the moment ``snapshot`` was taken (:meth:`snapshot`).
+
+        The plant's amplifier and brake are not driven here: their state belongs to the plant
+        and returns with the plant's own state.
+
+        Raises:
+            StateError: the snapshot is of a channel with other settings.
+        """
+        self.check_snapshot(snapshot)
+        s = snapshot
+        self.encoder.restore(s.encoder)
+        self._rng.restore(s.noise)
+        self.counts = s.counts
+        self.index_count, self.index_seq, self.index = s.index_count, s.index_seq, s.index
+        self.lim_pos, self.lim_neg, self.ref, self.tp = s.lim_pos, s.lim_neg, s.ref, s.tp
+        self.tp_count, self.tp_seq = s.tp_count, s.tp_seq
+        self.encoder_ok = s.encoder_ok
+        self.analog = s.analog
+        self.inputs = s.inputs
+        self.outputs[:] = s.outputs  # in place: a device may hold the list
+        self.volts, self.enabled, self.brake = s.volts, s.enabled, s.brake
+        self.t, self._x, self._q = s.t, s.x, s.q
+        self._history = deque(s.history)
+        self._latches = deque(s.latches)
+        self._faults = {fault.key(): fault for fault in s.faults}
+        rngs: dict[str, random.Random] = {}
+        for key, state in s.fault_rngs:
+            rng = random.Random()
+            rng.setstate(state)
+            rngs[key] = rng
+        self._rngs = rngs
+        self._shift, self._frozen_at = s.shift, s.frozen_at
+        self._edges = list(s.edges)
+        self._true = list(s.true_levels)
+        self._disabled_at, self._enable_request = s.disabled_at, s.enable_request
+        self._pending = s.pending
+        self._physical = list(s.physical)
+        self._trip = list(s.trip)
 
     # ------------------------------------------------------------------ faults
     @property

@@ -7,6 +7,7 @@ index level and latched index count that :class:`mcl.io.AxisIO` exposes.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Protocol
 
 
@@ -16,6 +17,27 @@ class Normal(Protocol):
     def next(self) -> float:
         """The next number (mean 0, standard deviation 1)."""
         ...
+
+
+@dataclass(frozen=True, slots=True)
+class EncoderState:
+    """What an :class:`IncrementalEncoder` counted so far (its configuration is not part of it).
+
+    Attributes:
+        origin: the count of the power-up position from the physical zero [counts].
+        absolute: the count of the last position from the physical zero [counts].
+        counts: the counter, 0 at the power-up position [counts].
+        index: the index pulse level.
+        index_count: the counter value the last index edge latched [counts].
+        index_seq: how many index edges were latched.
+    """
+
+    origin: int
+    absolute: int
+    counts: int
+    index: bool
+    index_count: int
+    index_seq: int
 
 
 class IncrementalEncoder:
@@ -109,6 +131,21 @@ class IncrementalEncoder:
         self._abs = c
         self.counts = c - self._origin
         self.index = c % n < width
+
+    def snapshot(self) -> EncoderState:
+        """The counter and index latch now (the random source is the owner's to save)."""
+        return EncoderState(
+            self._origin, self._abs, self.counts, self.index, self.index_count, self.index_seq
+        )
+
+    def restore(self, state: EncoderState) -> None:
+        """Return to a state taken with :meth:`snapshot`."""
+        self._origin = state.origin
+        self._abs = state.absolute
+        self.counts = state.counts
+        self.index = state.index
+        self.index_count = state.index_count
+        self.index_seq = state.index_seq
 
     def _latch(self, absolute_count: int) -> None:
         if self._jitter and self._rng is not None:

@@ -9,6 +9,11 @@ class ConditionTimeout(TimeoutError):
     """``until`` did not become true within the simulated ``timeout`` (:meth:`mcl.Machine.run`)."""
 
 
+class StateError(RuntimeError):
+    """A machine state cannot be saved now (an axis moves) or does not fit the machine it is
+    restored into (:meth:`mcl.Machine.save_state`); the message says which and what to do."""
+
+
 class ErrorID(IntEnum):
     """Error codes reported in ``ErrorID`` of a function block or ``AxErrorID`` of an axis."""
 

@@ -161,6 +161,19 @@ class FaultEvent:
     active: bool
 
 
+@dataclass(frozen=True, slots=True)
+class FaultLogState:
+    """A :class:`FaultLog` at one instant: the changes so far and those still scheduled.
+
+    Attributes:
+        events: every change up to then, oldest first.
+        pending: the scheduled changes not yet due: (time [s], axis, fault, set or clear).
+    """
+
+    events: tuple[FaultEvent, ...] = ()
+    pending: tuple[tuple[float, str, Fault, bool], ...] = ()
+
+
 class Injectable(Protocol):
     """What can carry faults: an :class:`~mcl.channel.AxisChannel` (and its plant)."""
 
@@ -217,6 +230,16 @@ class FaultLog:
         if until is not None:
             self._pending.append((until, axis, fault, False))
         self._pending.sort(key=lambda item: item[0])
+
+    def snapshot(self) -> FaultLogState:
+        """The changes so far and the scheduled ones (the channels keep the faults set)."""
+        return FaultLogState(tuple(self.events), tuple(self._pending))
+
+    def restore(self, state: FaultLogState) -> None:
+        """Return to a state taken with :meth:`snapshot` (the channels' faults return with
+        the channels' own state)."""
+        self.events[:] = state.events
+        self._pending = list(state.pending)
 
     @property
     def pending(self) -> bool:

@@ -12,14 +12,15 @@ integrates one servo period.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
-from typing import Protocol
+from dataclasses import dataclass
+from typing import Any, Protocol
 
 from mypy_extensions import mypyc_attr
 
-from mcl.axis import Axis
+from mcl.axis import Axis, AxisSnapshot
 from mcl.channel import AxisChannel
-from mcl.errors import ConditionTimeout
-from mcl.faults import FaultLog, Injectable
+from mcl.errors import ConditionTimeout, StateError
+from mcl.faults import FaultLog, FaultLogState, Injectable
 
 
 class Plant(Protocol):
@@ -142,6 +143,34 @@ class Runtime:
         return (tick - start) * dt
 
 
+@dataclass(frozen=True, slots=True)
+class MachineState:
+    """A machine at one instant with every axis at rest (:meth:`Machine.save_state`).
+
+    It holds the simulated time, the plant (physics, drives and devices), every axis with its
+    channel (:class:`~mcl.axis.AxisSnapshot`) and the fault log, all as copies, so one state
+    can be restored any number of times, into the machine it was saved from or into another
+    machine built the same way. The PLC program (function blocks, axes groups) is not part of
+    it.
+
+    Attributes:
+        machine: what the state was saved from (machine, model, periods): it is restored only
+            into a machine built the same way.
+        time: simulated time [s].
+        tick: physics timesteps since the start.
+        plant: the plant's own state.
+        axes: every axis with its channel, in the machine's order.
+        faults: the injected faults' log: changes so far and those still scheduled.
+    """
+
+    machine: tuple[str, ...]
+    time: float
+    tick: int
+    plant: Any
+    axes: tuple[AxisSnapshot, ...]
+    faults: FaultLogState
+
+
 @mypyc_attr(allow_interpreted_subclasses=True)
 class Machine:
     """Named axes on a plant with their lockstep runtime: the surface scenarios program against.
@@ -180,3 +209,83 @@ class Machine:
     ) -> float:
         """Run PLC cycles; see :meth:`Runtime.run`. Returns the simulated seconds."""
         return self.runtime.run(program, until, timeout)
+
+    # ------------------------------------------------------------------ saved state
+    def save_state(self) -> MachineState:
+        """Save the machine as it is now, e.g. once it is homed (see :class:`MachineState`).
+
+        Raises:
+            StateError: an axis is not at rest (not Disabled, StandStill or ErrorStop, or a
+                command still runs): the message names every such axis and its state.
+        """
+        problems = [p for p in (axis.rest_problem() for axis in self.axes.values()) if p]
+        if problems:
+            raise StateError(
+                f"cannot save the machine state while a motion command runs: "
+                f"{'; '.join(problems)}. Stop it first (MC_Halt or MC_Stop; MC_GroupStop for "
+                f"a group, MC_GearOut for gearing; wait for homing to finish) and save once "
+                f"every axis is in StandStill, Disabled or ErrorStop"
+            )
+        runtime = self.runtime
+        log = runtime.faults
+        return MachineState(
+            machine=self._identity(),
+            time=runtime.time,
+            tick=runtime._tick,
+            plant=self._plant_state(),
+            axes=tuple(axis.snapshot() for axis in self.axes.values()),
+            faults=log.snapshot() if log is not None else FaultLogState(),
+        )
+
+    def restore_state(self, state: MachineState) -> None:
+        """Return the machine to a state saved with :meth:`save_state`: positions, velocities,
+        controllers, reference, power, errors, faults and the simulated time are as they were
+        then, and the same program gives the same motion, bit for bit.
+
+        Function blocks of a program are not part of the state: those still holding an axis
+        are let go (their commands end Aborted; see :meth:`mcl.Axis.restore`) and axes groups
+        are taken apart, so build the program anew after a restore.
+
+        Raises:
+            StateError: the state is of another machine or model (nothing is changed then).
+        """
+        identity = self._identity()
+        if state.machine != identity:
+            raise StateError(
+                f"the state was saved from {', '.join(state.machine)}; it cannot be restored "
+                f"into {', '.join(identity)}: restore a state into the machine it was saved "
+                f"from (or one built the same way)"
+            )
+        names = tuple(snapshot.name for snapshot in state.axes)
+        if names != tuple(self.axes):
+            raise StateError(f"the state has the axes {names}, this machine {tuple(self.axes)}")
+        for axis, snapshot in zip(self.axes.values(), state.axes, strict=True):
+            axis.check_snapshot(snapshot)
+        self._restore_plant(state.plant)
+        for axis, snapshot in zip(self.axes.values(), state.axes, strict=True):
+            axis.restore(snapshot)
+        runtime = self.runtime
+        runtime._tick = state.tick
+        if runtime.faults is not None or state.faults.events or state.faults.pending:
+            self.faults.restore(state.faults)
+        self._restored()
+
+    def _identity(self) -> tuple[str, ...]:
+        """What a saved state must match: the machine, its model and periods, as texts."""
+        runtime = self.runtime
+        return (
+            f"{type(self).__name__} with axes {', '.join(self.axes)}",
+            f"servo period {runtime.servo_period * 1e3:g} ms",
+            f"PLC period {runtime.plc_period * 1e3:g} ms",
+        )
+
+    def _plant_state(self) -> object:
+        """The plant's own state (a machine whose plant can save it overrides this)."""
+        raise StateError(f"the plant of {type(self).__name__} cannot save its state")
+
+    def _restore_plant(self, state: object) -> None:
+        """Restore the plant's state taken with :meth:`_plant_state`."""
+        raise StateError(f"the plant of {type(self).__name__} cannot restore a state")
+
+    def _restored(self) -> None:
+        """Called at the end of :meth:`restore_state` (e.g. to clear a trace)."""

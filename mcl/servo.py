@@ -124,6 +124,14 @@ class Regulator:
         stays, so no derivative kick follows."""
         self._integral = 0.0
 
+    def memory(self) -> tuple[float, float]:
+        """The regulator's state: integral action [V] and the last following error [u]."""
+        return self._integral, self._e_prev
+
+    def set_memory(self, memory: tuple[float, float]) -> None:
+        """Restore a state taken with :meth:`memory`."""
+        self._integral, self._e_prev = memory
+
     def carry_over(self, other: Regulator) -> None:
         """Take over the integrator of the regulator this one replaces (no bump)."""
         self._integral = other._integral

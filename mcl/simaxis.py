@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from mcl.axis import Axis, AxisConfig
 from mcl.channel import IDEAL, AxisChannel, Marks, Sensors
@@ -151,6 +151,20 @@ class SimAxis(AxisChannel):
         self.sample(self.t if t is None else t, x, x, x, x, analog=p.analog)
 
 
+@dataclass(frozen=True, slots=True)
+class SimPlantState:
+    """The physics of a :class:`SimPlant` at one instant.
+
+    Attributes:
+        ticks: timesteps integrated since the start.
+        axes: per axis, in the plant's order: position [m], velocity [m/s], amplifier force
+            [N] and the obstacle ``blocked_at`` [m].
+    """
+
+    ticks: int
+    axes: tuple[tuple[float, float, float, float], ...]
+
+
 class SimPlant:
     """Steps a set of simulated axes in lockstep; implements :class:`mcl.runtime.Plant`."""
 
@@ -177,6 +191,33 @@ class SimPlant:
         t = self.time
         for axis in self.axes:
             axis.sense(t)
+
+    def identity(self) -> tuple[str, ...]:
+        """What a state must match to be restored here: the timestep and every axis' physical
+        data (but the power-up position, which the encoder's state keeps)."""
+        params = (repr(replace(axis.params, start=0.0)) for axis in self.axes)
+        return (f"timestep {self.timestep * 1e3:g} ms", *params)
+
+    def get_state(self) -> SimPlantState:
+        """The physics now (the axes' channels keep their own state)."""
+        return SimPlantState(
+            self._ticks, tuple((a.x, a.v, a.force, a.blocked_at) for a in self.axes)
+        )
+
+    def set_state(self, state: SimPlantState) -> None:
+        """Return to a state taken with :meth:`get_state`.
+
+        Raises:
+            ValueError: the state is of a plant with another number of axes.
+        """
+        if len(state.axes) != len(self.axes):
+            raise ValueError(
+                f"the state has {len(state.axes)} simulated axes, this plant {len(self.axes)}"
+            )
+        for axis, (x, v, force, blocked_at) in zip(self.axes, state.axes, strict=True):
+            axis.x, axis.v, axis.force, axis.blocked_at = x, v, force, blocked_at
+        self._ticks = state.ticks
+        self.time = state.ticks * self.timestep
 
 
 class SimMachine(Machine):
@@ -217,3 +258,13 @@ class SimMachine(Machine):
         ]
         """The axes in order, six to a servo module."""
         self.runtime = Runtime(self.plant, self.axes.values(), plc_period)
+
+    def _identity(self) -> tuple[str, ...]:
+        return (*super()._identity(), *self.plant.identity())
+
+    def _plant_state(self) -> object:
+        return self.plant.get_state()
+
+    def _restore_plant(self, state: object) -> None:
+        assert isinstance(state, SimPlantState)
+        self.plant.set_state(state)

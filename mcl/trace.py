@@ -282,10 +282,11 @@ class Trace:
         return list(self._axis_data[axis][FIELDS.index(field) :: len(FIELDS)])
 
     def clear(self) -> None:
-        """Forget what was recorded (what was streamed stays in the file)."""
+        """Forget what was recorded (what was streamed stays in the file); the next sample is
+        taken ``every`` servo cycles from now."""
         self.flush()
         self._drop(self._held)
-        self.samples = self._written = 0
+        self.samples = self._written = self._count = 0
 
     def _header(self) -> list[str]:
         return [f"{n}.{field}" for n in self.axes for field in FIELDS] + list(self.signals)

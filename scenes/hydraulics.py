@@ -41,13 +41,14 @@ bit-identical.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import mujoco
 import numpy as np
 import numpy.typing as npt
+from mypy_extensions import i64
 
 from mcl.channel import IDEAL, AxisChannel, Sensors
 from mcl.simaxis import after_friction
@@ -515,15 +516,16 @@ class Transducer:
         if not (math.isfinite(full_scale) and full_scale > 0.0):
             raise ValueError(f"full_scale must be a finite number > 0, got {full_scale!r}")
         self.volts_per_unit = 10.0 / full_scale
-        self.lsb = 10.0 / (2**bits - 1)
+        self.lsb = 10.0 / float((1 << bits) - 1)
         self.noise = noise
-        self.state = float((seed * 2654435761 + 12345) % 2147483647 or 1)
-        """State of the noise generator (a Lehmer generator; part of the device state)."""
+        self.state: i64 = (seed * 2654435761 + 12345) % 2147483647 or 1
+        """State of the noise generator (a Lehmer generator in 64-bit integers, cheaper than a
+        float modulo; part of the device state)."""
 
     def _uniform(self) -> float:
-        s = (self.state * 48271.0) % 2147483647.0
+        s: i64 = self.state * 48271 % 2147483647
         self.state = s
-        return s / 2147483647.0
+        return float(s) / 2147483647.0
 
     def volts(self, value: float) -> float:
         """The reading of ``value`` [V]."""
@@ -534,6 +536,39 @@ class Transducer:
             v += self.noise * math.sqrt(-2.0 * math.log(u1)) * math.cos(2.0 * math.pi * u2)
         v = min(max(v, 0.0), 10.0)
         return math.floor(v / self.lsb + 0.5) * self.lsb
+
+
+class ContactForce:
+    """The force on a part under a tool, as a load cell under it reads it [N]: the part's spring
+    (the tendon ``workpiece``) plus its hard block (the force sensor ``workpiece_block``).
+
+    Args:
+        model, data: the compiled model and its data.
+        prefix: the machine's name prefix in the model.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+        self.model, self.data = model, data
+        self.tendon = int(model.tendon(f"{prefix}workpiece").id)
+        self.sensor = int(model.sensor(f"{prefix}workpiece_block").adr[0])
+        # item access without numpy scalars (the part may be changed: rest and stiffness are read
+        # from the model every time)
+        self._length: Any = memoryview(data.ten_length)
+        self._rest: Any = memoryview(model.tendon_lengthspring.reshape(-1))
+        self._stiffness: Any = memoryview(model.tendon_stiffness)
+        self._sensors: Any = memoryview(data.sensordata)
+
+    def __call__(self) -> float:
+        tendon = self.tendon
+        length: float = self._length[tendon]
+        rest: float = self._rest[2 * tendon]
+        spring = self._stiffness[tendon] * (rest - length) if length < rest else 0.0
+        force: float = spring + self._sensors[self.sensor]
+        return force
+
+
+ANALOG_INPUTS = ("p_A", "p_B", "load")
+"""The analog inputs of a :class:`CylinderDevice`: pressure transducers A and B, the load cell."""
 
 
 class CylinderDevice:
@@ -567,7 +602,7 @@ class CylinderDevice:
         supply: Supply,
         transducer: tuple[float, int, float],
         load_cell: tuple[float, int, float] = (1.0, 12, 0.0),
-        load: Any = None,
+        load: ContactForce | None = None,
         origin: float = 0.0,
         seed: int = 0,
     ) -> None:
@@ -615,14 +650,33 @@ class CylinderDevice:
 
     def analog(self, name: str) -> float:
         """An analog input [V]: ``"p_A"``, ``"p_B"`` (pressure transducers) or ``"load"``."""
+        return self.read(self.channel(name))
+
+    def channel(self, name: str) -> int:
+        """The number of the analog input ``name`` (see :data:`ANALOG_INPUTS`).
+
+        Raises:
+            WiringError: the device has no such input.
+        """
+        if name not in ANALOG_INPUTS:
+            raise WiringError(f"no analog input {name!r}; inputs: {', '.join(ANALOG_INPUTS)}")
+        return ANALOG_INPUTS.index(name)
+
+    def read(self, channel: int) -> float:
+        """Analog input number ``channel`` [V] (0 = p_A, 1 = p_B, 2 = load)."""
+        if channel == 2:
+            load = self._load
+            return self.load_cell.volts(load() if load is not None else 0.0)
         h = self.hydraulics
-        if name == "p_A":
-            return self.transducers[0].volts(h.p_a)
-        if name == "p_B":
-            return self.transducers[1].volts(h.p_b)
-        if name == "load":
-            return self.load_cell.volts(float(self._load()) if self._load is not None else 0.0)
-        raise WiringError(f"no analog input {name!r}; inputs: 'p_A', 'p_B', 'load'")
+        return self.transducers[channel].volts(h.p_a if channel == 0 else h.p_b)
+
+    def analog_inputs(self, names: Sequence[str]) -> AnalogReader:
+        """A reader of the inputs ``names`` in this order, for a sample every servo cycle.
+
+        Raises:
+            WiringError: the device has no such input.
+        """
+        return AnalogReader(self, [self.channel(n) for n in names])
 
     def get_state(self) -> npt.NDArray[np.float64]:
         rng = [t.state for t in (*self.transducers, self.load_cell)]
@@ -632,8 +686,20 @@ class CylinderDevice:
         values = [float(v) for v in state]
         self.hydraulics.set_state(values[:7])
         for t, s in zip((*self.transducers, self.load_cell), values[7:10], strict=True):
-            t.state = s
+            t.state = round(s)
         self._write()
+
+
+class AnalogReader:
+    """The analog inputs of a :class:`CylinderDevice` an axis reads, in input order [V]."""
+
+    def __init__(self, device: CylinderDevice, channels: list[int]) -> None:
+        self.device = device
+        self.channels = channels
+
+    def __call__(self) -> list[float]:
+        device = self.device
+        return [device.read(c) for c in self.channels]
 
 
 # ----------------------------------------------------------------------------- simulated axis

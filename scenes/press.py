@@ -30,7 +30,7 @@ from typing import Any
 import mujoco
 
 import mcl
-from scenes.hydraulics import BAR, Cylinder, CylinderDevice, Supply, Valve
+from scenes.hydraulics import BAR, ContactForce, Cylinder, CylinderDevice, Supply, Valve
 from scenes.machine import AxisDef, MachineDef, Signal, StepSequence
 from scenes.plant import numeric
 from scenes.scene import Scene
@@ -75,34 +75,6 @@ def cylinder_data(model: mujoco.MjModel, prefix: str = "") -> tuple[Valve, Cylin
         Cylinder(bore, rod, stroke, dead_a, dead_b, coulomb, pressure_friction, leakage),
         Supply(supply, tank, relief, relief_gain, beta),
     )
-
-
-class ContactForce:
-    """Reads the force between punch and part (spring and hard block) from the physics [N].
-
-    Args:
-        model, data: the compiled model and its data.
-        prefix: the machine's name prefix in the model.
-    """
-
-    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
-        self.model, self.data = model, data
-        self.tendon = int(model.tendon(f"{prefix}workpiece").id)
-        self.sensor = int(model.sensor(f"{prefix}workpiece_block").adr[0])
-        # item access without numpy scalars (the part may be changed: rest and stiffness are read
-        # from the model every time)
-        self._length: Any = memoryview(data.ten_length)
-        self._rest: Any = memoryview(model.tendon_lengthspring.reshape(-1))
-        self._stiffness: Any = memoryview(model.tendon_stiffness)
-        self._sensors: Any = memoryview(data.sensordata)
-
-    def __call__(self) -> float:
-        tendon = self.tendon
-        length: float = self._length[tendon]
-        rest: float = self._rest[2 * tendon]
-        spring = self._stiffness[tendon] * (rest - length) if length < rest else 0.0
-        force: float = spring + self._sensors[self.sensor]
-        return force
 
 
 def make_cylinder(model: mujoco.MjModel, data: mujoco.MjData, prefix: str) -> CylinderDevice:
@@ -194,6 +166,19 @@ STEPS = (
     "done",
 )
 
+WATCHED = {
+    "power on": (),
+    "home to block": ("block", "direct"),
+    "set the reference": ("block", "direct"),
+    "rapid approach": ("approach", "press", "hold"),
+    "press to 150 bar": ("approach", "press", "hold"),
+    "hold the force": ("hold",),
+    "decompress": ("decompress",),
+    "return": ("retract",),
+    "done": (),
+}
+"""The blocks that act in each step (besides MC_Power, which acts in every step)."""
+
 
 class Demo(StepSequence):
     """The press cycle; call once per PLC cycle. ``step`` says what it does, ``done`` when the
@@ -207,12 +192,12 @@ class Demo(StepSequence):
         self.index = 0
         self.error = ""
         self._since = 0.0
-        self.power = mcl.MC_Power(Axis=R)
+        self.power = mcl.MC_Power(Axis=R, Enable=True)
         self.block = mcl.MC_StepBlock(Axis=R, **HOMING)
         self.direct = mcl.MC_StepDirect(
             Axis=R, SetPosition=REFERENCE, BufferMode=mcl.MC_BufferMode.Buffered
         )
-        self.pressure = mcl.MC_ReadAnalogInput(Axis=R, InputNumber=0)
+        self.pressure = mcl.MC_ReadAnalogInput(Axis=R, InputNumber=0, Enable=True)
         self.approach = mcl.MC_MoveAbsolute(
             Axis=R, Position=PART - 5.0, Velocity=250.0, Acceleration=3000.0, Deceleration=3000.0
         )
@@ -252,11 +237,13 @@ class Demo(StepSequence):
         }
         self.blocks["retract"] = self.retract
         """The blocks a report watches, by name."""
+        self._watched = [(self.power, *(self.blocks[n] for n in WATCHED[s])) for s in STEPS]
+        """Per step, the blocks whose error stops the cycle."""
         self.peak = 0.0
+        """Highest side-A pressure read while pressing [bar]."""
         self.results: list[dict[str, float | str]] = []
         """One row per finished step: when, where the ram stood, pressure and force (from the
         physics; shown by the viewer)."""
-        """Highest side-A pressure read while pressing [bar]."""
 
     def _next(self) -> None:
         scene = self.scene
@@ -279,7 +266,6 @@ class Demo(StepSequence):
         # inputs set as attributes, blocks called without keywords: the cheap way per scan
         power, pressure, block, direct = self.power, self.pressure, self.block, self.direct
         approach, press, hold = self.approach, self.press, self.hold
-        power.Enable = pressure.Enable = True
         power()
         pressure()
         p_a = pressure.Value * BAR_PER_VOLT
@@ -299,19 +285,23 @@ class Demo(StepSequence):
         self.retract()
         if step == "press to 150 bar":
             self.peak = max(self.peak, p_a)
-        for name, fb in self.blocks.items():
+        for fb in self._watched[self.index]:
             if fb.Error:
+                name = next(n for n, b in self.blocks.items() if b is fb)
                 self.error = f"{step}: {name} error {fb.ErrorID}"
                 return
-        elapsed = self.scene.time - self._since
         if (
             (step == "power on" and self.power.Status)
             or (step == "home to block" and self.block.Done)
             or (step == "set the reference" and self.direct.Done)
             or (step == "rapid approach" and self.approach.Done)
             or (step == "press to 150 bar" and self.press.Done)
-            or (step == "hold the force" and elapsed >= DWELL)
-            or (step == "decompress" and elapsed >= DECOMPRESSION and self.decompress.InForce)
+            or (step == "hold the force" and self.scene.time - self._since >= DWELL)
+            or (
+                step == "decompress"
+                and self.scene.time - self._since >= DECOMPRESSION
+                and self.decompress.InForce
+            )
             or (step == "return" and self.retract.Done)
         ):
             self._next()

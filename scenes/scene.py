@@ -3,7 +3,8 @@
 ``Scene`` is what scenario tests and the viewer use: ``scene.axes["X"]`` (mcl.Axis),
 ``scene.run(program, until, timeout)``, ``scene.time``, ``scene.model`` / ``scene.data`` (MuJoCo
 ground truth, where ``scene.has_model``), ``scene.trace`` (recorded signals, CSV export),
-``scene.faults`` (fault injection), ``scene.signal(name)`` (published values).
+``scene.faults`` (fault injection), ``scene.signal(name)`` (published values),
+``scene.save_state()`` / ``scene.restore_state(state)`` (a homed machine kept for later runs).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from mcl.trace import Trace
 from scenes.drives import Device, WiringError
 from scenes.machine import AxisDef, MachineDef, Signal, unit_and_scale
 from scenes.plant import AxisWiring, MujocoAxisIO, MujocoPlant
+from scenes.state import MujocoState, model_identity
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 """The folder of the MJCF machine models."""
@@ -238,17 +240,14 @@ class Scene(mcl.Machine):
         device_name = spec.device if len(self.machines) == 1 else f"{m.name}/{spec.device}"
         analog = None
         if spec.analog:
-            read = getattr(self.devices.get(device_name), "analog", None)
-            if read is None:
+            inputs = getattr(self.devices.get(device_name), "analog_inputs", None)
+            if inputs is None:
                 raise WiringError(
                     f"axis {a}: analog inputs {spec.analog} need the device {spec.device!r} "
-                    f"with a reader analog(name) -> volts; devices: {sorted(self.devices)}"
+                    f"with analog_inputs(names) -> a reader of volts; devices: "
+                    f"{sorted(self.devices)}"
                 )
-            channels = spec.analog
-
-            def analog() -> list[float]:
-                return [read(c) for c in channels]
-
+            analog = inputs(spec.analog)
         return AxisWiring(
             f"{m.name}/{spec.joint or a}",
             f"{m.name}/",
@@ -324,6 +323,65 @@ class Scene(mcl.Machine):
             return io.position
         assert isinstance(io, mcl.SimAxis)
         return io.x
+
+    # ------------------------------------------------------------------ saved state
+    def save_state(self) -> mcl.MachineState:
+        """Save the scene as it is now, e.g. once it is homed: the simulated time, the physics
+        with every drive and device (oil pressures, valves), every axis with its channel
+        (reference, power, errors, regulator, encoder, switches, sensor noise) and the
+        injected faults. Function blocks are not part of it (they belong to the program).
+
+        Raises:
+            mcl.StateError: an axis is not at rest; the message names each such axis and its
+                state (stop it first).
+        """
+        return super().save_state()
+
+    def restore_state(self, state: mcl.MachineState) -> None:
+        """Return to a state saved with :meth:`save_state` (of this scene, or of another scene
+        built from the same machines, model, periods and sensors); the same program then gives
+        the same motion, bit for bit.
+
+        The trace window is cleared, so it shows only what happens after the restore (a
+        streamed trace file keeps what it received and goes on from the restored time). Blocks
+        of a program that still hold an axis are let go (their commands end Aborted) and axes
+        groups are taken apart: build the program anew after a restore.
+
+        Raises:
+            mcl.StateError: the state is of another machine or model (the message says which);
+                the scene is left unchanged.
+        """
+        super().restore_state(state)
+
+    def _identity(self) -> tuple[str, ...]:
+        machines = ", ".join(f"{m.name} ({m.model or 'simulated axes'})" for m in self.machines)
+        plant = self.plant
+        physics: tuple[str, ...]
+        if isinstance(plant, MujocoPlant):
+            physics = (model_identity(plant.model),)
+        else:
+            assert isinstance(plant, mcl.SimPlant)
+            physics = plant.identity()
+        return (f"machine {machines}", *super()._identity(), *physics)
+
+    def _plant_state(self) -> object:
+        plant = self.plant
+        if isinstance(plant, MujocoPlant):
+            return MujocoState.of(plant)
+        assert isinstance(plant, mcl.SimPlant)
+        return plant.get_state()
+
+    def _restore_plant(self, state: object) -> None:
+        plant = self.plant
+        if isinstance(plant, MujocoPlant):
+            assert isinstance(state, MujocoState)
+            state.restore(plant)
+        else:
+            assert isinstance(plant, mcl.SimPlant) and isinstance(state, mcl.SimPlantState)
+            plant.set_state(state)
+
+    def _restored(self) -> None:
+        self.trace.clear()
 
 
 def _check_resolution(model_resolution: float, config: mcl.AxisConfig, axis: str) -> None:

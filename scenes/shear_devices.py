@@ -306,6 +306,55 @@ class Cut:
     _high: float = field(default=-math.inf, repr=False)
 
 
+CUT_FIELDS = (
+    "time",
+    "position",
+    "length",
+    "mark",
+    "contact",
+    "slide",
+    "speed_mismatch",
+    "drag",
+    "_low",
+    "_high",
+)
+"""The fields of a :class:`Cut` in a recorder's state, in order."""
+
+
+def cut_values(cut: Cut) -> list[float]:
+    """A cut's :data:`CUT_FIELDS` as numbers (no length: NaN)."""
+    length = math.nan if cut.length is None else cut.length
+    return [
+        cut.time,
+        cut.position,
+        length,
+        cut.mark,
+        cut.contact,
+        cut.slide,
+        cut.speed_mismatch,
+        cut.drag,
+        cut._low,
+        cut._high,
+    ]
+
+
+def cut_of(values: list[float]) -> Cut:
+    """The cut of numbers made by :func:`cut_values`."""
+    time, position, length, mark, contact, slide, mismatch, drag, low, high = values
+    return Cut(
+        time,
+        position,
+        None if math.isnan(length) else length,
+        mark,
+        contact,
+        slide,
+        mismatch,
+        drag,
+        low,
+        high,
+    )
+
+
 class CutRecorder:
     """Records every cut from the physics; a device (it looks before every physics step).
 
@@ -403,9 +452,17 @@ class CutRecorder:
         self.current = None
 
     def get_state(self) -> npt.NDArray[np.float64]:
-        return np.array([float(len(self.cuts))])
+        """Every cut so far and the one in progress, flat: a flag (a cut is in progress), then
+        each cut's fields (:func:`cut_values`)."""
+        cuts = [*self.cuts, *([self.current] if self.current is not None else [])]
+        return np.array(
+            [float(self.current is not None), *(x for c in cuts for x in cut_values(c))]
+        )
 
     def set_state(self, state: npt.NDArray[np.float64]) -> None:
-        """Forget the cuts made after the state was taken."""
-        del self.cuts[round(float(state[0])) :]
-        self.current = None
+        """Return to the cuts of a state taken with :meth:`get_state`."""
+        values = [float(v) for v in state]
+        n = len(CUT_FIELDS)
+        cuts = [cut_of(values[i : i + n]) for i in range(1, len(values), n)]
+        self.current = cuts.pop() if values[0] else None
+        self.cuts = cuts

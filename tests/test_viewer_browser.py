@@ -186,6 +186,45 @@ def test_power_and_jog_move_the_axis(page: Page, viewer: Viewer) -> None:
     assert session.snapshot.axes["X"].state == "StandStill"
 
 
+def test_a_held_alt_arrow_key_jogs_until_let_go(page: Page, viewer: Viewer) -> None:
+    """Alt+→ held: the keyboard repeats it, each repeat renews the jog; let go, the axis
+    stops."""
+    session = viewer.session
+    if not session.snapshot.axes["X"].powered:
+        page.get_by_role("button", name="Power", exact=True).click()
+        wait_for(lambda: session.snapshot.axes["X"].powered, 5.0, "X powered")
+    start = session.scene.joint_position("X")
+    page.evaluate("document.activeElement && document.activeElement.blur()")
+    page.keyboard.down("Alt")
+    page.keyboard.down("ArrowRight")
+    wait_for(lambda: session.snapshot.axes["X"].jogging == 1, 5.0, "the key's jog")
+    # 1.5 s of the keyboard's auto-repeat (a keydown with repeat set every 30 ms), three times
+    # the first press' 0.55 s; sent inside the page, as the keyboard would
+    page.evaluate(
+        """() => new Promise((done) => {
+            const t0 = performance.now();
+            const timer = setInterval(() => {
+                document.activeElement.dispatchEvent(new KeyboardEvent("keydown", {
+                    key: "ArrowRight", code: "ArrowRight", altKey: true, repeat: true,
+                    bubbles: true,
+                }));
+                if (performance.now() - t0 > 1500) { clearInterval(timer); done(null); }
+            }, 30);
+        })"""
+    )
+    page.keyboard.up("ArrowRight")
+    page.keyboard.up("Alt")
+    moved = session.scene.joint_position("X") - start
+    jog_velocity = 0.1 * session.snapshot.axes["X"].vmax * 1e-3  # the default [m/s]
+    assert moved > 1.0 * jog_velocity, f"X moved {moved * 1e3:.1f} mm while Alt+→ was held"
+
+    wait_for(lambda: session.snapshot.axes["X"].jogging == 0, 2.0, "the jog to end")
+    wait_for(lambda: abs(session.snapshot.axes["X"].velocity) < 0.5, 3.0, "X to stand still")
+    stopped = session.scene.joint_position("X")
+    time.sleep(0.3)
+    assert abs(session.scene.joint_position("X") - stopped) < 1e-4
+
+
 def scene_options(page: Page) -> list[str]:
     """Open the scene chooser and read its options (closes it again)."""
     chooser = page.get_by_role("combobox", name="Scene", exact=True)

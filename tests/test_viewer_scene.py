@@ -10,7 +10,20 @@ import pytest
 import viser
 import viser.infra
 
+from scenes import gantry
+from scenes.scene import model_path
 from viewer.model_scene import ModelScene, capsule_mesh
+from viewer.overlays import (
+    CONTACT_FIELDS,
+    MAX_CONSTRAINT_FORCES,
+    MAX_CONTACTS,
+    ContactOverlay,
+    GhostAxis,
+    SetPointGhost,
+    constraint_forces,
+    contact_forces,
+    tendon_spring_forces,
+)
 
 # Every geom type, a material, hidden geoms, static / jointed / free / mocap bodies.
 MJCF = """
@@ -286,3 +299,288 @@ def test_scene_can_be_removed(server: viser.ViserServer, model: mujoco.MjModel) 
     scene.remove()
     assert scene.geom_handles == {}
     scene.update(mujoco.MjData(model))  # no moving frames left: a no-op
+
+
+# ------------------------------------------------------------------ overlays
+
+
+def test_a_subset_of_bodies_drawn_in_one_colour_and_opacity(
+    server: viser.ViserServer, model: mujoco.MjModel
+) -> None:
+    ids = [model.body(n).id for n in ("carriage", "arm", "tool")]
+    scene = ModelScene(model, server, prefix="/copy", bodies=ids, color=(0, 1, 1), opacity=0.3)
+    assert set(scene.body_handles) == {"carriage", "arm", "tool"}
+    assert set(scene.geom_handles) == {
+        "carriage_box",
+        "cam",
+        "arm_capsule",
+        "arm_tint",
+        "tool_ellipsoid",
+        "tool_mesh",
+    }
+    for handle in scene.geom_handles.values():
+        assert handle.color == (0, 255, 255)
+        assert handle.opacity == pytest.approx(0.3)
+    with pytest.raises(ValueError, match=r"opacity must be in \[0, 1\]"):
+        ModelScene(model, server, prefix="/bad", opacity=1.5)
+
+
+def test_the_ghost_sits_where_the_set_point_puts_the_moving_bodies(
+    server: viser.ViserServer, model: mujoco.MjModel
+) -> None:
+    """slide_x as an axis in mm: the ghost of carriage, arm and tool is posed by forward
+    kinematics at the set point, the hinge as measured; at zero following error it is the
+    machine."""
+    data = mujoco.MjData(model)
+    data.qpos[:2] = [0.1, 0.4]  # slide_x [m], hinge_y [rad]
+    mujoco.mj_kinematics(model, data)
+    axis = GhostAxis("X", int(model.joint("slide_x").qposadr[0]), 1000.0)
+    ghost = SetPointGhost(model, server, [axis], prefix="/ghost")
+    moved = {"carriage", "arm", "tool"}
+    assert set(ghost.scene.body_handles) == moved
+
+    ghost.update(data.qpos, [25.0])  # set point 25 mm ahead of the slide
+    at_set_point = mujoco.MjData(model)
+    at_set_point.qpos[:2] = [0.125, 0.4]
+    mujoco.mj_kinematics(model, at_set_point)
+    for name in moved:
+        frame = ghost.scene.body_handles[name]
+        np.testing.assert_allclose(frame.position, at_set_point.body(name).xpos, atol=1e-9)
+        np.testing.assert_allclose(frame.wxyz, at_set_point.body(name).xquat, atol=1e-9)
+        ahead = frame.position - data.body(name).xpos
+        np.testing.assert_allclose(ahead, [0.025, 0.0, 0.0], atol=1e-9)
+
+    ghost.update(data.qpos, [0.0])  # at rest: the ghost covers the machine
+    for name in moved:
+        np.testing.assert_allclose(
+            ghost.scene.body_handles[name].position, data.body(name).xpos, atol=1e-12
+        )
+
+
+RESTING_BOX = """
+<mujoco>
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="1 1 0.1"/>
+    <body name="box" pos="0 0 0.05">
+      <freejoint/>
+      <geom type="box" size="0.1 0.05 0.05" mass="20"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_the_contacts_of_a_resting_box_carry_its_weight() -> None:
+    model = mujoco.MjModel.from_xml_string(RESTING_BOX)
+    data = mujoco.MjData(model)
+    for _ in range(500):
+        mujoco.mj_step(model, data)
+    rows = contact_forces(model, data)
+    assert rows.shape == (data.ncon, CONTACT_FIELDS) and data.ncon >= 4
+    weight = 20.0 * -model.opt.gravity[2]
+    assert rows[:, 5].sum() == pytest.approx(weight, rel=1e-3)  # upward, on the box
+    np.testing.assert_allclose(rows[:, 2], 0.0, atol=1e-3)  # on the floor
+    assert contact_forces(model, data, limit=2).shape == (2, CONTACT_FIELDS)
+
+
+def test_contacts_are_drawn_on_demand_bounded_in_two_reused_nodes(
+    server: viser.ViserServer, sent: list[viser.infra.Message]
+) -> None:
+    overlay = ContactOverlay(server, prefix="/contacts", scale=1e-4)
+    rows = np.array([[0.1, 0.2, 0.3, 0.0, 0.0, 500.0], [0.0, 0.0, 0.0, -1000.0, 0.0, 0.0]])
+    sent.clear()
+    overlay.update(rows)  # off: nothing drawn, nothing sent
+    assert overlay.drawn.shape == (0, CONTACT_FIELDS) and sent == []
+
+    overlay.enabled = True
+    overlay.update(rows)
+    np.testing.assert_array_equal(overlay.drawn, rows)
+    np.testing.assert_allclose(
+        overlay.arrows(),
+        np.array([[[0.1, 0.2, 0.3], [0.1, 0.2, 0.35]], [[0.0, 0.0, 0.0], [-0.1, 0.0, 0.0]]]),
+    )
+    overlay.scale = 1e-5  # 1 kN: 10 mm
+    np.testing.assert_allclose(overlay.arrows()[1, 1], [-0.01, 0.0, 0.0])
+
+    many = np.tile(rows[:1], (10 * MAX_CONTACTS, 1))
+    overlay.update(many)
+    assert overlay.drawn.shape == (MAX_CONTACTS, CONTACT_FIELDS)
+    overlay.enabled = False
+    assert overlay.drawn.shape[0] == 0
+    # the same two nodes throughout: updated and shown or hidden, never a node added
+    assert {getattr(m, "name", None) for m in sent} == {"/contacts/points", "/contacts/forces"}
+    assert {type(m).__name__ for m in sent} == {
+        "SceneNodeUpdateMessage",
+        "SetSceneNodeVisibilityMessage",
+    }
+
+
+LIMIT_JOINT = int(mujoco.mjtConstraint.mjCNSTR_LIMIT_JOINT)
+LIMIT_TENDON = int(mujoco.mjtConstraint.mjCNSTR_LIMIT_TENDON)
+
+
+def limit_and_friction_forces(
+    model: mujoco.MjModel, data: mujoco.MjData, dof: int
+) -> tuple[float, float]:
+    """The generalized forces [N] of the joint-limit rows and of the friction-loss rows of
+    ``dof``, each from its own rows of the constraint Jacobian (``J^T f``)."""
+    sums = []
+    for kind in (LIMIT_JOINT, int(mujoco.mjtConstraint.mjCNSTR_FRICTION_DOF)):
+        forces = np.where(data.efc_type == kind, data.efc_force, 0.0)
+        qfrc = np.zeros(model.nv)
+        mujoco.mj_mulJacTVec(model, data, qfrc, forces)
+        sums.append(float(qfrc[dof]))
+    return sums[0], sums[1]
+
+
+@pytest.mark.parametrize("joint", ["X", "Y", "Z"])
+@pytest.mark.parametrize("side", [0, 1], ids=["lower stop", "upper stop"])
+@pytest.mark.parametrize("jacobian", ["dense", "sparse"])
+def test_a_gantry_axis_past_its_hard_stop_is_pushed_back_by_it(
+    joint: str, side: int, jacobian: str
+) -> None:
+    """1 mm past either end of its range, the stop pushes the axis back inside: one arrow at the
+    joint's anchor along its axis, the limit's share of ``qfrc_constraint`` (the rest is the
+    guide's friction); the same with MuJoCo's sparse constraint Jacobian."""
+    model = mujoco.MjModel.from_xml_path(str(model_path(gantry.MACHINE.model)))
+    if jacobian == "sparse":
+        model.opt.jacobian = mujoco.mjtJacobian.mjJAC_SPARSE
+    assert bool(mujoco.mj_isSparse(model)) == (jacobian == "sparse")
+    data = mujoco.MjData(model)
+    j = model.joint(joint).id
+    dof = int(model.jnt_dofadr[j])
+    inward = 1.0 if side == 0 else -1.0
+    data.qpos[model.jnt_qposadr[j]] = model.jnt_range[j][side] - 0.001 * inward
+    mujoco.mj_forward(model, data)
+
+    (row,) = constraint_forces(model, data)
+    np.testing.assert_allclose(row[:3], data.xanchor[j], atol=1e-12)
+    axial = float(row[3:] @ data.xaxis[j])
+    np.testing.assert_allclose(row[3:], axial * data.xaxis[j], atol=1e-9 * abs(axial))
+    assert inward * axial > 1000.0  # back into the range, 1 mm into a stiff stop
+    limit, friction = limit_and_friction_forces(model, data, dof)
+    assert axial == pytest.approx(limit, rel=1e-12)
+    assert axial + friction == pytest.approx(data.qfrc_constraint[dof], rel=1e-12)
+    assert abs(axial) == pytest.approx(
+        data.efc_force[data.efc_type == LIMIT_JOINT].sum(), rel=1e-12
+    )
+
+
+SPRING_TENDON = """
+<mujoco>
+  <option gravity="0 0 0"/>
+  <worldbody>
+    <site name="anchor" pos="0 0 0"/>
+    <body name="slider" pos="0 0 1">
+      <joint name="slide" type="slide" axis="0 0 1" range="-0.9 0.9"/>
+      <geom size="0.05" mass="1"/>
+      <site name="end"/>
+    </body>
+    <body name="arm" pos="1 0 0">
+      <joint name="hinge" type="hinge" axis="0 1 0" range="-0.5 0.5"/>
+      <geom type="capsule" size="0.02" fromto="0 0 0 0.3 0 0" mass="1"/>
+    </body>
+  </worldbody>
+  <tendon>
+    <spatial name="spring" stiffness="1000" springlength="0.8 1.2" limited="true" range="0.5 1.5">
+      <site site="end"/>
+      <site site="anchor"/>
+    </spatial>
+    <fixed name="coupling" stiffness="50" springlength="1">
+      <joint joint="hinge" coef="1"/>
+    </fixed>
+  </tendon>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("slide", [-0.3, -0.55, 0.4, 0.56])
+def test_a_loaded_tendon_shows_its_spring_and_limit_force_at_its_first_point(
+    slide: float,
+) -> None:
+    """A spring pushed 5 kN below (or pulled beyond) its band, also onto its length limit: the
+    arrow at the first path point carries spring plus limit force, towards the next point when
+    pressed, away from it when stretched; MuJoCo's passive force agrees with the spring part.
+    The hinge's limit and the fixed tendon have no place: nothing is drawn for them."""
+    model = mujoco.MjModel.from_xml_string(SPRING_TENDON)
+    model.tendon_stiffnesspoly[0] = [2000.0, 5000.0]
+    data = mujoco.MjData(model)
+    data.qpos[model.joint("slide").qposadr[0]] = slide
+    data.qfrc_applied[model.joint("slide").dofadr[0]] = 5000.0 * np.sign(slide)
+    data.qpos[model.joint("hinge").qposadr[0]] = 0.6  # past its limit: a torque, not drawn
+    mujoco.mj_forward(model, data)
+    tendon = model.tendon("spring").id
+
+    springs = tendon_spring_forces(model, data)
+    ten_j = np.zeros(model.nv)  # the spring tendon's Jacobian, dense
+    adr, nnz = model.ten_J_rowadr[tendon], model.ten_J_rownnz[tendon]
+    ten_j[model.ten_J_colind[adr : adr + nnz]] = data.ten_J[adr : adr + nnz]
+    slide_dof = model.joint("slide").dofadr[0]
+    assert springs[tendon] * ten_j[slide_dof] == pytest.approx(
+        data.qfrc_spring[slide_dof], rel=1e-12
+    )
+    on_limit = float(np.where(data.efc_type == LIMIT_TENDON, data.efc_force, 0.0).sum())
+    assert (on_limit > 0.0) == (abs(slide) > 0.5)
+
+    hinge_stop = (data.efc_type == LIMIT_JOINT) & (data.efc_force > 0.0)
+    assert hinge_stop.any() and springs[model.tendon("coupling").id] != 0.0  # loaded, not drawn
+    (row,) = constraint_forces(model, data)
+    end = data.site("end").xpos
+    np.testing.assert_allclose(row[:3], end, atol=1e-12)
+    toward_next = (data.site("anchor").xpos - end) / np.linalg.norm(data.site("anchor").xpos - end)
+    pressed = 1.0 if slide < 0 else -1.0
+    assert pressed * springs[tendon] > 0.0
+    np.testing.assert_allclose(
+        row[3:], (springs[tendon] + pressed * on_limit) * toward_next, rtol=1e-12, atol=1e-9
+    )
+
+
+def test_stop_and_tendon_forces_are_drawn_on_demand_labelled_in_bounded_reused_nodes(
+    server: viser.ViserServer, sent: list[viser.infra.Message]
+) -> None:
+    overlay = ContactOverlay(server, prefix="/contacts", scale=1e-4)
+    contacts = np.array([[0.1, 0.2, 0.3, 0.0, 0.0, 500.0]])
+    stops = np.array([[1.0, 0.5, 1.2, -2000.0, 0.0, 0.0], [0.0, 0.0, 1.2, 0.0, 0.0, -74_660.0]])
+    sent.clear()
+    overlay.update(contacts, stops)  # off: nothing drawn, nothing sent
+    assert overlay.drawn_constraints.shape == (0, CONTACT_FIELDS) and sent == []
+    assert overlay.constraint_labels == []
+
+    overlay.enabled = True
+    overlay.update(contacts, stops)
+    np.testing.assert_array_equal(overlay.drawn, contacts)
+    np.testing.assert_array_equal(overlay.drawn_constraints, stops)
+    assert overlay.constraint_labels == ["2.0 kN", "74.7 kN"]
+    np.testing.assert_allclose(overlay.constraint_arrows()[0], [[1.0, 0.5, 1.2], [0.8, 0.5, 1.2]])
+    overlay.scale = 1e-6  # 75 kN: 75 mm
+    np.testing.assert_allclose(overlay.constraint_arrows()[1, 1], [0.0, 0.0, 1.2 - 0.07466])
+    np.testing.assert_allclose(overlay.arrows()[0, 1], [0.1, 0.2, 0.3005])
+
+    overlay.update(contacts, stops[:1] * 0.25)  # one stop, 500 N: the second label hides
+    assert overlay.constraint_labels == ["500 N"]
+    overlay.update(contacts, np.tile(stops, (10 * MAX_CONSTRAINT_FORCES, 1)))
+    assert overlay.drawn_constraints.shape == (MAX_CONSTRAINT_FORCES, CONTACT_FIELDS)
+    assert len(overlay.constraint_labels) == MAX_CONSTRAINT_FORCES
+    overlay.update(contacts)  # no stop or tendon loaded any more
+    assert overlay.drawn_constraints.shape[0] == 0 and overlay.drawn.shape[0] == 1
+    assert overlay.constraint_labels == []
+    overlay.enabled = False
+    assert overlay.drawn.shape[0] == 0 and overlay.drawn_constraints.shape[0] == 0
+    # four nodes and a label per drawn force at most: labels are made once, then reused
+    labels = {f"/contacts/constraint_label_{i}" for i in range(MAX_CONSTRAINT_FORCES)}
+    assert {getattr(m, "name", None) for m in sent} == {
+        "/contacts/points",
+        "/contacts/forces",
+        "/contacts/constraint_points",
+        "/contacts/constraint_forces",
+        *labels,
+    }
+    added = [str(getattr(m, "name", "")) for m in sent if type(m).__name__ == "LabelMessage"]
+    assert sorted(added) == sorted(labels)  # each made once
+    assert {type(m).__name__ for m in sent} == {
+        "LabelMessage",
+        "SceneNodeUpdateMessage",
+        "SetSceneNodeVisibilityMessage",
+        "SetPositionMessage",
+    }

@@ -1376,3 +1376,43 @@ def test_tuning_writes_the_servo_constants_through_gt_setconstant(
     assert view(session).last_error.startswith("Write constants: error 5")  # EParam
     assert session.scene.axes["X"].constants == written  # left alone
     assert session.snapshot.events[-1].text == view(session).last_error
+
+
+def test_a_saved_state_comes_back_homed_with_a_fresh_operator(
+    session: Session, clock: FakeClock
+) -> None:
+    session.restore_state()
+    assert session.snapshot.events[-1].text == "no saved state of gantry to restore: save one first"
+    session.requests("X").set_power(True)
+    run(session, clock, 0.2)
+    session.requests("X").home("set position (no motion)", 123.0)
+    run(session, clock, 0.2)
+    assert view(session).referenced
+    session.save_state()
+    saved_at, joint = session.scene.time, session.scene.joint_position("X")
+    assert session.snapshot.events[-1].text == f"state of gantry saved at {saved_at:.3f} s"
+    session.requests("X").move(Move("relative", 60.0, 200.0, 2000.0))
+    run(session, clock, 0.1)
+    session.save_state()  # X moves: refused, the saved state stays
+    refused = session.snapshot.events[-1].text
+    assert refused.startswith("state not saved:") and "axis X is in DiscreteMotion" in refused
+    run(session, clock, 1.0)
+    assert (session.scene.joint_position("X") - joint) * 1e3 == pytest.approx(60.0, abs=0.05)
+    generation = session.snapshot.generation
+    session.restore_state()
+    x = view(session)
+    assert session.snapshot.generation == generation + 1  # the operator program is new
+    assert session.scene.time == saved_at and session.scene.joint_position("X") == joint
+    assert x.referenced and x.powered and x.message == "" and x.position == pytest.approx(123.0)
+    restored = session.snapshot.events[-1].text
+    assert restored == f"state of gantry restored: saved at {saved_at:.3f} s"
+    session.requests("X").move(Move("absolute", 143.0, 200.0, 2000.0))  # needs the reference
+    run(session, clock, 1.0)
+    assert view(session).message == "Move to: done"
+    assert (session.scene.joint_position("X") - joint) * 1e3 == pytest.approx(20.0, abs=0.05)
+    session.load("single_axis")  # one state per machine: none saved for this one
+    session.restore_state()
+    assert session.snapshot.events[-1].text.startswith("no saved state of single_axis")
+    session.load("gantry")  # a rebuilt gantry takes the gantry's state
+    session.restore_state()
+    assert session.scene.joint_position("X") == joint and view(session).referenced

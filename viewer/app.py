@@ -2,8 +2,9 @@
 
 :class:`ViewerApp` builds the control panel and the 3-D scene (:class:`ModelScene`) and runs a
 loop in its own thread that, up to ``fps`` times per second, takes the session's latest
-:class:`~viewer.session.Snapshot` and sends what changed: body poses, switch colours, the axis
-panels, the error history and the scope. GUI callbacks only call :class:`Session` methods
+:class:`~viewer.session.Snapshot` and sends what changed: body poses, switch colours, the
+overlays of :mod:`viewer.overlays` (set-point ghost, forces) and the follow cameras, the
+axis panels, the error history and the scope. GUI callbacks only call :class:`Session` methods
 (request flags and queued commands) and the scope's own state; viser objects are modified by the
 update thread (and the notifications of the callbacks).
 
@@ -52,6 +53,13 @@ import mcl.faults
 import scenes
 from viewer.model_scene import ModelScene
 from viewer.operator import HOMING_PROCEDURES, AxisRequests, Move
+from viewer.overlays import (
+    DEFAULT_FORCE_SCALE,
+    FORCE_SCALES,
+    ContactOverlay,
+    SetPointGhost,
+    ghost_axes,
+)
 from viewer.security import (
     AccessPolicy,
     BoundedLog,
@@ -311,6 +319,29 @@ STEP_KEYS: tuple[tuple[HotkeyKey, HotkeyKey], ...] = (
 """Hotkeys (with Shift) of Step+ and Step− of the first three driven axes; each press (and each
 key repeat while held) moves the axis by its Step."""
 
+JOG_KEYS = STEP_KEYS
+"""Hotkeys (with Alt) of Jog+ and Jog− of the first three driven axes: the axis jogs while the
+key is held. The page sends a trigger on the press and on every auto-repeat of the key, no
+release: each trigger renews a dead-man (:data:`KEY_JOG_FIRST`, then :data:`KEY_JOG_REPEAT`)."""
+
+KEY_JOG_FIRST = 0.55
+"""Wall time [s] a jog key's first trigger keeps the jog alive: longer than a browser's delay
+before a held key repeats (typically 0.5 s)."""
+
+KEY_JOG_REPEAT = 0.15
+"""Wall time [s] each auto-repeat of a held jog key keeps the jog alive (keys repeat every
+~0.03-0.1 s); the jog stops this long after the key is let go."""
+
+OFF, ON = "off", "on"
+SWITCH_CHOICES = (OFF, ON)
+"""Choices of an overlay that is shown or not (a dropdown: the page offers no checkboxes)."""
+
+FOLLOW_OFF = OFF
+"""Follow-camera choice: the camera stays where the page puts it."""
+
+FOLLOW_STEP = 1e-4
+"""Body travel [m] after which a following camera is moved along (smaller moves accumulate)."""
+
 FAULTS: dict[str, mcl.faults.Fault] = {
     "force LIM+ on": mcl.faults.SwitchStuck("lim_pos", True),
     "force LIM− on": mcl.faults.SwitchStuck("lim_neg", True),
@@ -386,6 +417,10 @@ class _Hold:
     axis: str
     direction: int
     last: float
+    timeout: float = HOLD_TIMEOUT
+    """Wall time [s] after ``last`` that the hold lives without a new message."""
+    key: bool = False
+    """Held through a jog key (renewed by the key's auto-repeat) rather than a button."""
 
 
 @dataclass
@@ -474,6 +509,7 @@ class ViewerApp:
             makes a browser without GPU (software WebGL) draw ~10× slower; the default lights
             the scene with a hemisphere light instead.
         log: Where refused GUI messages are logged (bounded).
+        clock: Monotonic wall clock [s] of the jog holds' dead-man (injectable for tests).
     """
 
     def __init__(
@@ -486,9 +522,11 @@ class ViewerApp:
         plot_hz: float = 10.0,
         environment_map: bool = False,
         log: BoundedLog | None = None,
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.session = session
         self.server = server
+        self._clock = clock
         self._frame_period = 1.0 / fps
         self._panel_period = 1.0 / panel_hz
         self._plot_period = 1.0 / plot_hz
@@ -526,6 +564,21 @@ class ViewerApp:
         """Who operates (the others watch)."""
         self._holds: dict[int, _Hold] = {}
         self._holds_lock = threading.Lock()
+        # 3-D overlays: the GUI callbacks set the wishes, the update thread draws
+        self._ghost: SetPointGhost | None = None
+        self._contacts: ContactOverlay | None = None
+        self.show_ghost = False
+        """The set-point ghost is drawn (the View folder's toggle)."""
+        self.show_contacts = False
+        """Contact, hard-stop and tendon forces are drawn (the View folder's choice)."""
+        self.force_scale = DEFAULT_FORCE_SCALE
+        """Length of the force arrows, a key of :data:`FORCE_SCALES`."""
+        self.follow = FOLLOW_OFF
+        """Body the pages' cameras follow (:data:`FOLLOW_OFF`: none)."""
+        self._follow_anchor: dict[int, tuple[int, npt.NDArray[np.float64]]] = {}
+        """Per page: the followed body and its position [m] when the camera last moved along."""
+        self._follow_ids: dict[str, int] = {}
+        self._redraw = False
         self._refusals: dict[tuple[int, str], float] = {}
         # scope state
         self._scope_plot: viser.GuiUplotHandle | None = None
@@ -602,16 +655,22 @@ class ViewerApp:
         if client is not None:
             client.add_notification(f"{what}: refused", reason, color="red", auto_close_seconds=4.0)
 
-    def _drop_holds(self, client_id: int) -> None:
+    def _drop_holds(self, client_id: int, expired: _Hold | None = None) -> None:
+        """End the jog a page holds (only the hold ``expired`` if given: a newer one of a
+        key's repeat or a button, made meanwhile, stays)."""
         with self._holds_lock:
+            if expired is not None and self._holds.get(client_id) is not expired:
+                return
             hold = self._holds.pop(client_id, None)
         if hold is not None and hold.generation == self.session.snapshot.generation:
             self.session.requests(hold.axis).release_jog()
 
     def renew_holds(self) -> None:
-        """Renew the dead-man of every held jog button whose page is connected, in control
-        and sent a hold message within :data:`HOLD_TIMEOUT`; drop the others (jog ends)."""
-        now = time.monotonic()
+        """Renew the dead-man of every held jog button (or key) whose page is connected, in
+        control and sent a hold message (or key trigger) within the hold's timeout
+        (:data:`HOLD_TIMEOUT`, :data:`KEY_JOG_FIRST`, :data:`KEY_JOG_REPEAT`); drop the others
+        (jog ends)."""
+        now = self._clock()
         clients = self.server.get_clients()
         generation = self.session.snapshot.generation
         with self._holds_lock:
@@ -620,13 +679,46 @@ class ViewerApp:
             alive = (
                 client_id in clients
                 and self.control.holds(client_id)
-                and now - hold.last <= HOLD_TIMEOUT
+                and now - hold.last <= hold.timeout
                 and hold.generation == generation
             )
             if alive:
                 self.session.requests(hold.axis).jog(hold.direction)
             else:
-                self._drop_holds(client_id)
+                self._drop_holds(client_id, hold)
+
+    def key_jog(self, client_id: int, generation: int, axis: str, direction: int) -> None:
+        """What a jog hotkey does: jog ``axis`` while the page keeps triggering the key.
+
+        The first trigger holds the jog for :data:`KEY_JOG_FIRST`, each further trigger of the
+        same key (the browser's auto-repeat) for :data:`KEY_JOG_REPEAT` from then on; when the
+        triggers stop, :meth:`renew_holds` lets the jog end. Another key or a jog button of the
+        same page replaces the hold (the jog it held stops).
+
+        Args:
+            client_id: The page (the gate let only the page in control through).
+            generation: Scene generation the key belongs to (a key of a replaced scene does
+                nothing).
+            axis: The axis.
+            direction: +1 (Jog+) or −1 (Jog−).
+        """
+        if self.session.snapshot.generation != generation:
+            return
+        now = self._clock()
+        with self._holds_lock:
+            previous = self._holds.get(client_id)
+            same = previous is not None and (
+                previous.key,
+                previous.generation,
+                previous.axis,
+                previous.direction,
+            ) == (True, generation, axis, direction)
+            repeat = same and previous is not None and now - previous.last <= previous.timeout
+            timeout = KEY_JOG_REPEAT if repeat else KEY_JOG_FIRST
+            self._holds[client_id] = _Hold(generation, axis, direction, now, timeout, key=True)
+        if previous is not None and not same and previous.generation == generation:
+            self.session.requests(previous.axis).release_jog()
+        self.session.requests(axis).jog(direction)
 
     # ------------------------------------------------------------------------- GUI: static
 
@@ -688,6 +780,18 @@ class ViewerApp:
                 hint="Rebuild the scene from scratch",
                 icon=viser.Icon.REFRESH,
                 order=5,
+            )
+            self._save_state = self._button(
+                "Save state",
+                hint="Keep the machine as it is now (at rest: homed, powered, pressures)",
+                icon=viser.Icon.DEVICE_FLOPPY,
+                order=6,
+            )
+            self._restore_state = self._button(
+                "Restore state",
+                hint="Return to the saved state (time, physics, axes; the panel's blocks anew)",
+                icon=viser.Icon.RESTORE,
+                order=7,
             )
         with gui.add_folder("Demo", order=1):
             # two buttons, not a toggle: a click a slow page sends late must not restart a demo
@@ -765,6 +869,18 @@ class ViewerApp:
         def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
             session.reset()
 
+        @self._save_state.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            session.save_state()
+
+        @self._restore_state.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            with self._holds_lock:
+                clients = list(self._holds)
+            for client_id in clients:
+                self._drop_holds(client_id)
+            session.restore_state()
+
         @self._demo_button.on_click
         def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
             demo = session.snapshot.demo
@@ -789,6 +905,14 @@ class ViewerApp:
         if self._note is not None:
             self._note.remove()
             self._note = None
+        if self._ghost is not None:
+            self._ghost.remove()
+            self._ghost = None
+        if self._contacts is not None:
+            self._contacts.remove()
+            self._contacts = None
+        self.follow = FOLLOW_OFF
+        self._follow_anchor = {}
         for folder in self._scene_gui:
             folder.remove()
         self.gate.forget(self._scene_inputs + self._commands)
@@ -822,6 +946,9 @@ class ViewerApp:
             data.xpos[:] = snapshot.xpos
             data.xquat[:] = snapshot.xquat
             self._model_scene = ModelScene(model, self.server, prefix="/scene", data=data)
+            self._contacts = ContactOverlay(
+                self.server, prefix="/contacts", scale=FORCE_SCALES[self.force_scale]
+            )
             handles = self._model_scene.geom_handles
             self._lamps = [
                 (name, kind, geom, color)
@@ -856,6 +983,7 @@ class ViewerApp:
                 self._results_html = results_html(snapshot)
                 self._results = gui.add_html(self._results_html)
         self._build_step_keys(generation)
+        self._build_jog_keys(generation)
         self._build_scope(snapshot)
         events_folder = gui.add_folder("Error history", order=6)
         self._scene_gui.append(events_folder)
@@ -863,7 +991,7 @@ class ViewerApp:
             self._events = gui.add_html(events_html(snapshot))
         self._build_faults(snapshot, generation)
         if model is not None:
-            self._build_views()
+            self._build_views(model)
 
     def _build_step_keys(self, generation: int) -> None:
         """Shift+arrow keys (and PageUp/PageDown) step the first three driven axes."""
@@ -889,9 +1017,39 @@ class ViewerApp:
 
                 command.on_trigger(step)
 
-    def _build_views(self) -> None:
-        """Camera presets (each page moves its own camera; for everyone)."""
+    def _build_jog_keys(self, generation: int) -> None:
+        """Alt+arrow keys (and Alt+PageUp/PageDown) jog the first three driven axes while held
+        (:meth:`key_jog`)."""
+        for name, (plus, minus) in zip(self._steps, JOG_KEYS, strict=False):
+            for key, sign in ((plus, 1), (minus, -1)):
+                label = f"{name} jog {'+' if sign > 0 else '−'}"
+                command = self.server.gui.add_command(
+                    label,
+                    description=f"Jog {name} while the key is held",
+                    hotkey=key,
+                    modifier="alt",
+                )
+                self.gate.allow_command(command, label)
+                self._commands.append(command)
+
+                def jog(event: Any, axis: str = name, d: int = sign) -> None:
+                    if event.client_id is not None:
+                        self.key_jog(event.client_id, generation, axis, d)
+
+                command.on_trigger(jog)
+
+    def _build_views(self, model: mujoco.MjModel) -> None:
+        """Camera presets, follow camera and the 3-D overlays (each page moves its own camera;
+        for everyone)."""
         gui = self.server.gui
+        self._follow_ids = {}
+        if self._model_scene is not None:
+            drawn = self._model_scene.body_handles
+            for b in self._model_scene.moving_body_ids:
+                name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"body{b}"
+                if name in drawn:
+                    self._follow_ids[name] = int(b)
+        bodies = [FOLLOW_OFF, *self._follow_ids]
         folder = gui.add_folder("View", order=8, expand_by_default=False)
         self._scene_gui.append(folder)
         with folder:
@@ -907,6 +1065,45 @@ class ViewerApp:
                         event.client.camera.position = position
 
                 button.on_click(look)
+
+        with folder:
+            follow = gui.add_dropdown(
+                "Follow", bodies, initial_value=FOLLOW_OFF, hint="Cameras keep their offset to it"
+            )
+            self.gate.allow(follow, choice_of(bodies), control=False)
+            ghost = gui.add_dropdown(
+                "Set-point ghost",
+                SWITCH_CHOICES,
+                initial_value=SWITCH_CHOICES[self.show_ghost],
+                hint="Moving parts drawn where the axes' set points put them",
+            )
+            self.gate.allow(ghost, choice_of(SWITCH_CHOICES), control=False)
+            choices_ = [OFF, *FORCE_SCALES]
+            contacts = gui.add_dropdown(
+                "Forces (contacts, stops, tendons)",
+                choices_,
+                initial_value=self.force_scale if self.show_contacts else OFF,
+                hint="Contact, hard-stop and tendon force arrows, arrow length per newton",
+            )
+            self.gate.allow(contacts, choice_of(choices_), control=False)
+            self._scene_inputs += [follow, ghost, contacts]
+
+        @follow.on_update
+        def _(event: Any) -> None:
+            self.follow = follow.value
+            self._redraw = True
+
+        @ghost.on_update
+        def _(event: Any) -> None:
+            self.show_ghost = ghost.value == ON
+            self._redraw = True
+
+        @contacts.on_update
+        def _(event: Any) -> None:
+            self.show_contacts = contacts.value in FORCE_SCALES
+            if self.show_contacts:
+                self.force_scale = contacts.value
+            self._redraw = True
 
     def _build_faults(self, snapshot: Snapshot, generation: int) -> None:
         """Forcing inputs and injecting faults through ``scene.faults``: one choice per axis and
@@ -1074,7 +1271,7 @@ class ViewerApp:
             def hold(event: viser.GuiEvent[viser.GuiButtonHandle], d: int = direction) -> None:
                 if current() and event.client_id is not None:
                     with self._holds_lock:
-                        self._holds[event.client_id] = _Hold(generation, name, d, time.monotonic())
+                        self._holds[event.client_id] = _Hold(generation, name, d, self._clock())
                     session.requests(name).jog(d)
 
             def release(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
@@ -1210,8 +1407,9 @@ class ViewerApp:
     def frame(self) -> None:
         """Send what changed since the last frame (called by the update thread)."""
         snapshot = self.session.snapshot
-        if snapshot is self._last:
+        if snapshot is self._last and not self._redraw:
             return
+        self._redraw = False
         start = time.perf_counter()
         if snapshot.generation != self._generation:
             self._rebuild(snapshot)
@@ -1224,6 +1422,7 @@ class ViewerApp:
                     model_scene.set_geom_color(geom, color)
                 else:
                     model_scene.reset_geom_color(geom)
+            self._update_overlays(snapshot)
         now = time.monotonic()
         slack = 0.5 * self._frame_period  # e.g. every third frame at 30 fps for 10 Hz
         if now - self._last_panel >= self._panel_period - slack:
@@ -1235,6 +1434,62 @@ class ViewerApp:
         self._last = snapshot
         self.frames += 1
         self.frame_costs.append(time.perf_counter() - start)
+
+    @property
+    def ghost(self) -> SetPointGhost | None:
+        """The set-point ghost (made when first shown, dropped with its scene)."""
+        return self._ghost
+
+    @property
+    def contacts(self) -> ContactOverlay | None:
+        """The contact overlay of the current model (None without a model)."""
+        return self._contacts
+
+    def _update_overlays(self, snapshot: Snapshot) -> None:
+        """Set-point ghost, forces and the follow cameras, as the View folder says."""
+        model = snapshot.model
+        if model is None:
+            return
+        ghost = self._ghost
+        if self.show_ghost:
+            if ghost is None:
+                joints = [(n, v.joint) for n, v in snapshot.axes.items() if v.has_drive and v.joint]
+                axes = ghost_axes(model, snapshot.scene, joints)
+                ghost = self._ghost = SetPointGhost(model, self.server, axes, prefix="/ghost")
+            ghost.visible = True
+            ghost.update(snapshot.qpos, [snapshot.axes[a.name].following_error for a in ghost.axes])
+        elif ghost is not None:
+            ghost.visible = False
+        contacts = self._contacts
+        if contacts is not None:
+            contacts.scale = FORCE_SCALES[self.force_scale]
+            contacts.enabled = self.show_contacts
+            if snapshot.contacts is not None:
+                contacts.update(snapshot.contacts, snapshot.constraints)
+        self._follow_cameras(snapshot)
+
+    def _follow_cameras(self, snapshot: Snapshot) -> None:
+        """Move each page's camera by the travel of the followed body since the last move, so
+        that it keeps its offset to the body (and the page can still orbit and zoom)."""
+        body = self._follow_ids.get(self.follow)
+        anchors = self._follow_anchor
+        if body is None or body >= snapshot.xpos.shape[0]:
+            anchors.clear()
+            return
+        target = snapshot.xpos[body]
+        clients = self.server.get_clients()
+        for client_id in [c for c in anchors if c not in clients]:
+            del anchors[client_id]
+        for client_id, client in clients.items():
+            anchor = anchors.get(client_id)
+            if anchor is None or anchor[0] != body:
+                anchors[client_id] = (body, target.copy())
+                continue
+            shift = target - anchor[1]
+            if float(np.max(np.abs(shift))) < FOLLOW_STEP:
+                continue
+            client.camera.position = client.camera.position + shift
+            anchors[client_id] = (body, target.copy())
 
     def _control_text(self) -> str:
         owner = self.control.owner

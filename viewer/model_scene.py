@@ -25,7 +25,7 @@ Height fields and SDF geoms are not rendered; they are listed in :attr:`ModelSce
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from types import MappingProxyType
 from typing import TypeAlias
 
@@ -173,6 +173,9 @@ class ModelScene:
         data: mujoco.MjData | None = None,
         *,
         max_group: int = DEFAULT_MAX_GROUP,
+        bodies: Collection[int] | None = None,
+        color: Sequence[float] | None = None,
+        opacity: float | None = None,
     ) -> None:
         """Build the scene nodes (one message per node, sent atomically).
 
@@ -184,13 +187,20 @@ class ModelScene:
             data: Initial body poses are taken from ``data.xpos``/``data.xquat`` (kinematics must
                 be current). Without it the poses of ``qpos0`` are used.
             max_group: Geoms in groups above this one are not rendered.
+            bodies: Render only the geoms of these body ids (None: every body), e.g. the
+                moving part of a machine drawn a second time as an overlay.
+            color: Draw every geom in this colour, red, green, blue in [0, 1] (None: the
+                model's colours).
+            opacity: Draw every geom with this opacity in [0, 1] (None: the model's alpha).
 
         Raises:
-            ValueError: If ``prefix`` is not a valid node path.
+            ValueError: If ``prefix`` is not a valid node path or ``opacity`` is not in [0, 1].
         """
         prefix = "/" + prefix.strip("/")
         if prefix == "/":
             raise ValueError("prefix must name a node below the scene root, e.g. '/mujoco'")
+        if opacity is not None and not 0.0 <= opacity <= 1.0:
+            raise ValueError(f"opacity must be in [0, 1] (None: the model's), got {opacity}")
         if data is None:
             data = mujoco.MjData(model)
             mujoco.mj_kinematics(model, data)
@@ -199,6 +209,8 @@ class ModelScene:
         self._server = server
         self._prefix = prefix
         self._max_group = max_group
+        self._color = None if color is None else _to_rgb(color)
+        self._opacity = opacity
 
         self._body_handles: dict[str, viser.FrameHandle] = {}
         self._geom_handles: dict[str, GeomHandle] = {}
@@ -225,7 +237,7 @@ class ModelScene:
                     geoms_of_body.setdefault(int(model.geom_bodyid[g]), []).append(g)
             used_body_nodes: set[str] = set()
             for b in range(model.nbody):
-                if b not in geoms_of_body:
+                if b not in geoms_of_body or (bodies is not None and b not in bodies):
                     continue
                 body_name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body{b}"
                 node = self._unique(f"{prefix}/{_safe(body_name)}", b, used_body_nodes)
@@ -275,8 +287,10 @@ class ModelScene:
         gtype = int(model.geom_type[g])
         size = np.asarray(model.geom_size[g], dtype=np.float64)
         rgba = geom_rgba(model, g)
-        color = _to_rgb(rgba)
+        color = _to_rgb(rgba) if self._color is None else self._color
         opacity = float(rgba[3]) if rgba[3] < 1.0 else None
+        if self._opacity is not None:
+            opacity = self._opacity
         pos = np.array(model.geom_pos[g], dtype=np.float64)
         wxyz = np.array(model.geom_quat[g], dtype=np.float64)
         geom_name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g)

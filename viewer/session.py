@@ -10,8 +10,8 @@ block calls. Nothing else touches the simulation: the GUI only sets request flag
 up to ``snapshot_hz`` times per wall second. A viewer therefore never blocks the simulation and
 cannot perturb it.
 
-Commands (pause, step, speed, reset, scene, demo) are queued and applied by the simulation thread
-between two PLC cycles, so they never race with a running cycle.
+Commands (pause, step, speed, reset, scene, demo, save and restore state) are queued and applied
+by the simulation thread between two PLC cycles, so they never race with a running cycle.
 """
 
 from __future__ import annotations
@@ -39,6 +39,7 @@ from scenes import DemoProgram, MachineDef
 from scenes.plant import MujocoAxisIO
 from scenes.scene import Scene
 from viewer.operator import AxisRequests, Clock, OperatorProgram
+from viewer.overlays import constraint_forces, contact_forces
 
 log = logging.getLogger(__name__)
 
@@ -237,6 +238,10 @@ class Snapshot:
             texts); empty when the demo exposes none (see ``DemoProgram`` in scenes.machine).
         channels: The scope channels of the scene (:class:`Recorder`).
         groups: Names of the axes groups the axes belong to now.
+        contacts: Active contacts of the physics (``viewer.overlays.contact_forces``: point [m],
+            normal force [N]); None without a model.
+        constraints: Hard-stop and tendon forces of the physics
+            (``viewer.overlays.constraint_forces``: point [m], force [N]); None without a model.
     """
 
     generation: int
@@ -259,6 +264,8 @@ class Snapshot:
     results: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]] = ((), ())
     channels: tuple[Channel, ...] = ()
     groups: tuple[str, ...] = ()
+    contacts: npt.NDArray[np.float64] | None = None
+    constraints: npt.NDArray[np.float64] | None = None
 
 
 class Recorder:
@@ -443,16 +450,21 @@ class Session:
         self._demo_error = ""
         self._events: deque[Event] = deque(maxlen=EVENTS_KEPT)
         self._results: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]] = ((), ())
+        self._saved: dict[str, mcl.MachineState] = {}
+        """The state saved with :meth:`save_state`, by machine name."""
         self._install(scene, self._scene, self._operator)
 
     # ------------------------------------------------------------------------------ building
 
     def _build(self, name: str) -> tuple[Scene, OperatorProgram]:
         """Load a scene and make its operator program (in the calling thread)."""
-        definition = scenes.definition(name)
         scene = scenes.load(name, **self._overrides)
-        return scene, OperatorProgram(
-            scene.axes, definition.homing, self._clock, on_error=self.record_event
+        return scene, self._operator_for(name, scene)
+
+    def _operator_for(self, name: str, scene: Scene) -> OperatorProgram:
+        """A fresh operator program on the axes of ``scene`` (of the machine ``name``)."""
+        return OperatorProgram(
+            scene.axes, scenes.definition(name).homing, self._clock, on_error=self.record_event
         )
 
     def _install(self, name: str, scene: Scene, operator: OperatorProgram) -> None:
@@ -624,6 +636,51 @@ class Session:
     def reset(self) -> None:
         """Rebuild the current scene from scratch (the demo stops; pause and speed stay)."""
         self.load(self._scene_name)
+
+    def save_state(self) -> None:
+        """The Save state button: keep the machine as it is now (e.g. homed) for
+        :meth:`restore_state`, one state per machine (a new one replaces it).
+
+        Refused while an axis moves; either way the error history says what happened.
+        """
+
+        def apply() -> None:
+            name = self._scene_name
+            try:
+                state = self._scene.save_state()
+            except mcl.StateError as exc:
+                self.record_event("viewer", f"state not saved: {exc}")
+                return
+            self._saved[name] = state
+            self.record_event("viewer", f"state of {name} saved at {state.time:.3f} s")
+
+        self._post(apply)
+
+    def restore_state(self) -> None:
+        """The Restore state button: return the machine to the state saved with
+        :meth:`save_state` (positions, power, homing, errors, simulated time).
+
+        The demo stops and the operator program starts afresh on the restored scene, as after
+        :meth:`reset`, but the axes keep their power and reference. Without a saved state of
+        this machine nothing happens but an entry in the error history.
+        """
+
+        def apply() -> None:
+            name = self._scene_name
+            state = self._saved.get(name)
+            if state is None:
+                self.record_event("viewer", f"no saved state of {name} to restore: save one first")
+                return
+            scene = self._scene
+            try:
+                scene.restore_state(state)
+            except mcl.StateError as exc:
+                self.record_event("viewer", f"state not restored: {exc}")
+                return
+            self._install(name, scene, self._operator_for(name, scene))
+            self.record_event("viewer", f"state of {name} restored: saved at {state.time:.3f} s")
+
+        self._post(apply)
 
     def load(self, name: str) -> None:
         """Replace the simulation by a freshly built scene ``name``.
@@ -931,6 +988,8 @@ class Session:
             results=self._results,
             channels=self._recorder.channels,
             groups=tuple(g.name for g in self._operator.groups()),
+            contacts=None if model is None or data is None else contact_forces(model, data),
+            constraints=None if model is None or data is None else constraint_forces(model, data),
         )
 
     def _signal_view(self, name: str) -> SignalView:
