@@ -518,7 +518,7 @@ class ViewerApp:
         server: viser.ViserServer,
         *,
         fps: float = 30.0,
-        panel_hz: float = 10.0,
+        panel_hz: float = 12.0,
         plot_hz: float = 10.0,
         environment_map: bool = False,
         log: BoundedLog | None = None,
