@@ -1,8 +1,12 @@
-"""Shared fixtures: a simulated axis, powered and referenced (helpers: ``tests/helpers.py``)."""
+"""Shared fixtures: a simulated axis, powered and referenced (helpers: ``tests/helpers.py``);
+a viser server for the viewer's tests."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import pytest
+import viser
 
 import mcl
 from tests.helpers import CONSTANTS as CONSTANTS  # re-exported: tests/benchmarks import it here
@@ -21,3 +25,13 @@ def X(machine: mcl.SimMachine) -> mcl.Axis:
     axis = machine.axes["X"]
     power_on(machine, axis)
     return axis
+
+
+@pytest.fixture
+def server() -> Iterator[viser.ViserServer]:
+    """A viser server on a free port of the loopback interface, always stopped afterwards."""
+    srv = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    try:
+        yield srv
+    finally:
+        srv.stop()

@@ -35,15 +35,6 @@ OBSTACLE_AHEAD = 0.01
 
 
 @pytest.fixture
-def server() -> Iterator[viser.ViserServer]:
-    srv = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
-    try:
-        yield srv
-    finally:
-        srv.stop()
-
-
-@pytest.fixture
 def clock() -> FakeClock:
     return FakeClock()
 

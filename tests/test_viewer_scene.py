@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 
 import mujoco
 import numpy as np
@@ -82,16 +82,6 @@ MJCF = """
 
 MOVING_BODIES = {"carriage", "arm", "tool", "ball", "target", "target_marker"}
 STATIC_BODIES = {"world", "frame", "bracket"}
-
-
-@pytest.fixture
-def server() -> Iterator[viser.ViserServer]:
-    """A viser server on a free port of the loopback interface, always stopped afterwards."""
-    srv = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
-    try:
-        yield srv
-    finally:
-        srv.stop()
 
 
 @pytest.fixture

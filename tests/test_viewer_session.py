@@ -428,15 +428,6 @@ def test_the_scope_recorder_holds_the_last_seconds_of_every_channel(
 # ------------------------------------------------------------------------------- the app
 
 
-@pytest.fixture
-def server() -> Iterator[viser.ViserServer]:
-    srv = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
-    try:
-        yield srv
-    finally:
-        srv.stop()
-
-
 def rgb(color: tuple[float, float, float]) -> tuple[int, int, int]:
     r, g, b = (round(c * 255.0) for c in color)
     return (r, g, b)
