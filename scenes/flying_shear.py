@@ -455,7 +455,7 @@ class Demo:
 
 
 def _signal_knife(scene: Scene) -> float:
-    return 1000.0 * float(scene.data.joint(f"{PREFIX}K").qpos[0])
+    return 1000.0 * scene.joint(f"{PREFIX}K").position
 
 
 def _knife(scene: Scene) -> KnifeCylinder:
@@ -487,13 +487,11 @@ def _signal_mark(scene: Scene) -> float:
 
 
 def _signal_speed(scene: Scene) -> float:
-    return 60.0 * float(scene.data.joint(f"{PREFIX}M").qvel[0])
+    return 60.0 * scene.joint(f"{PREFIX}M").velocity
 
 
 def _signal_relative(scene: Scene) -> float:
-    return 1000.0 * float(
-        scene.data.joint(f"{PREFIX}S").qvel[0] - scene.data.joint(f"{PREFIX}M").qvel[0]
-    )
+    return 1000.0 * (scene.joint(f"{PREFIX}S").velocity - scene.joint(f"{PREFIX}M").velocity)
 
 
 MACHINE = MachineDef(

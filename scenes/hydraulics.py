@@ -648,6 +648,12 @@ class CylinderDevice:
         h.command = volts if enabled else 0.0
         h.hold = brake
 
+    @property
+    def load_force(self) -> float:
+        """The true force on the load cell [N] (0 without one)."""
+        load = self._load
+        return load() if load is not None else 0.0
+
     def analog(self, name: str) -> float:
         """An analog input [V]: ``"p_A"``, ``"p_B"`` (pressure transducers) or ``"load"``."""
         return self.read(self.channel(name))
@@ -665,8 +671,7 @@ class CylinderDevice:
     def read(self, channel: int) -> float:
         """Analog input number ``channel`` [V] (0 = p_A, 1 = p_B, 2 = load)."""
         if channel == 2:
-            load = self._load
-            return self.load_cell.volts(load() if load is not None else 0.0)
+            return self.load_cell.volts(self.load_force)
         h = self.hydraulics
         return self.transducers[channel].volts(h.p_a if channel == 0 else h.p_b)
 

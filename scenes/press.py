@@ -322,7 +322,7 @@ def _signal_pressure_b(scene: Scene) -> float:
 
 
 def _signal_force(scene: Scene) -> float:
-    return ContactForce(scene.model, scene.data, PREFIX)() / 1000.0
+    return _device(scene).load_force / 1000.0
 
 
 def _signal_hydraulic(scene: Scene) -> float:

@@ -20,7 +20,7 @@ import mcl
 from mcl.trace import Trace
 from scenes.drives import Device, WiringError
 from scenes.machine import AxisDef, MachineDef, Signal, unit_and_scale
-from scenes.plant import AxisWiring, MujocoAxisIO, MujocoPlant
+from scenes.plant import AxisWiring, Joint, MujocoAxisIO, MujocoPlant
 from scenes.state import MujocoState, model_identity
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
@@ -130,6 +130,7 @@ class Scene(mcl.Machine):
         self._model: mujoco.MjModel | None = None
         self._data: mujoco.MjData | None = None
         self.devices: dict[str, Device] = {}
+        self._joints: dict[str, Joint] = {}
         single = len(self.machines) == 1
         names = {
             (m.name, a): a if single else f"{m.name}/{a}" for m in self.machines for a in m.axes
@@ -315,6 +316,19 @@ class Scene(mcl.Machine):
         if not isinstance(io, MujocoAxisIO):
             raise TypeError(f"axis {axis} is a simulated axis, not on a MuJoCo model")
         return io
+
+    def joint(self, name: str) -> Joint:
+        """Ground truth of the model's joint ``name`` (its full name, e.g. ``"flying_shear/K"``),
+        cheap to read every cycle (published signals are).
+
+        Raises:
+            TypeError: the scene runs simulated axes.
+            WiringError: the model has no such joint (the message lists them).
+        """
+        joint = self._joints.get(name)
+        if joint is None:
+            joint = self._joints[name] = Joint(self.model, self.data, name)
+        return joint
 
     def joint_position(self, axis: str) -> float:
         """Ground-truth joint coordinate of an axis [m or rad]."""
