@@ -507,7 +507,8 @@ class ViewerApp:
         plot_hz: Refresh rate of the scope [Hz].
         environment_map: Light the scene with viser's HDRI environment map. It looks best but
             makes a browser without GPU (software WebGL) draw ~10× slower; the default lights
-            the scene with a hemisphere light instead.
+            the scene with a hemisphere light and the default lights without shadows instead
+            (shadows halve the frame rate of a browser without GPU).
         log: Where refused GUI messages are logged (bounded).
         clock: Monotonic wall clock [s] of the jog holds' dead-man (injectable for tests).
     """
@@ -603,6 +604,7 @@ class ViewerApp:
         server.scene.set_up_direction("+z")
         if not environment_map:
             server.scene.configure_environment_map(None)
+            server.scene.configure_default_lights(cast_shadow=False)
             server.scene.add_light_hemisphere(
                 "/lights/hemisphere",
                 sky_color=(255, 255, 255),
