@@ -396,6 +396,32 @@ def test_move_to_a_typed_position(page: Page, viewer: Viewer) -> None:
     assert moved == pytest.approx(30.0, abs=0.1)
 
 
+def test_save_state_and_restore_state_bring_the_machine_back(page: Page, viewer: Viewer) -> None:
+    session = viewer.session
+    if not session.snapshot.axes["X"].powered:
+        page.get_by_role("button", name="Power", exact=True).click()
+        wait_for(lambda: session.snapshot.axes["X"].powered, 5.0, "X powered")
+    wait_for(lambda: session.snapshot.axes["X"].state == "StandStill", 10.0, "X at rest")
+    saved = session.scene.joint_position("X")  # ground truth [m]
+    page.get_by_role("button", name="Save state", exact=True).click()
+    wait_for(lambda: any("saved at" in e.text for e in session.snapshot.events), 5.0, "the save")
+    session.requests("X").move(Move("relative", 40.0, 200.0, 2000.0))
+    wait_for(
+        lambda: (
+            session.scene.joint_position("X") - saved > 0.0399
+            and session.snapshot.axes["X"].state == "StandStill"
+        ),
+        10.0,
+        "the move by 40 mm",
+    )
+    restore = page.get_by_role("button", name="Restore state", exact=True)
+    restore.click()
+    wait_for(lambda: any("restored" in e.text for e in session.snapshot.events), 5.0, "restore")
+    assert abs(session.scene.joint_position("X") - saved) < 1e-4  # back, and held there
+    wait_for(lambda: session.snapshot.axes["X"].powered, 5.0, "X still powered")
+    page.get_by_role("button", name="Power", exact=True).wait_for(timeout=30_000)
+
+
 def test_stop_all_from_any_page_stops_the_axes(
     browser: Browser, page: Page, viewer: Viewer
 ) -> None:
