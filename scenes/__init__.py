@@ -16,7 +16,7 @@ COMPILED = native.activate("scenes", __path__)
 
 from scenes import flying_shear, gantry, press, single_axis
 from scenes.machine import AxisDef, DemoProgram, MachineDef, Signal, StepSequence
-from scenes.procedures import HomingRecipe
+from scenes.procedures import Recipe
 from scenes.scene import Scene
 
 MACHINES: dict[str, MachineDef] = {
@@ -77,6 +77,6 @@ def demo(scene: Scene) -> DemoProgram:
     return factory(scene)
 
 
-def homing(scene: Scene) -> dict[str, HomingRecipe]:
+def homing(scene: Scene) -> dict[str, Recipe]:
     """The homing recipes of a scene's axes (axis name → recipe; axes without one left out)."""
     return definition(scene.name).homing

@@ -18,7 +18,7 @@ import mujoco
 import mcl
 from scenes.drives import Device
 from scenes.plant import Probe
-from scenes.procedures import HomingRecipe
+from scenes.procedures import Recipe
 
 if TYPE_CHECKING:
     from scenes.scene import Scene
@@ -118,7 +118,7 @@ class AxisDef:
     unit: str = ""
     scale: float = 0.0
     switches: tuple[str, ...] = ("lim_neg", "lim_pos", "ref")
-    homing: HomingRecipe | None = None
+    homing: Recipe | None = None
     probe: Probe | None = None
     digital_outputs: int = 0
     analog: tuple[str, ...] = ()
@@ -210,6 +210,6 @@ class MachineDef:
                 raise ValueError(f"{self.name}.{axis}: a machine without a model needs AxisDef.sim")
 
     @property
-    def homing(self) -> dict[str, HomingRecipe]:
+    def homing(self) -> dict[str, Recipe]:
         """The homing recipes by axis name (axes without one are left out)."""
         return {n: a.homing for n, a in self.axes.items() if a.homing is not None}

@@ -33,6 +33,7 @@ import mcl
 from scenes.hydraulics import BAR, ContactForce, Cylinder, CylinderDevice, Supply, Valve
 from scenes.machine import AxisDef, MachineDef, Signal, StepSequence
 from scenes.plant import numeric
+from scenes.procedures import BlockHoming
 from scenes.scene import Scene
 
 PREFIX = "press/"
@@ -111,16 +112,24 @@ transducers: ``p_A·A_A − p_B·A_B`` plus the ram's weight."""
 FORCE_GAIN = 5.0
 """Admittance of the force loop [mm/s per kN]."""
 
-HOMING = {
-    "Direction": mcl.MC_Direction.MC_Negative,
-    "Velocity": 10.0,
-    "TorqueLimit": 1.0,
-    "TimeLimit": 40.0,
-}
-"""MC_StepBlock inputs: up against the top stop at 10 mm/s; found at standstill with a following
-error of 1 mm (1 V on the valve: side B near supply pressure)."""
 REFERENCE = 0.05
 """Coordinate set where the homed ram is held, clear of the top stop [mm]."""
+BLOCK_HOMING = BlockHoming(
+    direction=mcl.MC_Direction.MC_Negative,
+    velocity=10.0,
+    threshold=1.0,
+    time_limit=40.0,
+    set_position=REFERENCE,
+)
+"""Homing to the top stop at 10 mm/s; found at standstill with a following error of 1 mm (1 V on
+the valve: side B near supply pressure)."""
+HOMING = {
+    "Direction": BLOCK_HOMING.direction,
+    "Velocity": BLOCK_HOMING.velocity,
+    "TorqueLimit": BLOCK_HOMING.threshold,
+    "TimeLimit": BLOCK_HOMING.time_limit,
+}
+"""MC_StepBlock inputs of :data:`BLOCK_HOMING`."""
 
 AXES = {
     "R": AxisDef(
@@ -149,6 +158,7 @@ AXES = {
         drive="device",
         device="cylinder",
         analog=("p_A", "p_B", "load"),
+        homing=BLOCK_HOMING,
     )
 }
 """The ram axis (user unit mm)."""

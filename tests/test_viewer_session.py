@@ -331,6 +331,29 @@ def test_home_reaches_the_reference_on_the_gantry(session: Session, clock: FakeC
     assert homed.position == pytest.approx(homed.joint_position * 1000.0, abs=0.01)
 
 
+def test_home_drives_the_press_ram_to_its_top_stop_and_sets_the_reference(
+    clock: FakeClock,
+) -> None:
+    from scenes.press import BLOCK_HOMING
+
+    session = Session("press", clock=clock)
+    requests = session.requests("R")
+    requests.set_power(True)
+    run(session, clock, 0.05)
+    requests.home()  # the press's recipe: to the block
+    for _ in range(200):
+        run(session, clock, 0.05)
+        if not view(session, "R").homing:
+            break
+    assert view(session, "R").message == "Home: done"
+    run(session, clock, 0.5)  # the ram sags onto the stop, the integral action lifts it clear
+    homed = view(session, "R")
+    assert homed.referenced and homed.state == "StandStill"
+    assert homed.position == pytest.approx(BLOCK_HOMING.set_position, abs=0.015)
+    # held clear of the top stop (joint coordinate 0) by about the in-position window
+    assert 0.02 < homed.joint_position * 1000.0 < 0.1
+
+
 # ------------------------------------------------------------------------------- the demo
 
 

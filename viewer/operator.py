@@ -10,10 +10,10 @@ Power          ``MC_Power``; a toggle: the request becomes "on" if the axis is D
                program keeps power in its own hands.
 Reset          ``MC_Reset``: Execute from the request until Done or Error, then released.
 Home           the chosen homing procedure (:data:`HOMING_PROCEDURES`): the scene's
-               ``HomingRecipe`` through ``scenes.procedures.HomeAxis``, or ``MC_StepRefPulse`` on
-               the next index pulse in either direction, or ``MC_StepDirect`` (set the position
-               without moving); Execute until
-               it is no longer Busy (Done, Error or aborted), then released.
+               recipe (REF and index, or to a block) through ``scenes.procedures.HomeAxis``, or
+               ``MC_StepRefPulse`` on the next index pulse in either direction, or
+               ``MC_StepDirect`` (set the position without moving); Execute until it is no
+               longer Busy (Done, Error or aborted), then released.
 Jog+ / Jog−    ``GT_Jog`` (levels JogPos / JogNeg): a request is a dead-man deadline
                (:data:`DEADMAN` [s] of wall time) that every hold message of the browser refreshes;
                when it runs out — button released, tab closed, network gone — the jog stops.
@@ -42,7 +42,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import mcl
-from scenes.procedures import HomeAxis, HomingRecipe
+from scenes.procedures import HomeAxis, HomingRecipe, Recipe
 
 DEADMAN = 0.2
 """Wall time [s] a jog request stays alive after the last hold message of the browser."""
@@ -51,8 +51,9 @@ DEFAULT_JOG_FRACTION = 0.1
 """Default jog velocity as a fraction of the axis' Vmax (velocity at 10 V)."""
 
 HOMING_PROCEDURES = ("recipe", "index pulse +", "index pulse −", "set position (no motion)")
-"""Homing procedures of the Home button: the machine's recipe (REF and index, only where the
-definition gives one), MC_StepRefPulse in the positive or negative direction, MC_StepDirect."""
+"""Homing procedures of the Home button: the machine's recipe (REF and index, or to a block;
+only where the definition gives one), MC_StepRefPulse in the positive or negative direction,
+MC_StepDirect."""
 
 INDEX_FRACTION = 0.02
 """Index-search velocity of the index-pulse procedures without a recipe, as a fraction of Vmax."""
@@ -266,7 +267,7 @@ class AxisOperator:
         self,
         axis: mcl.Axis,
         requests: AxisRequests,
-        recipe: HomingRecipe | None,
+        recipe: Recipe | None,
         on_error: ErrorSink | None = None,
     ) -> None:
         self.axis = axis
@@ -425,7 +426,9 @@ class AxisOperator:
             recipe = self.recipe.recipe if self.recipe is not None else None
             constants = axis.constants
             vmax = constants.Vmax if constants is not None else 0.0
-            pulse.Velocity = recipe.index_velocity if recipe is not None else INDEX_FRACTION * vmax
+            pulse.Velocity = (
+                recipe.index_velocity if isinstance(recipe, HomingRecipe) else INDEX_FRACTION * vmax
+            )
             pulse.SetPosition = position
             self.home = pulse
         self.homing = True
@@ -511,7 +514,7 @@ class OperatorProgram:
     def __init__(
         self,
         axes: Mapping[str, mcl.Axis],
-        recipes: Mapping[str, HomingRecipe],
+        recipes: Mapping[str, Recipe],
         clock: Clock = time.monotonic,
         on_error: ErrorSink | None = None,
     ) -> None:
