@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from mcl.channel import AxisChannel, ChannelSnapshot
 from mcl.command import Command, Halt, Hold, MoveTo, MoveVelocity, Status, Stop, blend_velocity
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
-from mcl.errors import ErrorID, StateError
+from mcl.errors import ErrorID, StateError, check_finite
 from mcl.servo import Regulator, ServoConstants
 from mcl.trajectory import Limits, PlanningError
 
@@ -65,7 +65,7 @@ class AxisConfig:
     unit: str = "mm"
 
     def __post_init__(self) -> None:
-        for name in (
+        positive = (
             "resolution",
             "dev_max",
             "in_position",
@@ -74,14 +74,9 @@ class AxisConfig:
             "max_acceleration",
             "max_deceleration",
             "servo_period",
-        ):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ValueError(f"AxisConfig.{name} must be a finite number > 0, got {value!r}")
-        for name in ("jerk", "max_jerk", "modulo", "quick_stop_time", "release_time"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0.0):
-                raise ValueError(f"AxisConfig.{name} must be a finite number >= 0, got {value!r}")
+        )
+        check_finite(self, positive, True)
+        check_finite(self, ("jerk", "max_jerk", "modulo", "quick_stop_time", "release_time"), False)
 
 
 @dataclass(frozen=True, slots=True)

@@ -25,7 +25,7 @@ from mypy_extensions import mypyc_attr
 
 from mcl import faults as flt
 from mcl.encoder import EncoderState, IncrementalEncoder
-from mcl.errors import StateError
+from mcl.errors import StateError, check_finite
 from mcl.servo import DAC_FULL_SCALE
 
 _SWITCH_INDEX = {"lim_pos": 0, "lim_neg": 1, "ref": 2, "tp": 3}
@@ -126,10 +126,8 @@ class Sensors:
     seed: int = 0
 
     def __post_init__(self) -> None:
-        for name in ("switch_hysteresis", "switch_repeatability", "encoder_noise", "index_jitter"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0.0):
-                raise ValueError(f"Sensors.{name} must be finite and >= 0, got {value!r}")
+        names = ("switch_hysteresis", "switch_repeatability", "encoder_noise", "index_jitter")
+        check_finite(self, names, False)
         if self.output_delay not in (0, 1):
             raise ValueError(
                 f"Sensors.output_delay must be 0 or 1 servo cycles, got {self.output_delay!r}"

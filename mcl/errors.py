@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from enum import IntEnum
 
 
@@ -114,3 +115,16 @@ def error_text(code: int, language: str = "en") -> str:
     if texts is None:
         return f"unknown error {code}" if language == "en" else f"neznámá chyba {code}"
     return texts[0] if language == "en" else texts[1]
+
+
+def check_finite(owner: object, names: tuple[str, ...], positive: bool) -> None:
+    """Raise ValueError unless each attribute ``names`` of ``owner`` (machine data, a
+    dataclass) is a finite number, > 0 if ``positive``, else >= 0; the message names the class,
+    the field and the value."""
+    for name in names:
+        value = getattr(owner, name)
+        if not (math.isfinite(value) and (value > 0.0 if positive else value >= 0.0)):
+            raise ValueError(
+                f"{type(owner).__name__}.{name} must be a finite number "
+                f"{'> 0' if positive else '>= 0'}, got {value!r}"
+            )

@@ -130,10 +130,8 @@ def cut_length(
         trace_every=0,
         sensors=mcl.Sensors(seed=seed),
     )
-    wheel, ripple = scene.devices["wheel"], scene.devices["ripple"]
-    assert isinstance(wheel, fs.MeasuringWheel) and isinstance(ripple, fs.EccentricRoll)
-    wheel.slip = slip_pct / 100.0
-    ripple.eccentricity = ripple_pct / 100.0
+    scene.device("wheel", fs.MeasuringWheel).slip = slip_pct / 100.0
+    scene.device("ripple", fs.EccentricRoll).eccentricity = ripple_pct / 100.0
     demo = fs.Demo(scene, fs.CutJob(speed=speed_m_min * 1000.0 / 60.0, cuts=6))
     scene.run(demo, until=lambda: demo.done or bool(demo.error), timeout=60.0)
     errors = demo.errors()

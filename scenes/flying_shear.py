@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 import mcl
+from mcl.errors import check_finite
 from scenes.machine import AxisDef, MachineDef, Signal
 from scenes.plant import Probe
 from scenes.procedures import HomeAxis, HomingRecipe
@@ -183,10 +184,8 @@ class CutJob:
     def __post_init__(self) -> None:
         if self.mode not in ("length", "mark"):
             raise ValueError(f"CutJob.mode must be 'length' or 'mark', got {self.mode!r}")
-        for name in ("speed", "length", "knife_on", "knife_up", "sync_acceleration", "kv", "pitch"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ValueError(f"CutJob.{name} must be a finite number > 0, got {value!r}")
+        names = ("speed", "length", "knife_on", "knife_up", "sync_acceleration", "kv", "pitch")
+        check_finite(self, names, True)
         if self.cuts < 1:
             raise ValueError(f"CutJob.cuts must be >= 1, got {self.cuts}")
 
@@ -237,9 +236,7 @@ class Demo:
         self.job = job = job or CutJob()
         L, W, S = (scene.axes[n] for n in ("L", "W", "S"))
         self.L, self.W, self.S = L, W, S
-        recorder = scene.devices["cuts"]
-        assert isinstance(recorder, CutRecorder)
-        self.recorder = recorder
+        self.recorder = scene.device("cuts", CutRecorder)
         self.power = [mcl.MC_Power(Axis=L), mcl.MC_Power(Axis=S)]
         self.home = HomeAxis(S, HOMING)
         self.park = mcl.MC_MoveAbsolute(
@@ -458,32 +455,20 @@ def _signal_knife(scene: Scene) -> float:
     return 1000.0 * scene.joint(f"{PREFIX}K").position
 
 
-def _knife(scene: Scene) -> KnifeCylinder:
-    knife = scene.devices["knife"]
-    assert isinstance(knife, KnifeCylinder)
-    return knife
-
-
 def _signal_valve(scene: Scene) -> float:
-    return _knife(scene).spool
+    return scene.device("knife", KnifeCylinder).spool
 
 
 def _signal_drag(scene: Scene) -> float:
-    return _knife(scene).drag
-
-
-def _cuts(scene: Scene) -> CutRecorder:
-    cuts = scene.devices["cuts"]
-    assert isinstance(cuts, CutRecorder)
-    return cuts
+    return scene.device("knife", KnifeCylinder).drag
 
 
 def _signal_piece(scene: Scene) -> float:
-    return _cuts(scene).last_piece
+    return scene.device("cuts", CutRecorder).last_piece
 
 
 def _signal_mark(scene: Scene) -> float:
-    return _cuts(scene).last_mark
+    return scene.device("cuts", CutRecorder).last_mark
 
 
 def _signal_speed(scene: Scene) -> float:

@@ -51,6 +51,7 @@ import numpy.typing as npt
 from mypy_extensions import i64
 
 from mcl.channel import IDEAL, AxisChannel, Sensors
+from mcl.errors import check_finite
 from mcl.simaxis import after_friction
 from scenes.errors import WiringError
 
@@ -99,10 +100,7 @@ class Valve:
     laminar_dp: float = 0.2 * BAR
 
     def __post_init__(self) -> None:
-        for name in ("rated_flow", "rated_dp", "frequency", "laminar_dp"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ValueError(f"Valve.{name} must be a finite number > 0, got {value!r}")
+        check_finite(self, ("rated_flow", "rated_dp", "frequency", "laminar_dp"), True)
         if not 0.0 < self.damping < 1.0:
             raise ValueError(f"Valve.damping must be in (0, 1), got {self.damping!r}")
         for name in ("overlap", "hysteresis", "leakage"):
@@ -136,16 +134,10 @@ class Cylinder:
     internal_leakage: float = 0.0
 
     def __post_init__(self) -> None:
-        for name in ("bore", "stroke", "dead_volume_a", "dead_volume_b"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ValueError(f"Cylinder.{name} must be a finite number > 0, got {value!r}")
+        check_finite(self, ("bore", "stroke", "dead_volume_a", "dead_volume_b"), True)
         if not 0.0 <= self.rod < self.bore:
             raise ValueError(f"Cylinder.rod must be in [0, bore), got {self.rod!r}")
-        for name in ("coulomb", "pressure_friction", "internal_leakage"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0.0):
-                raise ValueError(f"Cylinder.{name} must be finite and >= 0, got {value!r}")
+        check_finite(self, ("coulomb", "pressure_friction", "internal_leakage"), False)
 
     @property
     def area_a(self) -> float:
@@ -183,10 +175,7 @@ class Supply:
             raise ValueError(f"Supply.supply must be above the tank pressure, got {self.supply!r}")
         if not (math.isfinite(self.relief) and self.relief > self.tank):
             raise ValueError(f"Supply.relief must be above the tank pressure, got {self.relief!r}")
-        for name in ("relief_gain", "bulk_modulus"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ValueError(f"Supply.{name} must be a finite number > 0, got {value!r}")
+        check_finite(self, ("relief_gain", "bulk_modulus"), True)
 
 
 def natural_frequency(cylinder: Cylinder, supply: Supply, extension: float, mass: float) -> float:

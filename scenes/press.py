@@ -317,30 +317,24 @@ class Demo(StepSequence):
             self._next()
 
 
-def _device(scene: Scene) -> CylinderDevice:
-    device = scene.devices["cylinder"]
-    assert isinstance(device, CylinderDevice)
-    return device
-
-
 def _signal_pressure_a(scene: Scene) -> float:
-    return _device(scene).hydraulics.p_a / BAR
+    return scene.device("cylinder", CylinderDevice).hydraulics.p_a / BAR
 
 
 def _signal_pressure_b(scene: Scene) -> float:
-    return _device(scene).hydraulics.p_b / BAR
+    return scene.device("cylinder", CylinderDevice).hydraulics.p_b / BAR
 
 
 def _signal_force(scene: Scene) -> float:
-    return _device(scene).load_force / 1000.0
+    return scene.device("cylinder", CylinderDevice).load_force / 1000.0
 
 
 def _signal_hydraulic(scene: Scene) -> float:
-    return _device(scene).hydraulics.force() / 1000.0
+    return scene.device("cylinder", CylinderDevice).hydraulics.force() / 1000.0
 
 
 def _signal_valve(scene: Scene) -> float:
-    return _device(scene).hydraulics.spool
+    return scene.device("cylinder", CylinderDevice).hydraulics.spool
 
 
 MACHINE = MachineDef(

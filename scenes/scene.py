@@ -13,6 +13,7 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
+from typing import TypeVar
 
 import mujoco
 
@@ -22,6 +23,9 @@ from scenes.drives import Device, WiringError
 from scenes.machine import AxisDef, MachineDef, Signal, unit_and_scale
 from scenes.plant import AxisWiring, Joint, MujocoAxisIO, MujocoPlant
 from scenes.state import MujocoState, model_identity
+
+D = TypeVar("D")
+"""A class of device (:meth:`Scene.device`)."""
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 """The folder of the MJCF machine models."""
@@ -316,6 +320,21 @@ class Scene(mcl.Machine):
         if not isinstance(io, MujocoAxisIO):
             raise TypeError(f"axis {axis} is a simulated axis, not on a MuJoCo model")
         return io
+
+    def device(self, name: str, kind: type[D]) -> D:
+        """The machine's Python device ``name``, of class ``kind``.
+
+        Raises:
+            WiringError: there is no such device, or it is of another class.
+        """
+        device = self.devices.get(name)
+        if not isinstance(device, kind):
+            found = "none" if device is None else type(device).__name__
+            raise WiringError(
+                f"device {name!r} must be a {kind.__name__}, found {found}; "
+                f"devices: {sorted(self.devices)}"
+            )
+        return device
 
     def joint(self, name: str) -> Joint:
         """Ground truth of the model's joint ``name`` (its full name, e.g. ``"flying_shear/K"``),

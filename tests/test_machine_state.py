@@ -20,6 +20,7 @@ from scenes import gantry
 from scenes.hydraulics import BAR
 from scenes.procedures import HomeAxis
 from scenes.scene import Scene
+from scenes.shear_devices import CutRecorder
 from tests.helpers import configure
 
 START = {"X": 0.15, "Y": 0.3, "Z": -0.1}
@@ -270,7 +271,7 @@ def test_the_shear_keeps_its_measured_cuts_in_a_fresh_scene():
     state = scene.save_state()
     fresh = scenes.load("flying_shear")
     fresh.restore_state(state)
-    assert fresh.devices["cuts"].cuts == cuts  # type: ignore[attr-defined]
-    scene.devices["cuts"].cuts.clear()  # type: ignore[attr-defined]
+    assert fresh.device("cuts", CutRecorder).cuts == cuts
+    scene.device("cuts", CutRecorder).cuts.clear()
     scene.restore_state(state)
-    assert scene.devices["cuts"].cuts == cuts  # type: ignore[attr-defined]
+    assert scene.device("cuts", CutRecorder).cuts == cuts
