@@ -197,6 +197,31 @@ def test_ref_search_between_both_limit_switches_without_ref_ends_in_errlin() -> 
     assert LAYOUT["stop_neg"] < track.lo and track.hi < LAYOUT["stop_pos"]
 
 
+@pytest.mark.parametrize(
+    ("mode", "start", "direction", "edge"),
+    [
+        (MC_SwitchMode.MC_EdgeSwitchPositive, 0.15, POSITIVE, "ref_low"),
+        (MC_SwitchMode.MC_EdgeSwitchPositive, 0.3023, NEGATIVE, "ref_low"),
+        (MC_SwitchMode.MC_EdgeSwitchNegative, 0.15, POSITIVE, "ref_high"),
+        (MC_SwitchMode.MC_EdgeSwitchNegative, 0.3023, NEGATIVE, "ref_high"),
+    ],
+)
+def test_edge_switch_modes_pick_the_ref_edge_whatever_the_search_direction(
+    mode: MC_SwitchMode, start: float, direction: MC_Direction, edge: str
+) -> None:
+    """MC_EdgeSwitchPositive ends at the REF edge where REF comes on in the positive direction
+    (its lower edge), MC_EdgeSwitchNegative at the one where it comes on in the negative
+    direction (its upper edge), whether the search runs positive from below REF or negative
+    from above it; MC_StepDirect then gives that physical edge the coordinate."""
+    machine, X = homing_axis(start=start)
+    fb, inputs = search(mcl.MC_StepAbsSwitch, Direction=direction, SwitchMode=mode)
+    direct = (mcl.MC_StepDirect(), {"SetPosition": 0.0, "BufferMode": MC_BufferMode.Buffered})
+    execute(machine, (fb, inputs), direct)
+    assert fb.Done and not fb.Error, (fb.ErrorID, X.AxErrorID)
+    assert abs(x_of(machine) - LAYOUT[edge]) * 1000.0 <= CAPTURE
+    assert abs(coordinate_of(machine, LAYOUT[edge])) <= CAPTURE
+
+
 # ---------------------------------------------------------------------- MC_StepLimitSwitch
 @pytest.mark.parametrize(("direction", "switch"), [(NEGATIVE, "lim_neg"), (POSITIVE, "lim_pos")])
 def test_limit_switch_search_ends_on_the_switch_edge(direction: MC_Direction, switch: str) -> None:
@@ -285,6 +310,33 @@ def test_ref_switch_then_index_gives_the_same_origin_from_any_start(start: float
     assert pulse[0].Done and X.state == AxisState.StandStill and X.Ref
     first_index = math.ceil(LAYOUT["ref_high"] / LAYOUT["lead"]) * LAYOUT["lead"]
     assert abs(coordinate_of(machine, first_index)) <= COUNT + 1e-9
+
+
+def _first_offset_by_step_direct(machine: mcl.SimMachine) -> None:
+    execute(machine, (mcl.MC_StepDirect(), {"SetPosition": 500.0}))
+
+
+def _first_offset_by_ref_pulse(machine: mcl.SimMachine) -> None:
+    execute(machine, search(mcl.MC_StepRefPulse, Direction=NEGATIVE, SetPosition=-77.7))
+
+
+@pytest.mark.parametrize("first", [_first_offset_by_step_direct, _first_offset_by_ref_pulse])
+def test_ref_pulse_on_an_axis_with_a_shifted_coordinate_sets_it_at_the_index(
+    first: Any,
+) -> None:
+    """Homing again: after MC_StepDirect or a first MC_StepRefPulse moved the coordinate away
+    from the counter, a second MC_StepRefPulse still gives the physical index edge exactly
+    SetPosition (within one count), not SetPosition plus the old offset."""
+    machine, X = homing_axis()
+    first(machine)
+    assert X.Ref and X.state == AxisState.StandStill
+    assert abs(X.offset) > 50.0, "the first step shifted the coordinate"
+    fb, inputs = search(mcl.MC_StepRefPulse, Direction=POSITIVE, SetPosition=123.4)
+    execute(machine, (fb, inputs))
+    assert fb.Done, (fb.ErrorID, X.AxErrorID)
+    assert X.state == AxisState.StandStill and X.Ref
+    index = math.floor(x_of(machine) / LAYOUT["lead"]) * LAYOUT["lead"]  # just passed it
+    assert abs(coordinate_of(machine, index) - 123.4) <= COUNT + 1e-9
 
 
 # ---------------------------------------------------------------------- MC_StepDirect, FinishHoming
