@@ -408,6 +408,51 @@ def test_path_velocity_is_clamped_to_every_member() -> None:
     assert max(rec.speeds()) == pytest.approx(300.0 * math.hypot(3.0, 1.0) / 3.0, rel=1e-6)
 
 
+LIMITED = mcl.AxisConfig(max_acceleration=2000.0, max_deceleration=1500.0, max_jerk=40000.0)
+"""Machine data whose maxima the FB inputs of the clamp test exceed."""
+
+
+@pytest.mark.parametrize("target", [(180.0, 60.0), (-180.0, -60.0), (-180.0, 60.0)])
+def test_path_limits_are_clamped_to_every_member_in_either_direction(
+    target: tuple[float, float],
+) -> None:
+    """Velocity, acceleration, deceleration and jerk far above the maxima are clamped so that
+    no member exceeds its Vmax (300 mm/s), max_acceleration, max_deceleration or max_jerk,
+    whichever way it moves; X, which carries most of the path, reaches the Vmax — in the
+    simulated carriage too."""
+    params = {n: mcl.SimAxisParams(start=0.2) for n in "XY"}
+    machine = mcl.SimMachine(params, config=LIMITED)
+    for axis in machine.axes.values():
+        configure(axis, Vmax=300.0)
+        power_on(machine, axis)
+    group = build_group(machine, "XY")
+    X, sim = machine.axes["X"], machine.sims["X"]
+    samples: list[tuple[float, float, float]] = []  # X: set velocity, set acceleration, real v
+    machine.runtime.observers.append(lambda t: samples.append((X.sp_vel, X.sp_acc, sim.v)))
+    move = mcl.MC_MoveLinearAbsolute()
+    huge = dict(Velocity=5000.0, Acceleration=1e6, Deceleration=1e6, Jerk=1e9)
+
+    def program() -> None:
+        move(AxesGroup=group, Execute=True, Position=list(target), **huge)
+
+    run_until(machine, program, lambda: move.Done or move.Error)
+    machine.run(program, timeout=0.3)
+    assert move.Done and not move.Error, (move.ErrorID, X.AxErrorID)
+    sign = math.copysign(1.0, target[0])
+    velocity = [v * sign for v, _, _ in samples]
+    acceleration = [a * sign for _, a, _ in samples]  # > 0 speeding up, < 0 slowing down
+    servo = LIMITED.servo_period
+    jerk = [abs(b - a) / servo for (_, a, _), (_, b, _) in itertools.pairwise(samples)]
+    assert max(velocity) == pytest.approx(300.0, rel=1e-6)
+    assert max(abs(v) * 1000.0 for _, _, v in samples) < 300.0 * 1.03, "the carriage itself"
+    assert max(acceleration) <= LIMITED.max_acceleration * (1 + 1e-6)
+    assert max(acceleration) > 0.9 * LIMITED.max_acceleration
+    assert -min(acceleration) <= LIMITED.max_deceleration * (1 + 1e-6)
+    assert -min(acceleration) > 0.9 * LIMITED.max_deceleration
+    assert max(jerk) <= LIMITED.max_jerk * (1 + 1e-6)
+    assert (sim.x - 0.2) * 1000.0 == pytest.approx(target[0], abs=0.01)
+
+
 POLYLINE = [
     [0.0, 0.0, 0.0],
     [120.0, 0.0, 0.0],
