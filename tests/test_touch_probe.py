@@ -13,9 +13,14 @@ MARK = 0.300
 PITCH = 0.050
 
 
-def probe_axis(delay: float = 0.0) -> tuple[mcl.SimMachine, mcl.Axis]:
+WIDTH = 0.002
+"""Width of a mark [m]: moving down, TP rises at a mark's upper end."""
+
+
+def probe_axis(delay: float = 0.0, start: float = 0.2) -> tuple[mcl.SimMachine, mcl.Axis]:
+    """The powered axis, POS 0 at ``start`` [m], with marks from ``MARK`` every ``PITCH``."""
     params = mcl.SimAxisParams(
-        start=0.2, probe=mcl.Marks(first=MARK, pitch=PITCH, width=0.002), probe_delay=delay
+        start=start, probe=mcl.Marks(first=MARK, pitch=PITCH, width=WIDTH), probe_delay=delay
     )
     machine = mcl.SimMachine({"X": params})
     X = machine.axes["X"]
@@ -24,11 +29,18 @@ def probe_axis(delay: float = 0.0) -> tuple[mcl.SimMachine, mcl.Axis]:
     return machine, X
 
 
-def run_at(machine: mcl.SimMachine, X: mcl.Axis, probe: mcl.MC_TouchProbe, **inputs: object):
+def run_at(
+    machine: mcl.SimMachine,
+    X: mcl.Axis,
+    probe: mcl.MC_TouchProbe,
+    direction: mcl.MC_Direction = mcl.MC_Direction.MC_Positive,
+    **inputs: object,
+):
+    """Move at 200 mm/s in ``direction`` with the probe armed until it is Done or in Error."""
     move = mcl.MC_MoveVelocity()
 
     def program() -> None:
-        move(Axis=X, Execute=True, Velocity=200.0, Acceleration=5000.0)
+        move(Axis=X, Execute=True, Velocity=200.0, Acceleration=5000.0, Direction=direction)
         probe(Axis=X, **inputs)
 
     machine.run(program, until=lambda: probe.Done or probe.Error, timeout=2.0)
@@ -62,6 +74,21 @@ def test_window_only_skips_marks_outside_the_window():
     )
     assert probe.Done
     assert probe.RecordedPosition == pytest.approx(150.0, abs=0.0015)  # the second mark
+
+
+def test_window_only_skips_marks_above_the_window():
+    """Moving down from 0.42 m over the marks at 0.40, 0.35 and 0.30 m with the window −100 …
+    −50 mm: the first mark met lies above LastPosition and is skipped; the next one, at 0.35 m,
+    is recorded where its edge physically lies."""
+    start = 0.42
+    machine, X = probe_axis(start=start)
+    probe = mcl.MC_TouchProbe()
+    window = dict(WindowOnly=True, FirstPosition=-100.0, LastPosition=-50.0)
+    run_at(machine, X, probe, mcl.MC_Direction.MC_Negative, Execute=True, **window)
+    assert probe.Done, probe.ErrorID
+    edge = MARK + PITCH + WIDTH  # the mark at 0.35 m, met from above
+    assert probe.RecordedPosition == pytest.approx((edge - start) * 1000.0, abs=0.0015)
+    assert machine.sims["X"].x < edge, "recorded on the way down, past the edge"
 
 
 def test_abort_trigger_cancels_a_waiting_probe():
