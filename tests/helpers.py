@@ -102,3 +102,16 @@ def scan(*calls: Callable[[], object]) -> Callable[[], None]:
             call()
 
     return program
+
+
+def carriage_mm(machine: mcl.SimMachine, name: str = "X") -> float:
+    """Where the simulated carriage of axis ``name`` really is: mm from its power-up position,
+    which is the coordinate 0 of an axis referenced by :func:`power_on` (the physics, not the
+    encoder or the axis' coordinate)."""
+    sim = machine.sims[name]
+    return (sim.x - sim.params.start) * 1000.0
+
+
+def carriage_mm_s(machine: mcl.SimMachine, name: str = "X") -> float:
+    """The simulated carriage's real velocity [mm/s]."""
+    return machine.sims[name].v * 1000.0

@@ -14,6 +14,7 @@ import pytest
 import mcl
 from mcl import MC_BufferMode
 from mcl.trajectory import Limits
+from tests.helpers import carriage_mm, carriage_mm_s
 from tests.test_trajectory import BACKTRACK, backtrack, reachable_end_velocity
 
 ACC = 2000.0
@@ -37,7 +38,8 @@ SPEEDS = [(200.0, 100.0), (100.0, 200.0)]
 
 @dataclass
 class Sample:
-    """One servo cycle: model position/velocity/acceleration, actual position and velocity."""
+    """One servo cycle: model position/velocity/acceleration, actual position and velocity,
+    and the simulated carriage's real velocity ``truth`` [mm/s]."""
 
     t: float
     pos: float
@@ -45,6 +47,7 @@ class Sample:
     acc: float
     actual: float
     VEL: float
+    truth: float
 
 
 @dataclass
@@ -78,7 +81,9 @@ class Trace:
 
 def record(machine: mcl.SimMachine, X: mcl.Axis, trace: Trace) -> None:
     def observe(t: float) -> None:
-        trace.samples.append(Sample(t, X.sp_pos, X.sp_vel, X.sp_acc, X.actual, X.VEL))
+        trace.samples.append(
+            Sample(t, X.sp_pos, X.sp_vel, X.sp_acc, X.actual, X.VEL, carriage_mm_s(machine))
+        )
 
     machine.runtime.observers.append(observe)
 
@@ -165,11 +170,14 @@ def two_moves(
     return run_moves(machine, X, moves, jerk, issue_second_at)
 
 
-def check_both_done(trace: Trace, X: mcl.Axis, p2: float = P2) -> None:
+def check_both_done(trace: Trace, machine: mcl.SimMachine, p2: float = P2) -> None:
+    """Both moves reported Done, the first never CommandAborted, and the carriage itself (the
+    simulated physics) stands at the second target."""
     assert trace.ever("done", 0), "the first move never reported Done"
     assert not trace.ever("aborted", 0), "the first move reported CommandAborted"
     assert trace.ever("done", 1)
-    assert abs(X.actual - p2) <= 0.005, f"actual {X.actual} mm, target {p2} mm"
+    real = carriage_mm(machine)
+    assert abs(real - p2) <= 0.005 + 0.001, f"the carriage at {real} mm, target {p2} mm"
 
 
 # ---------------------------------------------------------------------------------- the modes
@@ -183,7 +191,7 @@ def test_blending_junction_velocity(machine, X, mode, v1, v2, jerk):
     assert v_junction == pytest.approx(expected, rel=0.01), (
         f"{mode.name}: junction at {v_junction:.2f} mm/s, expected {expected:.0f} mm/s"
     )
-    check_both_done(trace, X)
+    check_both_done(trace, machine)
     # the second waits (not Active) until the first is done, then takes over
     t_done = trace.first_done(0)
     assert not any(s.active[1] for s in trace.scans if s.t < t_done)
@@ -195,13 +203,14 @@ def test_blending_junction_velocity(machine, X, mode, v1, v2, jerk):
 @pytest.mark.parametrize(("v1", "v2"), SPEEDS)
 @pytest.mark.parametrize("mode", MODES, ids=lambda m: m.name)
 def test_blending_does_not_stop_between_the_moves(machine, X, mode, v1, v2, jerk):
-    """Neither the model nor the actual axis comes anywhere near standstill at the junction."""
+    """Neither the model nor the carriage (its simulated physics) comes anywhere near standstill
+    at the junction."""
     trace = two_moves(machine, X, mode, v1, v2, jerk)
     slow = min(v1, v2)
     model = min(s.vel for s in trace.between(*WINDOW))
-    actual = min(s.VEL for s in trace.between(*WINDOW, actual=True))
+    real = min(s.truth for s in trace.between(*WINDOW, actual=True))
     assert model > 0.5 * slow, f"model velocity drops to {model:.1f} mm/s"
-    assert actual > 0.5 * slow, f"actual velocity drops to {actual:.1f} mm/s"
+    assert real > 0.5 * slow, f"the carriage slows down to {real:.1f} mm/s"
 
 
 @pytest.mark.parametrize("jerk", JERKS)
@@ -222,7 +231,7 @@ def test_blended_velocity_stays_within_the_commanded_velocities(machine, X, mode
 def test_blending_reversal_switches_at_zero_velocity(machine, X, mode, jerk):
     p2 = 20.0
     trace = two_moves(machine, X, mode, 200.0, 100.0, jerk, p2=p2)
-    check_both_done(trace, X, p2)
+    check_both_done(trace, machine, p2)
     positions = [s.pos for s in trace.samples]
     assert max(positions) == pytest.approx(P1, abs=1e-6)  # the first target exactly, no further
     # one sign change of the velocity, at the first target
@@ -250,7 +259,7 @@ def test_late_blending_never_overshoots_the_first_target(machine, X, mode, v1, v
     still ends exactly at its target (never beyond, never backing up), hands over at the highest
     velocity still reachable there (at most the blending velocity) and both complete."""
     trace = two_moves(machine, X, mode, v1, v2, jerk, issue_second_at=late)
-    check_both_done(trace, X)
+    check_both_done(trace, machine)
     t_handover = trace.first_done(0) - 0.002  # the servo cycle of the hand-over is after this
     before = [s.pos for s in trace.samples if s.t < t_handover]
     assert max(before) <= P1 + 1e-6, f"overshoots the first target to {max(before):.4f}"
@@ -288,6 +297,7 @@ def test_three_chained_blended_moves(machine, X, jerk):
     assert junction_velocity(trace.samples, 120.0) == pytest.approx(150.0, rel=0.01)
     assert min(s.vel for s in trace.between(20.0, 180.0)) > 50.0
     assert abs(X.actual - 200.0) <= 0.005
+    assert carriage_mm(machine) == pytest.approx(200.0, abs=0.005 + 0.001)
 
 
 @pytest.mark.parametrize("jerk", JERKS)
@@ -313,3 +323,38 @@ def test_move_velocity_after_a_move_with_blending(machine, X, mode, jerk):
     expected = EXPECTED[mode](200.0, 100.0)
     assert junction_velocity(trace.samples, P1) == pytest.approx(expected, rel=0.01)
     assert min(s.vel for s in trace.samples if s.pos > 30.0) > 50.0
+
+
+# ---------------------------------------------------------------------------------- additive
+@pytest.mark.parametrize("mode", MODES, ids=lambda m: m.name)
+def test_additive_blended_behind_a_queued_move_adds_to_its_target(machine, X, mode):
+    """In ContinuousMotion (MC_MoveVelocity ramping up) with a buffered MC_MoveAbsolute to
+    200 mm queued, a blending MC_MoveAdditive of 50 mm adds to that last target: the carriage
+    ends at 250 mm, not 50 mm beyond where it was when the additive was issued."""
+    velocity, absolute, additive = mcl.MC_MoveVelocity(), mcl.MC_MoveAbsolute(), mcl.MC_MoveAdditive()
+    common = dict(Acceleration=ACC, Deceleration=ACC)
+    issued_at: list[float] = []
+
+    def program() -> None:
+        velocity(Axis=X, Execute=True, Velocity=100.0, **common)
+        absolute(
+            Axis=X,
+            Execute=True,
+            Position=200.0,
+            Velocity=100.0,
+            BufferMode=MC_BufferMode.Buffered,
+            **common,
+        )
+        if not issued_at and X.state == mcl.AxisState.ContinuousMotion and X.actual > 0.1:
+            issued_at.append(X.actual)
+        additive(
+            Axis=X, Execute=bool(issued_at), Distance=50.0, Velocity=100.0, BufferMode=mode, **common
+        )
+        assert not (velocity.Error or absolute.Error or additive.Error)
+
+    machine.run(program, until=lambda: additive.Done, timeout=10.0)
+    machine.run(program, timeout=SETTLE)
+    assert issued_at[0] < 5.0, "issued early in the velocity ramp, far from both targets"
+    assert absolute.Done and not absolute.CommandAborted
+    assert carriage_mm(machine) == pytest.approx(250.0, abs=0.005 + 0.001)
+    assert X.actual == pytest.approx(250.0, abs=0.005)
