@@ -331,8 +331,10 @@ def test_additive_blended_behind_a_queued_move_adds_to_its_target(machine, X, mo
     """In ContinuousMotion (MC_MoveVelocity ramping up) with a buffered MC_MoveAbsolute to
     200 mm queued, a blending MC_MoveAdditive of 50 mm adds to that last target: the carriage
     ends at 250 mm, not 50 mm beyond where it was when the additive was issued."""
-    velocity, absolute, additive = mcl.MC_MoveVelocity(), mcl.MC_MoveAbsolute(), mcl.MC_MoveAdditive()
+    velocity, absolute = mcl.MC_MoveVelocity(), mcl.MC_MoveAbsolute()
+    additive = mcl.MC_MoveAdditive()
     common = dict(Acceleration=ACC, Deceleration=ACC)
+    move = dict(Velocity=100.0, **common)
     issued_at: list[float] = []
 
     def program() -> None:
@@ -347,9 +349,7 @@ def test_additive_blended_behind_a_queued_move_adds_to_its_target(machine, X, mo
         )
         if not issued_at and X.state == mcl.AxisState.ContinuousMotion and X.actual > 0.1:
             issued_at.append(X.actual)
-        additive(
-            Axis=X, Execute=bool(issued_at), Distance=50.0, Velocity=100.0, BufferMode=mode, **common
-        )
+        additive(Axis=X, Execute=bool(issued_at), Distance=50.0, BufferMode=mode, **move)
         assert not (velocity.Error or absolute.Error or additive.Error)
 
     machine.run(program, until=lambda: additive.Done, timeout=10.0)
