@@ -125,3 +125,25 @@ def test_a_stream_needs_a_csv_or_npy_file(tmp_path):
     machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
     with pytest.raises(ValueError, match=r"\.csv .* \.npy"):
         Trace(machine.axes, stream=tmp_path / "trace.parquet")
+
+
+def test_the_window_never_holds_fewer_than_keep_samples_not_even_right_after_a_trim():
+    """Checked after every servo cycle: the window holds the newest ``keep`` samples at least
+    (all of them before that many were recorded), at most 2·keep, gap-free up to now, its
+    signal column as long as its axis columns."""
+    keep = 100
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
+    trace = Trace(machine.axes, keep=keep, signals={"now": lambda: machine.time})
+    short: list[tuple[int, int]] = []  # (samples recorded, samples held) where too few were held
+
+    def check(t: float) -> None:
+        times = trace.column("X", "t")
+        if not min(trace.samples, keep) <= len(times) <= 2 * keep or times[-1] != t:
+            short.append((trace.samples, len(times)))
+        if len(trace.signal("now")) != len(times):
+            short.append((trace.samples, -1))
+
+    machine.runtime.observers += [trace, check]
+    machine.run(timeout=0.5)  # 500 servo cycles: trims at 200, 300, 400 and 500 samples
+    assert trace.samples == 500
+    assert not short, f"(recorded, held) {short[:5]}"
