@@ -15,7 +15,16 @@ import pytest
 
 import mcl
 from mcl import AxisState
-from tests.helpers import PLC, POS_TOL, configure, fresh_axis, power_on, tick
+from tests.helpers import (
+    PLC,
+    POS_TOL,
+    carriage_mm,
+    carriage_mm_s,
+    configure,
+    fresh_axis,
+    power_on,
+    tick,
+)
 
 
 def move_to(machine: mcl.SimMachine, axis: mcl.Axis, position: float, velocity: float = 400.0):
@@ -612,6 +621,43 @@ def test_stop_from_standstill_holds_stopping(machine, X):
     assert stop.Done and X.state == AxisState.Stopping
     machine.run(lambda: stop(Execute=False), timeout=0.01)
     assert X.state == AxisState.StandStill
+
+
+def stop_from(velocity: float, deceleration: float) -> tuple[float, float]:
+    """Run at ``velocity`` [mm/s], then MC_Stop with ``deceleration`` [mm/s²]: how far [mm]
+    and how long [s] the simulated carriage still travels (until below 1 mm/s)."""
+    machine, X = fresh_axis()
+    vel, stop = mcl.MC_MoveVelocity(), mcl.MC_Stop()
+    machine.run(
+        lambda: vel(Axis=X, Execute=True, Velocity=velocity, Acceleration=5000.0),
+        until=lambda: vel.InVelocity,
+        timeout=2.0,
+    )
+    machine.run(lambda: vel(Execute=True), timeout=0.1)
+    assert carriage_mm_s(machine) == pytest.approx(velocity, rel=0.01)
+    x0, t0 = carriage_mm(machine), machine.time
+    moving: list[float] = []
+    machine.runtime.observers.append(
+        lambda t: moving.append(t) if abs(carriage_mm_s(machine)) > 1.0 else None
+    )
+
+    def program() -> None:
+        vel(Execute=True)
+        stop(Axis=X, Execute=True, Deceleration=deceleration)
+
+    machine.run(program, until=lambda: stop.Done, timeout=5.0)
+    machine.run(program, timeout=0.3)
+    assert X.state == AxisState.Stopping and X.AxErrorID == 0
+    return carriage_mm(machine) - x0, moving[-1] - t0
+
+
+def test_a_smaller_stop_deceleration_gives_a_longer_stop():
+    """From 200 mm/s, MC_Stop with Deceleration 2000 and 500 mm/s²: the carriage travels
+    v²/2D = 10 and 40 mm and takes v/D = 0.1 and 0.4 s to stop (give or take a PLC scan and the
+    loop's settling)."""
+    (quick, t_quick), (slow, t_slow) = (stop_from(200.0, d) for d in (2000.0, 500.0))
+    assert quick == pytest.approx(10.0, abs=0.5) and slow == pytest.approx(40.0, abs=0.5)
+    assert t_quick == pytest.approx(0.1, abs=0.02) and t_slow == pytest.approx(0.4, abs=0.02)
 
 
 # ----------------------------------------------------- refused commands: 11 / 6 / 10 / 12 / 9
