@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import mujoco
@@ -297,3 +298,121 @@ def test_readme_axes_table_matches_the_model(model: mujoco.MjModel) -> None:
         assert row("counts_per_rev")[i] == pytest.approx(
             [num(model, f"{ax}_counts_per_rev")[0], num(model, f"{ax}_index_width")[0]]
         )
+
+
+# ------------------------------------------------------------------------ hard stops
+
+
+STEPS = (0.0005, 0.00025, 0.0001)
+"""Physics timesteps [s]: the model's, and two finer ones the impact must agree with."""
+CONVERGED = 0.25
+"""Largest change of penetration and rebound from the finest step, as a share of its value."""
+
+
+@dataclass(frozen=True)
+class Impact:
+    """A run of one joint into one of its stops with the drive as it is.
+
+    ``end`` is +1 for the upper stop (joint range max or, with ``part``, the press's block) and
+    −1 for the lower one; ``speed`` the impact speed [m/s] (an electric axis' amplifier at
+    ±10 V has it as its steady state); ``force`` a constant force toward the stop [N] for a
+    joint driven by a device (cylinder), which the bare model does not contain; ``part``: the
+    press's part ``"none"`` (the ram reaches the cylinder's end) or ``"solid"`` (its block at
+    the contact: the ram hits the block); empty: as loaded.
+    """
+
+    machine: str
+    joint: str
+    end: int
+    speed: float
+    force: float = 0.0
+    part: str = ""
+
+    def __str__(self) -> str:
+        part = f"-{self.part}" if self.part else ""
+        return f"{self.machine}-{self.joint}{'+' if self.end > 0 else '-'}{part}"
+
+
+# Ram retracting at its free speed (0.207 m/s): weight 1962 N + viscous 2000·0.207 + seal 250 N.
+_RAISE = 200 * 9.81 + 2000 * 0.207 + 250
+IMPACTS = [
+    *(
+        Impact("gantry", ax, end, vmax)
+        for ax, vmax in (("X", 1.0), ("Y", 1.0), ("Z", 0.5))
+        for end in (1, -1)
+    ),
+    Impact("flying_shear", "S", 1, 4.0),
+    Impact("flying_shear", "S", -1, 4.0),
+    # the knife cylinder returns at its stroke speed (K_speed) with its force (K_force); its
+    # lower stop is out of reach (the blade lands on the strip first)
+    Impact("flying_shear", "K", 1, 0.6, force=12000.0),
+    # the ram falls at its free extension speed with its weight (gravity is in the model) onto
+    # the cylinder's end (no part) or onto a solid part, and retracts onto its top end
+    Impact("hydraulic_press", "R", 1, 0.3, part="none"),
+    Impact("hydraulic_press", "R", 1, 0.3, part="solid"),
+    Impact("hydraulic_press", "R", -1, 0.207, force=_RAISE),
+]
+
+
+def run_into_stop(case: Impact, timestep: float) -> tuple[float, float, float]:
+    """Drive ``case`` into its stop from 2 mm before it at the model's ``timestep`` [s].
+
+    Returns the penetration beyond the stop [m] (joint qpos against the joint range, or the
+    press's block), the rebound (largest speed away from the stop after touching it, as a share
+    of the impact speed) and where the joint rests 0.1 s later [m beyond the stop].
+    """
+    m = mujoco.MjModel.from_xml_path(str(MODELS / f"{case.machine}.xml"))
+    m.opt.timestep = timestep
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key("home").id)
+    j = m.joint(case.joint).id
+    qa, va = m.jnt_qposadr[j], m.jnt_dofadr[j]
+    if case.part:  # models/README.md, hydraulic_press: exchange the part
+        t = m.tendon("workpiece").id
+        solid = case.part == "solid"
+        m.tendon_range[t, 0] = m.tendon_lengthspring[t, 0] if solid else 0.0
+        if not solid:
+            m.tendon_lengthspring[t, 0] = 0.0
+    if case.part == "solid":  # the ram's R at the block, from the tendon's length at R = 0
+        mujoco.mj_forward(m, d)
+        stop = float(d.ten_length[t] - m.tendon_range[t, 0])
+    else:
+        stop = float(m.jnt_range[j, 1 if case.end > 0 else 0])
+    for a in np.flatnonzero(m.actuator_trnid[:, 0] == j):  # the amplifier at ±10 V, settled
+        d.ctrl[a] = d.act[m.actuator_actadr[a]] = 10.0 * case.end
+    d.qfrc_applied[va] = case.force * case.end
+    d.qpos[qa] = stop - 0.002 * case.end
+    d.qvel[va] = case.speed * case.end
+    penetration = rebound = 0.0
+    touched = False
+    for _ in range(round(0.1 / timestep)):
+        mujoco.mj_step(m, d)
+        beyond = (d.qpos[qa] - stop) * case.end
+        touched = touched or beyond > 0.0
+        if touched:
+            penetration = max(penetration, beyond)
+            rebound = max(rebound, -d.qvel[va] * case.end / case.speed)
+    assert touched, f"{case} never reached its stop"
+    return penetration, rebound, float((d.qpos[qa] - stop) * case.end)
+
+
+@pytest.mark.parametrize("case", IMPACTS, ids=str)
+def test_hard_stop_impact_is_converged_at_the_model_timestep(case: Impact) -> None:
+    """Penetration and rebound of a run into a hard stop are the same (within 25 %) at the
+    model's 0.5 ms as at 0.25 and 0.1 ms, and the stop still holds a steady push stiffly."""
+    runs = {dt: run_into_stop(case, dt) for dt in STEPS}
+    pen_ref, reb_ref, _ = runs[STEPS[-1]]
+    for dt in STEPS[:-1]:
+        pen, reb, _ = runs[dt]
+        assert abs(pen - pen_ref) <= CONVERGED * pen_ref, (
+            f"{case}: penetrates {pen * 1e3:.3f} mm at {dt * 1e3:g} ms, "
+            f"{pen_ref * 1e3:.3f} mm at {STEPS[-1] * 1e3:g} ms"
+        )
+        assert abs(reb - reb_ref) <= CONVERGED * reb_ref, (
+            f"{case}: rebounds {reb:.1%} at {dt * 1e3:g} ms, {reb_ref:.1%} at "
+            f"{STEPS[-1] * 1e3:g} ms"
+        )
+    pen, _, rest = runs[STEPS[0]]
+    if not case.force:  # a stiff stop: at most 2.5 mm per m/s of impact speed
+        assert pen < 2.5e-3 * case.speed, f"{case}: {pen * 1e3:.2f} mm is no stiff stop"
+    assert abs(rest) < 50e-6, f"{case}: rests {rest * 1e6:.1f} µm beyond the stop under its push"
