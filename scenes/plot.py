@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import html
 import io
+import re
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
@@ -20,6 +22,7 @@ import numpy as np
 import pandas as pd
 
 from mcl.trace import FIELDS, Trace
+from scenes.errors import UserError
 
 SWITCHES = ("lim_neg", "lim_pos", "ref", "index")
 
@@ -31,7 +34,8 @@ def frame(trace: Trace | str | Path) -> pd.DataFrame:
         trace: a recorded trace, or a ``.csv`` / ``.npy`` file written by one.
 
     Raises:
-        ValueError: a file that is not a trace (the message names the missing columns).
+        UserError: a missing file, or one that is not a trace (one line: the file, the line
+            where known, what is wrong and what a trace file holds).
     """
     if isinstance(trace, Trace):
         columns = [f"{n}.{f}" for n in trace.axes for f in FIELDS]
@@ -41,11 +45,39 @@ def frame(trace: Trace | str | Path) -> pd.DataFrame:
             table[name] = trace.signal(name)
         return table
     path = Path(trace)
-    table = pd.DataFrame(np.load(path)) if path.suffix == ".npy" else pd.read_csv(path)
-    if not any(c.endswith(".t") for c in table.columns):
-        raise ValueError(
-            f"{path}: not a trace (no '<axis>.t' column; columns: {list(table.columns)[:8]})"
+    expected = "a trace written by scene.trace.to_csv (.csv) or streamed (.csv, .npy)"
+    if path.suffix not in (".csv", ".npy"):
+        raise UserError.at(str(path), "", f"a {path.suffix or 'suffix-less'} file", expected)
+    if not path.is_file():
+        raise UserError.at(str(path), "", "no such file", f"{expected}, relative to {Path.cwd()}")
+    try:
+        table = pd.DataFrame(np.load(path)) if path.suffix == ".npy" else pd.read_csv(path)
+    except pd.errors.EmptyDataError:
+        raise UserError.at(str(path), "", "empty", expected) from None
+    except pd.errors.ParserError as error:
+        found = re.search(r"line (\d+)", str(error))
+        where = f"{path}:{found.group(1)}" if found else str(path)
+        what = re.sub(r"^C error:\s*", "", str(error).split(". ")[-1].strip().rstrip("."))
+        raise UserError.at(where, "", what, expected) from None
+    except (ValueError, OSError, UnicodeDecodeError) as error:
+        raise UserError.at(str(path), "", f"not readable ({error})", expected) from None
+    axes = axes_of(table)
+    if not axes:
+        raise UserError.at(
+            f"{path}:1", "", f"no '<axis>.t' column (columns: {list(table.columns)[:6]})", expected
         )
+    for name in axes:
+        missing = [f"{name}.{f}" for f in FIELDS if f"{name}.{f}" not in table.columns]
+        if missing:
+            raise UserError.at(f"{path}:1", "", f"columns {missing} missing", expected)
+    for column in table.columns:
+        if not pd.api.types.is_numeric_dtype(table[column]):
+            values = pd.to_numeric(table[column], errors="coerce")
+            row = int(values.isna().to_numpy().argmax())
+            at = f"{path}:{row + 2}" if path.suffix == ".csv" else str(path)
+            raise UserError.at(
+                at, column, f"{table[column].iloc[row]!r} is not a number", "numbers only"
+            )
     return table
 
 
@@ -111,17 +143,56 @@ def plot(trace: Trace | str | Path, out: str | Path, title: str = "") -> tuple[P
     return png, page
 
 
-def plot_table(table: pd.DataFrame, x: str, ys: list[str], out: str | Path) -> Path:
-    """A sweep's metrics against one parameter (one scatter per metric) as ``<out>.png``."""
-    fig, panels = plt.subplots(len(ys), 1, sharex=True, figsize=(8, 2.4 * len(ys) + 0.6))
-    for panel, y in zip(np.atleast_1d(panels), ys, strict=True):
-        panel.plot(table[x], table[y], "o", markersize=3)
-        panel.set_ylabel(y)
-        panel.grid(True, alpha=0.3)
-    np.atleast_1d(panels)[-1].set_xlabel(x)
-    fig.tight_layout()
-    path = Path(out).with_suffix(".png")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+def plot_table(
+    table: pd.DataFrame,
+    x: str,
+    ys: list[str],
+    out: str | Path,
+    title: str = "",
+    colour: Sequence[str] = (),
+) -> Path:
+    """A sweep's metrics against one parameter (one panel per metric) as ``<out>.png``.
+
+    Args:
+        table: the sweep's table.
+        x: the parameter on the horizontal axis.
+        ys: the metrics, one panel each.
+        out: the file, without suffix.
+        title: the figure's title (the scenario, its seed and size).
+        colour: the other swept parameters; the points are coloured by the first (a legend for
+            up to 10 values, else a colour bar), the title names the rest.
+    """
+    shade = colour[0] if colour else None
+    if len(colour) > 1:
+        title += f"\nalso varied: {', '.join(colour[1:])}"
+    with plt.rc_context({"axes.formatter.useoffset": False}):
+        fig, panels = plt.subplots(
+            len(ys), 1, sharex=True, figsize=(8, 2.4 * len(ys) + 1.2), layout="constrained"
+        )
+        panel_list = list(np.atleast_1d(panels))
+        values = sorted(table[shade].dropna().unique()) if shade else []
+        for panel, y in zip(panel_list, ys, strict=True):
+            if shade is None:
+                panel.plot(table[x], table[y], "o", markersize=3)
+            elif len(values) <= 10:
+                for k, value in enumerate(values):
+                    rows = table[table[shade] == value]
+                    panel.plot(
+                        rows[x], rows[y], "o", markersize=3, color=f"C{k}", label=f"{value:g}"
+                    )
+            else:
+                points = panel.scatter(table[x], table[y], c=table[shade], s=9, cmap="viridis")
+            panel.set_ylabel(y)
+            panel.grid(True, alpha=0.3)
+        if shade is not None and len(values) <= 10:
+            panel_list[0].legend(title=shade, fontsize="x-small", loc="best", ncol=5)
+        elif shade is not None:
+            fig.colorbar(points, ax=panel_list, label=shade)
+        panel_list[-1].set_xlabel(x)
+        if title:
+            fig.suptitle(title, fontsize="medium")
+        path = Path(out).with_suffix(".png")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
     return path

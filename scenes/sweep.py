@@ -1,10 +1,11 @@
 """Parameter sweeps: a scenario run over a grid or a seeded random sample of parameters, on all
 local cores or a Dask cluster, collected into one table.
 
-A scenario is a plain function ``scenario(**parameters) -> dict of metrics`` (importable, so the
-workers find it). Every row of the result carries its parameters, its metrics, its seed and the
-project version; the rows come back in the order of the sample whatever ran where, so a serial run
-and a cluster run give the same table.
+A scenario is a plain function ``scenario(seed, **parameters) -> dict of metrics`` (importable,
+so the workers find it). Every row of the result carries its parameters, its metrics, its seed
+and the project version; the rows come back in the order of the sample whatever ran where, so a
+serial run and a cluster run give the same table. A scenario that raises is a failed row (its
+``error`` column says why); the others still run.
 
 .. code-block:: python
 
@@ -13,53 +14,291 @@ and a cluster run give the same table.
                   grid={"hysteresis_um": [0, 10, 50]}, random={"start_mm": (20, 300)},
                   samples=20, seed=1)
     table = sweep.run()                      # all local cores; address="tcp://..." for a cluster
-    sweep.write(table, "homing.csv")         # or .parquet, plus homing.png
+    sweep.write(table, "homing.csv")         # or .parquet, plus homing_<parameter>.png
 
-From the command line: ``python -m scenes sweep FILE.toml`` (see :func:`from_toml`).
+From the command line: ``python -m scenes sweep FILE.toml`` (see :func:`from_toml`). The whole
+file is checked against the scenario's signature before anything runs; each mistake is one line
+``file:line: key: what is wrong; expected ...`` (:class:`scenes.errors.UserError`).
 """
 
 from __future__ import annotations
 
 import importlib
 import importlib.metadata
+import inspect
 import itertools
+import math
 import os
 import random as random_module
+import re
+import sys
+import time
 import tomllib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
 
 import pandas as pd
 
+from scenes.errors import UserError, located, suggest
+
 VERSION = importlib.metadata.version("mcl-testbench")
 """The project version every row carries."""
+
+BOOKKEEPING = ("run", "seed", "version", "error")
+"""Columns of a sweep table that are neither parameters nor metrics."""
+
+KEYS = ("scenario", "grid", "random", "samples", "seed", "out", "workers", "address")
+"""The keys of a sweep file."""
+
+Problem = tuple[str, str, str]
+"""A mistake: (key, what is wrong, what would be right)."""
 
 
 def scenario_of(target: str) -> Callable[..., Mapping[str, float]]:
     """The function ``"module:function"`` names.
 
     Raises:
-        ValueError: not of that form, or no such function (the message says which).
+        UserError: not of that form, or no such function (the message says which).
     """
-    module, _, name = target.partition(":")
-    if not module or not name:
-        raise ValueError(f"scenario must be 'module:function', got {target!r}")
-    try:
-        function = getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError) as error:
-        raise ValueError(f"scenario {target!r} not found: {error}") from None
-    if not callable(function):
-        raise ValueError(f"scenario {target!r} is not a function")
+    function, problem = _resolve(target)
+    if function is None:
+        raise UserError.at("scenario", "", *problem)
     return function
 
 
+def _resolve(target: object) -> tuple[Callable[..., Mapping[str, float]] | None, tuple[str, str]]:
+    """The function ``target`` names, or None and (what is wrong, what would be right)."""
+    form = "'module:function', e.g. 'scenes.examples:cut_length'"
+    if not isinstance(target, str):
+        return None, (f"{target!r} is not a string", form)
+    module_name, _, name = target.partition(":")
+    if not module_name or not name:
+        return None, (f"{target!r} is not 'module:function'", form)
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as error:
+        return None, (f"module {module_name!r} cannot be imported ({error})", form)
+    function = getattr(module, name, None)
+    if not callable(function):
+        functions = sorted(
+            n for n, f in vars(module).items() if inspect.isfunction(f) and not n.startswith("_")
+        )
+        what = "no function" if function is None else "not a function:"
+        return None, (
+            f"module {module_name} has {what} {name!r}",
+            f"one of {functions}{suggest(name, functions)}",
+        )
+    return function, ("", "")
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def _parameters(function: Callable[..., Any]) -> tuple[dict[str, inspect.Parameter], bool]:
+    """The scenario's keyword parameters but ``seed``, and whether it takes any (``**kw``)."""
+    try:
+        signature = inspect.signature(function, eval_str=True)
+    except (NameError, TypeError, ValueError):
+        signature = inspect.signature(function)
+    named = {
+        n: p
+        for n, p in signature.parameters.items()
+        if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and n != "seed"
+    }
+    anything = any(p.kind is p.VAR_KEYWORD for p in signature.parameters.values())
+    return named, anything
+
+
+def _value_problem(value: object, parameter: inspect.Parameter | None) -> str:
+    """Why ``value`` does not fit the parameter's annotation ("" if it fits)."""
+    kind = None if parameter is None else parameter.annotation
+    if kind in (float, int) and not _is_number(value):
+        return f"{value!r} is not a number"
+    if kind is int and isinstance(value, float) and not value.is_integer():
+        return f"{value!r} is not a whole number"
+    if kind is str and not isinstance(value, str):
+        return f"{value!r} is not a string"
+    if kind is bool and not isinstance(value, bool):
+        return f"{value!r} is not true or false"
+    return ""
+
+
+def check(spec: Mapping[str, Any]) -> list[Problem]:
+    """Every mistake of a sweep described as in a sweep file (keys :data:`KEYS`), checked
+    against the scenario's signature; empty when it can run."""
+    problems: list[Problem] = []
+    for key in spec:
+        if key not in KEYS:
+            problems.append((key, "unknown key", f"one of {sorted(KEYS)}{suggest(key, KEYS)}"))
+    if "scenario" not in spec:
+        problems.append(("scenario", "missing", 'scenario = "module:function"'))
+        return problems
+    function, problem = _resolve(spec["scenario"])
+    if function is None:
+        problems.append(("scenario", *problem))
+        return problems
+    named, anything = _parameters(function)
+    takes_seed = "seed" in inspect.signature(function).parameters or anything
+    if not takes_seed:
+        problems.append(
+            (
+                "scenario",
+                f"{spec['scenario']} has no 'seed' parameter",
+                "a function f(seed, **parameters) -> dict of metrics",
+            )
+        )
+    valid = sorted(named)
+    tables: dict[str, Mapping[str, Any]] = {}
+    for table in ("grid", "random"):
+        value = spec.get(table, {})
+        if not isinstance(value, Mapping):
+            example = "x = [1, 2, 3]" if table == "grid" else "x = [0.0, 1.0]"
+            problems.append((table, f"{value!r} is not a table", f"[{table}] with lines {example}"))
+            continue
+        tables[table] = value
+        for name in value:
+            if name not in named and not anything:
+                problems.append(
+                    (
+                        f"{table}.{name}",
+                        f"not a parameter of {spec['scenario']}",
+                        f"one of {valid}{suggest(name, named)}",
+                    )
+                )
+    grid, drawn = tables.get("grid", {}), tables.get("random", {})
+    for name, values in grid.items():
+        key, parameter = f"grid.{name}", named.get(name)
+        if not isinstance(values, list | tuple):
+            problems.append(
+                (
+                    key,
+                    f"{values!r} is a single value, not a list",
+                    f"a list of values, e.g. {name} = [{values!r}]",
+                )
+            )
+        elif not values:
+            problems.append((key, "an empty list", "at least one value"))
+        else:
+            for value in values:
+                wrong = _value_problem(value, parameter)
+                if wrong:
+                    hint = getattr(parameter.annotation, "__name__", "") if parameter else ""
+                    problems.append((key, wrong, f"values of type {hint}"))
+                    break
+        if name in drawn:
+            problems.append((key, "in both [grid] and [random]", "it in one of them"))
+    for name, bounds in drawn.items():
+        key, parameter = f"random.{name}", named.get(name)
+        if (
+            not isinstance(bounds, list | tuple)
+            or len(bounds) != 2
+            or not all(_is_number(b) and math.isfinite(b) for b in bounds)
+        ):
+            problems.append(
+                (key, f"{bounds!r} is not [low, high]", f"two numbers, e.g. {name} = [0.0, 1.0]")
+            )
+        elif bounds[0] > bounds[1]:
+            problems.append(
+                (
+                    key,
+                    f"low {bounds[0]!r} is above high {bounds[1]!r}",
+                    f"[{bounds[1]!r}, {bounds[0]!r}]",
+                )
+            )
+        elif parameter is not None and parameter.annotation in (int, str, bool):
+            problems.append(
+                (
+                    key,
+                    f"{name} takes {parameter.annotation.__name__} values; "
+                    "random draws real numbers",
+                    f"{name} in [grid] instead",
+                )
+            )
+    for name, parameter in named.items():
+        if parameter.default is inspect.Parameter.empty and name not in {*grid, *drawn}:
+            problems.append(
+                (
+                    name,
+                    "the scenario needs it (no default)",
+                    f"it in [grid] ({name} = [...]) or [random] ({name} = [low, high])",
+                )
+            )
+    integers = {"samples": 1, "seed": 0, "workers": 0}
+    for key, low in integers.items():
+        if key in spec and not (
+            isinstance(spec[key], int) and not isinstance(spec[key], bool) and spec[key] >= low
+        ):
+            problems.append((key, f"{spec[key]!r}", f"an integer >= {low}"))
+    out = spec.get("out", "results.csv")
+    if not isinstance(out, str) or Path(out).suffix not in (".csv", ".parquet"):
+        problems.append(("out", f"{out!r}", "a file name ending in .csv or .parquet"))
+    address = spec.get("address")
+    if address is not None and not (isinstance(address, str) and "://" in address):
+        problems.append(("address", f"{address!r}", "a Dask scheduler, e.g. 'tcp://host:8786'"))
+    return problems
+
+
 def _run_one(target: str, row: dict[str, Any]) -> dict[str, Any]:
-    """One scenario of the sweep (runs on a worker): its row with the metrics."""
-    parameters = {k: v for k, v in row.items() if k not in ("run", "seed", "version")}
-    metrics = scenario_of(target)(seed=row["seed"], **parameters)
-    return {**row, **metrics}
+    """One scenario of the sweep (runs on a worker): its row with the metrics, or with the
+    reason it failed in ``error``."""
+    parameters = {k: v for k, v in row.items() if k not in BOOKKEEPING}
+    try:
+        metrics = scenario_of(target)(seed=row["seed"], **parameters)
+        if not isinstance(metrics, Mapping):
+            raise TypeError(f"returned {type(metrics).__name__}, not a dict of metrics")
+        return {**row, **metrics}
+    except Exception as error:  # a failed scenario is a row of the table, not the sweep's end
+        return {**row, "error": f"{type(error).__name__}: {error}".splitlines()[0]}
+
+
+class Progress:
+    """A sweep's progress on a stream: scenarios done and failed, time spent and left.
+
+    On a terminal one line is rewritten in place (at most 5 times a second); otherwise a line is
+    written at each tenth of the sweep, so a log gets at most 11 lines.
+
+    Args:
+        total: scenarios in the sweep.
+        stream: where the lines go (standard error by default).
+        label: what the lines start with (the sweep file's name).
+    """
+
+    def __init__(self, total: int, stream: TextIO | None = None, label: str = "sweep") -> None:
+        self.total, self.label = total, label
+        self.stream = sys.stderr if stream is None else stream
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.start = time.monotonic()
+        self._shown = -1.0
+        self._tenth = -1
+
+    def line(self, done: int, failed: int) -> str:
+        """The progress line after ``done`` scenarios (``failed`` of them failed)."""
+        spent = time.monotonic() - self.start
+        text = f"{self.label}: {done}/{self.total} done, {failed} failed, {spent:.1f} s"
+        if 0 < done < self.total:
+            left = spent / done * (self.total - done)
+            text += f", about {left:.0f} s left" if left >= 10 else f", about {left:.1f} s left"
+        return text
+
+    def __call__(self, done: int, failed: int) -> None:
+        """Show the progress after ``done`` scenarios."""
+        final = done == self.total
+        if self.tty:
+            now = time.monotonic()
+            if final or now - self._shown >= 0.2:
+                self._shown = now
+                end = "\n" if final else ""
+                self.stream.write(f"\r{self.line(done, failed)}\x1b[K{end}")
+                self.stream.flush()
+            return
+        tenth = 10 * done // max(self.total, 1)
+        if tenth > self._tenth:
+            self._tenth = tenth
+            self.stream.write(self.line(done, failed) + "\n")
+            self.stream.flush()
 
 
 @dataclass
@@ -74,6 +313,10 @@ class Sweep:
             drawn uniformly (seeded).
         samples: random draws per grid point (1 without ``random``).
         seed: the sweep's seed: the random draws and each scenario's own ``seed``.
+
+    Raises:
+        UserError: a parameter the scenario does not take, a grid value that is not a list, ...
+            (one line per mistake).
     """
 
     scenario: str
@@ -83,15 +326,16 @@ class Sweep:
     seed: int = 0
 
     def __post_init__(self) -> None:
-        scenario_of(self.scenario)
-        if self.samples < 1:
-            raise ValueError(f"samples must be >= 1, got {self.samples}")
-        for name, bounds in self.random.items():
-            if len(bounds) != 2 or not bounds[0] <= bounds[1]:
-                raise ValueError(f"random {name!r} must be (low, high), got {bounds!r}")
-        for name, values in self.grid.items():
-            if isinstance(values, str) or not len(values):
-                raise ValueError(f"grid {name!r} must be a non-empty list, got {values!r}")
+        spec = {
+            "scenario": self.scenario,
+            "grid": self.grid,
+            "random": self.random,
+            "samples": self.samples,
+            "seed": self.seed,
+        }
+        problems = check(spec)
+        if problems:
+            raise UserError.of([located("Sweep", *p) for p in problems])
 
     def rows(self) -> list[dict[str, Any]]:
         """The scenarios to run, in order: run number, seed, version and parameters."""
@@ -112,21 +356,44 @@ class Sweep:
                 )
         return rows
 
-    def run(self, workers: int | None = None, address: str | None = None) -> pd.DataFrame:
-        """Run every scenario and return the table (one row each, in :meth:`rows` order).
+    @property
+    def parameters(self) -> list[str]:
+        """The swept parameters: the grid's, then the random ones."""
+        return [*self.grid, *self.random]
+
+    def run(
+        self,
+        workers: int | None = None,
+        address: str | None = None,
+        progress: Callable[[int, int], None] | None = None,
+        on_cluster: Callable[[str], None] | None = None,
+    ) -> pd.DataFrame:
+        """Run every scenario and return the table (one row each, in :meth:`rows` order; a
+        failed scenario has its reason in the ``error`` column, present only then).
 
         Args:
             workers: local worker processes (default: one per core); 0 runs serially here.
             address: a Dask scheduler (``"tcp://host:8786"``): run on that cluster instead.
+            progress: called with (scenarios done, of which failed) after each one, e.g. a
+                :class:`Progress`.
+            on_cluster: called with the Dask dashboard's address once the cluster is up.
         """
         rows = self.rows()
+        report = progress or (lambda done, failed: None)
+        results: list[dict[str, Any]] = []
+        failed = 0
+        report(0, 0)
         if address is None and workers == 0:
-            return pd.DataFrame([_run_one(self.scenario, row) for row in rows])
-        from distributed import Client, LocalCluster
+            for row in rows:
+                results.append(_run_one(self.scenario, row))
+                failed += "error" in results[-1]
+                report(len(results), failed)
+            return _table(results)
+        from distributed import Client, LocalCluster, as_completed
 
+        cluster = None
         if address is not None:
             client = Client(address)
-            cluster = None
         else:
             cluster = LocalCluster(
                 n_workers=workers or os.cpu_count() or 1,
@@ -136,8 +403,18 @@ class Sweep:
             )
             client = Client(cluster)
         try:
+            if on_cluster is not None and address is not None:
+                on_cluster(client.dashboard_link)
             futures = client.map(_run_one, [self.scenario] * len(rows), rows, pure=False)
-            return pd.DataFrame(client.gather(futures))
+            for future in as_completed(futures):
+                if future.status == "error":  # the worker itself died
+                    row = rows[futures.index(future)]
+                    results.append({**row, "error": f"worker lost: {future.exception()}"})
+                else:
+                    results.append(future.result())
+                failed += "error" in results[-1]
+                report(len(results), failed)
+            return _table(results)
         finally:
             client.close()
             if cluster is not None:
@@ -145,28 +422,111 @@ class Sweep:
 
     def write(self, table: pd.DataFrame, path: str | Path) -> list[Path]:
         """Write the table (``.csv`` or ``.parquet``) and, next to it, a PNG of every metric
-        against every swept parameter; returns the files written."""
+        against every swept parameter (``<stem>_<parameter>.png``); returns the files written.
+
+        Raises:
+            UserError: ``path`` is neither ``.csv`` nor ``.parquet``.
+        """
         from scenes.plot import plot_table
 
         path = Path(path)
+        if path.suffix not in (".csv", ".parquet"):
+            raise UserError.at(str(path), "", "not a table file", "a .csv or .parquet file")
         path.parent.mkdir(parents=True, exist_ok=True)
         if path.suffix == ".parquet":
             table.to_parquet(path, index=False)
-        elif path.suffix == ".csv":
-            table.to_csv(path, index=False)
         else:
-            raise ValueError(f"results go to a .csv or .parquet file, got {path.name!r}")
-        parameters = [*self.grid, *self.random]
-        metrics = [c for c in table.columns if c not in ("run", "seed", "version", *parameters)]
+            table.to_csv(path, index=False)
+        metrics = self.metrics(table)
         written = [path]
-        for name in parameters:
-            if metrics:
-                out = path.with_name(f"{path.stem}_{name}")
-                written.append(plot_table(table, name, metrics, out))
+        seeds = f"seed {self.seed}, {len(table)} scenarios"
+        for name in self.parameters if metrics else ():
+            others = [p for p in self.parameters if p != name and table[p].nunique() > 1]
+            out = path.with_name(f"{path.stem}_{name}")
+            title = f"{self.scenario} ({seeds})"
+            written.append(plot_table(table, name, metrics, out, title=title, colour=others))
         return written
 
+    def metrics(self, table: pd.DataFrame) -> list[str]:
+        """The metric columns of a table of this sweep."""
+        return [c for c in table.columns if c not in (*BOOKKEEPING, *self.parameters)]
 
-def from_toml(path: str | Path) -> tuple[Sweep, dict[str, Any]]:
+    def summary(self, table: pd.DataFrame) -> str:
+        """What a sweep found, for a reader: the failed scenarios, each metric's mean per grid
+        point (over the random draws) and each metric's range over the whole sweep."""
+        lines = [f"{len(table)} scenarios of {self.scenario}, seed {self.seed}"]
+        failed = table[table["error"].astype(bool)] if "error" in table else table.iloc[:0]
+        ok = table.drop(index=failed.index)
+        if len(failed):
+            lines.append(f"{len(failed)} failed (column 'error'):")
+            for reason, group in failed.groupby("error", sort=False):
+                runs = ", ".join(str(r) for r in group["run"][:5])
+                more = ", ..." if len(group) > 5 else ""
+                lines.append(f"  runs {runs}{more}: {reason}")
+        metrics = [m for m in self.metrics(table) if pd.api.types.is_numeric_dtype(table[m])]
+        if not metrics or ok.empty:
+            return "\n".join(lines)
+        if self.grid:
+            draws = (
+                f"mean of {self.samples} draws of {', '.join(self.random)}" if self.random else ""
+            )
+            lines.append(f"\nby grid point{f' ({draws})' if draws else ''}:")
+            by_point = ok.groupby(list(self.grid), sort=False)[metrics].mean()
+            lines.append(by_point.to_string(float_format=lambda v: f"{v:.4g}"))
+        spread = ok[metrics].agg(["min", "mean", "max"]).T
+        lines.append("\nover the whole sweep:")
+        lines.append(spread.to_string(float_format=lambda v: f"{v:.4g}"))
+        return "\n".join(lines)
+
+
+def _table(results: list[dict[str, Any]]) -> pd.DataFrame:
+    """The rows in run order as a table; ``error`` last, and only if a scenario failed."""
+    results = sorted(results, key=lambda r: r["run"])
+    table = pd.DataFrame(results)
+    if "error" in table:
+        table["error"] = table["error"].fillna("")
+        table = table[[c for c in table.columns if c != "error"] + ["error"]]
+    return table
+
+
+class _Lines:
+    """Where each key of a TOML text is defined (``"grid.x"`` → line number)."""
+
+    HEADER = re.compile(r"^\s*\[\s*([^\[\]]+?)\s*\]")
+    KEY = re.compile(r"^\s*(\"[^\"]*\"|'[^']*'|[A-Za-z0-9_.-]+)\s*=")
+
+    def __init__(self, text: str) -> None:
+        self.lines: dict[str, int] = {}
+        table = ""
+        for number, line in enumerate(text.splitlines(), start=1):
+            header = self.HEADER.match(line)
+            if header:
+                table = header.group(1).strip("\"'")
+                self.lines.setdefault(table, number)
+                continue
+            key = self.KEY.match(line)
+            if key:
+                name = key.group(1).strip("\"'")
+                self.lines.setdefault(f"{table}.{name}" if table else name, number)
+
+    def line(self, key: str) -> int | None:
+        """The line of ``key`` or of the nearest table holding it (None: not in the text)."""
+        while key:
+            if key in self.lines:
+                return self.lines[key]
+            key = key.rpartition(".")[0]
+        return None
+
+
+def _toml_value(text: str) -> Any:
+    """A command-line value read as TOML (``[1, 2]``, ``3``, ``"a"``); else the text itself."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def from_toml(path: str | Path, overrides: Sequence[str] = ()) -> tuple[Sweep, dict[str, Any]]:
     """A sweep described in a TOML file, and its run options.
 
     .. code-block:: toml
@@ -182,18 +542,71 @@ def from_toml(path: str | Path) -> tuple[Sweep, dict[str, Any]]:
         [random]
         start_mm = [20, 300]
 
+    Args:
+        path: the TOML file.
+        overrides: ``"key=value"`` (a TOML value; dotted keys reach into the tables:
+            ``"grid.hysteresis_um=[0, 5]"``, ``"samples=3"``), applied over the file.
+
     Raises:
-        ValueError: a missing or unknown key (the message lists the valid ones).
+        UserError: a missing file, a TOML syntax error, or every mistake of the sweep (an
+            unknown key or parameter, a grid value that is not a list, ...), one line each:
+            ``file:line: key: what is wrong; expected ...``.
     """
     path = Path(path)
-    with path.open("rb") as f:
-        spec = tomllib.load(f)
-    known = {"scenario", "grid", "random", "samples", "seed", "out", "workers", "address"}
-    unknown = set(spec) - known
-    if unknown or "scenario" not in spec:
-        raise ValueError(
-            f"{path}: needs 'scenario'; unknown keys {sorted(unknown)}; valid: {sorted(known)}"
-        )
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise UserError.at(
+            str(path), "", "no such file", f"a sweep file (TOML), relative to {Path.cwd()}"
+        ) from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise UserError.at(str(path), "", f"cannot be read ({error})", "a TOML text file") from None
+    try:
+        spec: dict[str, Any] = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        message = str(error)
+        at = re.search(r"\(at line (\d+), column (\d+)\)", message)
+        line = at.group(1) if at else str(len(text.splitlines()) or 1)
+        column = f", column {at.group(2)}" if at else ""
+        what = re.sub(r"\s*\(at [^)]*\)$", "", message)
+        raise UserError.at(
+            f"{path}:{line}",
+            "",
+            f"TOML syntax: {what}{column}",
+            "valid TOML (key = value, [table])",
+        ) from None
+    overridden: set[str] = set()
+    problems: list[tuple[str, Problem]] = []
+    for item in overrides:
+        key, equals, value = item.partition("=")
+        key = key.strip()
+        if not equals or not key:
+            problems.append(
+                (
+                    "command line",
+                    (item, "not KEY=VALUE", "e.g. --set samples=5 or --grid x=[1,2,3]"),
+                )
+            )
+            continue
+        table, _, name = key.rpartition(".")
+        target = spec
+        if table:
+            target = spec.setdefault(table, {})
+            if not isinstance(target, dict):
+                continue  # check() reports the table itself
+        target[name] = _toml_value(value.strip())
+        overridden.add(key)
+    lines = _Lines(text)
+
+    def where(key: str) -> str:
+        if key in overridden:
+            return "command line"
+        line = lines.line(key)
+        return f"{path}:{line}" if line else str(path)
+
+    problems += [(where(p[0]), p) for p in check(spec)]
+    if problems:
+        raise UserError.of([located(w, *p) for w, p in problems])
     sweep = Sweep(
         spec["scenario"],
         grid=spec.get("grid", {}),

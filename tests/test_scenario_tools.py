@@ -7,6 +7,7 @@ import pytest
 import mcl
 import scenes
 from scenes.__main__ import main
+from scenes.errors import UserError
 from scenes.sweep import Sweep, from_toml
 
 pytest_plugins = ["pytester"]
@@ -95,7 +96,7 @@ def test_a_sweep_on_two_dask_workers_equals_the_serial_run_row_for_row():
 def test_sweep_files_are_checked_and_written(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text('scenario = "scenes.examples:payload_following_error"\nsampels = 3\n')
-    with pytest.raises(ValueError, match="unknown keys \\['sampels'\\]"):
+    with pytest.raises(UserError, match=r"bad.toml:2: sampels: unknown key; .*'samples'\?"):
         from_toml(bad)
     with pytest.raises(ValueError, match="module:function"):
         Sweep("payload_following_error")
