@@ -5,11 +5,21 @@ set point of that instant (so the order of the axes does not matter). A master w
 is closed is read by its set point (position, velocity, acceleration), exactly.
 
 Any other master (an encoder-only axis such as a measuring wheel, or a driven axis that is not
-powered) is read by its encoder through a tracking filter with a double pole at ``Kv``:
-``x̂⁻ = x̂ + v̂·T``, ``ρ = x − x̂⁻``, ``x̂ = x̂⁻ + α·ρ``, ``v̂ = v̂ + β·ρ/T`` with
-``r = exp(−Kv·T)``, ``α = 1 − r²``, ``β = (1 − r)²`` (T the servo period). It follows a constant
-master velocity without lag, smooths the encoder's quantization, and lags a master that
-accelerates with ``a`` by about ``a/Kv²``; its acceleration counts as 0.
+powered) is read by its encoder through a type-3 tracking filter (position, velocity and
+acceleration, an alpha-beta-gamma observer) with a triple pole at ``Kv``:
+``x̂⁻ = x̂ + v̂·T + â·T²/2``, ``v̂⁻ = v̂ + â·T``, ``ρ = x − x̂⁻``, ``x̂ = x̂⁻ + α·ρ``,
+``v̂ = v̂⁻ + β·ρ/T``, ``â = â + γ·ρ/T²`` with ``r = exp(−Kv·T)``, ``α = 1 − r³``,
+``β = 1.5·(1 − r)²·(1 + r)``, ``γ = (1 − r)³`` (T the servo period). It follows a master that
+runs at a constant velocity or ramps with a constant acceleration without lag and smooths the
+encoder's quantization. Its three estimates are each right but not one trajectory (the
+position estimate jumps by ``α·ρ``, the velocity by ``β·ρ/T``): a slave servo fed them runs off
+its set point while the master changes speed. The master is therefore read through a
+set-point model locked on the filter, ``a_m = â + (k_x·(x̂ − x_m)/T + k_v·(v̂ − v_m))/T``,
+held until the next instant, ``x_m`` and ``v_m`` integrated from it, with a double pole at ``3·Kv``
+(``q = exp(−3·Kv·T)``, ``k_x = (1 − q)²``, ``k_v = (1 − q)·(3 + q)/2``): position, velocity and
+acceleration of one trajectory, which follows a constant acceleration of the master without
+lag. Its acceleration is the slave's acceleration set point (the servo's Ka feed-forward), so a
+geared slave follows a line that changes speed.
 
 Master positions are taken in the master's coordinate at the moment the command takes over the
 slave; a later change of that coordinate (homing, another block's zeroing) does not move a sync
@@ -39,8 +49,10 @@ from mcl.fb import ExecuteFB, MotionFB, non_negative
 from mcl.motion import ready_limits
 from mcl.trajectory import Limits, PlanningError, Profile
 
-DEFAULT_KV: Final = 200.0
+DEFAULT_KV: Final = 100.0
 """Bandwidth of the master tracking filter when ``Kv`` is 0 [1/s]."""
+MODEL: Final = 3.0
+"""Bandwidth of the set-point model locked on the tracking filter, in units of ``Kv``."""
 REPLAN: Final = 0.05
 """MC_GearInPos plans its synchronisation again when the master runs this much faster than
 planned (a relative speed-up); slower masters are followed on the same plan."""
@@ -70,11 +82,19 @@ class MasterReader:
         self.master = master
         self.offset0 = master.offset
         r = math.exp(-kv * master.servo_period)
-        self.alpha = 1.0 - r * r
-        self.beta = (1.0 - r) * (1.0 - r)
+        self.alpha = 1.0 - r * r * r
+        self.beta = 1.5 * (1.0 - r) * (1.0 - r) * (1.0 + r)
+        self.gamma = (1.0 - r) * (1.0 - r) * (1.0 - r)
+        q = math.exp(-MODEL * kv * master.servo_period)
+        self.k_x = (1.0 - q) * (1.0 - q)
+        self.k_v = 0.5 * (1.0 - q) * (3.0 + q)
         self.t = master.t_cycle
         self.x = master.actual
         self.v = master.VEL
+        self.a = 0.0
+        """The filter's estimate: position [u], velocity [u/s], acceleration [u/s²]."""
+        self.xm, self.vm, self.am = self.x, self.v, 0.0
+        """The set-point model's state: position [u], velocity [u/s], acceleration [u/s²]."""
         self.position = self.x
         self.velocity = self.v
         self.acceleration = 0.0
@@ -84,7 +104,7 @@ class MasterReader:
                 master.sp_vel,
                 master.sp_acc,
             )
-            self.v = master.sp_vel
+            self.v = self.vm = master.sp_vel
 
     @property
     def shift(self) -> float:
@@ -101,18 +121,26 @@ class MasterReader:
         dt = t - self.t
         self.t = t
         if dt > 0.0:
-            predicted = self.x + self.v * dt
+            a = self.a
+            predicted = self.x + (self.v + 0.5 * a * dt) * dt
             residual = master.actual - shift - predicted
             self.x = predicted + self.alpha * residual
-            self.v += self.beta * residual / dt
+            self.v += a * dt + self.beta * residual / dt
+            self.a = a + self.gamma * residual / (dt * dt)
+            am = self.am  # held since the last instant
+            self.xm += (self.vm + 0.5 * am * dt) * dt
+            self.vm += am * dt
+            self.am = (
+                self.a + (self.k_x * (self.x - self.xm) / dt + self.k_v * (self.v - self.vm)) / dt
+            )
         if master.has_drive and master.loop_closed:
             self.position = master.sp_pos - shift
             self.velocity = master.sp_vel
             self.acceleration = master.sp_acc
         else:
-            self.position = self.x
-            self.velocity = self.v
-            self.acceleration = 0.0
+            self.position = self.xm
+            self.velocity = self.vm
+            self.acceleration = self.am
 
     def error(self) -> int:
         """``EMasterError`` when the master is in ErrorStop or its encoder failed, else 0."""
@@ -580,7 +608,7 @@ class MC_GearInPos(_GearFB):
     master's touch probe and sets the master coordinate to 0 at the mark: latched position
     minus ``Delay`` [ms] × master velocity (the sensor's delay); MasterSyncPosition then counts
     from the mark. ``Kv`` [1/s]: bandwidth of the filter through which a master without closed
-    position loop (a measuring wheel) is read (0 = 200 1/s).
+    position loop (a measuring wheel) is read (0 = 100 1/s).
 
     Needs Ref on the slave (``Ehome`` 9); SlaveSyncPosition beyond a SW limit gives ``Ecil`` 8.
     ``EParam`` for a ratio of 0 or a denominator of 0, non-finite positions, Zeroing not 0…2,

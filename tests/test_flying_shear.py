@@ -306,3 +306,31 @@ def test_the_devices_belong_to_the_plant_state():
     first = run()
     plant.set_state(start)
     assert np.array_equal(first, run())
+
+
+@pytest.mark.parametrize("ramp", [500.0, 1500.0, 2000.0])
+def test_a_line_that_changes_speed_while_the_knife_is_down_is_followed(ramp: float):
+    """The line slowed by 5 % at ``ramp`` [mm/s²] as soon as InSync rises: the knife comes down
+    while the strip decelerates. The carriage's joint follows the strip's joint within 1 %
+    while the blade is on the strip, and the blade hardly pulls on it (from the physics)."""
+    scene = load()
+    demo = fs.Demo(scene, fs.CutJob(cuts=3))
+    change = mcl.MC_MoveVelocity(
+        Axis=scene.axes["L"], Velocity=950.0, Acceleration=ramp, Deceleration=ramp
+    )
+    started = [False]
+    later: list[float] = []  # the strip speed when the next cut begins [m/s]
+
+    def program() -> None:
+        demo()
+        started[0] = started[0] or (demo.cut == 2 and demo.gear.InSync)
+        change(Execute=started[0])
+        if demo.cut == 3 and not later:
+            later.append(strip_speed(scene))
+
+    scene.run(program, until=lambda: demo.done or bool(demo.error), timeout=30.0)
+    assert demo.done, demo.error
+    assert later[0] == pytest.approx(0.95, rel=0.015)  # the line did slow down by 5 %
+    cut = demo.recorder.cuts[1]  # the cut made while the line changed speed
+    assert cut.speed_mismatch < 0.01, cut.speed_mismatch
+    assert cut.drag < 200.0, cut.drag

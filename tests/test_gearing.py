@@ -180,6 +180,31 @@ def test_a_negative_ratio_synchronises_the_slave_against_the_master():
     assert M.actual >= 300.0
 
 
+@pytest.mark.parametrize(("ratio", "slave_sync"), [(2, 150.0), (-1, -100.0)])
+def test_after_in_sync_the_slave_runs_ratio_times_the_masters_travel(ratio: int, slave_sync: float):
+    """Locked after InSync: the slave's true position (SimAxis) is SlaveSyncPosition + ratio ×
+    the material's travel since the wheel read MasterSyncPosition, for as long as it runs."""
+    line = Line(rippling(200.0))
+    S = line.axes["S"]
+    gear = gear_in_pos(line, RatioNumerator=ratio, SlaveSyncPosition=slave_sync)
+    line.run(lambda: gear(Execute=True), until=lambda: gear.InSync or gear.Error, timeout=3.0)
+    assert gear.InSync, gear.ErrorID
+    line.run(lambda: gear(Execute=True), timeout=0.4)
+    assert gear.InSync and S.state == mcl.AxisState.SynchronizedMotion and not S.AxErrorID
+    crossing = next(r for r in line.records if r.master >= 300.0)
+    material_at_sync = crossing.material - (crossing.master - 300.0)
+    locked = [r for r in line.records if r.t >= crossing.t + 0.05]
+    assert locked[-1].t - locked[0].t >= 0.3
+    for r in locked:
+        expected = slave_sync + ratio * (r.material - material_at_sync)
+        assert r.slave == pytest.approx(expected, abs=abs(ratio) * 2 * WHEEL_RES + 0.01), r
+    # the plant's true travel over the locked run is ratio × the material's
+    first, last = locked[0], locked[-1]
+    assert last.slave - first.slave == pytest.approx(
+        ratio * (last.material - first.material), rel=0.002
+    )
+
+
 def test_the_slave_waits_in_its_previous_motion_until_start_sync():
     line = Line(rippling(200.0))
     M, S = line.axes["M"], line.axes["S"]
