@@ -73,9 +73,13 @@ class MC_Power(EnableFB):
 
     Inputs: Enable (level), SpeedMode (0 closed position loop, 1 open loop: output voltage =
     model velocity × 10 V / Vmax), BufferMode (accepted for compatibility).
-    Outputs: Status (loop closed, axis not Disabled), Error, ErrorID. Enable=TRUE from Disabled
-    clears the axis' Ref flag. After a GT_EStop the axis stays Disabled (Status FALSE, no error)
-    until Enable has been FALSE once and the E-stop's Enable is FALSE (see GT_EStop).
+    Outputs: Status (the effective state of the power stage: TRUE while the module enables the
+    drive and the axis is not Disabled), Error, ErrorID. On a following error (ERRPOS 2001) the
+    loop opens but the drive stays enabled at 0 V for ``AxisConfig.quick_stop_time`` while its
+    own velocity loop brakes the axis: Status stays TRUE until the enable drops, then FALSE (the
+    axis stays in ErrorStop). Enable=TRUE from Disabled clears the axis' Ref flag. After a
+    GT_EStop the axis stays Disabled (Status FALSE, no error) until Enable has been FALSE once and
+    the E-stop's Enable is FALSE (see GT_EStop).
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("SpeedMode", "BufferMode")
@@ -101,7 +105,7 @@ class MC_Power(EnableFB):
             error = ErrorID.EParam
         else:
             axis.power(enable, int(speed_mode) if enable else 0)
-        self.Status = axis.loop_closed and axis.state != AxisState.Disabled
+        self.Status = axis.drive_enabled and axis.state != AxisState.Disabled
         self.Error = bool(error)
         self.ErrorID = error
         self.Valid = self.Status and not error

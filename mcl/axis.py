@@ -713,6 +713,16 @@ class Axis:
             if self.state == AxisState.Stopping:
                 self.state = AxisState.StandStill
 
+    def _enable_at(self, t: float) -> bool:
+        """The drive enable the module writes at time ``t`` [s]: on while the loop is closed,
+        while GT_Analog drives the DAC and during the quick stop after ERRPOS 2001."""
+        return self.loop_closed or self.analog_volts is not None or t < self._quick_stop_until
+
+    @property
+    def drive_enabled(self) -> bool:
+        """The drive enable the module writes in the current servo cycle (MC_Power.Status)."""
+        return self._enable_at(self.t_cycle)
+
     def act(self, t: float) -> None:
         """Phase 3: supervise, regulate and write the analog output."""
         io = self.io
@@ -720,7 +730,7 @@ class Axis:
             self.following_error = 0.0
             volts = self.analog_volts
             self.volts = volts if volts is not None else 0.0
-            io.write(self.volts, volts is not None or t < self._quick_stop_until)
+            io.write(self.volts, self._enable_at(t))
             self._lim_prev = (io.lim_pos, io.lim_neg) if io.lim_pos or io.lim_neg else ()
             return
         config = self.config
@@ -739,7 +749,7 @@ class Axis:
             self._supervise(e, self.sp_vel, actual, lim_pos, lim_neg)
         if not self.loop_closed:  # opened by the supervision: quick stop by the amplifier
             self.volts = 0.0
-            io.write(0.0, t < self._quick_stop_until)
+            io.write(0.0, self._enable_at(t))
             return
         regulator = self.regulator
         assert regulator is not None

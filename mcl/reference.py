@@ -159,8 +159,9 @@ AXIS_TRANSITIONS: tuple[tuple[str, str, str], ...] = (
         "any",
         "axis error: following error (2001), limit switch (2004/2005), SW limit (2006/2007), "
         "homing supervision (1/2/3)",
-        "ErrorStop; the axis stops on its maximum ramp (2001 opens the loop; a homing "
-        "TorqueLimit error 3 stops pushing at once)",
+        "ErrorStop; the axis stops on its maximum ramp (2001 opens the loop and the drive "
+        "stays enabled at 0 V for `quick_stop_time`, MC_Power's `Status` TRUE until the enable "
+        "drops; a homing TorqueLimit error 3 stops pushing at once)",
     ),
     (
         "ErrorStop",

@@ -124,6 +124,36 @@ def test_power_speed_mode_1_is_open_loop_volts_follow_the_model_velocity():
     assert max(errors) - min(errors) > 0.5
 
 
+def test_power_status_stays_true_while_the_drive_quick_stops_after_a_following_error():
+    """Status is the effective state of the power stage: after ERRPOS 2001 the loop opens but
+    the drive stays enabled at 0 V for quick_stop_time (its own velocity loop brakes the axis),
+    so Status stays TRUE until the enable the simulated drive sees drops, then falls with it."""
+    m, x = fresh()
+    sim = m.sims["X"]
+    power, move = mcl.MC_Power(), mcl.MC_MoveVelocity()
+    program = scan_of(
+        lambda: power(Axis=x, Enable=True), lambda: move(Axis=x, Execute=True, Velocity=200.0)
+    )
+    m.run(program, until=lambda: move.InVelocity, timeout=2.0)
+    rows: list[tuple[float, bool, bool, int]] = []  # t, Status, drive enable, AxErrorID
+    m.runtime.observers.append(lambda t: rows.append((t, power.Status, sim.enabled, x.AxErrorID)))
+    m.faults.set("X", mcl.faults.EncoderFreeze())
+    m.run(program, timeout=0.4)
+
+    t_error = next(t for t, _, _, err in rows if err == ErrorID.ERRPOS)
+    t_status = next(t for t, status, _, _ in rows if not status)
+    t_enable = next(t for t, _, enabled, _ in rows if not enabled)
+    quick_stop, servo = x.config.quick_stop_time, x.config.servo_period
+    assert t_enable - t_error == pytest.approx(quick_stop, abs=2 * servo)
+    assert abs(t_status - t_enable) <= PLC + servo, "Status falls with the drive's enable"
+    during = [(status, enabled) for t, status, enabled, _ in rows if t_error <= t < t_enable]
+    assert during and all(enabled for _, enabled in during)
+    assert all(status for t, status, _, _ in rows if t_error <= t < t_enable - PLC)
+    assert not any(status or enabled for t, status, enabled, _ in rows if t > t_status + PLC)
+    assert x.state == AxisState.ErrorStop and not power.Status and not power.Error
+    assert abs(sim.v) < 1e-3, "the drive braked the axis before its enable dropped"
+
+
 def test_power_speed_mode_0_closes_the_loop():
     """Control for the test above: in closed loop the following error stays small at cruise."""
     m, x = fresh()

@@ -184,6 +184,34 @@ def test_encoder_wire_break_trips_errpos_at_once():
     assert w.finite and logged(scene, "X", fault)
 
 
+def test_power_status_stays_true_through_the_quick_stop_and_falls_with_the_enable():
+    """MC_Power.Status is the effective state of the power stage: after a wire break (2001) it
+    stays TRUE while the amplifier, still enabled at 0 V, brakes X to rest, and falls with the
+    drive enable the plant sees, quick_stop_time later."""
+    scene = build()
+    X, io = scene.axes["X"], scene.io("X")
+    program, power, _ = cruise(scene, "X", 200.0, 400.0)
+    rows: list[tuple[float, bool, bool, float]] = []  # t, Status, plant's enable, joint speed
+    speed = Watch(scene, "X").speed
+    scene.runtime.observers.append(lambda t: rows.append((t, power.Status, io.enabled, speed())))
+    scene.faults.set("X", flt.EncoderWireBreak())
+    scene.run(program, timeout=0.3)
+
+    assert X.AxErrorID == ErrorID.ERRPOS and X.state == AxisState.ErrorStop
+    t0 = rows[0][0]
+    t_status = next(t for t, status, _, _ in rows if not status)
+    t_enable = next(t for t, _, enabled, _ in rows if not enabled)
+    plc = scene.runtime.plc_period
+    assert t_enable - t0 == pytest.approx(QUICK_STOP + LATCH, abs=0.0015)
+    # Status is updated once per PLC scan, the enable reaches the drive one servo cycle late
+    assert abs(t_enable - t_status) <= plc + LATCH, "Status falls with the plant's enable"
+    assert all(status for t, status, _, _ in rows if t < t_status)
+    assert all(enabled for t, _, enabled, _ in rows if t < t_enable)
+    assert not any(status or enabled for t, status, enabled, _ in rows if t > t_status + plc)
+    # while Status was TRUE the enabled amplifier stopped X from 200 mm/s (measured 1.0 mm)
+    assert rows[0][3] > 0.15 and max(v for t, _, _, v in rows if t_status - 0.02 <= t) < 1e-3
+
+
 def test_encoder_noise_makes_vel_noisy_but_raises_no_error():
     scene = build()
     X = scene.axes["X"]

@@ -796,7 +796,7 @@ def test_rule10_power_valid_falls_on_parameter_error_and_comes_back(machine, X):
     assert power.Valid and not power.Error and power.ErrorID == 0
 
 
-def test_rule10_power_status_falls_when_the_loop_opens_and_returns_after_reset(machine, X):
+def test_rule10_power_status_falls_when_the_drive_enable_drops_and_returns_after_reset(machine, X):
     power = mcl.MC_Power()
     power(Axis=X, Enable=True)
     machine.sims["X"].blocked_at = machine.sims["X"].x + 0.005
@@ -806,7 +806,9 @@ def test_rule10_power_status_falls_when_the_loop_opens_and_returns_after_reset(m
         lambda: power(Enable=True), until=lambda: X.state == mcl.AxisState.ErrorStop, timeout=2.0
     )
     power(Enable=True)
-    assert not power.Status
+    assert power.Status, "the drive stays enabled for its quick stop (quick_stop_time)"
+    machine.run(lambda: power(Enable=True), timeout=X.config.quick_stop_time + 0.004)
+    assert not power.Status and not machine.sims["X"].enabled
     machine.sims["X"].blocked_at = math.inf
     reset(Axis=X, Execute=True)
     assert reset.Done
