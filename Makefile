@@ -14,15 +14,17 @@ $(VENV)/.installed: pyproject.toml
 	$(UV) pip install --quiet --python $(VENV)/bin/python -e ".[test]"
 	@touch $@
 
-# the optional compiled build (mypyc), rebuilt when a compiled source changed; pure Python
-# where there is no C compiler
+# the optional compiled build (mypyc), beside the sources, rebuilt when a compiled source
+# changed; pure Python where there is no C compiler
 setup: $(VENV)/.installed
 	@$(PY) -m mcl.build --if-stale
 
-run: setup
+# the viewer starts at once: at 1x pure Python is fast enough, and a fresh compiled build is
+# used when there is one (make setup, make test and make bench build it)
+run: $(VENV)/.installed
 	$(PY) -m viewer --scene $(SCENE) --host $(HOST) --port $(PORT)
 
-demo: setup
+demo: $(VENV)/.installed
 	$(PY) -m scenes run $(SCENE)
 
 lint: setup
@@ -52,4 +54,5 @@ bench: setup
 	$(PY) -m tests.benchmarks.trace
 
 clean:
+	-@$(PY) -m mcl.build --clean 2>/dev/null
 	rm -rf $(VENV) .build .mypy_cache .ruff_cache

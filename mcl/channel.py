@@ -273,7 +273,7 @@ class AxisChannel:
         *,
         probe: Marks | None = None,
         probe_delay: float = 0.0,
-        has_drive: bool = True,
+        has_drive: bool | int = True,
         digital_outputs: int = 0,
         windows: Sequence[tuple[float, float]] = NO_SWITCHES,
         sensors: Sensors | None = None,
@@ -294,7 +294,7 @@ class AxisChannel:
         self.encoder = IncrementalEncoder(
             resolution, counts_per_rev, origin, index_width, sensors.index_jitter, rng
         )
-        self.has_drive = has_drive
+        self.has_drive = bool(has_drive)
         self.probe = probe
         self.probe_delay = probe_delay
         self.counts = 0
@@ -632,7 +632,7 @@ class AxisChannel:
             self._edges[i] = t
         fault = self._faults.get(f"switch:{tuple(_SWITCH_INDEX)[i]}")
         if isinstance(fault, flt.SwitchStuck):
-            return fault.level
+            return bool(fault.level)
         if isinstance(fault, flt.SwitchBounce):
             since = t - self._edges[i]
             if 0.0 <= since < fault.duration:

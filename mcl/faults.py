@@ -34,7 +34,7 @@ class SwitchStuck(Fault):
     """A digital input reads ``level`` whatever the cam does (a welded contact, a cut wire)."""
 
     switch: SwitchName
-    level: bool
+    level: bool | int
 
     def key(self) -> str:
         return f"switch:{self.switch}"

@@ -1,11 +1,16 @@
 """Which modules run compiled: the optional mypyc build of mcl and of the per-step Python of scenes.
 
 ``python -m mcl.build`` compiles the modules of :func:`compiled_sources` from the same source into
-``.build/compiled/`` (next to the checkout, never beside the sources) and records a hash of every
-source it compiled. At import, :func:`activate` (called by the ``mcl`` and ``scenes`` packages)
-puts the compiled modules in front of the sources only while every recorded source is unchanged:
-an edited source is never shadowed by a stale compiled module; the package then runs in pure
-Python and says so once. ``MCL_PURE_PYTHON=1`` forces pure Python.
+extension modules beside their sources (``mcl/axis.cpython-311-x86_64-linux-gnu.so`` next to
+``mcl/axis.py``, their shared library as ``mcl/native_lib__mypyc….so``), in a checkout and in an
+installed copy of the packages alike, and records a hash of every source it compiled in
+``mcl/compiled.json``. Python's import system prefers an extension module to a source of the same
+name, so a fresh build is used wherever the packages are imported from, with nothing added to
+``sys.path``. At import, :func:`activate` (called by the ``mcl`` and ``scenes`` packages) checks
+the record: when a recorded source changed, when the build is incomplete or missing, or with
+``MCL_PURE_PYTHON=1``, it gives the package's folders the interpreter's own file finder with the
+source loaders only, so an edited source is never shadowed by a stale compiled module; the package
+then runs in pure Python and says so once.
 """
 
 from __future__ import annotations
@@ -15,15 +20,22 @@ import json
 import os
 import sys
 import warnings
+from importlib.machinery import (
+    BYTECODE_SUFFIXES,
+    EXTENSION_SUFFIXES,
+    SOURCE_SUFFIXES,
+    FileFinder,
+    SourceFileLoader,
+    SourcelessFileLoader,
+)
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-"""The checkout (the folder holding ``mcl/`` and ``scenes/``)."""
-BUILD = ROOT / ".build" / "compiled"
-"""Where the compiled modules go."""
-MANIFEST = BUILD / "manifest.json"
-GROUP = "mcl_native"
-"""Name of the shared library of the compiled modules."""
+"""The folder holding the ``mcl`` and ``scenes`` packages (a checkout, or ``site-packages``)."""
+MANIFEST = ROOT / "mcl" / "compiled.json"
+"""The build's record: interpreter and a hash of every compiled source."""
+GROUP = "mcl.native_lib"
+"""Name of the shared library of the compiled modules (a module of the ``mcl`` package)."""
 
 NOT_COMPILED = (
     "__init__.py",
@@ -47,6 +59,18 @@ def compiled_sources() -> list[Path]:
     return [*mcl, *(ROOT / "scenes" / name for name in scenes)]
 
 
+def extension_of(source: Path) -> Path:
+    """The compiled module that stands beside ``source`` (``axis.py`` → ``axis.cpython-….so``)."""
+    return source.with_name(source.stem + EXTENSION_SUFFIXES[0])
+
+
+def compiled_files() -> list[Path]:
+    """The compiled files a build puts beside the sources: a module each, their shared library."""
+    package, name = GROUP.split(".")
+    library = ROOT / package / f"{name}__mypyc{EXTENSION_SUFFIXES[0]}"
+    return [*(extension_of(p) for p in compiled_sources()), library]
+
+
 def digest(path: Path) -> str:
     """SHA-256 of a file's bytes."""
     return hashlib.sha256(path.read_bytes()).hexdigest()
@@ -56,7 +80,8 @@ _state: dict[str, object] = {}
 
 
 def stale_sources() -> list[str] | None:
-    """The compiled sources edited since the build (empty: fresh); None when there is no build."""
+    """What makes the build unusable, one phrase each (empty: fresh): compiled sources edited
+    since the build, compiled modules missing, another interpreter; None when there is no build."""
     if "stale" in _state:
         return _state["stale"]  # type: ignore[return-value]
     stale: list[str] | None
@@ -66,63 +91,68 @@ def stale_sources() -> list[str] | None:
         stale = None
     else:
         recorded: dict[str, str] = manifest.get("sources", {})
-        current = {str(p.relative_to(ROOT)): p for p in compiled_sources()}
-        stale = sorted(set(recorded) ^ set(current))
+        current = {p.relative_to(ROOT).as_posix(): p for p in compiled_sources()}
+        stale = [f"{name} added or removed" for name in sorted(set(recorded) ^ set(current))]
         stale += [
-            name
+            f"{name} changed"
             for name, path in current.items()
             if name in recorded and (not path.is_file() or digest(path) != recorded[name])
         ]
+        stale += [
+            f"{p.relative_to(ROOT).as_posix()} missing" for p in compiled_files() if not p.is_file()
+        ]
         if manifest.get("python") != sys.implementation.cache_tag:
-            stale.append(f"(built for {manifest.get('python')})")
+            stale.append(f"built for {manifest.get('python')}")
     _state["stale"] = stale
     return stale
 
 
+def forced_pure() -> bool:
+    """``MCL_PURE_PYTHON`` is set (to anything but 0)."""
+    return os.environ.get("MCL_PURE_PYTHON", "") not in ("", "0")
+
+
 def activate(package: str, path: list[str]) -> bool:
-    """Put the compiled modules of ``package`` first on its ``__path__`` when the build is fresh.
+    """Decide whether ``package`` runs compiled; otherwise make it import its sources only.
 
     Args:
         package: ``"mcl"`` or ``"scenes"``.
-        path: the package's ``__path__`` (changed in place).
+        path: the package's ``__path__``.
 
     Returns:
         True when the package runs compiled.
     """
-    if os.environ.get("MCL_PURE_PYTHON", "") not in ("", "0"):
-        return False
-    stale = stale_sources()
-    if stale is None:
-        return False
-    if stale:
-        if not _state.get("warned"):
-            _state["warned"] = True
-            warnings.warn(
-                f"the compiled build is older than {', '.join(stale[:3])}"
-                f"{' …' if len(stale) > 3 else ''}: running pure Python; rebuild with "
-                f"`python -m mcl.build` (or `make setup`)",
-                RuntimeWarning,
-                stacklevel=3,
-            )
-        return False
-    folder = str(BUILD / package)
-    if folder not in path:
-        path.insert(0, folder)
-    if str(BUILD) not in sys.path:
-        sys.path.append(str(BUILD))  # the shared library of the compiled modules
-    return True
+    stale = None if forced_pure() else stale_sources()
+    if stale == []:
+        return True
+    if stale and not _state.get("warned"):
+        _state["warned"] = True
+        warnings.warn(
+            f"the compiled build is out of date ({', '.join(stale[:3])}"
+            f"{' …' if len(stale) > 3 else ''}): running pure Python; rebuild with "
+            f"`python -m mcl.build` (or `make setup`)",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+    for folder in path:
+        sys.path_importer_cache[folder] = FileFinder(
+            folder,
+            (SourceFileLoader, SOURCE_SUFFIXES),
+            (SourcelessFileLoader, BYTECODE_SUFFIXES),
+        )
+    return False
 
 
 def mode() -> str:
     """The mode a new process runs in: ``"compiled"`` or ``"pure Python"``, with the reason."""
-    if os.environ.get("MCL_PURE_PYTHON", "") not in ("", "0"):
+    if forced_pure():
         return "pure Python (MCL_PURE_PYTHON is set)"
     stale = stale_sources()
     if stale is None:
         return "pure Python (no compiled build; `make setup` builds one where a C compiler exists)"
     if stale:
-        return f"pure Python (the compiled build is stale: {', '.join(stale[:3])})"
-    return f"compiled ({len(compiled_sources())} modules in {BUILD.relative_to(ROOT)})"
+        return f"pure Python (the compiled build is out of date: {', '.join(stale[:3])})"
+    return f"compiled ({len(compiled_sources())} modules beside their sources in {ROOT})"
 
 
 def reset() -> None:

@@ -93,14 +93,15 @@ class Runtime:
     def run(
         self,
         program: Callable[[], None] | None = None,
-        until: Callable[[], bool] | None = None,
+        until: Callable[[], object] | None = None,
         timeout: float = 10.0,
     ) -> float:
         """Run PLC cycles until ``until()`` is true (checked every PLC cycle) or for ``timeout``.
 
         Args:
             program: one PLC scan (calls FB instances); None runs no program.
-            until: stop condition; None runs for exactly ``timeout`` seconds.
+            until: stop condition, any value Python takes as true (``lambda: move.Done``,
+                ``lambda: axis.AxErrorID``); None runs for exactly ``timeout`` seconds.
             timeout: simulated seconds at most.
 
         Returns:
@@ -204,7 +205,7 @@ class Machine:
     def run(
         self,
         program: Callable[[], None] | None = None,
-        until: Callable[[], bool] | None = None,
+        until: Callable[[], object] | None = None,
         timeout: float = 10.0,
     ) -> float:
         """Run PLC cycles; see :meth:`Runtime.run`. Returns the simulated seconds."""

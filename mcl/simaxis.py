@@ -81,7 +81,7 @@ class SimAxisParams:
     start: float = 0.0
     probe: Marks | None = None
     probe_delay: float = 0.0
-    has_drive: bool = True
+    has_drive: bool | int = True
     digital_outputs: int = 0
     analog: tuple[float, ...] = ()
     sensors: Sensors | None = None
@@ -103,7 +103,7 @@ class SimAxis(AxisChannel):
             p.start,
             probe=p.probe,
             probe_delay=p.probe_delay,
-            has_drive=p.has_drive,
+            has_drive=bool(p.has_drive),
             digital_outputs=p.digital_outputs,
             windows=((p.lim_pos, math.inf), (-math.inf, p.lim_neg), (p.ref_low, p.ref_high)),
             sensors=IDEAL if p.sensors is None else p.sensors,

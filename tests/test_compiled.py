@@ -45,53 +45,80 @@ def test_compiled_and_pure_python_runs_are_identical_bit_for_bit():
 
 @pytest.fixture
 def checkout(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
-    """A checkout with one compiled source and a build of it."""
+    """A folder of packages with one compiled source, its compiled module and the record."""
     (tmp_path / "mcl").mkdir()
     (tmp_path / "scenes").mkdir()
     source = tmp_path / "mcl" / "axis.py"
     source.write_text("x = 1\n")
-    build = tmp_path / ".build" / "compiled"
-    build.mkdir(parents=True)
-    manifest = build / "manifest.json"
+    native.extension_of(source).write_bytes(b"")
+    manifest = tmp_path / "mcl" / "compiled.json"
     digest = hashlib.sha256(source.read_bytes()).hexdigest()
     manifest.write_text(
         json.dumps({"python": sys.implementation.cache_tag, "sources": {"mcl/axis.py": digest}})
     )
     monkeypatch.setattr(native, "ROOT", tmp_path)
-    monkeypatch.setattr(native, "BUILD", build)
     monkeypatch.setattr(native, "MANIFEST", manifest)
     monkeypatch.setattr(native, "compiled_sources", lambda: [source])
+    monkeypatch.setattr(native, "compiled_files", lambda: [native.extension_of(source)])
     monkeypatch.delenv("MCL_PURE_PYTHON", raising=False)
     native.reset()
     yield tmp_path
     native.reset()
+    sys.path_importer_cache.pop(str(tmp_path / "mcl"), None)
 
 
-def test_a_fresh_build_is_put_in_front_of_the_sources(checkout: Path):
+def sources_only(folder: Path) -> bool:
+    """The package folder imports its sources only (no extension modules)."""
+    finder = sys.path_importer_cache.get(str(folder))
+    loaders = getattr(finder, "_loaders", [])
+    return bool(loaders) and all(suffix.endswith((".py", ".pyc")) for suffix, _ in loaders)
+
+
+def test_a_fresh_build_is_imported_by_python_itself(checkout: Path):
     path = [str(checkout / "mcl")]
     assert native.activate("mcl", path)
-    assert path[0] == str(checkout / ".build" / "compiled" / "mcl")
+    assert path == [str(checkout / "mcl")]  # nothing put on any path
+    assert not sources_only(checkout / "mcl")
     assert native.mode().startswith("compiled")
 
 
 def test_an_edited_source_is_never_shadowed_by_its_stale_build(checkout: Path):
     (checkout / "mcl" / "axis.py").write_text("x = 2\n")
     path = [str(checkout / "mcl")]
-    with pytest.warns(RuntimeWarning, match=r"older than mcl/axis\.py"):
+    with pytest.warns(RuntimeWarning, match=r"out of date \(mcl/axis\.py changed\)"):
         assert not native.activate("mcl", path)
-    assert path == [str(checkout / "mcl")]
-    assert "stale" in native.mode()
+    assert sources_only(checkout / "mcl")
+    assert "out of date" in native.mode()
+
+
+def test_a_stale_build_imports_the_edited_source(checkout: Path):
+    """The finder really loads the source, although a compiled module stands beside it."""
+    (checkout / "mcl" / "axis.py").write_text("x = 2\n")
+    with pytest.warns(RuntimeWarning):
+        native.activate("mcl", [str(checkout / "mcl")])
+    finder = sys.path_importer_cache[str(checkout / "mcl")]
+    assert finder is not None
+    spec = finder.find_spec("mcl.axis")
+    assert spec is not None and spec.origin == str(checkout / "mcl" / "axis.py")
+
+
+def test_an_incomplete_build_is_not_used(checkout: Path):
+    native.extension_of(checkout / "mcl" / "axis.py").unlink()
+    with pytest.warns(RuntimeWarning, match=r"mcl/axis\.cpython.* missing"):
+        assert not native.activate("mcl", [str(checkout / "mcl")])
+    assert "missing" in native.mode()
 
 
 def test_pure_python_can_be_forced(checkout: Path, monkeypatch: pytest.MonkeyPatch):
     monkeypatch.setenv("MCL_PURE_PYTHON", "1")
     path = [str(checkout / "mcl")]
     assert not native.activate("mcl", path)
-    assert path == [str(checkout / "mcl")]
+    assert sources_only(checkout / "mcl")
     assert "MCL_PURE_PYTHON" in native.mode()
 
 
 def test_no_build_means_pure_python(checkout: Path):
-    (checkout / ".build" / "compiled" / "manifest.json").unlink()
+    (checkout / "mcl" / "compiled.json").unlink()
     assert not native.activate("mcl", [str(checkout / "mcl")])
+    assert sources_only(checkout / "mcl")
     assert "no compiled build" in native.mode()
