@@ -15,7 +15,9 @@ import argparse
 import enum
 import inspect
 import io
+import os
 import re
+import subprocess
 import sys
 import textwrap
 from collections.abc import Iterable, Sequence
@@ -503,7 +505,16 @@ def _contents(groups: Iterable[tuple[ModuleType, Sequence[type[FunctionBlock]]]]
 
 
 def generate() -> str:
-    """The whole reference as Markdown."""
+    """The whole reference as Markdown, from the interpreted classes (their annotations and
+    declared values) in either mode: compiled, it asks a pure-Python interpreter for it."""
+    if mcl.COMPILED:
+        return subprocess.run(
+            [sys.executable, "-m", "mcl.reference"],
+            env={**os.environ, "MCL_PURE_PYTHON": "1", "PYTHONIOENCODING": "utf-8"},
+            capture_output=True,
+            check=True,
+            encoding="utf-8",
+        ).stdout
     groups = chapters()
     table = ["| from | by | to |", "| --- | --- | --- |"]
     table += [f"| {a} | {b} | {c} |" for a, b, c in AXIS_TRANSITIONS]
