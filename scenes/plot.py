@@ -151,13 +151,25 @@ def plot_table(
     title: str = "",
     colour: Sequence[str] = (),
 ) -> Path:
-    """A sweep's metrics against one parameter (one panel per metric) as ``<out>.png``.
+    """A sweep's metrics against one parameter as ``<out>.png`` (see :func:`sweep_figure`)."""
+    fig = sweep_figure(table, x, ys, title, colour)
+    path = Path(out).with_suffix(".png")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def sweep_figure(
+    table: pd.DataFrame, x: str, ys: list[str], title: str = "", colour: Sequence[str] = ()
+) -> plt.Figure:
+    """A sweep's metrics against one parameter, one panel per metric, numbers in full on the
+    axes (no offset such as +1.1e2).
 
     Args:
         table: the sweep's table.
         x: the parameter on the horizontal axis.
         ys: the metrics, one panel each.
-        out: the file, without suffix.
         title: the figure's title (the scenario, its seed and size).
         colour: the other swept parameters; the points are coloured by the first (a legend for
             up to 10 values, else a colour bar), the title names the rest.
@@ -191,8 +203,5 @@ def plot_table(
         panel_list[-1].set_xlabel(x)
         if title:
             fig.suptitle(title, fontsize="medium")
-        path = Path(out).with_suffix(".png")
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-    return path
+        fig.canvas.draw()  # the tick labels, while the rc settings hold
+    return fig

@@ -19,6 +19,7 @@ import mujoco
 
 import mcl
 from mcl.trace import Trace
+from scenes import model_errors
 from scenes.drives import Device, WiringError
 from scenes.machine import AxisDef, MachineDef, Signal, unit_and_scale
 from scenes.plant import AxisWiring, Joint, MujocoAxisIO, MujocoPlant
@@ -59,14 +60,21 @@ def compose(
     Raises:
         FileNotFoundError: a model file does not exist.
         WiringError: the models cannot be combined (e.g. too many actuator groups).
+        ModelError: a model file is malformed, MuJoCo refuses it, or it lacks a joint its
+            machine definition names (one line each: the machine's file and line).
     """
     os.environ.setdefault("MUJOCO_GL", "disable")  # dm_control must not look for a display
     from dm_control import mjcf
 
     root = mjcf.RootElement(model="scene")
     groups = 0
+    files: dict[str, Path] = {}
     for machine in machines:
-        child = mjcf.from_path(str(model_path(machine.model)))
+        files[machine.name] = path = model_path(machine.model)
+        child = model_errors.parse(path, mjcf.from_path)
+        joints = {s.joint or a: f"axis {a} (AxisDef.joint)" for a, s in machine.axes.items()}
+        have = [j.name for j in child.find_all("joint") if j.name]
+        model_errors.check_names(path, machine.name, "joint", joints, have)
         child.model = machine.name
         for actuator in child.find_all("actuator"):
             groups += 1
@@ -75,7 +83,10 @@ def compose(
             raise WiringError("at most 30 amplifiers fit in one scene (MuJoCo actuator groups)")
         frame = root.attach(child)
         frame.pos = tuple((positions or {}).get(machine.name, (0.0, 0.0, 0.0)))
-    model = mujoco.MjModel.from_xml_string(root.to_xml_string(), root.get_assets())
+    xml = root.to_xml_string()
+    model = model_errors.compiled(
+        lambda: mujoco.MjModel.from_xml_string(xml, root.get_assets()), files, xml
+    )
     return model, mujoco.MjData(model)
 
 

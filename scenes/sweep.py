@@ -519,10 +519,13 @@ class _Lines:
 
 
 def _toml_value(text: str) -> Any:
-    """A command-line value read as TOML (``[1, 2]``, ``3``, ``"a"``); else the text itself."""
+    """A command-line value read as TOML (``[1, 2]``, ``3``, ``"a"``); a list's items that are
+    not TOML, and any other such text, as plain strings (``[30, fast]`` → ``[30, "fast"]``)."""
     try:
         return tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
+        if text.startswith("[") and text.endswith("]"):
+            return [_toml_value(item.strip()) for item in text[1:-1].split(",") if item.strip()]
         return text
 
 
@@ -604,7 +607,10 @@ def from_toml(path: str | Path, overrides: Sequence[str] = ()) -> tuple[Sweep, d
         line = lines.line(key)
         return f"{path}:{line}" if line else str(path)
 
-    problems += [(where(p[0]), p) for p in check(spec)]
+    found = [(where(p[0]), p) for p in check(spec)]
+    problems += sorted(
+        found, key=lambda f: 0 if f[0] == "command line" else lines.line(f[1][0]) or 0
+    )
     if problems:
         raise UserError.of([located(w, *p) for w, p in problems])
     sweep = Sweep(

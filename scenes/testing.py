@@ -8,8 +8,10 @@ Fixtures:
 - ``scans``: a :class:`ScanLog` factory that records values once per PLC scan.
 
 Helpers (plain functions, usable anywhere): :func:`run_until` (a program with a timeout in
-simulated time), :func:`max_following_error`, :func:`assert_pulsed_once`,
-:func:`physical_position`. Faults are injected with ``scene.faults`` (:mod:`mcl.faults`).
+simulated time), :func:`home` (power and home axes with the machine's homing recipes),
+:func:`max_following_error` (over the whole trace, a time window, or the run of a command
+watched with :func:`window`), :func:`assert_pulsed_once`, :func:`physical_position`. Faults are
+injected with ``scene.faults`` (:mod:`mcl.faults`).
 
 .. code-block:: python
 
@@ -23,6 +25,15 @@ simulated time), :func:`max_following_error`, :func:`assert_pulsed_once`,
             move(Execute=power.Status)
         run_until(gantry, program, lambda: move.Done, timeout=5.0)
         assert physical_position(gantry, "X") == pytest.approx(500.0, abs=0.01)
+
+    def test_x_follows_within_0_1_mm_once_homed(scene):
+        gantry = scene("gantry", start={"X": 0.3})
+        home(gantry, "X")                         # REF + index, the machine's recipe
+        X = gantry.axes["X"]
+        move = mcl.MC_MoveAbsolute(Axis=X, Position=500.0, Velocity=300.0)
+        moving = window(gantry, move)             # the samples while the move is Busy
+        run_until(gantry, lambda: move(Execute=True), lambda: move.Done, timeout=5.0)
+        assert max_following_error(gantry, "X", during=moving) < 0.1
 """
 
 from __future__ import annotations
@@ -36,6 +47,7 @@ import pytest
 
 import mcl
 import scenes
+from scenes.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
 
 
@@ -63,12 +75,122 @@ def run_until(
         ) from None
 
 
-def max_following_error(scene: Scene, axis: str) -> float:
-    """The largest |following error| of ``axis`` in the scene's trace [user units]."""
+class Window:
+    """The simulated time [s] during which a command ran: from the first servo cycle at which
+    its ``Busy`` was TRUE to the first at which it was FALSE again (``end`` None while it still
+    runs). Made by :func:`window`; only its first run counts."""
+
+    def __init__(self, scene: mcl.Machine, block: object) -> None:
+        self.block = block
+        self.start: float | None = None
+        self.end: float | None = None
+        scene.runtime.observers.append(self._observe)
+
+    def _observe(self, t: float) -> None:
+        busy = bool(getattr(self.block, "Busy", False))
+        if self.start is None:
+            if busy:
+                self.start = t
+        elif self.end is None and not busy:
+            self.end = t
+
+
+def window(scene: mcl.Machine, block: object) -> Window:
+    """Watch ``block`` (an FB with a ``Busy`` output, e.g. an MC_MoveAbsolute) from now on: the
+    :class:`Window` of simulated time in which it ran, for :func:`max_following_error`. Make it
+    before running the program."""
+    return Window(scene, block)
+
+
+def max_following_error(
+    scene: Scene, axis: str, during: Window | tuple[float, float] | None = None
+) -> float:
+    """The largest |following error| of ``axis`` in the scene's trace [user units].
+
+    Args:
+        scene: the scene.
+        axis: the axis' name.
+        during: only the samples of this :class:`Window` (a command, see :func:`window`) or of
+            ``(start, end)`` in simulated seconds, both ends included; None: the whole trace
+            (homing included).
+
+    Raises:
+        AssertionError: no trace of that axis, a command that never ran, or a window with no
+            samples (e.g. older than the trace keeps).
+    """
+    if axis not in scene.axes:
+        raise AssertionError(f"no axis {axis!r}; axes: {sorted(scene.axes)}")
     errors = scene.trace.column(axis, "following_error")
     if not errors:
         raise AssertionError(f"no trace of axis {axis}: was the scene made with trace_every=0?")
-    return max(abs(e) for e in errors)
+    if during is None:
+        return max(abs(e) for e in errors)
+    if isinstance(during, Window):
+        if during.start is None:
+            raise AssertionError(f"the command {type(during.block).__name__} never ran (Busy)")
+        start, end = during.start, during.end if during.end is not None else scene.time
+    else:
+        start, end = during
+    times = scene.trace.column(axis, "t")
+    inside = [abs(e) for t, e in zip(times, errors, strict=True) if start <= t <= end]
+    if not inside:
+        raise AssertionError(
+            f"no trace samples of {axis} in [{start:g}, {end:g}] s; the trace holds "
+            f"[{times[0]:g}, {times[-1]:g}] s"
+        )
+    return max(inside)
+
+
+def home(scene: Scene, *axes: str, timeout: float = 60.0) -> float:
+    """Power and home axes of the scene with their machine's homing recipes
+    (:func:`scenes.homing`, :class:`scenes.procedures.HomeAxis`), one after the other in the
+    order given (default: every axis that has a recipe, in the machine's order). The axes stay
+    powered and at rest at their recipes' set positions.
+
+    Args:
+        scene: the scene.
+        axes: the axes to home.
+        timeout: for each axis [s of simulated time].
+
+    Returns:
+        The simulated seconds it took.
+
+    Raises:
+        AssertionError: an axis without a recipe, or a homing that failed or did not finish
+            (the message gives the axis, ErrorID and the axes' states).
+    """
+    recipes = scenes.homing(scene)
+    unknown = [a for a in axes if a not in recipes]
+    if unknown:
+        raise AssertionError(f"no homing recipe for {unknown}; axes with one: {sorted(recipes)}")
+    powers: list[mcl.MC_Power] = []
+    took = 0.0
+    for name in axes or tuple(recipes):
+        took += _home_axis(scene, name, recipes[name], powers, timeout)
+    return took
+
+
+def _home_axis(
+    scene: Scene, name: str, recipe: Recipe, powers: list[mcl.MC_Power], timeout: float
+) -> float:
+    """Home one axis, keeping the axes of ``powers`` powered (its own MC_Power joins them)."""
+    axis = scene.axes[name]
+    power = mcl.MC_Power(Axis=axis)
+    powers.append(power)
+    procedure = HomeAxis(axis, recipe)
+
+    def program() -> None:
+        for p in powers:
+            p(Enable=True)
+        procedure(Execute=power.Status)
+
+    took = run_until(scene, program, lambda: procedure.Done or procedure.Error, timeout)
+    if procedure.Error:
+        raise AssertionError(
+            f"homing {name} failed: ErrorID {procedure.ErrorID}, {axis.state.name}, "
+            f"AxErrorID {axis.AxErrorID}"
+        )
+    return took
 
 
 def physical_position(scene: Scene, axis: str) -> float:

@@ -111,3 +111,70 @@ def test_sweep_files_are_checked_and_written(tmp_path):
     table = pd.read_parquet(tmp_path / "r.parquet")
     assert list(table["payload_kg"]) == [0.0, 20.0]
     assert (tmp_path / "r_payload_kg.png").exists()
+
+
+def test_home_homes_x_on_its_index_and_the_window_leaves_the_homing_out(scene):
+    from scenes.testing import home, max_following_error, run_until, window
+
+    gantry = scene("gantry", start={"X": 0.3})
+    took = home(gantry, "X")
+    X = gantry.axes["X"]
+    recipe = scenes.homing(gantry)["X"]
+    # the physical origin of the homed coordinate is the index pulse above the REF edge
+    lead = float(gantry.model.numeric("gantry/X_lead").data[0])
+    edge = float(gantry.model.numeric("gantry/X_ref_edge").data[0])
+    index = -(-edge // lead) * lead
+    origin = gantry.joint_position("X") - (X.POS - recipe.set_position) / 1000.0
+    assert 1.0 < took < 30.0
+    assert X.state == mcl.AxisState.StandStill
+    assert abs(origin - index) < 20e-6
+    # a slow move after homing: its following error is smaller than the homing's
+    power = mcl.MC_Power(Axis=X)
+    move = mcl.MC_MoveAbsolute(Axis=X, Position=150.0, Velocity=20.0, Acceleration=500.0)
+    moving = window(gantry, move)
+
+    def program():
+        power(Enable=True)
+        move(Execute=power.Status)
+
+    run_until(gantry, program, lambda: move.Done, timeout=5.0)
+    gantry.run(program, timeout=0.2)
+    assert moving.start is not None and moving.end is not None
+    assert took <= moving.start < moving.end < gantry.time
+    whole = max_following_error(gantry, "X")
+    during = max_following_error(gantry, "X", during=moving)
+    assert during == max_following_error(gantry, "X", during=(moving.start, moving.end))
+    assert during < whole  # the homing's larger error is left out
+    # the joint itself followed the set point that closely (ground truth of the trace)
+    t, model = gantry.trace.column("X", "t"), gantry.trace.column("X", "model")
+    truth = gantry.trace.column("X", "truth")
+    physical = [
+        abs(m - ((q - origin) * 1000.0 + recipe.set_position))
+        for s, m, q in zip(t, model, truth, strict=True)
+        if moving.start <= s <= moving.end
+    ]
+    assert max(physical) < during + 0.01
+    with pytest.raises(AssertionError, match="no homing recipe for \\['Q'\\]"):
+        home(gantry, "Q")
+
+
+def test_sweep_plots_name_the_sweep_and_show_numbers_in_full():
+    import pandas as pd
+
+    from scenes.plot import sweep_figure
+
+    table = pd.DataFrame(
+        {
+            "speed": [1.0, 2.0, 3.0, 1.0, 2.0, 3.0],
+            "slip": [0.0, 0.0, 0.0, -0.5, -0.5, -0.5],
+            "length_mm": [110.001, 110.002, 110.003, 110.004, 110.005, 110.006],
+        }
+    )
+    fig = sweep_figure(
+        table, "speed", ["length_mm"], title="s:f (seed 3, 6 scenarios)", colour=["slip"]
+    )
+    (panel,) = fig.axes
+    assert fig.get_suptitle() == "s:f (seed 3, 6 scenarios)"
+    assert panel.yaxis.get_offset_text().get_text() == ""  # no "+1.1e2"
+    assert all("110.00" in t.get_text() for t in panel.get_yticklabels() if t.get_text())
+    assert panel.get_legend().get_title().get_text() == "slip"

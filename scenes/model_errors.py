@@ -1,0 +1,159 @@
+"""A machine's MJCF file in the words of its author: its parse and compile errors, and names the
+machine definition expects but the file lacks, as :class:`ModelError` with the file and line.
+
+MuJoCo reports errors with line numbers of the combined scene model (every machine attached to
+one world) and dm_control without the file's name; these functions translate both.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from scenes.errors import ModelError, suggest
+
+_NAMED = re.compile(r"Element name '([^']*)', id \d+, line (\d+)")
+_LINE = re.compile(r"^Line (\d+): ")
+
+
+def start_line(path: Path, tag: str, line: int) -> int:
+    """The line where the element ``<tag`` that ends its start tag on ``line`` begins (libxml2
+    and dm_control count the line of the start tag's ``>``)."""
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return line
+    opening = re.compile(rf"<{re.escape(tag)}(\s|/|>|$)")
+    for number in range(min(line, len(lines)), 0, -1):
+        if opening.search(lines[number - 1]):
+            return number
+    return line
+
+
+def elements(path: Path, tag: str) -> dict[str, int]:
+    """The named ``<tag>`` elements of an MJCF file: name → line where each begins."""
+    from lxml import etree  # type: ignore[import-untyped]
+
+    try:
+        tree = etree.parse(str(path))
+    except (OSError, etree.XMLSyntaxError):
+        return {}
+    return {
+        str(e.get("name")): start_line(path, tag, e.sourceline or 1)
+        for e in tree.iter(tag)
+        if e.get("name")
+    }
+
+
+def parse(path: Path, load: Callable[[str], Any]) -> Any:
+    """``load(path)`` (dm_control's ``mjcf.from_path``), its errors located in the file.
+
+    Raises:
+        ModelError: the file is not well-formed XML, or not valid MJCF (an unknown element or
+            attribute, an unreadable value); one line with the file and line.
+    """
+    from lxml import etree
+
+    expected = "well-formed MJCF (https://mujoco.readthedocs.io/en/stable/XMLreference.html)"
+    try:
+        return load(str(path))
+    except etree.XMLSyntaxError as error:
+        what = re.sub(r", line \d+, column \d+$", "", str(error.msg))
+        column = f", column {error.position[1]}" if error.position else ""
+        raise ModelError.at(
+            f"{path}:{error.lineno}", "", f"XML syntax: {what}{column}", expected
+        ) from None
+    except (ValueError, KeyError, AttributeError) as error:
+        message = str(error.args[0] if isinstance(error, KeyError) and error.args else error)
+        found = _LINE.match(message)
+        if found is None:
+            raise ModelError.at(str(path), "", message.splitlines()[0], expected) from None
+        what = message[found.end() :].splitlines()[0]
+        tag = re.search(r"element <(\w+)>", what)
+        line = int(found.group(1))
+        line = start_line(path, tag.group(1), line) if tag else line
+        raise ModelError.at(f"{path}:{line}", "", what, expected) from None
+
+
+def compiled(compile_model: Callable[[], Any], files: Mapping[str, Path], combined: str) -> Any:
+    """``compile_model()`` (MuJoCo's compiler on the combined scene), an error located in the
+    machine's own file.
+
+    Args:
+        compile_model: compiles the combined scene model.
+        files: each machine's MJCF file by machine name (the prefix of its names).
+        combined: the combined model's XML (where MuJoCo's line numbers point).
+
+    Raises:
+        ModelError: MuJoCo refused the model; the line names the machine's file and the line
+            of the element, or the element and the combined model's line when that file does
+            not name it.
+    """
+    try:
+        return compile_model()
+    except ValueError as error:
+        message = str(error)
+        what = message.splitlines()[0].removeprefix("Error: ")
+        expected = (
+            "a model MuJoCo compiles (https://mujoco.readthedocs.io/en/stable/XMLreference.html)"
+        )
+        found = _NAMED.search(message)
+        if found is None:
+            where = ", ".join(str(p) for p in files.values())
+            raise ModelError.at(where, "", what, expected) from None
+        name, line = found.group(1), int(found.group(2))
+        tag = _tag_at(combined, line)
+        machine, _, local = name.partition("/")
+        path = files.get(machine)
+        if path is not None and tag and local:
+            own = elements(path, tag).get(local)
+            if own is not None:
+                raise ModelError.at(
+                    f"{path}:{own}", f"<{tag} name={local!r}>", what, expected
+                ) from None
+        where = str(path) if path is not None else ", ".join(str(p) for p in files.values())
+        element = f"<{tag or 'element'}{f' name={local!r}' if local else ''}>"
+        raise ModelError.at(
+            where, element, f"{what} (line {line} of the combined scene model)", expected
+        ) from None
+
+
+def _tag_at(xml: str, line: int) -> str:
+    """The tag of the element that starts on ``line`` of ``xml`` ("" if none)."""
+    lines = xml.splitlines()
+    if not 0 < line <= len(lines):
+        return ""
+    found = re.search(r"<(\w+)", lines[line - 1])
+    return found.group(1) if found else ""
+
+
+def check_names(
+    path: Path, machine: str, kind: str, expected: Mapping[str, str], have: Sequence[str]
+) -> None:
+    """Every name the machine definition expects (name → what needs it) is in the file.
+
+    Args:
+        path: the machine's MJCF file.
+        machine: the machine's name.
+        kind: the MJCF element, e.g. ``"joint"``.
+        expected: name → what of the definition needs it (e.g. ``"axis X (AxisDef.joint)"``).
+        have: the names of that kind in the file.
+
+    Raises:
+        ModelError: one line per missing name: the file, the name, what expects it and the
+            names the file has (with their lines).
+    """
+    missing = [(n, why) for n, why in expected.items() if n not in have]
+    if not missing:
+        return
+    lines = elements(path, kind)
+    listed = ", ".join(f"{n!r} (line {lines[n]})" if n in lines else repr(n) for n in have)
+    raise ModelError.of(
+        [
+            f"{path}: <{kind} name={name!r}>: not in the file, but machine {machine!r} needs it "
+            f"for {why}{suggest(name, have)}; expected one of the file's {kind}s: {listed}"
+            for name, why in missing
+        ]
+    )
