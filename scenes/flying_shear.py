@@ -166,6 +166,14 @@ class CutJob:
             sets the gear ratio to its inverse (so a slipping wheel still cuts at the mark, at
             strip speed).
         pitch: the nominal print pitch [mm] (the register's reference).
+        correction: in length mode, the cut-length correction: a length gauge on the run-out
+            table measures every piece (to ``gauge``); the wheel's scale, master travel per
+            piece over measured length averaged over the last :data:`CORRECTION_PIECES`
+            pieces, scales the next cut's MasterSyncPosition and sets the gear ratio to its
+            inverse (so the pieces come out at ``length`` and the carriage runs at strip speed).
+        gauge: resolution of the run-out table's length gauge [mm].
+        scale: the wheel's scale at the start (1 + its error, as learned on an earlier run);
+            the register (mark mode) or the correction (length mode) goes on from it.
     """
 
     speed: float = 1000.0
@@ -180,12 +188,29 @@ class CutJob:
     kv: float = 100.0
     register: bool = True
     pitch: float = MARK_PITCH * 1000.0
+    correction: bool = True
+    gauge: float = 0.1
+    scale: float = 1.0
 
     def __post_init__(self) -> None:
         if self.mode not in ("length", "mark"):
             raise ValueError(f"CutJob.mode must be 'length' or 'mark', got {self.mode!r}")
-        names = ("speed", "length", "knife_on", "knife_up", "sync_acceleration", "kv", "pitch")
+        names = (
+            "speed",
+            "length",
+            "knife_on",
+            "knife_up",
+            "sync_acceleration",
+            "kv",
+            "pitch",
+            "gauge",
+            "scale",
+        )
         check_finite(self, names, True)
+        if not 0.5 <= self.scale <= 2.0:
+            raise ValueError(
+                f"CutJob.scale must be within 0.5 … 2 (1 = a perfect wheel), got {self.scale}"
+            )
         if self.cuts < 1:
             raise ValueError(f"CutJob.cuts must be >= 1, got {self.cuts}")
 
@@ -208,6 +233,8 @@ class CutJob:
 
 RATIO_BASE = 10000
 """Numerator of the gear ratio 1/scale the register sets (INT: at most 32767)."""
+CORRECTION_PIECES = 4
+"""Pieces the cut-length correction averages the wheel's scale over."""
 SYNC_LIMIT = 10000.0
 """Acceleration and deceleration limit of the carriage while synchronising [mm/s²]."""
 
@@ -249,8 +276,8 @@ class Demo:
         self.gear = mcl.MC_GearInPos(
             Master=W,
             Slave=S,
-            RatioNumerator=1,
-            RatioDenominator=1,
+            RatioNumerator=RATIO_BASE,
+            RatioDenominator=round(RATIO_BASE * job.scale),
             SlaveSyncPosition=job.sync_position,
             MasterStartDistance=job.start_distance,
             Velocity=3000.0,
@@ -277,9 +304,14 @@ class Demo:
         self.probe = mcl.MC_TouchProbe(Axis=W)
         self.latches: list[float] = []
         """Master positions of the print marks the register measured [mm]."""
-        self.scale = 1.0
-        """Measured over nominal print pitch: the wheel's scale (1 + slip) as the register
-        learned it."""
+        self.scale = job.scale
+        """The wheel's scale (its reading over the strip's travel) as the register (measured
+        over nominal print pitch) or the correction (master travel over measured piece
+        length) learned it."""
+        self.travels: list[float] = []
+        """Per cut the master travel it was set for (MasterSyncPosition, Zeroing 1) [mm]."""
+        self.scales: list[float] = []
+        """Per measured piece the wheel's scale it showed (length mode with correction)."""
         self._rearm = False
         self.stage = "power on"
         self.cut = 0
@@ -381,6 +413,26 @@ class Demo:
         if probe.Error:
             self.error = f"measure the print pitch: MC_TouchProbe error {probe.ErrorID}"
 
+    def _set_scale(self, scale: float) -> None:
+        """The wheel's scale learned: the carriage runs at strip speed, ratio = 1/scale."""
+        self.scale = scale
+        self.gear.RatioNumerator = RATIO_BASE
+        self.gear.RatioDenominator = round(RATIO_BASE * scale)
+
+    def _correct(self) -> None:
+        """Cut-length correction: the pieces the gauge measured since the last cut give the
+        wheel's scale (master travel per piece over its measured length)."""
+        job = self.job
+        cuts = self.recorder.cuts
+        for k in range(len(self.scales) + 1, min(len(cuts), len(self.travels))):
+            length = cuts[k].length
+            assert length is not None
+            measured = round(length / job.gauge) * job.gauge
+            self.scales.append(self.travels[k] / measured)
+        if self.scales:
+            recent = self.scales[-CORRECTION_PIECES:]
+            self._set_scale(sum(recent) / len(recent))
+
     def _next_cut(self) -> None:
         """Start the next cut: where it synchronises (MasterSyncPosition)."""
         job = self.job
@@ -390,7 +442,10 @@ class Demo:
         elif self.cut == 1:  # the head cut: soon; Zeroing 1 makes its sync point 0
             self.gear.MasterSyncPosition = self.W.POS + job.start_distance + 200.0
         else:  # the previous sync point reads 0 (Zeroing 1)
-            self.gear.MasterSyncPosition = job.length
+            if job.correction:
+                self._correct()
+            self.gear.MasterSyncPosition = job.length * self.scale
+        self.travels.append(self.gear.MasterSyncPosition)
         self._phase(0)
 
     def __call__(self) -> None:
@@ -430,10 +485,7 @@ class Demo:
                 self._go("cut")
         elif stage == "measure the print pitch" and len(self.latches) == self.REGISTER_MARKS:
             pitches = len(self.latches) - 1
-            self.scale = (self.latches[-1] - self.latches[0]) / (pitches * job.pitch)
-            # the carriage runs at strip speed: ratio = 1/scale as INT/INT
-            self.gear.RatioNumerator = RATIO_BASE
-            self.gear.RatioDenominator = round(RATIO_BASE * self.scale)
+            self._set_scale((self.latches[-1] - self.latches[0]) / (pitches * job.pitch))
             self._next_cut()
             self._go("cut")
         elif phase == 0 and self.gear.InSync:

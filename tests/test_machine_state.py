@@ -260,6 +260,7 @@ def test_the_shear_keeps_its_measured_cuts_in_a_fresh_scene():
     from scenes import flying_shear as fs
 
     scene = scenes.load("flying_shear")
+    scene.device("wheel", fs.MeasuringWheel).ideal()  # a perfect wheel: the first piece is 1500
     demo = fs.Demo(scene, fs.CutJob(cuts=2))
     scene.run(demo, until=lambda: demo.done or bool(demo.error), timeout=30.0)
     assert demo.done and not demo.error
