@@ -16,10 +16,14 @@ floats (SI units, pressures in Pa gauge):
   (annulus); chamber volumes ``V_A = V0_A + A_A·s`` and ``V_B = V0_B + A_B·(stroke − s)``, ``s``
   the extension, the dead volumes ``V0`` (hoses, valve, cylinder ends) never zero.
 - **Chambers**: ``dp/dt = β/V·(Q_valve − Q_relief ∓ A·v ∓ Q_internal)``, ``β`` the effective
-  bulk modulus; internal leakage across the piston ``Q_internal = C_i·(p_A − p_B)``; a relief
-  valve on each port opens above its cracking pressure with a linear characteristic
-  ``K_r·(p − p_relief)``; a chamber cannot fall below tank pressure (it cavitates and refills
-  through the anti-cavitation check valves). The load-holding valve, when closed, blocks port B.
+  bulk modulus; internal leakage across the piston ``Q_internal = C_i·(p_A − p_B)``; a line
+  relief (anti-shock) valve on each cylinder port opens at its setting ``p_relief`` and passes
+  its rated flow ``Q_r`` at ``p_relief + Δp_o`` (its pressure override), a linear
+  characteristic ``Q_relief = Q_r/Δp_o·(p − p_relief)``; a chamber cannot fall below tank
+  pressure (it cavitates and refills through the anti-cavitation check valves of the same
+  cartridges). The load-holding valves, closed while the drive is disabled, shut both cylinder
+  ports leak-free between the servo valve and the line relief valves: the valve's clearance
+  flow at 0 V then reaches neither chamber.
 - **Force** on the piston ``F = p_A·A_A − p_B·A_B`` (+ = extending); seal friction (Coulomb)
   ``F_c = F_0 + f_p·(p_A·A_A + p_B·A_B)`` grows with the pressures on the seals.
 
@@ -152,20 +156,24 @@ class Cylinder:
 
 @dataclass(frozen=True)
 class Supply:
-    """Supply, tank, relief valves and oil.
+    """Supply, tank, the line relief valves on the cylinder ports, and the oil.
 
     Attributes:
         supply: constant supply pressure (pump with accumulator) [Pa].
         tank: tank pressure [Pa].
-        relief: cracking pressure of the relief valve on each port [Pa].
-        relief_gain: relief flow per pressure above cracking [m³/(s·Pa)].
+        relief: setting (cracking pressure) of the line relief valve on each port [Pa].
+        relief_override: its pressure override: the rise above the setting at its rated flow
+            [Pa]; a chamber stays below ``relief + relief_override`` while the valve passes at
+            most ``relief_flow``.
+        relief_flow: its rated flow [m³/s].
         bulk_modulus: effective bulk modulus β of the oil with hoses and air [Pa].
     """
 
     supply: float = 200.0 * BAR
     tank: float = 0.0
     relief: float = 220.0 * BAR
-    relief_gain: float = 60.0 * LPM / (10.0 * BAR)
+    relief_override: float = 22.0 * BAR
+    relief_flow: float = 120.0 * LPM
     bulk_modulus: float = 1.2e9
 
     def __post_init__(self) -> None:
@@ -175,7 +183,17 @@ class Supply:
             raise ValueError(f"Supply.supply must be above the tank pressure, got {self.supply!r}")
         if not (math.isfinite(self.relief) and self.relief > self.tank):
             raise ValueError(f"Supply.relief must be above the tank pressure, got {self.relief!r}")
-        check_finite(self, ("relief_gain", "bulk_modulus"), True)
+        check_finite(self, ("relief_override", "relief_flow", "bulk_modulus"), True)
+
+    @property
+    def relief_gain(self) -> float:
+        """Relief flow per pressure above the setting [m³/(s·Pa)]."""
+        return self.relief_flow / self.relief_override
+
+    @property
+    def relief_limit(self) -> float:
+        """The highest chamber pressure while a relief valve passes its rated flow [Pa]."""
+        return self.relief + self.relief_override
 
 
 def natural_frequency(cylinder: Cylinder, supply: Supply, extension: float, mass: float) -> float:
@@ -210,7 +228,7 @@ class ValveCylinder:
         self.command = 0.0
         """Valve command [V] (0 while the drive is disabled)."""
         self.hold = True
-        """The load-holding valve blocks port B (drive disabled)."""
+        """The load-holding valves shut both cylinder ports (drive disabled)."""
         self.spool = 0.0
         """Spool position x [-], −1 … +1 of its stroke."""
         self.spool_rate = 0.0
@@ -235,6 +253,7 @@ class ValveCylinder:
         self._qn = valve.rated_flow
         self._inv_dpn = 1.0 / valve.rated_dp
         self._lam2 = (valve.laminar_dp / valve.rated_dp) ** 2
+        self._kr = supply.relief_gain
         self.iterations = 0
         """Newton iterations of the last step (both chambers)."""
 
@@ -259,13 +278,16 @@ class ValveCylinder:
         return pos + leak, neg + leak, neg + leak, pos + leak
 
     def flow_a(self, p: float) -> float:
-        """Valve and relief flow into chamber A at pressure ``p`` [m³/s] (current spool)."""
+        """Valve and relief flow into chamber A at pressure ``p`` [m³/s] (current spool and
+        load-holding valves)."""
         pa_in, at_out, _, _ = self.openings()
+        if self.hold:
+            return self._valve_flow(p, 0.0, 0.0)
         return self._valve_flow(p, pa_in, at_out)
 
     def flow_b(self, p: float) -> float:
         """Valve and relief flow into chamber B at pressure ``p`` [m³/s] (current spool and
-        load-holding valve)."""
+        load-holding valves)."""
         _, _, pb_in, bt_out = self.openings()
         if self.hold:
             return self._valve_flow(p, 0.0, 0.0)
@@ -275,7 +297,7 @@ class ValveCylinder:
         supply = self.supply
         q = self._qn * (inlet * self.root(supply.supply - p) - outlet * self.root(p - supply.tank))
         if p > supply.relief:
-            q -= supply.relief_gain * (p - supply.relief)
+            q -= self._kr * (p - supply.relief)
         return q
 
     # ------------------------------------------------------------------ integration
@@ -307,7 +329,7 @@ class ValveCylinder:
         leak = self.cylinder.internal_leakage * (self.p_a - self.p_b)
         pa_in, at_out, pb_in, bt_out = self.openings()
         if self.hold:
-            pb_in = bt_out = 0.0
+            pa_in = at_out = pb_in = bt_out = 0.0
         self.iterations = 0
         p_a = self._chamber(self.p_a, beta_dt / v_a, pa_in, at_out, -self.area_a * velocity - leak)
         p_b = self._chamber(self.p_b, beta_dt / v_b, pb_in, bt_out, self.area_b * velocity + leak)
@@ -343,7 +365,7 @@ class ValveCylinder:
         bisection. A root below tank pressure means cavitation: the tank pressure.
         """
         supply = self.supply
-        ps, pt, relief, kr = supply.supply, supply.tank, supply.relief, supply.relief_gain
+        ps, pt, relief, kr = supply.supply, supply.tank, supply.relief, self._kr
         inv, c = self._inv_dpn, self._lam2
         a_in, a_out = self._qn * inlet, self._qn * outlet
         lo = pt
@@ -423,7 +445,7 @@ def steady_state(
     p_B [Pa])``; velocity 0 where the friction holds the piston.
 
     Solved by bisection on the velocity, the two chamber pressures by bisection of their flow
-    balance (valve, relief and internal leakage, the load-holding valve open).
+    balance (valve, relief and internal leakage, the load-holding valves open).
     """
     h = ValveCylinder(hydraulics.valve, hydraulics.cylinder, hydraulics.supply, hydraulics.dt)
     h.spool, h.hold = spool, False
@@ -567,7 +589,7 @@ class CylinderDevice:
     and velocity, writes the hydraulic force into ``qfrc_applied`` and the seal friction into
     the joint's ``frictionloss``. The joint coordinate is the extension minus ``origin``
     (positive = extending). :meth:`apply` takes the ±10 V (disabled: 0 V and the load-holding
-    valve closed). :meth:`analog` reads the pressure transducers ``"p_A"``, ``"p_B"`` and the
+    valves closed). :meth:`analog` reads the pressure transducers ``"p_A"``, ``"p_B"`` and the
     load cell ``"load"`` as the input card sees them.
 
     Args:
@@ -632,7 +654,7 @@ class CylinderDevice:
         self._friction[self.dof] = h.friction()
 
     def apply(self, volts: float, enabled: bool, brake: bool) -> None:
-        """Valve command [V]; disabled: 0 V; ``brake``: the load-holding valve closes."""
+        """Valve command [V]; disabled: 0 V; ``brake``: the load-holding valves close."""
         h = self.hydraulics
         h.command = volts if enabled else 0.0
         h.hold = brake

@@ -70,11 +70,12 @@ def cylinder_data(model: mujoco.MjModel, prefix: str = "") -> tuple[Valve, Cylin
     (leakage,) = numeric(model, f"{prefix}R_internal_leakage", 1, -1e-300)
     flow, dp, frequency, damping = numeric(model, f"{prefix}R_valve", 4, 0.0)
     overlap, hysteresis, clearance, laminar = numeric(model, f"{prefix}R_valve_spool", 4, -1e-300)
-    supply, tank, relief, relief_gain, beta = numeric(model, f"{prefix}R_supply", 5, -1e-300)
+    supply, tank, beta = numeric(model, f"{prefix}R_supply", 3, -1e-300)
+    relief, override, relief_flow = numeric(model, f"{prefix}R_line_relief", 3, 0.0)
     return (
         Valve(flow, dp, frequency, damping, overlap, hysteresis, clearance, laminar),
         Cylinder(bore, rod, stroke, dead_a, dead_b, coulomb, pressure_friction, leakage),
-        Supply(supply, tank, relief, relief_gain, beta),
+        Supply(supply, tank, relief, override, relief_flow, beta),
     )
 
 

@@ -20,6 +20,7 @@ import mujoco
 import mcl
 from mcl.trace import Trace
 from scenes import model_errors
+from scenes import start as start_check
 from scenes.drives import Device, WiringError
 from scenes.machine import AxisDef, MachineDef, Signal, unit_and_scale
 from scenes.plant import AxisWiring, Joint, MujocoAxisIO, MujocoPlant
@@ -112,7 +113,9 @@ class Scene(mcl.Machine):
 
     Raises:
         WiringError: the model does not provide what an axis needs (the message says what).
-        ValueError: periods that do not fit, or simulated axes mixed with other machines.
+        ValueError: periods that do not fit, simulated axes mixed with other machines, or a
+            start that puts bodies into one another or past an end stop (the message names the
+            axis and the range it may start in).
     """
 
     def __init__(
@@ -203,6 +206,11 @@ class Scene(mcl.Machine):
             params = spec.sim
             position = starts.get(a, machine.start.get(a))
             if position is not None:
+                if not params.stop_neg <= position <= params.stop_pos:
+                    span = (params.stop_neg, params.stop_pos)
+                    raise ValueError(
+                        start_check.message(a, position, "m", "past the axis' hard stop", span)
+                    )
                 params = replace(params, start=position)
             if spec.sensors is not None:
                 params = replace(params, sensors=spec.sensors)
@@ -219,12 +227,23 @@ class Scene(mcl.Machine):
     ) -> tuple[dict[str, mcl.channel.AxisChannel], MujocoPlant, dict[str, tuple[str, float]]]:
         model, data = compose(self.machines, positions)
         self._model, self._data = model, data
+        placed: dict[str, tuple[str, float]] = {}
+        homes: dict[str, float] = {}
         for m in self.machines:
+            key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, f"{m.name}/home")
             for a, spec in m.axes.items():
                 q = starts.get(names[(m.name, a)], m.start.get(a))
                 if q is not None:
-                    data.joint(f"{m.name}/{spec.joint or a}").qpos[0] = q
+                    joint = data.joint(f"{m.name}/{spec.joint or a}")
+                    joint.qpos[0] = q
+                    placed[names[(m.name, a)]] = (joint.name, q)
+                    adr = int(model.joint(joint.name).qposadr[0])
+                    homes[names[(m.name, a)]] = float(
+                        model.key_qpos[key, adr] if key >= 0 else model.qpos0[adr]
+                    )
         mujoco.mj_forward(model, data)
+        if placed:
+            start_check.check(model, data, placed, homes)
         for m in self.machines:
             for d, factory in m.devices.items():
                 self.devices[d if len(self.machines) == 1 else f"{m.name}/{d}"] = factory(

@@ -262,3 +262,119 @@ def test_the_demo_reports_each_step_with_pressure_and_force_from_the_physics():
     force, pressure = float(held["force [kN]"]), float(held["p_A [bar]"])
     assert 70.0 < force < 80.0 and 140.0 < pressure < 165.0
     assert rows["return"]["force [kN]"] == 0.0
+
+
+# ------------------------------------------------------------------ starts and relief valves
+def test_a_start_inside_the_part_is_refused_naming_the_axis_and_its_range():
+    with pytest.raises(ValueError) as refused:
+        scenes.load("press", start={"R": 0.275}, trace_every=0)
+    text = str(refused.value)
+    print(text)
+    assert text.startswith("start R = 0.275 m is physically impossible")
+    assert "press/workpiece" in text and "by 25 mm" in text
+    assert text.endswith("R may start in 0 … 0.25 m")
+    with pytest.raises(ValueError, match=r"end stop .* R may start in 0 … 0.25 m"):
+        scenes.load("press", start={"R": -0.002}, trace_every=0)
+    # touching the part is a start
+    scene = scenes.load("press", start={"R": PART / 1000.0}, trace_every=0)
+    assert scene.joint("press/R").position == PART / 1000.0
+
+
+def peaks(
+    scene: scenes.Scene, phases: list[tuple[float, bool, float]]
+) -> tuple[float, float, float]:
+    """Drive the valve directly through ``phases`` of (volts, enabled, seconds); the highest
+    pressures A and B of every physics step [Pa] and the fastest ram speed [m/s]."""
+    dev = device(scene)
+    h, joint = dev.hydraulics, scene.joint("press/R")
+    p_a, p_b, speed = h.p_a, h.p_b, 0.0
+    for volts, enabled, seconds in phases:
+        dev.apply(volts, enabled, not enabled)
+        for _ in range(round(seconds / scene.plant.timestep)):
+            scene.plant.step(1)
+            p_a, p_b = max(p_a, h.p_a), max(p_b, h.p_b)
+            speed = max(speed, abs(joint.velocity))
+    return p_a, p_b, speed
+
+
+def test_no_start_and_no_full_valve_stroke_takes_a_chamber_past_its_relief_valve():
+    """Fuzz: starts across the joint's range and a little beyond, each either refused or run
+    at full valve into the part or into the top stop, the drive disabled (load-holding valves
+    slamming shut) at a random moment of the stroke."""
+    rng = np.random.default_rng(19)
+    supply = device(scenes.load("press", trace_every=0)).hydraulics.supply
+    limit = supply.relief + supply.relief_override
+    worst, refused, fastest = 0.0, 0, 0.0
+    for start in [*rng.uniform(-0.005, 0.305, 24), 0.0, PART / 1000.0]:
+        try:
+            scene = scenes.load("press", start={"R": float(start)}, trace_every=0)
+        except ValueError as error:
+            assert not 0.0 <= start <= PART / 1000.0
+            assert str(error).endswith("R may start in 0 … 0.25 m")
+            refused += 1
+            continue
+        volts = 10.0 if rng.uniform() < 0.5 else -10.0
+        stroke = float(rng.uniform(0.005, 1.0))
+        p_a, p_b, speed = peaks(scene, [(volts, True, stroke), (0.0, False, 0.3)])
+        worst, fastest = max(worst, p_a, p_b), max(fastest, speed)
+    print(
+        f"{26 - refused} starts run, {refused} refused: highest chamber pressure "
+        f"{worst / BAR:.1f} bar (relief {supply.relief / BAR:.0f} + "
+        f"{supply.relief_override / BAR:.0f} bar), fastest "
+        f"{1000 * fastest:.0f} mm/s"
+    )
+    assert worst <= limit
+    assert refused >= 4
+
+
+def test_reversing_the_valve_at_full_force_ejects_the_ram_within_the_relief_setting():
+    scene = scenes.load("press", start={"R": (PART - 1.0) / 1000.0}, trace_every=0)
+    supply = device(scene).hydraulics.supply
+    limit = supply.relief + supply.relief_override
+    pressing = peaks(scene, [(10.0, True, 0.3)])  # onto the hard block: 100 kN
+    assert device(scene).load_force > 100e3
+    p_a, p_b, speed = peaks(scene, [(-10.0, True, 0.5)])  # the part's spring ejects the ram
+    print(
+        f"full valve reversed at {supply.supply / BAR:.0f} bar on the "
+        f"part: peaks A {p_a / BAR:.1f}, B {p_b / BAR:.1f} bar, up to {1000 * speed:.0f} mm/s"
+    )
+    assert max(pressing[:2]) <= limit and max(p_a, p_b) <= limit
+
+
+# ------------------------------------------------------------------ the disabled ram holds
+@pytest.mark.parametrize("start", [0.03, 0.245])
+def test_a_disabled_ram_holds_its_position_for_a_minute(start):
+    scene = scenes.load("press", start={"R": start}, trace_every=0)
+    joint = scene.joint("press/R")
+    scene.run(lambda: None, timeout=60.0)  # never powered: the drive stays disabled
+    sag = joint.position - start
+    print(f"disabled at R = {1000 * start:.0f} mm: sank {1000 * sag:.4f} mm in 60 s")
+    assert abs(sag) < 0.1e-3
+
+
+def test_a_ram_disabled_after_a_stroke_holds_its_position_for_a_minute():
+    scene = scenes.load("press", start={"R": 0.03}, trace_every=0)
+    R, joint = scene.axes["R"], scene.joint("press/R")
+    power = mcl.MC_Power(Axis=R)
+    move = mcl.MC_MoveRelative(Axis=R, Distance=120.0, Velocity=200.0, Acceleration=2000.0)
+    state = {"on": True}
+
+    def program() -> None:
+        power(Enable=state["on"])
+        move(Execute=power.Status)
+
+    scene.run(program, until=lambda: bool(move.Done), timeout=3.0)
+    scene.run(program, timeout=0.2)
+    state["on"] = False
+    scene.run(program, until=lambda: R.state == mcl.AxisState.Disabled, timeout=1.0)
+    scene.run(program, timeout=0.5)
+    held = joint.position
+    scene.run(program, timeout=60.0)
+    sag = joint.position - held
+    h = device(scene).hydraulics
+    print(
+        f"disabled at R = {1000 * held:.2f} mm after a stroke (p_A {h.p_a / BAR:.1f}, "
+        f"p_B {h.p_b / BAR:.1f} bar): moved {1000 * sag:.4f} mm in 60 s"
+    )
+    assert held == pytest.approx(0.15, abs=0.5e-3)
+    assert abs(sag) < 0.1e-3
