@@ -141,19 +141,21 @@ def max_following_error(
     return max(inside)
 
 
-def home(scene: Scene, *axes: str, timeout: float = 60.0) -> float:
+def home(scene: Scene, *axes: str, timeout: float = 60.0, settle: float = 0.2) -> float:
     """Power and home axes of the scene with their machine's homing recipes
     (:func:`scenes.homing`, :class:`scenes.procedures.HomeAxis`), one after the other in the
     order given (default: every axis that has a recipe, in the machine's order). The axes stay
-    powered and at rest at their recipes' set positions.
+    powered, holding their recipes' set positions.
 
     Args:
         scene: the scene.
         axes: the axes to home.
         timeout: for each axis [s of simulated time].
+        settle: how long each axis is held after its homing is Done, for the regulator to come
+            to rest [s] (0: go on at once).
 
     Returns:
-        The simulated seconds it took.
+        The simulated seconds it took (the settling included).
 
     Raises:
         AssertionError: an axis without a recipe, or a homing that failed or did not finish
@@ -166,12 +168,17 @@ def home(scene: Scene, *axes: str, timeout: float = 60.0) -> float:
     powers: list[mcl.MC_Power] = []
     took = 0.0
     for name in axes or tuple(recipes):
-        took += _home_axis(scene, name, recipes[name], powers, timeout)
+        took += _home_axis(scene, name, recipes[name], powers, timeout, settle)
     return took
 
 
 def _home_axis(
-    scene: Scene, name: str, recipe: Recipe, powers: list[mcl.MC_Power], timeout: float
+    scene: Scene,
+    name: str,
+    recipe: Recipe,
+    powers: list[mcl.MC_Power],
+    timeout: float,
+    settle: float,
 ) -> float:
     """Home one axis, keeping the axes of ``powers`` powered (its own MC_Power joins them)."""
     axis = scene.axes[name]
@@ -190,6 +197,8 @@ def _home_axis(
             f"homing {name} failed: ErrorID {procedure.ErrorID}, {axis.state.name}, "
             f"AxErrorID {axis.AxErrorID}"
         )
+    if settle > 0.0:
+        took += scene.run(program, timeout=settle)
     return took
 
 
