@@ -5,9 +5,14 @@ The fixtures that use them are in ``conftest.py``; tests import what they need f
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import asyncio
+import threading
+from collections.abc import Callable, Coroutine
+from typing import Any, TypeVar
 
 import mcl
+
+T = TypeVar("T")
 
 CONSTANTS = dict(
     Kp=3.0,
@@ -115,3 +120,24 @@ def carriage_mm(machine: mcl.SimMachine, name: str = "X") -> float:
 def carriage_mm_s(machine: mcl.SimMachine, name: str = "X") -> float:
     """The simulated carriage's real velocity [mm/s]."""
     return machine.sims[name].v * 1000.0
+
+
+def run_coroutine(coroutine: Coroutine[Any, Any, T]) -> T:
+    """Run ``coroutine`` to its end in a thread of its own with an event loop of its own, and
+    return its result (or raise its exception): works whether or not this thread already runs
+    an event loop (Playwright's sync API keeps one running while it is started)."""
+    result: list[T] = []
+    error: list[BaseException] = []
+
+    def target() -> None:
+        try:
+            result.append(asyncio.run(coroutine))
+        except BaseException as exc:  # handed to the caller
+            error.append(exc)
+
+    thread = threading.Thread(target=target, name="test-event-loop")
+    thread.start()
+    thread.join()
+    if error:
+        raise error[0]
+    return result[0]
