@@ -9,6 +9,9 @@ Prints JSON:
   (``requestAnimationFrame`` in headless Chromium, software WebGL), ``browser_panel_hz``: how
   often the page's status line changed in its DOM;
 - ``frame_update_us``: wall time of one server frame;
+- ``pacing``: simulated seconds per wall second of a bare session (no viewer) asked for 0.5×,
+  3× and as fast as possible (``inf``), each over one wall second (the tests check the pacing
+  on an injected clock; this is the real ratio);
 - ``overlays``: the same figures (``realtime_factor``, ``fps_achieved``, ``frame_update_us``,
   ``browser_fps``) for a second window with the set-point ghost and the contact forces shown
   and the cameras following the Z ram;
@@ -36,6 +39,7 @@ from typing import TYPE_CHECKING, Any
 
 from viewer.app import Viewer
 from viewer.operator import Move
+from viewer.session import Session
 
 if TYPE_CHECKING:
     from playwright.sync_api import Page
@@ -218,6 +222,20 @@ def _overlays(viewer: Viewer, page: Page | None, seconds: float) -> dict[str, An
     }
 
 
+def _pacing(seconds: float = 1.0) -> dict[str, float]:
+    """Simulated seconds per wall second of the gantry session (no viewer) at 0.5×, 3× and as
+    fast as possible, each over ``seconds`` of wall time."""
+    ratios = {}
+    for speed in (0.5, 3.0, math.inf):
+        with Session("gantry", speed=speed) as session:
+            time.sleep(0.2)  # the thread has started and caught up
+            sim0, wall0 = session.scene.time, time.monotonic()
+            time.sleep(seconds)
+            sim, wall = session.scene.time, time.monotonic()
+        ratios[str(speed)] = round((sim - sim0) / (wall - wall0), 3)
+    return ratios
+
+
 def run(seconds: float = 10.0) -> dict[str, Any]:
     """Run the gantry demo at 1× with the viewer (and a browser) attached for ``seconds``, then
     time clicks and holds."""
@@ -261,6 +279,7 @@ def run(seconds: float = 10.0) -> dict[str, Any]:
         "overlays": overlays,
         **latency,
         "demo_step_at_end": snapshot.demo.step,
+        "pacing": _pacing(),
     }
 
 
