@@ -124,7 +124,7 @@ def message(axis: str, q: float, unit: str, reason: str, span: tuple[float, floa
 
 
 def _fmt(value: float) -> str:
-    """A range end to the micrometre (µrad), rounded inward-safe for display."""
+    """A range end for the message, to 1 µm (1 µrad)."""
     text = f"{round(value, 6):g}"
     return "0" if text == "-0" else text
 
