@@ -89,8 +89,10 @@ def test_a_sweep_on_two_dask_workers_equals_the_serial_run_row_for_row():
     heavy = serial[serial["payload_kg"] > 30]["peak_following_error_mm"].mean()
     light = serial[serial["payload_kg"] < 10]["peak_following_error_mm"].mean()
     assert heavy > light
-    parallel = sweep.run(workers=2)
+    seen: list[tuple[int, int]] = []
+    parallel = sweep.run(workers=2, progress=lambda done, failed: seen.append((done, failed)))
     assert parallel.equals(serial)
+    assert seen == [(n, 0) for n in range(201)]  # each scenario as it came back
 
 
 def test_sweep_files_are_checked_and_written(tmp_path):
