@@ -4,10 +4,12 @@ Three mcl axes: ``L`` the line drive (pinch rolls, MC_MoveVelocity), ``W`` the m
 (encoder only: the gearing master, its touch probe wired to the mark sensor) and ``S`` the shear
 carriage (the slave, homed on REF + index). The knife is not an axis: digital output 0 of ``S``
 switches its valve. Python devices run before every physics step: the eccentric pinch roll (the
-line-speed ripple), the measuring wheel's slip (measurement only), the knife's valve, cylinder
-and grip on the strip, and :class:`CutRecorder`, which takes every cut from the physics (the
-material coordinate under the knife when the blade comes down on the strip). :class:`Demo` is
-the PLC program: cut to length (MC_GearInPos, Zeroing 1) or to the print marks (Zeroing 2).
+line-speed ripple), the measuring wheel's errors (measurement only; ``ideal()`` turns them off),
+the knife's valve, cylinder and grip on the strip, and :class:`CutRecorder`, which takes every
+cut from the physics (the material coordinate under the knife when the blade comes down on the
+strip). :class:`Demo` is the PLC program: cut to length (MC_GearInPos, Zeroing 1, with the
+cut-length correction from the measured pieces) or to the print marks (Zeroing 2, with the
+register that learns the wheel's scale from the print pitch).
 
 Commissioning data: carriage Kv = Kp·Vmax/10 = 150 1/s, acceleration feed-forward
 Ka = m_eff/Kamp + current lag + half a servo period = 132.3/26500 + 1.5 ms + 0.5 ms = 7 ms; line

@@ -3,16 +3,24 @@
 Every length comes from the physics (the strip joint M is the truth; a cut is where the knife edge
 sat on the strip when the blade came down). Figures:
 
-- cut to length, 21 cuts (20 pieces) of 1500 mm at 60 m/min with ±1 % ripple and no slip: length
-  error mean, standard deviation, worst; per cut the carriage/strip speed mismatch, how far the
-  blade slid on the strip, the drag force;
+- cut to length, 21 cuts (20 pieces) of 1500 mm at 60 m/min with ±1 % ripple and the model's
+  measuring wheel (its errors on, the cut-length correction on): length error mean, standard
+  deviation, worst; per cut the carriage/strip speed mismatch, how far the blade slid on the
+  strip, the drag force;
+- the wheel's errors: the same job without the correction, with the correction starting from
+  the scale learned before, and on the ideal wheel (the controller's own precision);
+- the line slowed by 5 % at 0.5, 1.5 and 2 m/s² as soon as InSync rises (the knife comes down
+  while the strip decelerates): the carriage/strip speed mismatch and the drag while the blade
+  is down, on the ideal and on the model's wheel;
 - 120 m/min: whether 1500 mm pieces fit the carriage's stroke and acceleration, and the figures
   at the shortest length tried that does;
-- measuring-wheel slip (−0.2 %, −0.5 %, and a random part) in length mode: the pieces grow;
+- measuring-wheel slip (−0.2 %, −0.5 %, and a random part) in length mode on an otherwise ideal
+  wheel without the correction: the pieces grow;
 - cut to mark (Zeroing 2, Delay = sensor delay) without and with slip, with and without the
   register that learns the wheel's scale; Delay 0 against Delay = sensor delay (zeroing error in
   counts, cut-to-mark shift);
-- the line speed changed after StartSync (−10 % … +50 %) or at InSync: what the cut does;
+- the line speed changed after StartSync (−10 % … +50 %) or at InSync, on the ideal wheel:
+  what the cut does;
 - an unsynchronised cut (knife dropped with the carriage standing): the drag force;
 - the real-time factor of the 60 m/min scenario against the bare physics of the same model
   (MuJoCo and the machine's devices, and MuJoCo alone), measured in the same run in chunks of
@@ -35,14 +43,18 @@ COUNT = 0.025
 """One count of the measuring wheel [mm]."""
 
 
-def _scene(slip: float = 0.0, random_slip: float = 0.0) -> Any:
+def _scene(ideal: bool = False, slip: float | None = None, random_slip: float = 0.0) -> Any:
+    """The flying shear; ``ideal``: a perfect wheel, then ``slip`` and ``random_slip`` only."""
     import scenes
     from scenes import flying_shear as fs
 
     scene = scenes.load("flying_shear", start=fs.MACHINE.demo_start, trace_every=0)
-    wheel = scene.devices["wheel"]
-    assert isinstance(wheel, fs.MeasuringWheel)
-    wheel.slip, wheel.random = slip, random_slip
+    wheel = scene.device("wheel", fs.MeasuringWheel)
+    if ideal:
+        wheel.ideal()
+        wheel.random = random_slip
+    if slip is not None:
+        wheel.slip = slip
     return scene
 
 
@@ -78,11 +90,17 @@ def _cuts(demo: Any) -> dict[str, Any]:
     }
 
 
-def run_job(job: Any, slip: float = 0.0, random_slip: float = 0.0, timeout: float = 120.0) -> Any:
-    """The demo with ``job`` run to its end or its error."""
+def run_job(
+    job: Any,
+    ideal: bool = False,
+    slip: float | None = None,
+    random_slip: float = 0.0,
+    timeout: float = 120.0,
+) -> Any:
+    """The demo with ``job`` run to its end or its error (wheel as in :func:`_scene`)."""
     from scenes import flying_shear as fs
 
-    scene = _scene(slip, random_slip)
+    scene = _scene(ideal, slip, random_slip)
     demo = fs.Demo(scene, job)
     scene.run(demo, until=lambda: demo.done or bool(demo.error), timeout=timeout)
     return demo
@@ -119,7 +137,8 @@ def slip() -> dict[str, Any]:
 
     out = {}
     for constant, rms in ((-0.002, 0.0), (-0.005, 0.0), (0.0, 0.001)):
-        demo = run_job(fs.CutJob(cuts=6), slip=constant, random_slip=rms)
+        job = fs.CutJob(cuts=6, correction=False)
+        demo = run_job(job, ideal=True, slip=constant, random_slip=rms)
         out[f"slip {constant:+.1%} random {rms:.1%}"] = _cuts(demo)
     return out
 
@@ -130,13 +149,20 @@ def marks() -> dict[str, Any]:
 
     out: dict[str, Any] = {}
     for constant, register in ((0.0, True), (-0.005, False), (-0.005, True)):
-        demo = run_job(fs.CutJob(cuts=8, mode="mark", register=register), slip=constant)
-        out[f"slip {constant:+.1%} register {register}"] = {
+        job = fs.CutJob(cuts=8, mode="mark", register=register)
+        demo = run_job(job, ideal=True, slip=constant)
+        out[f"ideal wheel, slip {constant:+.1%} register {register}"] = {
+            **_cuts(demo),
+            "scale_learned": round(demo.scale, 6),
+        }
+    for register in (False, True):
+        demo = run_job(fs.CutJob(mode="mark", register=register))
+        out[f"model's wheel, register {register}"] = {
             **_cuts(demo),
             "scale_learned": round(demo.scale, 6),
         }
     for delay in (fs.SENSOR_DELAY * 1000.0, 0.0):
-        scene = _scene()
+        scene = _scene(ideal=True)
         demo = fs.Demo(scene, fs.CutJob(cuts=6, mode="mark", register=False, delay=delay))
         zeroing = fs.ZeroingRecorder(scene)
         scene.runtime.observers.append(zeroing)
@@ -149,6 +175,67 @@ def marks() -> dict[str, Any]:
     return out
 
 
+def wheel_errors() -> dict[str, Any]:
+    """60 m/min, 21 cuts: the model's wheel without and with the cut-length correction (from
+    scale 1, and from the scale it learned), and the ideal wheel."""
+    from scenes import flying_shear as fs
+
+    out: dict[str, Any] = {}
+    learned = run_job(fs.CutJob())
+    cases = {
+        "model's wheel, no correction": (fs.CutJob(correction=False), False),
+        "model's wheel, correction from scale 1": (fs.CutJob(), False),
+        "model's wheel, correction from the learned scale": (
+            fs.CutJob(scale=learned.scale),
+            False,
+        ),
+        "ideal wheel": (fs.CutJob(), True),
+    }
+    for name, (job, ideal) in cases.items():
+        demo = learned if job == fs.CutJob() and not ideal else run_job(job, ideal=ideal)
+        errors = demo.errors()
+        out[name] = {
+            **_cuts(demo),
+            "error_mm_after_the_first_piece": _stats(errors[1:]),
+            "scale_learned": round(demo.scale, 6),
+        }
+    return out
+
+
+def line_ramp() -> dict[str, Any]:
+    """The line slowed by 5 % at 0.5, 1.5 and 2 m/s² as soon as InSync rises for the second
+    cut: the speed mismatch [%] and the drag [N] while the blade is on the strip."""
+    import mcl
+    from scenes import flying_shear as fs
+
+    out = {}
+    for ideal in (True, False):
+        for ramp in (500.0, 1500.0, 2000.0):
+            scene = _scene(ideal)
+            demo = fs.Demo(scene, fs.CutJob(cuts=3))
+            change = mcl.MC_MoveVelocity(
+                Axis=scene.axes["L"], Velocity=950.0, Acceleration=ramp, Deceleration=ramp
+            )
+            started = [False]
+
+            def program(
+                demo: Any = demo, change: Any = change, started: list[bool] = started
+            ) -> None:
+                demo()
+                started[0] = started[0] or (demo.cut == 2 and demo.gear.InSync)
+                change(Execute=started[0])
+
+            scene.run(program, until=lambda d=demo: d.done or bool(d.error), timeout=60.0)
+            cut = demo.recorder.cuts[1] if len(demo.recorder.cuts) > 1 else None
+            wheel = "ideal wheel" if ideal else "model's wheel"
+            out[f"{wheel}, {ramp / 1000.0:g} m/s²"] = {
+                "error": demo.error,
+                "speed_mismatch_pct": round(100.0 * cut.speed_mismatch, 3) if cut else None,
+                "drag_N": round(cut.drag, 1) if cut else None,
+            }
+    return out
+
+
 def speed_change() -> dict[str, Any]:
     """The line speed changed (2000 mm/s²) as soon as StartSync rises for the second cut, or
     as soon as InSync rises (the knife then comes down while the line accelerates)."""
@@ -158,7 +245,7 @@ def speed_change() -> dict[str, Any]:
     out = {}
     cases = [(f, "StartSync") for f in (0.9, 1.03, 1.06, 1.1, 1.2, 1.3, 1.5)] + [(1.1, "InSync")]
     for factor, at in cases:
-        scene = _scene()
+        scene = _scene(ideal=True)
         demo = fs.Demo(scene, fs.CutJob(cuts=3))
         change = mcl.MC_MoveVelocity(
             Axis=scene.axes["L"], Velocity=1000.0 * factor, Acceleration=2000.0
@@ -225,6 +312,8 @@ def mode_report() -> dict[str, Any]:
         "mode": "compiled" if mcl.COMPILED else "pure Python",
         "length_60_m_min": real_time_factor(),
         "length_120_m_min": high_speed(),
+        "wheel_errors": wheel_errors(),
+        "line_ramp_at_in_sync": line_ramp(),
         "slip_length_mode": slip(),
         "cut_to_mark": marks(),
         "master_speed_change_after_start_sync": speed_change(),
