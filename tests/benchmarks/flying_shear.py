@@ -16,9 +16,9 @@ sat on the strip when the blade came down). Figures:
   at the shortest length tried that does;
 - measuring-wheel slip (−0.2 %, −0.5 %, and a random part) in length mode on an otherwise ideal
   wheel without the correction: the pieces grow;
-- cut to mark (Zeroing 2, Delay = sensor delay) without and with slip, with and without the
-  register that learns the wheel's scale; Delay 0 against Delay = sensor delay (zeroing error in
-  counts, cut-to-mark shift);
+- cut to mark (Zeroing 2, Delay = sensor delay) on the ideal wheel without and with slip and on
+  the model's wheel, with and without the register that learns the wheel's scale; Delay 0
+  against Delay = sensor delay on the ideal wheel (zeroing error in counts, cut-to-mark shift);
 - the line speed changed after StartSync (−10 % … +50 %) or at InSync, on the ideal wheel:
   what the cut does;
 - an unsynchronised cut (knife dropped with the carriage standing): the drag force;
