@@ -182,7 +182,12 @@ def sweep_figure(
             len(ys), 1, sharex=True, figsize=(8, 2.4 * len(ys) + 1.2), layout="constrained"
         )
         panel_list = list(np.atleast_1d(panels))
-        values = sorted(table[shade].dropna().unique()) if shade else []
+        numeric = shade is not None and pd.api.types.is_numeric_dtype(table[shade])
+        values = (
+            sorted(table[shade].dropna().unique(), key=None if numeric else str) if shade else []
+        )
+        if len(values) > 10 and not numeric:
+            shade, values = None, []  # too many names to tell apart by colour
         for panel, y in zip(panel_list, ys, strict=True):
             if shade is None:
                 panel.plot(table[x], table[y], "o", markersize=3)
@@ -190,7 +195,12 @@ def sweep_figure(
                 for k, value in enumerate(values):
                     rows = table[table[shade] == value]
                     panel.plot(
-                        rows[x], rows[y], "o", markersize=3, color=f"C{k}", label=f"{value:g}"
+                        rows[x],
+                        rows[y],
+                        "o",
+                        markersize=3,
+                        color=f"C{k}",
+                        label=f"{value:g}" if isinstance(value, float) else str(value),
                     )
             else:
                 points = panel.scatter(table[x], table[y], c=table[shade], s=9, cmap="viridis")

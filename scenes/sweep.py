@@ -28,6 +28,7 @@ import importlib.metadata
 import inspect
 import itertools
 import math
+import numbers
 import os
 import random as random_module
 import re
@@ -39,6 +40,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
+import numpy as np
 import pandas as pd
 
 from scenes.errors import UserError, located, suggest
@@ -94,7 +96,13 @@ def _resolve(target: object) -> tuple[Callable[..., Mapping[str, float]] | None,
 
 
 def _is_number(value: object) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool)
+    """A real number (NumPy's too), not a bool."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+
+
+def _is_list(value: object) -> bool:
+    """A list of values (a tuple, a NumPy array), not a string or a single value."""
+    return isinstance(value, Sequence | np.ndarray) and not isinstance(value, str | bytes)
 
 
 def _parameters(function: Callable[..., Any]) -> tuple[dict[str, inspect.Parameter], bool]:
@@ -171,7 +179,7 @@ def check(spec: Mapping[str, Any]) -> list[Problem]:
     grid, drawn = tables.get("grid", {}), tables.get("random", {})
     for name, values in grid.items():
         key, parameter = f"grid.{name}", named.get(name)
-        if not isinstance(values, list | tuple):
+        if not _is_list(values):
             problems.append(
                 (
                     key,
@@ -179,7 +187,7 @@ def check(spec: Mapping[str, Any]) -> list[Problem]:
                     f"a list of values, e.g. {name} = [{values!r}]",
                 )
             )
-        elif not values:
+        elif len(values) == 0:
             problems.append((key, "an empty list", "at least one value"))
         else:
             for value in values:
@@ -193,7 +201,7 @@ def check(spec: Mapping[str, Any]) -> list[Problem]:
     for name, bounds in drawn.items():
         key, parameter = f"random.{name}", named.get(name)
         if (
-            not isinstance(bounds, list | tuple)
+            not _is_list(bounds)
             or len(bounds) != 2
             or not all(_is_number(b) and math.isfinite(b) for b in bounds)
         ):
@@ -602,7 +610,7 @@ def from_toml(path: str | Path, overrides: Sequence[str] = ()) -> tuple[Sweep, d
     lines = _Lines(text)
 
     def where(key: str) -> str:
-        if key in overridden:
+        if any(key == o or key.startswith(f"{o}.") for o in overridden):
             return "command line"
         line = lines.line(key)
         return f"{path}:{line}" if line else str(path)

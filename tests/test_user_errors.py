@@ -252,3 +252,27 @@ def test_a_sweep_shows_progress_keeps_failed_rows_and_writes_where_told(tmp_path
     whole = out[out.index("over the whole sweep:") :]
     assert "twice_x" in whole
     assert not any(line.split()[:1] in (["run"], ["seed"]) for line in whole.splitlines())
+
+
+def test_the_sweep_api_takes_numpy_values_and_names_each_mistake():
+    import numpy as np
+
+    from scenes.errors import UserError
+    from scenes.sweep import Sweep
+
+    sweep = Sweep(
+        "scenes.examples:payload_following_error",
+        grid={"friction_n": np.array([5, 15])},
+        random={"payload_kg": (np.float64(0.0), 40)},
+        samples=2,
+    )
+    assert [r["friction_n"] for r in sweep.rows()] == [5, 5, 15, 15]
+    with pytest.raises(UserError) as error:
+        Sweep("scenes.examples:payload_following_error", grid={"friction": 5}, samples=0)
+    assert error.value.lines == [
+        "Sweep: grid.friction: not a parameter of scenes.examples:payload_following_error; "
+        "expected one of ['friction_n', 'payload_kg'] (did you mean 'friction_n'?)",
+        "Sweep: grid.friction: 5 is a single value, not a list; expected a list of values, "
+        "e.g. friction = [5]",
+        "Sweep: samples: 0; expected an integer >= 1",
+    ]
