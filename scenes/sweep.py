@@ -41,6 +41,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 import numpy as np
+import numpy.typing as npt
 import pandas as pd
 
 from scenes.errors import UserError, located, suggest
@@ -328,7 +329,7 @@ class Sweep:
     """
 
     scenario: str
-    grid: Mapping[str, Sequence[Any]] = field(default_factory=dict)
+    grid: Mapping[str, Sequence[Any] | npt.NDArray[Any]] = field(default_factory=dict)
     random: Mapping[str, tuple[float, float]] = field(default_factory=dict)
     samples: int = 1
     seed: int = 0

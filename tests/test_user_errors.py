@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
 import pytest
@@ -268,7 +269,10 @@ def test_the_sweep_api_takes_numpy_values_and_names_each_mistake():
     )
     assert [r["friction_n"] for r in sweep.rows()] == [5, 5, 15, 15]
     with pytest.raises(UserError) as error:
-        Sweep("scenes.examples:payload_following_error", grid={"friction": 5}, samples=0)
+        number_not_list: Any = 5
+        Sweep(
+            "scenes.examples:payload_following_error", grid={"friction": number_not_list}, samples=0
+        )
     assert error.value.lines == [
         "Sweep: grid.friction: not a parameter of scenes.examples:payload_following_error; "
         "expected one of ['friction_n', 'payload_kg'] (did you mean 'friction_n'?)",
