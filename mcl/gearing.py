@@ -50,7 +50,9 @@ from mcl.motion import ready_limits
 from mcl.trajectory import Limits, PlanningError, Profile
 
 DEFAULT_KV: Final = 100.0
-"""Bandwidth of the master tracking filter when ``Kv`` is 0 [1/s]."""
+"""Bandwidth of the master tracking filter when ``Kv`` is 0 [1/s]: a wheel of 0.025 mm per count
+read every 2 ms at 200 mm/s gives the slave's velocity set point 0.24 % rms of quantization
+noise (0.35 % at 200 1/s)."""
 MODEL: Final = 3.0
 """Bandwidth of the set-point model locked on the tracking filter, in units of ``Kv``."""
 REPLAN: Final = 0.05
