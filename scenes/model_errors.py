@@ -157,3 +157,11 @@ def check_names(
             for name, why in missing
         ]
     )
+
+
+def in_files(error: Exception, files: Sequence[Path]) -> ModelError:
+    """A wiring error found on the compiled model (a name the plant or a device looks for and
+    does not find) with the machines' files in front (a :class:`ModelError` stays as it is)."""
+    if isinstance(error, ModelError):
+        return error
+    return ModelError(f"{', '.join(str(f) for f in files)}: {error}")

@@ -60,7 +60,8 @@ def frame(trace: Trace | str | Path) -> pd.DataFrame:
         what = re.sub(r"^C error:\s*", "", str(error).split(". ")[-1].strip().rstrip("."))
         raise UserError.at(where, "", what, expected) from None
     except (ValueError, OSError, UnicodeDecodeError) as error:
-        raise UserError.at(str(path), "", f"not readable ({error})", expected) from None
+        what = "not a NumPy .npy file" if path.suffix == ".npy" else f"not readable ({error})"
+        raise UserError.at(str(path), "", what, expected) from None
     axes = axes_of(table)
     if not axes:
         raise UserError.at(

@@ -160,7 +160,11 @@ class Scene(mcl.Machine):
                 raise ValueError("a machine of simulated axes cannot share a scene")
             ios, self.plant, scales = self._simulated(first, starts)
         else:
-            ios, self.plant, scales = self._mujoco(starts, positions, names)
+            try:
+                ios, self.plant, scales = self._mujoco(starts, positions, names)
+            except WiringError as error:  # a name the machine's file lacks: name the file
+                files = [model_path(m.model) for m in self.machines]
+                raise model_errors.in_files(error, files) from None
         self.axes: dict[str, mcl.Axis] = {}
         self.modules: list[mcl.Module] = []
         for m in self.machines:

@@ -280,3 +280,20 @@ def test_the_sweep_api_takes_numpy_values_and_names_each_mistake():
         "e.g. friction = [5]",
         "Sweep: samples: 0; expected an integer >= 1",
     ]
+
+
+def test_a_renamed_amplifier_names_the_file_and_the_actuators_it_has(tmp_path):
+    from dataclasses import replace
+
+    from scenes.errors import ModelError
+    from scenes.scene import Scene
+
+    model = edited_model(tmp_path, '<general name="X_amp"', '<general name="X_drive"')
+    model.write_text(model.read_text().replace('actuator="X_amp"', 'actuator="X_drive"'))
+    gantry = replace(scenes.definition("gantry"), model=str(model))
+    with pytest.raises(ModelError) as error:
+        Scene([gantry], trace_every=0)
+    assert error.value.lines == [
+        f"{model}: model has no actuator 'gantry/X_amp'; actuators: "
+        "['gantry/X_drive', 'gantry/Y_amp', 'gantry/Z_amp']"
+    ]
