@@ -13,7 +13,9 @@ in a real PLC program. After every scan:
 * the axis is in exactly one of the eight states of :class:`mcl.AxisState`;
 * no exception escapes from a block or from the servo cycle;
 * POS, VEL, the analog output and the model position/velocity are finite; |volts| <= 10 V in
-  closed loop (the DAC output is clipped at ±10 V).
+  closed loop (the DAC output is clipped at ±10 V); a Disabled axis' drive is not enabled;
+* the simulated plant (position, velocity, amplifier force) is finite, between its hard stops
+  and no faster than +10 V drives it.
 """
 
 from __future__ import annotations
@@ -202,14 +204,24 @@ def check_outputs(name: str, fb: Any) -> None:
     assert error == (fb.ErrorID != 0), f"{name}: Error={error} ErrorID={fb.ErrorID}"
 
 
-def check_axis(axis: mcl.Axis) -> None:
-    """One of the eight states, finite signals, at most ±10 V in closed loop."""
-    assert isinstance(axis.state, mcl.AxisState), axis.state
-    assert axis.state in set(mcl.AxisState)
+def check_axis(axis: mcl.Axis, sim: mcl.SimAxis) -> None:
+    """A state of :class:`mcl.AxisState`, finite signals, at most ±10 V in closed loop, no drive
+    enable while Disabled; the simulated plant finite, between its hard stops (give or take
+    what the amplifier's peak force can press into them) and no faster than +10 V drives it."""
+    assert type(axis.state) is mcl.AxisState, f"state {axis.state!r} is not an AxisState"
     for name in ("POS", "VEL", "volts", "sp_pos", "sp_vel"):
         value = getattr(axis, name)
         assert math.isfinite(value), f"{name} = {value}"
     assert abs(axis.volts) <= 10.0, axis.volts
+    if axis.state == mcl.AxisState.Disabled:
+        assert not sim.enabled, "the drive is enabled while the axis is Disabled"
+    p = sim.params
+    for name in ("x", "v", "force"):
+        value = getattr(sim, name)
+        assert math.isfinite(value), f"the plant's {name} = {value}"
+    squeeze = p.force_limit / p.stop_stiffness  # [m]
+    assert p.stop_neg - squeeze <= sim.x <= p.stop_pos + squeeze, f"the plant at x = {sim.x} m"
+    assert abs(sim.v) <= 1.1 * p.vmax, f"the plant at v = {sim.v} m/s"
 
 
 def run_step(h: Harness, step: Step) -> None:
@@ -229,7 +241,7 @@ def run_step(h: Harness, step: Step) -> None:
                 check_outputs(name, fb)
 
         h.machine.run(program, timeout=PLC_PERIOD)
-        check_axis(axis)
+        check_axis(axis, h.machine.sims["X"])
         h.visited.add(axis.state.name)
 
 
@@ -262,7 +274,7 @@ def test_random_fb_sequences_keep_invariants(steps: list[Step]) -> None:
     configure(axis)
     power_on(machine, axis)
     h = Harness(machine, axis)
-    check_axis(axis)
+    check_axis(axis, machine.sims["X"])
     for step in steps:
         run_step(h, step)
     for state in sorted(h.visited):
