@@ -62,6 +62,7 @@ def sweep(
         if table_path.suffix not in (".csv", ".parquet"):
             raise UserError.at("--out", "", f"{out!r}", "a directory or a .csv/.parquet file")
     workers = options["workers"] if workers is None else workers
+    given = "--address" if address else file
     address = address or options["address"]
     total = len(spec.rows())
     where = address or ("serially" if workers == 0 else f"{workers or os.cpu_count()} workers")
@@ -75,7 +76,7 @@ def sweep(
         table = spec.run(workers, address, progress=progress, on_cluster=dashboard)
     except OSError as error:  # no scheduler at that address
         raise UserError.at(
-            "address", "", f"cannot reach {address} ({error})", "a running Dask scheduler"
+            given, "address", f"cannot reach {address} ({error})", "a running Dask scheduler"
         ) from None
     for path in spec.write(table, table_path):
         print(path)

@@ -391,8 +391,8 @@ class Sweep:
         report = progress or (lambda done, failed: None)
         results: list[dict[str, Any]] = []
         failed = 0
-        report(0, 0)
         if address is None and workers == 0:
+            report(0, 0)
             for row in rows:
                 results.append(_run_one(self.scenario, row))
                 failed += "error" in results[-1]
@@ -415,6 +415,7 @@ class Sweep:
             if on_cluster is not None and address is not None:
                 on_cluster(client.dashboard_link)
             futures = client.map(_run_one, [self.scenario] * len(rows), rows, pure=False)
+            report(0, 0)
             for future in as_completed(futures):
                 if future.status == "error":  # the worker itself died
                     row = rows[futures.index(future)]
