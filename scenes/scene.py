@@ -29,8 +29,10 @@ from scenes.state import MujocoState, model_identity
 D = TypeVar("D")
 """A class of device (:meth:`Scene.device`)."""
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
-"""The folder of the MJCF machine models."""
+_HERE = Path(__file__).resolve().parent
+MODELS = _HERE / "models" if (_HERE / "models").is_dir() else _HERE.parent / "models"
+"""The folder of the MJCF machine models: ``models/`` of the checkout, or its copy installed
+inside the ``scenes`` package (``pip install .`` puts it there)."""
 
 
 def model_path(file: str) -> Path:
