@@ -379,11 +379,15 @@ def test_demo_runs_and_a_power_press_takes_the_machine_back(
     session.requests("X").set_power(False)  # the operator's MC_Power would fight the demo...
     session.start_demo()  # ...so starting the demo hands power back to it
     assert view(session).power_request is None
+    scene = session.scene
+    start = scene.joint_position("X") * scene.scales["X"]  # the physics [mm]
     run(session, clock, 0.05)
     assert session.snapshot.demo.running and session.snapshot.demo.step == "move X to 20 mm"
     run(session, clock, 1.0)
     demo = session.snapshot.demo
     assert demo.done and demo.step == "done" and not demo.running
+    moved = scene.joint_position("X") * scene.scales["X"] - start
+    assert moved == pytest.approx(20.0, abs=0.01), "the carriage moved by the demo's 20 mm"
     assert view(session).position == pytest.approx(20.0, abs=0.01)
 
     session.start_demo()
