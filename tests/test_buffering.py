@@ -11,6 +11,7 @@ import pytest
 
 import mcl
 from mcl import MC_BufferMode
+from tests.helpers import carriage_mm, carriage_mm_s
 
 ACC = 2000.0
 ONE_CYCLE = ACC * 0.001 * 1.01
@@ -72,6 +73,15 @@ def common(**more: Any) -> dict[str, Any]:
     return dict(Acceleration=ACC, Deceleration=ACC, **more)
 
 
+def assert_stands_at(machine: mcl.SimMachine, X: mcl.Axis, target: float) -> None:
+    """The axis reads ``target`` [mm] within 5 µm, and the simulated carriage (the physics)
+    really stands there, within that and the count it is read with."""
+    assert abs(X.actual - target) <= 0.005, f"actual {X.actual} mm, target {target} mm"
+    real = carriage_mm(machine)
+    assert abs(real - target) <= 0.006, f"the carriage at {real} mm, target {target} mm"
+    assert abs(carriage_mm_s(machine)) < 1.0, "the carriage still moves"
+
+
 # ---------------------------------------------------------------------------------- Aborting
 @pytest.mark.parametrize("mode", [MC_BufferMode.Aborting, None], ids=["Aborting", "default"])
 def test_aborting_starts_at_once_and_the_active_command_is_aborted(machine, X, mode):
@@ -103,7 +113,7 @@ def test_aborting_starts_at_once_and_the_active_command_is_aborted(machine, X, m
     assert max(s.pos for s in trace.samples) <= p_issue + 200.0**2 / (2 * ACC) + 1.0
     braking = [s.vel for s in trace.samples if t_issue <= s.t < t_issue + 0.02]
     assert all(b < a for a, b in itertools.pairwise(braking))
-    assert abs(X.actual - 20.0) <= 0.005
+    assert_stands_at(machine, X, 20.0)
 
 
 def test_aborting_also_aborts_the_buffered_commands(machine, X):
@@ -128,7 +138,7 @@ def test_aborting_also_aborts_the_buffered_commands(machine, X):
         assert not trace.ever(name, "Done"), name
     assert not trace.ever("queued", "Active")
     assert max(s.pos for s in trace.samples) < 200.0
-    assert abs(X.actual - 20.0) <= 0.005
+    assert_stands_at(machine, X, 20.0)
 
 
 # ---------------------------------------------------------------------------------- Buffered
@@ -170,7 +180,7 @@ def test_buffered_waits_for_done_then_starts_from_standstill(machine, X, kind, j
     # standstill at the junction: the model velocity around 50 mm comes down to zero
     near = [abs(s.vel) for s in trace.samples if abs(s.pos - 50.0) < 0.01]
     assert near and min(near) <= ONE_CYCLE
-    assert abs(X.actual - 120.0) <= 0.005
+    assert_stands_at(machine, X, 120.0)
 
 
 def test_buffered_after_move_velocity_takes_over_at_in_velocity(machine, X):
@@ -199,7 +209,7 @@ def test_buffered_after_move_velocity_takes_over_at_in_velocity(machine, X):
     assert not trace.ever("velocity", "Error")
     # the axis went on from 100 mm/s, not from standstill
     assert min(s.vel for s in trace.samples if t_reached <= s.t <= t_active + 0.01) > 90.0
-    assert abs(X.actual - 150.0) <= 0.005
+    assert_stands_at(machine, X, 150.0)
 
 
 def _start_stop(machine: mcl.SimMachine, X: mcl.Axis) -> tuple[mcl.MC_MoveVelocity, mcl.MC_Stop]:
@@ -312,5 +322,5 @@ def test_queued_commands_run_in_order(machine, X, queued):
         t_prev = trace.first(prev, "Done")
         waiting = [s for s in trace.scans if s.t < t_prev and s[name, "Busy"]]
         assert waiting and not any(s[name, "Active"] for s in waiting)
-    assert abs(X.actual - targets[-1]) <= 0.005
+    assert_stands_at(machine, X, targets[-1])
     assert X.state == mcl.AxisState.StandStill
