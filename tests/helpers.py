@@ -141,3 +141,22 @@ def run_coroutine(coroutine: Coroutine[Any, Any, T]) -> T:
     if error:
         raise error[0]
     return result[0]
+
+
+def true_position(axis: mcl.Axis) -> float:
+    """The coordinate [mm] of where the simulated carriage of ``axis`` really is: its travel
+    since power-up, from the physics, plus the offset its coordinate was given (homing)."""
+    sim = axis.io
+    assert isinstance(sim, mcl.SimAxis), f"axis {axis.name} is not a simulated axis"
+    return (sim.x - sim.params.start) * 1000.0 + axis.offset
+
+
+def assert_at(axis: mcl.Axis, target: float, tol: float = POS_TOL) -> None:
+    """The axis reads ``target`` [mm] within ``tol`` and its simulated carriage really is there
+    (within ``tol`` and the count it is read with)."""
+    assert abs(axis.POS - target) <= tol, f"{axis.name}: POS {axis.POS} mm, expected {target} mm"
+    real = true_position(axis)
+    count = axis.config.resolution
+    assert abs(real - target) <= tol + count, (
+        f"{axis.name}: the carriage at {real} mm, expected {target} mm"
+    )

@@ -15,7 +15,15 @@ import pytest
 
 import mcl
 from mcl.fb import MotionFB, input_names
-from tests.helpers import POS_TOL, configure, fresh_axis, power_on, tick
+from tests.helpers import (
+    POS_TOL,
+    assert_at,
+    configure,
+    fresh_axis,
+    power_on,
+    tick,
+    true_position,
+)
 
 
 def exclusive(fb: Any) -> None:
@@ -49,7 +57,7 @@ def test_rule1_instances_of_one_type_in_one_cycle_are_independent():
         if a.Done and a_done_scan < 0:
             a_done_scan = k
             assert b.Busy and not b.Done, "b must still be running when a is done"
-            assert pytest.approx(60.0, abs=POS_TOL) == X.POS
+            assert_at(X, 60.0)
         if b.Done and b_done_scan < 0:
             b_done_scan = k
             assert a.Done, "a keeps its Done while its Execute stays TRUE"
@@ -57,8 +65,8 @@ def test_rule1_instances_of_one_type_in_one_cycle_are_independent():
             break
         tick(machine)
     assert 0 < a_done_scan < b_done_scan
-    assert pytest.approx(60.0, abs=POS_TOL) == X.POS
-    assert pytest.approx(-150.0, abs=POS_TOL) == Y.POS
+    assert_at(X, 60.0)
+    assert_at(Y, -150.0)
     assert (a.Position, b.Position) == (60.0, -150.0)
 
 
@@ -78,7 +86,7 @@ def test_rule1_error_of_one_instance_does_not_affect_another_in_the_same_cycle(m
             break
         tick(machine)
     assert good.Done
-    assert pytest.approx(50.0, abs=POS_TOL) == X.POS
+    assert_at(X, 50.0)
 
 
 # ------------- rule 2: Busy, Done, Error, CommandAborted (and Active) are mutually exclusive
@@ -138,18 +146,18 @@ def test_rule3_position_changed_while_busy_is_ignored_until_new_edge(machine, X)
             break
         tick(machine)
     assert fb.Done
-    assert pytest.approx(100.0, abs=POS_TOL) == X.POS
+    assert_at(X, 100.0)
     assert peak <= 200.0 + 1e-6, "the velocity changed while busy was applied"
     # staying TRUE with other inputs after Done changes nothing either
     fb(Execute=True, Position=300.0)
     tick(machine, 100)
-    assert pytest.approx(100.0, abs=POS_TOL) == X.POS
+    assert_at(X, 100.0)
     assert X.state == mcl.AxisState.StandStill
     # a new edge samples the changed inputs
     fb(Execute=False)
     tick(machine)
     machine.run(lambda: fb(Execute=True), until=lambda: fb.Done, timeout=5.0)
-    assert pytest.approx(300.0, abs=POS_TOL) == X.POS
+    assert_at(X, 300.0)
 
 
 def test_rule3_exception_extstop_is_read_every_scan(machine, X):
@@ -196,7 +204,7 @@ def test_rule4_missing_input_keeps_previous_value(machine, X):
     # neither Axis nor Position nor Velocity given: the previous call's values are used
     machine.run(lambda: fb(Execute=True), until=lambda: fb.Done or fb.Error, timeout=5.0)
     assert not fb.Error
-    assert pytest.approx(50.0, abs=POS_TOL) == X.POS
+    assert_at(X, 50.0)
     assert (fb.Position, fb.Velocity) == (50.0, 200.0)
 
 
@@ -209,7 +217,7 @@ def test_rule4_first_call_uses_the_initial_value(machine, X):
     tick(machine, 5)
     rel(Execute=True)
     assert rel.Done and not rel.Error
-    assert pytest.approx(0.0, abs=POS_TOL) == X.POS
+    assert_at(X, 0.0)
 
 
 # ---------------- rule 5: the falling edge neither stops the command nor hides its result
@@ -220,7 +228,7 @@ def test_rule5_falling_edge_does_not_stop_or_change_the_running_command(machine,
     fb(Execute=False, Distance=5.0, Velocity=20.0)  # falling edge, other inputs: no effect
     assert fb.Busy
     machine.run(lambda: fb(Execute=False), until=lambda: fb.Done, timeout=5.0)
-    assert pytest.approx(80.0, abs=POS_TOL) == X.POS
+    assert_at(X, 80.0)
 
 
 def test_rule5_done_pulses_one_cycle_after_early_falling_edge(machine, X):
@@ -233,7 +241,7 @@ def test_rule5_done_pulses_one_cycle_after_early_falling_edge(machine, X):
         exclusive(fb)
         if fb.Done:
             done_scans.append(k)
-            assert pytest.approx(30.0, abs=POS_TOL) == X.POS
+            assert_at(X, 30.0)
         tick(machine)
     assert len(done_scans) == 1, f"Done shown on scans {done_scans}"
     assert not fb.Busy
@@ -430,7 +438,7 @@ def test_rule6_buffered_command_is_busy_but_not_active_while_waiting(machine, X)
     assert waiting, "a was active while b waited"
     assert all(b_busy and not b_active for _, b_busy, b_active in waiting)
     assert any(b_active and not a_active for a_active, _, b_active in trace)
-    assert pytest.approx(60.0, abs=POS_TOL) == X.POS
+    assert_at(X, 60.0)
 
 
 # ----------------------------------------- rule 7: a new edge on a busy instance restarts it
@@ -449,7 +457,7 @@ def test_rule7_new_edge_on_busy_instance_restarts_without_done_or_aborted(machin
         if fb.Done:
             break
     assert fb.Done
-    assert pytest.approx(100.0, abs=POS_TOL) == X.POS
+    assert_at(X, 100.0)
 
 
 def test_rule7_restart_before_previous_target_never_reports_previous_done(machine, X):
@@ -491,7 +499,7 @@ def test_rule7_restart_of_waiting_buffered_instance_withdraws_previous(machine, 
             break
     assert a.Done and b.Done
     tick(machine, 100)
-    assert pytest.approx(110.0, abs=POS_TOL) == X.POS
+    assert_at(X, 110.0)
 
 
 # --------------------------- rule 8: an interrupted block reports CommandAborted, never Done
@@ -560,7 +568,7 @@ def test_rule8_aborting_command_aborts_the_buffered_queue_too(machine, X):
     machine.run(scan_of(a, b, c), until=lambda: c.Done, timeout=5.0)
     assert not a.Done and not b.Done and not b.Active
     tick(machine, 100)
-    assert pytest.approx(-10.0, abs=POS_TOL) == X.POS
+    assert_at(X, -10.0)
 
 
 # ------------------------------------------- rule 9: a parameter error leaves the axis alone
@@ -663,6 +671,7 @@ def _move_trace(intruder: tuple[type[MotionFB], dict[str, Any]] | None) -> tuple
                 move.Active,
                 move.Done,
                 move.CommandAborted,
+                true_position(X),
             )
         )
         tick(machine)
@@ -678,7 +687,8 @@ def test_rule9_parameter_error_does_not_touch_the_running_move(fb_type, inputs, 
     trace, other = _move_trace((fb_type, inputs))
     assert other.Error and other.ErrorID == error_id
     assert not other.Busy and not other.Active
-    # the move ran exactly as without the faulty block: same state, position, velocity, model
+    # the move ran exactly as without the faulty block: same state, position, velocity, model,
+    # the carriage itself
     assert trace == reference
     assert trace[-1][0] == mcl.AxisState.StandStill
     assert trace[-1][1] == pytest.approx(200.0, abs=POS_TOL)
@@ -706,7 +716,7 @@ def test_rule9_parameter_error_leaves_the_buffered_queue_untouched(machine, X):
     assert bad.Error and bad.ErrorID == mcl.ErrorID.EParam
     machine.run(scan_of(a, b, bad), until=lambda: b.Done, timeout=5.0)
     assert a.Done and not a.CommandAborted
-    assert pytest.approx(130.0, abs=POS_TOL) == X.POS
+    assert_at(X, 130.0)
 
 
 def test_rule9_valid_velocity_above_vmax_is_clamped_not_refused():
@@ -723,7 +733,7 @@ def test_rule9_valid_velocity_above_vmax_is_clamped_not_refused():
         tick(machine)
     assert fb.Done
     assert peak == pytest.approx(480.0, rel=1e-6)
-    assert pytest.approx(600.0, abs=POS_TOL) == X.POS
+    assert_at(X, 600.0)
 
 
 # ------------------------------------------------- rule 10: Enable blocks are level-sensitive
