@@ -220,10 +220,11 @@ def test_a_held_alt_arrow_key_jogs_until_let_go(page: Page, viewer: Viewer) -> N
     page.keyboard.up("Alt")
     # Judged on the simulated time that passed (on a loaded machine the simulation runs slower
     # than the wall clock): the first press alone jogs for 0.55 of the 1.5 s, so less than
-    # 37 % of that time at the default jog velocity; the repeats keep it going most of it.
+    # 37 % of that time at the default jog velocity; the repeats keep it going most of it
+    # (a server thread starved of the CPU may miss a few repeats: the jog then pauses).
     jog_velocity = 0.1 * session.snapshot.axes["X"].vmax * 1e-3  # the default [m/s]
     assert simulated > 0.0
-    assert moved > 0.6 * jog_velocity * simulated, (
+    assert moved > 0.5 * jog_velocity * simulated, (
         f"X moved {moved * 1e3:.1f} mm in {simulated:.2f} s of simulated time while Alt+→ "
         f"was held: the repeats did not keep the jog alive"
     )
