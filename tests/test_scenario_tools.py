@@ -179,4 +179,5 @@ def test_sweep_plots_name_the_sweep_and_show_numbers_in_full():
     assert fig.get_suptitle() == "s:f (seed 3, 6 scenarios)"
     assert panel.yaxis.get_offset_text().get_text() == ""  # no "+1.1e2"
     assert all("110.00" in t.get_text() for t in panel.get_yticklabels() if t.get_text())
-    assert panel.get_legend().get_title().get_text() == "slip"
+    legend = panel.get_legend()
+    assert legend is not None and legend.get_title().get_text() == "slip"
