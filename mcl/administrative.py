@@ -164,7 +164,9 @@ class MC_ReadAxisError(EnableFB):
 class MC_Reset(ExecuteFB):
     """Clears the axis errors; ErrorStop → StandStill (Disabled if the error opened the loop).
 
-    Done once the state is reached (after the error stop ramp has finished).
+    Done once the state is reached: after the error stop ramp has finished, and where the error
+    opened the loop, once the amplifier's quick stop has ended and the drive is off (a Disabled
+    axis never has its power stage on).
     """
 
     def _begin(self) -> int:

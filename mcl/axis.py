@@ -586,10 +586,13 @@ class Axis:
         """MC_Reset: clear the axis error; ErrorStop → StandStill (Disabled if the loop opened).
 
         Returns:
-            True once done; False while the error stop ramp is still running.
+            True once done; False while the error stop ramp is still running, or the
+            amplifier's quick stop after an opened loop (the drive is still enabled then).
         """
         if self.state == AxisState.ErrorStop:
             if self.active is not None and not isinstance(self.active, Hold):
+                return False
+            if not self.loop_closed and self.drive_enabled:
                 return False
             self.AxErrorID = 0
             self.active = None

@@ -154,6 +154,34 @@ def test_power_status_stays_true_while_the_drive_quick_stops_after_a_following_e
     assert abs(sim.v) < 1e-3, "the drive braked the axis before its enable dropped"
 
 
+def test_a_reset_during_the_quick_stop_waits_until_the_drive_is_off():
+    """MC_Reset right after ERRPOS 2001 stays Busy while the drive still brakes the axis; it is
+    Done, and the axis Disabled, only once the drive's enable has dropped: a Disabled axis never
+    has its power stage on."""
+    m, x = fresh()
+    sim = m.sims["X"]
+    power, move, reset = mcl.MC_Power(), mcl.MC_MoveVelocity(), mcl.MC_Reset()
+    program = scan_of(
+        lambda: power(Axis=x, Enable=True), lambda: move(Axis=x, Execute=True, Velocity=200.0)
+    )
+    m.run(program, until=lambda: move.InVelocity, timeout=2.0)
+    m.faults.set("X", mcl.faults.EncoderFreeze())
+    m.run(program, until=lambda: x.AxErrorID == ErrorID.ERRPOS, timeout=1.0)
+    rows: list[tuple[bool, bool, bool]] = []  # reset Busy, reset Done, drive enable
+
+    def with_reset() -> None:
+        program()
+        reset(Axis=x, Execute=True)
+        rows.append((reset.Busy, reset.Done, sim.enabled))
+        assert x.state != AxisState.Disabled or not sim.enabled, "Disabled with the drive on"
+
+    m.run(with_reset, until=lambda: reset.Done, timeout=1.0)
+    busy = [enabled for was_busy, _, enabled in rows if was_busy]
+    assert busy and all(busy), "Busy exactly while the drive is still enabled"
+    assert rows[-1] == (False, True, False)
+    assert x.state == AxisState.Disabled and x.AxErrorID == 0
+
+
 def test_power_speed_mode_0_closes_the_loop():
     """Control for the test above: in closed loop the following error stays small at cruise."""
     m, x = fresh()
