@@ -3,7 +3,12 @@
 import pytest
 
 import mcl
-from scenes.testing import assert_pulsed_once, max_following_error, physical_position, run_until
+from scenes.tools.testing import (
+    assert_pulsed_once,
+    max_following_error,
+    physical_position,
+    run_until,
+)
 
 
 def test_x_moves_to_500_mm_within_its_following_error_budget(scene, scans):

@@ -2,8 +2,10 @@
 
 The modules are compiled beside their sources, wherever the packages are: in a checkout (``make
 setup`` does it) or in an installed copy (``pip install .`` then ``python -m mcl.build``; it needs
-mypy and a C compiler). ``--status`` prints which mode a new process runs in; ``--clean`` removes
-the build; ``--verbose`` shows mypyc's and the C compiler's own output.
+mypy and a C compiler). Name the packages beside mcl whose declared modules compile too
+(``python -m mcl.build mcl scenes``; by default those of the last build). ``--status`` prints
+which mode a new process runs in; ``--clean`` removes the build; ``--verbose`` shows mypyc's and
+the C compiler's own output.
 """
 
 from __future__ import annotations
@@ -17,13 +19,14 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from mcl.native import (
     GROUP,
     MANIFEST,
     ROOT,
+    _recorded_packages,
     compiled_files,
     compiled_sources,
     digest,
@@ -96,8 +99,9 @@ class _Progress:
             os.write(self.out, b"\n")
 
 
-def build(verbose: bool = False) -> str:
-    """Compile :func:`compiled_sources` beside them and record their hashes.
+def build(packages: Sequence[str], verbose: bool = False) -> str:
+    """Compile mcl and the modules ``packages`` declare (:func:`compiled_sources`) beside their
+    sources and record their hashes.
 
     The record is removed first and written last, and every compiled file replaces the old one
     in one rename, so a process started meanwhile runs pure Python and one already running keeps
@@ -113,7 +117,8 @@ def build(verbose: bool = False) -> str:
     from mypyc.build import mypycify
     from setuptools import setup
 
-    sources = compiled_sources()
+    others = [p for p in packages if p != "mcl"]
+    sources = compiled_sources(others)
     digests = {p.relative_to(ROOT).as_posix(): digest(p) for p in sources}
     MANIFEST.unlink(missing_ok=True)
     out = os.dup(1)
@@ -142,7 +147,7 @@ def build(verbose: bool = False) -> str:
             except (Exception, SystemExit) as error:
                 tail = log.read_text(errors="replace").splitlines()[-25:] if log.exists() else []
                 raise SystemExit("\n".join([f"compiled build failed: {error}", *tail])) from None
-            for target in compiled_files():
+            for target in compiled_files(others):
                 built = Path(temp) / "lib" / target.relative_to(ROOT)
                 shutil.copyfile(built, f"{target}.new")
                 os.replace(f"{target}.new", target)
@@ -161,7 +166,12 @@ def build(verbose: bool = False) -> str:
         os.chdir(cwd)
     MANIFEST.write_text(
         json.dumps(
-            {"python": sys.implementation.cache_tag, "tool": _fingerprint(), "sources": digests},
+            {
+                "python": sys.implementation.cache_tag,
+                "tool": _fingerprint(),
+                "packages": others,
+                "sources": digests,
+            },
             indent=1,
         )
     )
@@ -194,17 +204,25 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--verbose", action="store_true", help="show what mypyc and the C compiler print"
     )
+    parser.add_argument(
+        "packages",
+        nargs="*",
+        help="the packages beside mcl whose declared modules compile too (default: those of the "
+        "last build), e.g. `mcl scenes`",
+    )
     args = parser.parse_args(argv)
+    packages = [p for p in args.packages if p != "mcl"] if args.packages else _recorded_packages()
+    same = sorted(packages) == sorted(_recorded_packages())
     if args.clean:
         clean()
-    elif args.if_stale and stale_sources() == []:
+    elif args.if_stale and same and stale_sources() == []:
         pass
     elif args.if_stale and not (shutil.which("cc") or shutil.which("gcc")):
         print("no C compiler found: no compiled build")
     elif not args.status:
         print(f"building the compiled modules (mypyc) in {ROOT} …", flush=True)
         try:
-            print(build(args.verbose))
+            print(build(packages, args.verbose))
         except SystemExit as failure:
             if not args.if_stale:
                 raise

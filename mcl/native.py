@@ -15,11 +15,13 @@ then runs in pure Python and says so once.
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import json
 import os
 import sys
 import warnings
+from collections.abc import Sequence
 from importlib.machinery import (
     BYTECODE_SUFFIXES,
     EXTENSION_SUFFIXES,
@@ -50,13 +52,50 @@ NOT_COMPILED = (
 derived from a builtin cannot be a native class) and the I/O protocol (runtime-checkable)."""
 
 
-def compiled_sources() -> list[Path]:
+DECLARATION = "COMPILED_MODULES"
+"""The name of the tuple in a package's ``__init__.py`` that lists which of its modules compile."""
+
+
+def declared(package: Path) -> list[Path]:
+    """The sources a package and its subpackages declare for the compiled build: the modules named
+    by a literal ``COMPILED_MODULES = ("plant", ...)`` in each ``__init__.py`` (read, not
+    imported)."""
+    sources = []
+    for init in sorted(package.rglob("__init__.py")):
+        for node in ast.parse(init.read_text(encoding="utf-8")).body:
+            if isinstance(node, ast.Assign) and any(
+                isinstance(target, ast.Name) and target.id == DECLARATION for target in node.targets
+            ):
+                names = ast.literal_eval(node.value)
+                sources += [init.with_name(f"{name}.py") for name in names]
+    return sources
+
+
+def compiled_sources(packages: Sequence[str] | None = None) -> list[Path]:
     """The source files that the compiled build covers: every module of mcl but
-    :data:`NOT_COMPILED`, the per-physics-step modules of scenes (plant, drives, the devices of
-    the flying shear and the hydraulics) and its PLC procedures (run every scan)."""
+    :data:`NOT_COMPILED`, and those the other ``packages`` declare (:func:`declared`); by
+    default the packages of the last build.
+
+    Raises:
+        ValueError: a package is not beside ``mcl`` (the message lists what is).
+    """
+    names = _recorded_packages() if packages is None else [p for p in packages if p != "mcl"]
     mcl = sorted(p for p in (ROOT / "mcl").glob("*.py") if p.name not in NOT_COMPILED)
-    scenes = ("plant.py", "drives.py", "procedures.py", "shear_devices.py", "hydraulics.py")
-    return [*mcl, *(ROOT / "scenes" / name for name in scenes)]
+    others = []
+    for name in names:
+        if not (ROOT / name / "__init__.py").is_file():
+            raise ValueError(f"no package {name!r} beside mcl in {ROOT}")
+        others += declared(ROOT / name)
+    return [*mcl, *others]
+
+
+def _recorded_packages() -> list[str]:
+    """The packages besides mcl that the last build compiled (none without a build)."""
+    try:
+        packages: list[str] = json.loads(MANIFEST.read_text()).get("packages", [])
+    except (OSError, ValueError):
+        return []
+    return packages
 
 
 def extension_of(source: Path) -> Path:
@@ -64,11 +103,12 @@ def extension_of(source: Path) -> Path:
     return source.with_name(source.stem + EXTENSION_SUFFIXES[0])
 
 
-def compiled_files() -> list[Path]:
-    """The compiled files a build puts beside the sources: a module each, their shared library."""
+def compiled_files(packages: Sequence[str] | None = None) -> list[Path]:
+    """The compiled files a build (of ``packages``, by default those of the last build) puts
+    beside the sources: a module each, their shared library."""
     package, name = GROUP.split(".")
     library = ROOT / package / f"{name}__mypyc{EXTENSION_SUFFIXES[0]}"
-    return [*(extension_of(p) for p in compiled_sources()), library]
+    return [*(extension_of(p) for p in compiled_sources(packages)), library]
 
 
 def digest(path: Path) -> str:
@@ -134,7 +174,11 @@ def activate(package: str, path: list[str]) -> bool:
             RuntimeWarning,
             stacklevel=3,
         )
-    for folder in path:
+    base = Path(path[0]).resolve()
+    inside = {
+        p.parent.relative_to(base).parts for p in compiled_sources() if p.is_relative_to(base)
+    }
+    for folder in [*path, *(os.path.join(path[0], *parts) for parts in sorted(inside) if parts)]:
         sys.path_importer_cache[folder] = FileFinder(
             folder,
             (SourceFileLoader, SOURCE_SUFFIXES),

@@ -11,18 +11,21 @@ from typing import Any
 
 from mcl import native
 
+COMPILED_MODULES = ("procedures",)
+"""This package's modules that the compiled build covers (run every PLC scan); its subpackages
+declare their own (see :mod:`mcl.native`)."""
 COMPILED = native.activate("scenes", __path__)
-"""The per-physics-step modules (plant, drives) run compiled (see :mod:`mcl.native`)."""
+"""The per-physics-step modules (plant, drives, devices) run compiled (see :mod:`mcl.native`)."""
 
-from scenes import flying_shear, gantry, press, single_axis
-from scenes.machine import AxisDef, DemoProgram, MachineDef, Signal, StepSequence
+from scenes.definition import AxisDef, MachineDef, Signal
 from scenes.procedures import Recipe
+from scenes.program import DemoProgram, StepSequence
+from scenes.registry import BUILTIN, Entry, Registry
 from scenes.scene import Scene
 
-MACHINES: dict[str, MachineDef] = {
-    m.name: m for m in (flying_shear.MACHINE, gantry.MACHINE, press.MACHINE, single_axis.MACHINE)
-}
-"""The registry: every machine by name."""
+MACHINES = Registry(BUILTIN)
+"""The registry: every machine by name (see :mod:`scenes.registry`)."""
+MACHINES.add_entry_points()
 
 __all__ = [
     "MACHINES",
@@ -36,7 +39,14 @@ __all__ = [
     "demo",
     "homing",
     "load",
+    "register",
 ]
+
+
+def register(name: str, entry: Entry) -> None:
+    """Register the machine ``name``: a :class:`MachineDef`, or the ``"module:attribute"`` path
+    of one (imported when the machine is first used). A machine of the same name is replaced."""
+    MACHINES.register(name, entry)
 
 
 def definition(name: str) -> MachineDef:

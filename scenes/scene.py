@@ -21,18 +21,17 @@ import mcl
 from mcl.trace import Trace
 from scenes import model_errors
 from scenes import start as start_check
-from scenes.drives import Device, WiringError
-from scenes.machine import AxisDef, MachineDef, Signal, unit_and_scale
-from scenes.plant import AxisWiring, Joint, MujocoAxisIO, MujocoPlant
-from scenes.state import MujocoState, model_identity
+from scenes.definition import AxisDef, MachineDef, Signal, unit_and_scale
+from scenes.plant.drives import Device, WiringError
+from scenes.plant.mujoco import AxisWiring, Joint, MujocoAxisIO, MujocoPlant
+from scenes.plant.state import MujocoState, model_identity
 
 D = TypeVar("D")
 """A class of device (:meth:`Scene.device`)."""
 
-_HERE = Path(__file__).resolve().parent
-MODELS = _HERE / "models" if (_HERE / "models").is_dir() else _HERE.parent / "models"
-"""The folder of the MJCF machine models: ``models/`` of the checkout, or its copy installed
-inside the ``scenes`` package (``pip install .`` puts it there)."""
+MODELS = (Path(__file__).resolve().parent / "models").resolve()
+"""The folder of the MJCF machine models: ``models/`` (``scenes/models`` links to it; an installed
+copy holds the files there)."""
 
 
 def model_path(file: str) -> Path:

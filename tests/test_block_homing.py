@@ -20,7 +20,7 @@ import pytest
 import mcl
 from mcl import AxisState, MC_BufferMode, MC_Direction
 from mcl.fb import MotionFB
-from scenes import gantry
+from scenes.machines import gantry
 from scenes.scene import Scene
 
 PARK = {"X": 0.3, "Y": 0.3, "Z": -0.1}

@@ -8,7 +8,7 @@ from collections.abc import Callable
 import mcl
 from mcl import AxisState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.trace import Trace
-from scenes import gantry
+from scenes.machines import gantry
 from tests.helpers import configure
 
 

@@ -20,7 +20,7 @@ import pytest
 import mcl
 from mcl import AxisState, ErrorID
 from mcl import faults as flt
-from scenes import gantry
+from scenes.machines import gantry
 from scenes.procedures import HomeAxis
 from scenes.scene import Scene
 from tests.helpers import make_machine

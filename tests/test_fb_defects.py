@@ -19,7 +19,7 @@ import pytest
 
 import mcl
 from mcl import AxisState, ErrorID, MC_Direction
-from scenes import gantry
+from scenes.machines import gantry
 from scenes.scene import Scene
 from tests.helpers import PLC, POS_TOL, configure, fresh_axis, power_on, scan, tick
 

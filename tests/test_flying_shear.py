@@ -12,8 +12,8 @@ import pytest
 
 import mcl
 import scenes
-from scenes import flying_shear as fs
-from scenes.plant import MujocoPlant
+from scenes.machines import flying_shear as fs
+from scenes.plant.mujoco import MujocoPlant
 from scenes.scene import Scene
 
 P = fs.PREFIX

@@ -18,7 +18,7 @@ import pytest
 
 import mcl
 from mcl import AxisState, MC_BufferMode, MC_Direction, MC_SwitchMode
-from scenes import gantry
+from scenes.machines import gantry
 from scenes.scene import Scene
 from tests.helpers import scan
 

@@ -15,9 +15,10 @@ import numpy as np
 import pytest
 
 import mcl
-from scenes import commissioning, gantry
-from scenes.contour import Contour, run_path
+from scenes.machines import gantry
 from scenes.scene import model_path
+from scenes.tools import commissioning
+from scenes.tools.contour import Contour, run_path
 
 AXES = ("X", "Y", "Z")
 MOVE_VELOCITY = 400.0

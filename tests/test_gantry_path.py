@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import mcl
-from scenes import gantry
-from scenes.contour import distance_to_polyline
+from scenes.machines import gantry
+from scenes.tools.contour import distance_to_polyline
 
 MOVING = ("move over the part", "carry to the place position", "return to park")
 

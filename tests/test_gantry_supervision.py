@@ -14,7 +14,7 @@ import pytest
 
 import mcl
 from mcl import AxisState, MC_Direction
-from scenes import gantry
+from scenes.machines import gantry
 from scenes.scene import Scene
 from tests.helpers import scan
 

@@ -11,7 +11,8 @@ import pytest
 
 import mcl
 import scenes
-from scenes.hydraulics import (
+from scenes.machines.press import AXES, MASS, PREFIX, cylinder_data
+from scenes.machines.press.hydraulics import (
     BAR,
     Cylinder,
     CylinderDevice,
@@ -23,8 +24,7 @@ from scenes.hydraulics import (
     natural_frequency,
     steady_state,
 )
-from scenes.plant import MujocoPlant
-from scenes.press import AXES, MASS, PREFIX, cylinder_data
+from scenes.plant.mujoco import MujocoPlant
 
 WEIGHT = MASS * 9.81
 """The ram's weight [N]: it pulls the piston out (the ram extends downward)."""

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import pytest
 
 import mcl
-from scenes import gantry
+from scenes.machines import gantry
 
 
 @dataclass(frozen=True)

@@ -11,12 +11,13 @@ import pytest
 
 import mcl
 import scenes
-from scenes.__main__ import main
-from scenes.drives import SpringDamper
-from scenes.machine import AxisDef, MachineDef
-from scenes.plant import MujocoPlant, WiringError
+import scenes.machines.gantry
+from scenes.definition import AxisDef, MachineDef
+from scenes.plant.drives import SpringDamper
+from scenes.plant.mujoco import MujocoPlant, WiringError
 from scenes.procedures import HomeAxis, HomingRecipe
 from scenes.scene import Scene
+from scenes.tools.cli import main
 
 ROTARY = str(Path(__file__).parent / "models" / "rotary_table.xml")
 
@@ -259,6 +260,6 @@ def test_a_bad_numeric_names_the_axis_the_value_and_the_valid_range(
     end = source.index('"/>', start)
     broken = tmp_path / "gantry.xml"
     broken.write_text(f'{source[:start]}<numeric name="{numeric}" data="{value}{source[end:]}')
-    machine = MachineDef("gantry", "broken", scenes.gantry.AXES, model=str(broken))
+    machine = MachineDef("gantry", "broken", scenes.machines.gantry.AXES, model=str(broken))
     with pytest.raises(WiringError, match=message):
         Scene([machine], trace_every=0)

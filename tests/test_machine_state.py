@@ -16,11 +16,11 @@ import mcl
 import scenes
 from mcl import AxisState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from mcl.trace import Trace
-from scenes import gantry
-from scenes.hydraulics import BAR
+from scenes.machines import gantry
+from scenes.machines.flying_shear.devices import CutRecorder
+from scenes.machines.press.hydraulics import BAR
 from scenes.procedures import HomeAxis
 from scenes.scene import Scene
-from scenes.shear_devices import CutRecorder
 from tests.helpers import configure
 
 START = {"X": 0.15, "Y": 0.3, "Z": -0.1}
@@ -257,7 +257,7 @@ def test_every_machine_repeats_its_demo_from_a_state_saved_at_power_up(name: str
 
 
 def test_the_shear_keeps_its_measured_cuts_in_a_fresh_scene():
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     scene = scenes.load("flying_shear")
     scene.device("wheel", fs.MeasuringWheel).ideal()  # a perfect wheel: the first piece is 1500

@@ -71,9 +71,9 @@ def test_a_script_in_another_folder_runs_the_readme_example(tmp_path: Path, mode
 
 SWEEP = """
 import json
-from scenes.sweep import Sweep
-table = Sweep("scenes.examples:homing_repeatability", grid={"hysteresis_um": [0.0, 50.0]},
-              samples=1, seed=3).run(workers=2)
+from scenes.tools.sweep import Sweep
+table = Sweep("scenes.machines.gantry.scenarios:homing_repeatability",
+              grid={"hysteresis_um": [0.0, 50.0]}, samples=1, seed=3).run(workers=2)
 print(json.dumps({"error_um": list(table["origin_error_um"]), "rows": len(table)}))
 """
 
@@ -93,9 +93,11 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Path:
     tracked = subprocess.run(
         ["git", "ls-files"], cwd=ROOT, capture_output=True, text=True, check=True
     ).stdout.split()
-    for name in tracked:  # a clean copy of the sources, as a user's clone or sdist has them
-        if (ROOT / name).is_file():
-            (source / name).parent.mkdir(parents=True, exist_ok=True)
+    for name in tracked:  # a clean copy of the sources, as a user's clone has them
+        (source / name).parent.mkdir(parents=True, exist_ok=True)
+        if (ROOT / name).is_symlink():
+            (source / name).symlink_to(os.readlink(ROOT / name))
+        elif (ROOT / name).is_file():
             shutil.copy2(ROOT / name, source / name)
     uv = [shutil.which("uv") or "python3", *([] if shutil.which("uv") else ["-m", "uv"])]
     subprocess.run(

@@ -12,9 +12,7 @@ import pytest
 
 import mcl
 import scenes
-from scenes.__main__ import main
-from scenes.hydraulics import BAR, CylinderDevice
-from scenes.press import (
+from scenes.machines.press import (
     BAR_PER_VOLT,
     FORCE_GAIN,
     FORCE_INPUTS,
@@ -26,6 +24,8 @@ from scenes.press import (
     WEIGHT,
     Demo,
 )
+from scenes.machines.press.hydraulics import BAR, CylinderDevice
+from scenes.tools.cli import main
 
 FULL_SCALE = 200.0 * BAR * np.pi / 4.0 * 0.080**2 / 1000.0
 """The press' rated force: supply pressure on the piston [kN] (100.5 kN)."""

@@ -6,9 +6,9 @@ import pytest
 
 import mcl
 import scenes
-from scenes.__main__ import main
 from scenes.errors import UserError
-from scenes.sweep import Sweep, from_toml
+from scenes.tools.cli import main
+from scenes.tools.sweep import Sweep, from_toml
 
 pytest_plugins = ["pytester"]
 
@@ -17,7 +17,7 @@ def test_a_failing_scenario_test_writes_the_plot_of_its_trace(pytester: pytest.P
     pytester.makepyfile(
         """
         import mcl
-        from scenes.testing import run_until
+        from scenes.tools.testing import run_until
 
         def test_move(scene):
             machine = scene("single_axis")
@@ -44,7 +44,7 @@ def test_a_failing_scenario_test_writes_the_plot_of_its_trace(pytester: pytest.P
 
 
 def test_run_until_says_why_a_condition_was_not_met():
-    from scenes.testing import run_until
+    from scenes.tools.testing import run_until
 
     machine = scenes.load("single_axis")
     with pytest.raises(AssertionError, match=r"within 0.1 s .*X: Disabled"):
@@ -52,7 +52,7 @@ def test_run_until_says_why_a_condition_was_not_met():
 
 
 def test_a_pulse_of_two_scans_is_not_one(scans):
-    from scenes.testing import assert_pulsed_once
+    from scenes.tools.testing import assert_pulsed_once
 
     assert assert_pulsed_once([False, True, False]) == 1
     with pytest.raises(AssertionError, match="2 scans"):
@@ -74,7 +74,7 @@ def test_plot_command_draws_a_trace_file(tmp_path, capsys):
 
 def test_a_sweep_on_two_dask_workers_equals_the_serial_run_row_for_row():
     sweep = Sweep(
-        "scenes.examples:payload_following_error",
+        "scenes.tools.examples:payload_following_error",
         grid={"friction_n": [5.0, 15.0, 30.0, 60.0]},
         random={"payload_kg": (0.0, 40.0)},
         samples=50,
@@ -97,14 +97,14 @@ def test_a_sweep_on_two_dask_workers_equals_the_serial_run_row_for_row():
 
 def test_sweep_files_are_checked_and_written(tmp_path):
     bad = tmp_path / "bad.toml"
-    bad.write_text('scenario = "scenes.examples:payload_following_error"\nsampels = 3\n')
+    bad.write_text('scenario = "scenes.tools.examples:payload_following_error"\nsampels = 3\n')
     with pytest.raises(UserError, match=r"bad.toml:2: sampels: unknown key; .*'samples'\?"):
         from_toml(bad)
     with pytest.raises(ValueError, match="module:function"):
         Sweep("payload_following_error")
     good = tmp_path / "good.toml"
     good.write_text(
-        'scenario = "scenes.examples:payload_following_error"\nseed = 3\nout = "r.parquet"\n'
+        'scenario = "scenes.tools.examples:payload_following_error"\nseed = 3\nout = "r.parquet"\n'
         "workers = 0\n[grid]\npayload_kg = [0.0, 20.0]\n"
     )
     assert main(["sweep", str(good)]) == 0
@@ -116,7 +116,7 @@ def test_sweep_files_are_checked_and_written(tmp_path):
 
 
 def test_home_homes_x_on_its_index_and_the_window_leaves_the_homing_out(scene):
-    from scenes.testing import home, max_following_error, run_until, window
+    from scenes.tools.testing import home, max_following_error, run_until, window
 
     gantry = scene("gantry", start={"X": 0.3})
     took = home(gantry, "X")
@@ -163,7 +163,7 @@ def test_home_homes_x_on_its_index_and_the_window_leaves_the_homing_out(scene):
 def test_sweep_plots_name_the_sweep_and_show_numbers_in_full():
     import pandas as pd
 
-    from scenes.plot import sweep_figure
+    from scenes.tools.plot import sweep_figure
 
     table = pd.DataFrame(
         {

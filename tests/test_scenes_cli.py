@@ -6,11 +6,11 @@ import pytest
 
 import mcl
 import scenes
-from scenes import gantry
-from scenes.__main__ import main
-from scenes.machine import AxisDef, MachineDef
-from scenes.plant import WiringError
+from scenes.definition import AxisDef, MachineDef
+from scenes.machines import gantry
+from scenes.plant.mujoco import WiringError
 from scenes.scene import Scene
+from scenes.tools.cli import main
 
 
 def test_run_single_axis_demo_prints_the_report(capsys):

@@ -16,7 +16,7 @@ import pytest
 
 import mcl
 import scenes
-from scenes import gantry
+from scenes.machines import gantry
 from scenes.procedures import HomeAxis
 
 REF_EDGE = 0.100

@@ -16,7 +16,7 @@ import pytest
 import mcl
 import scenes
 
-PAYLOAD = 'scenario = "scenes.examples:payload_following_error"\n'
+PAYLOAD = 'scenario = "scenes.tools.examples:payload_following_error"\n'
 
 
 def cli(folder: Path, *args: str) -> subprocess.CompletedProcess[str]:
@@ -45,8 +45,9 @@ SWEEP_MISTAKES = {
         PAYLOAD + "[grid]\npayload = [1, 2]\n",
         (),
         [
-            "s.toml:3: grid.payload: not a parameter of scenes.examples:payload_following_error; "
-            "expected one of ['friction_n', 'payload_kg'] (did you mean 'payload_kg'?)"
+            "s.toml:3: grid.payload: not a parameter of "
+            "scenes.tools.examples:payload_following_error; expected one of "
+            "['friction_n', 'payload_kg'] (did you mean 'payload_kg'?)"
         ],
     ),
     "a TOML syntax error": (
@@ -71,11 +72,11 @@ SWEEP_MISTAKES = {
         ],
     ),
     "a scenario that does not exist": (
-        'scenario = "scenes.examples:homing"\n',
+        'scenario = "scenes.machines.gantry.scenarios:homing"\n',
         (),
         [
-            "s.toml:1: scenario: module scenes.examples has no function 'homing'; expected one of "
-            "['cut_length', 'homing_repeatability', 'payload_following_error']"
+            "s.toml:1: scenario: module scenes.machines.gantry.scenarios has no function "
+            "'homing'; expected one of ['homing_repeatability']"
         ],
     ),
     "random bounds the wrong way round": (
@@ -84,7 +85,8 @@ SWEEP_MISTAKES = {
         ["s.toml:4: random.payload_kg: low 40 is above high 0; expected [0, 40]"],
     ),
     "a value of the wrong type": (
-        'scenario = "scenes.examples:cut_length"\n[grid]\nspeed_m_min = [30, "fast"]\n',
+        'scenario = "scenes.machines.flying_shear.scenarios:cut_length"\n'
+        '[grid]\nspeed_m_min = [30, "fast"]\n',
         (),
         ["s.toml:3: grid.speed_m_min: 'fast' is not a number; expected values of type float"],
     ),
@@ -93,8 +95,9 @@ SWEEP_MISTAKES = {
         (),
         [
             "s.toml:2: samples: 0; expected an integer >= 1",
-            "s.toml:4: grid.friction: not a parameter of scenes.examples:payload_following_error; "
-            "expected one of ['friction_n', 'payload_kg'] (did you mean 'friction_n'?)",
+            "s.toml:4: grid.friction: not a parameter of "
+            "scenes.tools.examples:payload_following_error; expected one of "
+            "['friction_n', 'payload_kg'] (did you mean 'friction_n'?)",
         ],
     ),
     "a bad value on the command line": (
@@ -162,7 +165,7 @@ RUN_WITH_MODEL = """
 import sys
 from dataclasses import replace
 import scenes
-from scenes.__main__ import main
+from scenes.tools.cli import main
 scenes.MACHINES["gantry"] = replace(scenes.MACHINES["gantry"], model=sys.argv[1])
 sys.exit(main(["run", "gantry"]))
 """
@@ -259,10 +262,10 @@ def test_the_sweep_api_takes_numpy_values_and_names_each_mistake():
     import numpy as np
 
     from scenes.errors import UserError
-    from scenes.sweep import Sweep
+    from scenes.tools.sweep import Sweep
 
     sweep = Sweep(
-        "scenes.examples:payload_following_error",
+        "scenes.tools.examples:payload_following_error",
         grid={"friction_n": np.array([5, 15])},
         random={"payload_kg": (np.float64(0.0), 40)},
         samples=2,
@@ -271,10 +274,12 @@ def test_the_sweep_api_takes_numpy_values_and_names_each_mistake():
     with pytest.raises(UserError) as error:
         number_not_list: Any = 5
         Sweep(
-            "scenes.examples:payload_following_error", grid={"friction": number_not_list}, samples=0
+            "scenes.tools.examples:payload_following_error",
+            grid={"friction": number_not_list},
+            samples=0,
         )
     assert error.value.lines == [
-        "Sweep: grid.friction: not a parameter of scenes.examples:payload_following_error; "
+        "Sweep: grid.friction: not a parameter of scenes.tools.examples:payload_following_error; "
         "expected one of ['friction_n', 'payload_kg'] (did you mean 'friction_n'?)",
         "Sweep: grid.friction: 5 is a single value, not a list; expected a list of values, "
         "e.g. friction = [5]",

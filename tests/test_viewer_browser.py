@@ -25,8 +25,8 @@ import viser
 
 import scenes
 from tests.test_viewer_session import SHEAR
-from viewer.app import Viewer, port_available
 from viewer.operator import Move
+from viewer.server import Viewer, port_available
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page

@@ -22,13 +22,15 @@ import pytest
 import viser
 import websockets.asyncio.client
 
-from scenes import press
-from scenes.hydraulics import ContactForce
+from scenes.machines import press
+from scenes.machines.press.hydraulics import ContactForce
 from tests.test_viewer_scene import limit_and_friction_forces
 from tests.test_viewer_session import FakeClock, run, view
-from viewer.app import FOLLOW_STEP, KEY_JOG_FIRST, KEY_JOG_REPEAT, ViewerApp
+from viewer.app import ViewerApp
+from viewer.control import KEY_JOG_FIRST, KEY_JOG_REPEAT
 from viewer.operator import Move
 from viewer.session import Session
+from viewer.views import FOLLOW_STEP
 
 OBSTACLE_AHEAD = 0.01
 """Distance [m] from X's start to the point where the obstacle stops the bridge."""

@@ -10,7 +10,7 @@ import pytest
 import viser
 import viser.infra
 
-from scenes import gantry
+from scenes.machines import gantry
 from scenes.scene import model_path
 from viewer.model_scene import ModelScene, capsule_mesh
 from viewer.overlays import (

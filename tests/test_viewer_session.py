@@ -36,22 +36,12 @@ import viewer.__main__ as cli
 import viewer.app as app_module
 from scenes.scene import Scene
 from tests.helpers import run_coroutine
-from viewer.app import (
-    DEFAULT_HOST,
-    LAMP_LIMIT,
-    LAMP_REF,
-    REFUSED_MESSAGES,
-    PortInUseError,
-    Viewer,
-    ViewerApp,
-    axis_panel_html,
-    port_available,
-    results_html,
-    scope_csv,
-    signals_html,
-)
+from viewer.app import LAMP_LIMIT, LAMP_REF, ViewerApp
 from viewer.operator import DEADMAN, Move
-from viewer.security import LOG_BURST, AccessPolicy, BoundedLog
+from viewer.panels import axis_panel_html, results_html, signals_html
+from viewer.scope import scope_csv
+from viewer.security import LOG_BURST, REFUSED_MESSAGES, AccessPolicy, BoundedLog
+from viewer.server import DEFAULT_HOST, PortInUseError, Viewer, port_available
 from viewer.session import RESULTS_SHOWN, SCOPE_SECONDS, AxisView, Session, choices
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -349,7 +339,7 @@ def test_home_reaches_the_reference_on_the_gantry(session: Session, clock: FakeC
 def test_home_drives_the_press_ram_to_its_top_stop_and_sets_the_reference(
     clock: FakeClock,
 ) -> None:
-    from scenes.press import BLOCK_HOMING
+    from scenes.machines.press import BLOCK_HOMING
 
     session = Session("press", clock=clock)
     requests = session.requests("R")

@@ -46,7 +46,7 @@ COUNT = 0.025
 def _scene(ideal: bool = False, slip: float | None = None, random_slip: float = 0.0) -> Any:
     """The flying shear; ``ideal``: a perfect wheel, then ``slip`` and ``random_slip`` only."""
     import scenes
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     scene = scenes.load("flying_shear", start=fs.MACHINE.demo_start, trace_every=0)
     wheel = scene.device("wheel", fs.MeasuringWheel)
@@ -98,7 +98,7 @@ def run_job(
     timeout: float = 120.0,
 ) -> Any:
     """The demo with ``job`` run to its end or its error (wheel as in :func:`_scene`)."""
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     scene = _scene(ideal, slip, random_slip)
     demo = fs.Demo(scene, job)
@@ -109,7 +109,7 @@ def run_job(
 def real_time_factor() -> dict[str, Any]:
     """The 60 m/min scenario (21 cuts) against the bare physics of the same model (MuJoCo and
     the machine's devices; and MuJoCo alone), chunk by chunk; with its cut figures."""
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
     from tests.benchmarks.machines import against_bare_physics
 
     scene = _scene()
@@ -122,7 +122,7 @@ def real_time_factor() -> dict[str, Any]:
 
 def high_speed() -> dict[str, Any]:
     """120 m/min: 1500 mm pieces, then longer ones until they fit."""
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     tried = {}
     for length in (1500.0, 2000.0, 2300.0, 2350.0, 2450.0):
@@ -133,7 +133,7 @@ def high_speed() -> dict[str, Any]:
 
 def slip() -> dict[str, Any]:
     """Length mode with a slipping wheel: the pieces grow by the slip."""
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     out = {}
     for constant, rms in ((-0.002, 0.0), (-0.005, 0.0), (0.0, 0.001)):
@@ -145,7 +145,7 @@ def slip() -> dict[str, Any]:
 
 def marks() -> dict[str, Any]:
     """Cut to mark: slip and register, and the probe delay."""
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     out: dict[str, Any] = {}
     for constant, register in ((0.0, True), (-0.005, False), (-0.005, True)):
@@ -178,7 +178,7 @@ def marks() -> dict[str, Any]:
 def wheel_errors() -> dict[str, Any]:
     """60 m/min, 21 cuts: the model's wheel without and with the cut-length correction (from
     scale 1, and from the scale it learned), and the ideal wheel."""
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     out: dict[str, Any] = {}
     learned = run_job(fs.CutJob())
@@ -206,7 +206,7 @@ def line_ramp() -> dict[str, Any]:
     """The line slowed by 5 % at 0.5, 1.5 and 2 m/s² as soon as InSync rises for the second
     cut: the speed mismatch [%] and the drag [N] while the blade is on the strip."""
     import mcl
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     out = {}
     for ideal in (True, False):
@@ -240,7 +240,7 @@ def speed_change() -> dict[str, Any]:
     """The line speed changed (2000 mm/s²) as soon as StartSync rises for the second cut, or
     as soon as InSync rises (the knife then comes down while the line accelerates)."""
     import mcl
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     out = {}
     cases = [(f, "StartSync") for f in (0.9, 1.03, 1.06, 1.1, 1.2, 1.3, 1.5)] + [(1.1, "InSync")]
@@ -271,7 +271,7 @@ def speed_change() -> dict[str, Any]:
 def unsynchronised_drag() -> dict[str, Any]:
     """The knife dropped on the strip at 60 m/min with the carriage standing (powered)."""
     import mcl
-    from scenes import flying_shear as fs
+    from scenes.machines import flying_shear as fs
 
     scene = _scene()
     L, S = scene.axes["L"], scene.axes["S"]

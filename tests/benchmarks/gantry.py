@@ -10,9 +10,9 @@ Prints JSON:
 - ``moves_400_mm_s``: per axis and direction, a jerk-limited 200 mm move at 400 mm/s (the axis'
   default ramps): peak following error and overshoot at the stop [µm] (set point against the
   joint coordinate), settling time into ±5 µm [ms];
-- ``contour``: the 3-D zigzag of ``scenes.gantry.ZIGZAG`` at 200 and 300 mm/s, Buffered (largest
-  error, right after the corners included) and BlendingLow with a 50 µm corner tolerance (largest
-  error at the corners and on the straight parts) [µm];
+- ``contour``: the 3-D zigzag of ``scenes.machines.gantry.ZIGZAG`` at 200 and 300 mm/s,
+  Buffered (largest error, right after the corners included) and BlendingLow with a 50 µm
+  corner tolerance (largest error at the corners and on the straight parts) [µm];
 - ``lim_stop_at_vmax``: MC_MoveVelocity at Vmax onto each limit switch: speed at the trip, stopping
   distance from the trip, room left to the hard stop [mm] and the hard stop's force [N];
 - ``force_on_stop_after_block_homing``: MC_StepBlock + MC_StepDirect and GT_MoveAbsBlock's
@@ -33,8 +33,9 @@ import mujoco
 import numpy as np
 
 import mcl
-from scenes import commissioning, gantry
-from scenes.contour import distance_to_polyline, run_path
+from scenes.machines import gantry
+from scenes.tools import commissioning
+from scenes.tools.contour import distance_to_polyline, run_path
 from tests.benchmarks.block_homing import block_forces
 
 MOVES = {  # axis: (start for the positive move, start for the negative move) [m]
@@ -163,7 +164,7 @@ def homing_repeatability() -> dict[str, Any]:
     noise, index jitter): where the origin lands against the index position [µm]."""
     import random
 
-    from scenes.examples import homing_repeatability as home
+    from scenes.machines.gantry.scenarios import homing_repeatability as home
 
     draw = random.Random(5)
     errors = [home(seed, 10.0, draw.uniform(30.0, 400.0))["origin_error_um"] for seed in range(10)]

@@ -46,7 +46,7 @@ class BarePhysics:
 
         import mcl
         import scenes
-        from scenes.plant import MujocoPlant
+        from scenes.plant.mujoco import MujocoPlant
 
         self.scene = scene
         if not scene.has_model:

@@ -37,8 +37,8 @@ import time
 from contextlib import ExitStack
 from typing import TYPE_CHECKING, Any
 
-from viewer.app import Viewer
 from viewer.operator import Move
+from viewer.server import Viewer
 from viewer.session import Session
 
 if TYPE_CHECKING:

@@ -1,7 +1,7 @@
 """The three-axis gantry (models/gantry.xml) wired to three mcl axes X, Y, Z.
 
 Commissioning data: encoder 1 µm per count, Vmax = the axis velocity at 10 V (3000 rpm of each
-motor), servo constants found by ``python -m scenes.commissioning gantry X`` (Y, Z): velocity
+motor), servo constants found by ``python -m scenes.tools.commissioning gantry X`` (Y, Z): velocity
 steps on each amplifier give its gain, lag and friction; Ff corrects the gain, Ka = the lag plus
 the module's delays, Kv = 1/(2·lag) ≈ 195 1/s, Kf the friction's voltage, Ki a corner at Kv/8
 (what is left, and the weight on Z).
@@ -14,8 +14,9 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 import mcl
-from scenes.machine import AxisDef, MachineDef, StepSequence
+from scenes.definition import AxisDef, MachineDef
 from scenes.procedures import HomeAxis, HomingRecipe
+from scenes.program import StepSequence
 from scenes.scene import Scene
 
 

@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mcl import MachineState
-from scenes.plant import MujocoPlant
+from scenes.plant.mujoco import MujocoPlant
 
 __all__ = ["MachineState", "MujocoState", "model_identity"]
 

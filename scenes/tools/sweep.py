@@ -9,8 +9,8 @@ serial run and a cluster run give the same table. A scenario that raises is a fa
 
 .. code-block:: python
 
-    from scenes.sweep import Sweep
-    sweep = Sweep("scenes.examples:homing_repeatability",
+    from scenes.tools.sweep import Sweep
+    sweep = Sweep("scenes.machines.gantry.scenarios:homing_repeatability",
                   grid={"hysteresis_um": [0, 10, 50]}, random={"start_mm": (20, 300)},
                   samples=20, seed=1)
     table = sweep.run()                      # all local cores; address="tcp://..." for a cluster
@@ -73,7 +73,7 @@ def scenario_of(target: str) -> Callable[..., Mapping[str, float]]:
 
 def _resolve(target: object) -> tuple[Callable[..., Mapping[str, float]] | None, tuple[str, str]]:
     """The function ``target`` names, or None and (what is wrong, what would be right)."""
-    form = "'module:function', e.g. 'scenes.examples:cut_length'"
+    form = "'module:function', e.g. 'scenes.machines.flying_shear.scenarios:cut_length'"
     if not isinstance(target, str):
         return None, (f"{target!r} is not a string", form)
     module_name, _, name = target.partition(":")
@@ -437,7 +437,7 @@ class Sweep:
         Raises:
             UserError: ``path`` is neither ``.csv`` nor ``.parquet``.
         """
-        from scenes.plot import plot_table
+        from scenes.tools.plot import plot_table
 
         path = Path(path)
         if path.suffix not in (".csv", ".parquet"):
@@ -544,7 +544,7 @@ def from_toml(path: str | Path, overrides: Sequence[str] = ()) -> tuple[Sweep, d
 
     .. code-block:: toml
 
-        scenario = "scenes.examples:homing_repeatability"
+        scenario = "scenes.machines.gantry.scenarios:homing_repeatability"
         samples = 20          # random draws per grid point
         seed = 1
         out = "homing.csv"    # or .parquet (relative to the TOML file)

@@ -270,7 +270,7 @@ def scene(request: pytest.FixtureRequest) -> Iterator[Callable[..., Scene]]:
 
     yield make
     if request.node.stash.get(_FAILED, False):
-        from scenes.plot import plot
+        from scenes.tools.plot import plot
 
         folder = Path(request.config.getoption("--scene-plots"))
         stem = re.sub(r"[^\w.-]+", "_", request.node.name)

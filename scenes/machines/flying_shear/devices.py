@@ -2,7 +2,7 @@
 where a C compiler exists): the eccentric pinch roll (line-speed ripple), the measuring wheel and
 its errors (diameter, runout, slip, lift-off, strip stretch), the knife's valve, cylinder and
 grip on the strip, and the recorder that takes every cut from the physics. The machine
-definition and the PLC program are in :mod:`scenes.flying_shear`.
+definition and the PLC program are in :mod:`scenes.machines.flying_shear`.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 import mcl
-from scenes.plant import MujocoAxisIO, numeric
+from scenes.plant.mujoco import MujocoAxisIO, numeric
 
 MARK_PITCH = 1.5
 """Print-mark pitch on the strip [m] (one mark per piece)."""

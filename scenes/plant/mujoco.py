@@ -3,7 +3,7 @@
 Per axis a :class:`MujocoAxisIO` (an :class:`mcl.channel.AxisChannel`) reads the joint: the
 encoder counts the joint coordinate through ``<axis>_lead`` with an index pulse per motor
 revolution, LIM−/LIM+/REF come from switch and cam sites (on slide and hinge joints alike), the
-touch probe from marks on a coordinate. Its drive (:mod:`scenes.drives`) applies the command.
+touch probe from marks on a coordinate. Its drive (:mod:`scenes.plant.drives`) applies the command.
 :class:`MujocoPlant` steps the model: devices with state integrate before every physics step;
 without devices one ``mj_step(model, data, n)`` call runs a whole servo period.
 """
@@ -20,7 +20,14 @@ import numpy as np
 import numpy.typing as npt
 
 from mcl.channel import AxisChannel, Marks, Sensors
-from scenes.drives import Device, DeviceDrive, Drive, DrivenDevice, ElectricAmplifier, WiringError
+from scenes.plant.drives import (
+    Device,
+    DeviceDrive,
+    Drive,
+    DrivenDevice,
+    ElectricAmplifier,
+    WiringError,
+)
 
 SWITCHES = ("lim_neg", "lim_pos", "ref")
 """The switch kinds of an axis, in the order of :attr:`MujocoAxisIO.windows`."""

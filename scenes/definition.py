@@ -1,9 +1,10 @@
-"""Typed machine definitions: everything the testbench, the CLI and the viewer know of a machine.
+"""Typed machine definitions (data only): everything the testbench, the CLI and the viewer know
+of a machine.
 
 A :class:`MachineDef` names its MJCF model (or simulated axes), its axes (drive kind, joint, unit
 and scale, machine data, servo constants, homing recipe, probe), its Python devices, its demo
 program and the extra signals it publishes for traces and the viewer. The registry in
-:mod:`scenes` holds one definition per machine; nothing else names a machine.
+:mod:`scenes.registry` holds one definition per machine; nothing else names a machine.
 """
 
 from __future__ import annotations
@@ -11,70 +12,20 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar, Literal, Protocol
+from typing import TYPE_CHECKING, Literal
 
 import mujoco
 
 import mcl
-from scenes.drives import Device
-from scenes.plant import Probe
+from scenes.plant.drives import Device
+from scenes.plant.mujoco import Probe
 from scenes.procedures import Recipe
+from scenes.program import DemoProgram
 
 if TYPE_CHECKING:
     from scenes.scene import Scene
 
 DriveKind = Literal["electric", "device", "encoder"]
-
-
-class StepSequence:
-    """The usual shape of a demo program: a PLC step sequence. ``STEPS`` names the steps in
-    order (the last one means finished), ``index`` is the step now, a non-empty ``error`` stops
-    it; a subclass is called once per PLC cycle and advances ``index``."""
-
-    STEPS: ClassVar[tuple[str, ...]] = ("done",)
-    index = 0
-    error = ""
-
-    @property
-    def step(self) -> str:
-        """What the program is doing (or why it stopped)."""
-        return self.error or self.STEPS[self.index]
-
-    @property
-    def done(self) -> bool:
-        """The sequence is complete."""
-        return self.index == len(self.STEPS) - 1
-
-
-class DemoProgram(Protocol):
-    """A machine's demo: a PLC program (call once per PLC cycle) that reports its progress.
-
-    A demo may also expose a results table (optional, not part of the protocol's required
-    members): an attribute or property ``results``, a sequence of rows, oldest first, each a
-    mapping column name → value (``float``, ``int``, ``str`` or ``None``), e.g. one row per cut
-    ``{"cut": 3, "length [mm]": 1500.12, "error [mm]": 0.12}``. The columns are those of the last
-    row, in its order (put units in the names); floats are shown with 3 decimals. The viewer
-    shows the last rows in a table while the demo runs and after it ended.
-    """
-
-    @property
-    def done(self) -> bool:
-        """The demo has finished."""
-        ...
-
-    @property
-    def step(self) -> str:
-        """What it is doing (the error, once one stopped it)."""
-        ...
-
-    @property
-    def error(self) -> str:
-        """Why it stopped (empty: no error)."""
-        ...
-
-    def __call__(self) -> None:
-        """One PLC scan."""
-        ...
 
 
 DeviceFactory = Callable[[mujoco.MjModel, mujoco.MjData, str], Device]

@@ -1,7 +1,7 @@
 """Commissioning of a servo axis: identify the drive on the physics, derive the servo constants.
 
-Run ``python -m scenes.commissioning gantry X`` (any registered machine and electric axis). The
-procedure is the one a commissioning engineer runs on a velocity-mode servo amplifier:
+Run ``python -m scenes.tools.commissioning gantry X`` (any registered machine and electric
+axis). The procedure is the one a commissioning engineer runs on a velocity-mode servo amplifier:
 
 1. **Velocity steps on the amplifier alone** (position loop open, the bare MuJoCo model): the
    axis runs at a base command of ``±base`` volts, then a small step ``±step`` volts is added and
@@ -40,7 +40,7 @@ import mujoco
 import numpy as np
 
 import mcl
-from scenes.machine import AxisDef, MachineDef, unit_and_scale
+from scenes.definition import AxisDef, MachineDef, unit_and_scale
 from scenes.scene import Scene, compose
 
 
@@ -387,7 +387,7 @@ def main(argv: list[str] | None = None) -> int:
     import scenes
 
     parser = argparse.ArgumentParser(
-        prog="python -m scenes.commissioning",
+        prog="python -m scenes.tools.commissioning",
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -11,7 +11,8 @@ from __future__ import annotations
 from typing import Any
 
 import mcl
-from scenes.machine import AxisDef, MachineDef, StepSequence
+from scenes.definition import AxisDef, MachineDef
+from scenes.program import StepSequence
 from scenes.scene import Scene
 
 CONSTANTS = dict(Kp=3.0, Ki=150.0, Ff=1.0, Kc=50.0, Vmax=500.0, Filter=2.0, Ka=0.0065)

@@ -24,11 +24,8 @@ from typing import Any, Literal
 
 import mcl
 from mcl.errors import check_finite
-from scenes.machine import AxisDef, MachineDef, Signal
-from scenes.plant import Probe
-from scenes.procedures import HomeAxis, HomingRecipe
-from scenes.scene import Scene
-from scenes.shear_devices import (
+from scenes.definition import AxisDef, MachineDef, Signal
+from scenes.machines.flying_shear.devices import (
     MARK_PITCH,
     MARKS,
     Cut,
@@ -38,6 +35,13 @@ from scenes.shear_devices import (
     MeasuringWheel,
     mark_at,
 )
+from scenes.plant.mujoco import Probe
+from scenes.procedures import HomeAxis, HomingRecipe
+from scenes.scene import Scene
+
+COMPILED_MODULES = ("devices",)
+"""The modules of this package that the compiled build covers (its devices, run every physics
+step)."""
 
 PREFIX = "flying_shear/"
 """The prefix of the machine's names in a scene's model."""

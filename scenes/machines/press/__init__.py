@@ -1,8 +1,8 @@
 """The hydraulic press (models/hydraulic_press.xml): a valve-controlled cylinder pressing a part.
 
 One mcl axis ``R``, the ram's stroke in mm (0 = top, positive = down), driven by the Python
-device ``cylinder`` (:class:`scenes.hydraulics.CylinderDevice`: servo valve, differential
-cylinder, oil columns) with ±10 V. Its analog inputs: 0 = pressure A, 1 = pressure B
+device ``cylinder`` (:class:`.hydraulics.CylinderDevice`: servo valve, differential cylinder,
+oil columns) with ±10 V. Its analog inputs: 0 = pressure A, 1 = pressure B
 (0–250 bar → 0–10 V, 12 bit, seeded noise), 2 = the load cell under the part (0–150 kN → 0–10 V).
 
 :class:`Demo` is the press cycle: home to block against the top stop (MC_StepBlock, then
@@ -30,11 +30,23 @@ from typing import Any
 import mujoco
 
 import mcl
-from scenes.hydraulics import BAR, ContactForce, Cylinder, CylinderDevice, Supply, Valve
-from scenes.machine import AxisDef, MachineDef, Signal, StepSequence
-from scenes.plant import numeric
+from scenes.definition import AxisDef, MachineDef, Signal
+from scenes.machines.press.hydraulics import (
+    BAR,
+    ContactForce,
+    Cylinder,
+    CylinderDevice,
+    Supply,
+    Valve,
+)
+from scenes.plant.mujoco import numeric
 from scenes.procedures import BlockHoming
+from scenes.program import StepSequence
 from scenes.scene import Scene
+
+COMPILED_MODULES = ("hydraulics",)
+"""The modules of this package that the compiled build covers (the valve and the cylinder, run
+every physics step)."""
 
 PREFIX = "press/"
 """The prefix of the machine's names in a scene's model."""

@@ -1,0 +1,157 @@
+"""Command line: ``python -m scenes list`` lists the machines; ``python -m scenes run NAME`` runs
+a machine's demo program headless and prints every FB edge, the positions and states;
+``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
+``python -m scenes sweep FILE.toml`` runs a parameter sweep (see :mod:`scenes.tools.sweep`).
+
+A mistake in a file or a value given here is one line on standard error, ``file:line: key: what
+is wrong; expected ...``, and the exit status 2."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import scenes
+from scenes.errors import UserError
+from scenes.tools.report import EdgeLog
+
+
+def run(name: str, timeout: float = 300.0) -> int:
+    """Run the demo of machine ``name`` from its demo start and print the report."""
+    definition = scenes.definition(name)
+    scene = scenes.load(name, start=definition.demo_start, trace_every=0)
+    program = scenes.demo(scene)
+    log = EdgeLog(scene)
+    log.watch(**getattr(program, "blocks", {}))
+    steps = [program.step]
+    log.title(program.step)
+
+    def scan() -> None:
+        program()
+        if program.step != steps[-1]:
+            steps.append(program.step)
+            log.title(f"t={scene.time:6.3f} s  {program.step}")
+
+    scene.run(scan, until=lambda: program.done or bool(program.error), timeout=timeout)
+    log.summary()
+    if program.error:
+        print(f"demo stopped: {program.error}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def sweep(
+    file: str,
+    workers: int | None,
+    address: str | None,
+    out: str | None = None,
+    overrides: Sequence[str] = (),
+) -> int:
+    """Run the sweep described in ``file`` (with ``overrides``, ``"key=value"``) showing its
+    progress on standard error; write its table and plots (to ``out``: a directory or a .csv /
+    .parquet file) and print what it found. Returns 1 if a scenario failed."""
+    from scenes.tools.sweep import Progress, from_toml
+
+    spec, options = from_toml(file, overrides)
+    table_path = Path(options["out"])
+    if out is not None:
+        table_path = Path(out) if Path(out).suffix else Path(out) / table_path.name
+        if table_path.suffix not in (".csv", ".parquet"):
+            raise UserError.at("--out", "", f"{out!r}", "a directory or a .csv/.parquet file")
+    workers = options["workers"] if workers is None else workers
+    given = "--address" if address else file
+    address = address or options["address"]
+    total = len(spec.rows())
+    where = address or ("serially" if workers == 0 else f"{workers or os.cpu_count()} workers")
+    print(f"{Path(file).name}: {total} scenarios of {spec.scenario} ({where})", file=sys.stderr)
+    progress = Progress(total, label=Path(file).name)
+
+    def dashboard(link: str) -> None:
+        print(f"Dask dashboard (the cluster's own progress): {link}", file=sys.stderr)
+
+    try:
+        table = spec.run(workers, address, progress=progress, on_cluster=dashboard)
+    except OSError as error:  # no scheduler at that address
+        raise UserError.at(
+            given, "address", f"cannot reach {address} ({error})", "a running Dask scheduler"
+        ) from None
+    for path in spec.write(table, table_path):
+        print(path)
+    print(spec.summary(table))
+    failed = int(table["error"].astype(bool).sum()) if "error" in table else 0
+    return 1 if failed else 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse the command line and run the command."""
+    parser = argparse.ArgumentParser(prog="python -m scenes", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    run_parser = sub.add_parser("run", help="run a machine's demo program headless")
+    run_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+    sub.add_parser("list", help="list the machines")
+    plot_parser = sub.add_parser("plot", help="plot a trace file as PNG and HTML")
+    plot_parser.add_argument("trace", help="a trace written by trace.to_csv or streamed (.npy)")
+    plot_parser.add_argument("--out", help="output path without suffix (default: next to it)")
+    sweep_parser = sub.add_parser("sweep", help="run a parameter sweep described in TOML")
+    sweep_parser.add_argument("file", help="the sweep (scenario, grid, random, samples, seed)")
+    sweep_parser.add_argument("--workers", type=int, help="local workers (0 = serial)")
+    sweep_parser.add_argument("--address", help="a Dask scheduler to run on")
+    sweep_parser.add_argument(
+        "--out", help="where the table and plots go: a directory, or a .csv/.parquet file"
+    )
+    sweep_parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="override a key of the file (a TOML value): samples=5, grid.x=[1,2], random.y=[0,1]",
+    )
+    sweep_parser.add_argument(
+        "--grid",
+        action="append",
+        default=[],
+        metavar="NAME=VALUES",
+        help="override a grid parameter: x=[1,2,3] or x=1,2,3",
+    )
+    args = parser.parse_args(argv)
+    try:
+        return _command(args)
+    except UserError as error:
+        for line in error.lines:
+            print(line, file=sys.stderr)
+        return 2
+
+
+def _command(args: argparse.Namespace) -> int:
+    """Run the parsed command."""
+    if args.command == "plot":
+        from scenes.tools.plot import plot
+
+        trace = Path(args.trace)
+        for path in plot(trace, Path(args.out) if args.out else trace.with_suffix("")):
+            print(path)
+        return 0
+    if args.command == "sweep":
+        grid = [_listed(g) for g in args.grid]
+        return sweep(args.file, args.workers, args.address, args.out, [*args.set, *grid])
+    if args.command == "list":
+        width = max(len(n) for n in scenes.MACHINES)
+        for name in sorted(scenes.MACHINES):
+            print(f"{name:<{width}}  {scenes.MACHINES[name].description}")
+        return 0
+    return run(args.name)
+
+
+def _listed(item: str) -> str:
+    """``"x=1,2,3"`` or ``"x=[1,2,3]"`` as the override ``"grid.x=[1,2,3]"``."""
+    name, equals, values = item.partition("=")
+    if not equals:
+        return item
+    return f"grid.{name}={values if values.strip().startswith('[') else f'[{values}]'}"
+
+
+if __name__ == "__main__":
+    sys.exit(main())
