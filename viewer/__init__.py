@@ -2,13 +2,21 @@
 
 Modules:
     model_scene: a MuJoCo model as viser scene nodes that follow the bodies.
+    overlays: the set-point ghost and the force arrows drawn over the model.
     operator: the operator's request flags (HMI variables) and the PLC program that passes them
         to the library's function blocks.
     session: the scene simulated in its own thread, paced to the wall clock; snapshots, the
         scope recorder and the error history.
-    security: who may open the viewer (same origin, expected Host, token, headers) and the
-        check of every GUI value a page sends.
-    app: the GUI (axis panels, STOP all, control, scope, faults, results) and its 30 Hz update
-        loop; ``Viewer`` = session + server + app.
+    security: who may open the viewer (same origin, expected Host, token, headers), the check of
+        every GUI value a page sends, and the requests viser's server refuses.
+    panels: the HTML of the read-out panels.
+    control: who operates (one page in control) and the dead-man of its held jogs.
+    widgets: the GUI elements of one scene, each with its gate rule.
+    axis_panel: the panel of one axis and the step and jog hotkeys.
+    scope: several recorder channels on one time base, trigger, CSV export.
+    faults_panel: forcing inputs and injecting faults.
+    views: camera presets, follow cameras and the 3-D overlays' choices.
+    app: the GUI skeleton and its 30 Hz update loop.
+    server: ``Viewer`` = session + server + app, on a checked port.
     __main__: the command line, ``python -m viewer``.
 """

@@ -16,7 +16,7 @@ import threading
 from collections.abc import Sequence
 from types import FrameType
 
-from viewer.app import DEFAULT_HOST, DEFAULT_PORT, PortInUseError, Viewer
+from viewer.server import DEFAULT_HOST, DEFAULT_PORT, PortInUseError, Viewer
 from viewer.session import choices
 
 EXIT_PORT_IN_USE = 2

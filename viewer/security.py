@@ -26,6 +26,8 @@ GUI values             :class:`GuiGate` checks every value, hold message and hot
                        sends against the element's rule (type, choices, finite range) and
                        whether the sender holds control, before viser applies it or passes it
                        on to the other pages.
+No share, no upload    :func:`harden` makes the server drop viser's requests to open a public
+                       share tunnel and to upload files (:data:`REFUSED_MESSAGES`).
 =====================  ==========================================================================
 
 viser 1.1.1 passes its own request handler to ``websockets.asyncio.server.serve`` inside
@@ -454,6 +456,29 @@ def secure_server(policy: AccessPolicy, **kwargs: Any) -> viser.ViserServer:
 
         loop.call_soon_threadsafe(loop.set_exception_handler, on_error)
     return server
+
+
+REFUSED_MESSAGES = ("ShareUrlRequest", "FileTransferStartUpload", "FileTransferPart")
+"""Requests a browser could send to any viser server that this viewer ignores: opening a public
+share tunnel (which would put the operator controls on the internet) and file uploads."""
+
+
+def harden(server: viser.ViserServer) -> None:
+    """Make a viser server refuse :data:`REFUSED_MESSAGES` and hide its share button.
+
+    viser 1.1.1 has no public switch for this, so the handlers are unregistered from its websocket
+    server; a message without a handler is dropped.
+
+    Args:
+        server: The server, before clients connect.
+    """
+    server.gui.configure_theme(show_share_button=False)
+    websock = server._websock_server
+    handlers = websock._incoming_handlers
+    for name in REFUSED_MESSAGES:
+        message_class = getattr(messages, name, None)
+        if message_class is not None and message_class in handlers:
+            websock.unregister_handler(message_class)
 
 
 # ------------------------------------------------------------------------------ GUI values
