@@ -42,7 +42,8 @@ from viewer.panels import axis_panel_html, results_html, signals_html
 from viewer.scope import scope_csv
 from viewer.security import LOG_BURST, REFUSED_MESSAGES, AccessPolicy, BoundedLog
 from viewer.server import DEFAULT_HOST, PortInUseError, Viewer, port_available
-from viewer.session import RESULTS_SHOWN, SCOPE_SECONDS, AxisView, Session, choices
+from viewer.session import SCOPE_SECONDS, Session, choices
+from viewer.snapshot import RESULTS_SHOWN, AxisView
 
 ROOT = Path(__file__).resolve().parent.parent
 

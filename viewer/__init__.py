@@ -5,8 +5,10 @@ Modules:
     overlays: the set-point ghost and the force arrows drawn over the model.
     operator: the operator's request flags (HMI variables) and the PLC program that passes them
         to the library's function blocks.
-    session: the scene simulated in its own thread, paced to the wall clock; snapshots, the
-        scope recorder and the error history.
+    session: the scene simulated in its own thread, paced to the wall clock; its commands and
+        the error history.
+    snapshot: the immutable copies of what the viewer shows, taken from the scene.
+    recorder: the scope channels of a scene in a ring buffer.
     security: who may open the viewer (same origin, expected Host, token, headers), the check of
         every GUI value a page sends, and the requests viser's server refuses.
     panels: the HTML of the read-out panels.

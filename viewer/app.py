@@ -4,7 +4,7 @@
 the axis panels of :mod:`viewer.axis_panel`, signals, results, :mod:`viewer.scope`, error
 history, :mod:`viewer.faults_panel`, :mod:`viewer.views`) and the 3-D scene
 (:class:`ModelScene`), and runs a loop in its own thread that, up to ``fps`` times per second,
-takes the session's latest :class:`~viewer.session.Snapshot` and sends what changed: body poses,
+takes the session's latest :class:`~viewer.snapshot.Snapshot` and sends what changed: body poses,
 switch colours, the overlays and follow cameras, the panels (:mod:`viewer.panels`), the error
 history and the scope. GUI callbacks only call :class:`Session` methods (request flags and
 queued commands) and set the scope's and the views' choices; viser objects are modified by the
@@ -56,7 +56,8 @@ from viewer.panels import (
 )
 from viewer.scope import Scope, Shown
 from viewer.security import BoundedLog, GuiGate, choice_of, harden
-from viewer.session import Session, Snapshot, choices
+from viewer.session import Session, choices
+from viewer.snapshot import Snapshot
 from viewer.views import Views
 from viewer.widgets import SceneGui, gated_button
 

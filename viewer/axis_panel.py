@@ -16,7 +16,8 @@ from viewer.control import JOG_HOLD_HZ, Operators
 from viewer.operator import HOMING_PROCEDURES, AxisRequests, Move
 from viewer.panels import axis_panel_html
 from viewer.security import number_in
-from viewer.session import AxisView, Session
+from viewer.session import Session
+from viewer.snapshot import AxisView
 from viewer.widgets import SceneGui
 
 STEPS = ("0.01", "0.1", "1", "10", "100")

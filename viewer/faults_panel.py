@@ -6,7 +6,8 @@ from __future__ import annotations
 import viser
 
 import mcl.faults
-from viewer.session import AxisView, Session, Snapshot
+from viewer.session import Session
+from viewer.snapshot import AxisView, Snapshot
 from viewer.widgets import SceneGui
 
 FAULTS: dict[str, mcl.faults.Fault] = {

@@ -8,7 +8,7 @@ import math
 import time
 from collections.abc import Sequence
 
-from viewer.session import AxisView, Snapshot
+from viewer.snapshot import AxisView, Snapshot
 
 SPEEDS: dict[str, float] = {
     "0.1×": 0.1,

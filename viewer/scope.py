@@ -15,7 +15,9 @@ import viser
 import viser.uplot
 
 from viewer.panels import scope_status_html
-from viewer.session import Channel, Recorder, Session, Snapshot
+from viewer.recorder import Recorder
+from viewer.session import Session
+from viewer.snapshot import Channel, Snapshot
 from viewer.widgets import SceneGui
 
 SCOPE_TRACES = 4

@@ -16,7 +16,6 @@ by the simulation thread between two PLC cycles, so they never race with a runni
 
 from __future__ import annotations
 
-import functools
 import logging
 import math
 import queue
@@ -24,22 +23,28 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
-
-import mujoco
-import numpy as np
-import numpy.typing as npt
 
 import mcl
 import mcl.faults
 import scenes
 from scenes import DemoProgram, MachineDef
-from scenes.plant import MujocoAxisIO
 from scenes.scene import Scene
 from viewer.operator import AxisRequests, Clock, OperatorProgram
 from viewer.overlays import constraint_forces, contact_forces
+from viewer.recorder import Recorder
+from viewer.snapshot import (
+    DemoView,
+    Event,
+    SignalView,
+    Snapshot,
+    axis_info,
+    axis_view,
+    copy_array,
+    mujoco_of,
+    results_of,
+)
 
 log = logging.getLogger(__name__)
 
@@ -62,325 +67,6 @@ SCOPE_SECONDS = 10.0
 
 EVENTS_KEPT = 200
 """Entries of the error history kept (oldest dropped)."""
-
-RESULTS_SHOWN = 10
-"""Rows of a demo's results table a snapshot carries (the last ones)."""
-
-
-@dataclass(frozen=True, slots=True)
-class Event:
-    """One entry of the error history: an axis error, a refused command, a refused page.
-
-    Attributes:
-        wall: Wall-clock time [s since the epoch] (shown as UTC).
-        time: Simulated time [s].
-        source: Axis, group or ``"viewer"``.
-        text: What happened.
-    """
-
-    wall: float
-    time: float
-    source: str
-    text: str
-
-
-@dataclass(frozen=True, slots=True)
-class Channel:
-    """One signal the scope can show.
-
-    Attributes:
-        name: ``"X position"``, ``"X LIM+"``, ``"pressure_A"``.
-        unit: ``"mm"``, ``"V"``, ``""`` for a digital signal (0 or 1).
-        digital: It is 0 or 1 (edges can trigger the scope).
-    """
-
-    name: str
-    unit: str
-    digital: bool
-
-
-@dataclass(frozen=True, slots=True)
-class AxisView:
-    """What the panel of one axis shows, copied between two PLC cycles.
-
-    Attributes:
-        name: Axis name in the scene (``"X"``).
-        joint: Name of the axis joint in the model (``"gantry/X"``); switch geoms are named
-            ``<joint>_lim_neg_geom``, ``<joint>_lim_pos_geom``, ``<joint>_ref_geom``. Empty for
-            a simulated axis (no model).
-        unit: The axis' user unit u (``axis.config.unit``: ``"mm"``, ``"deg"``, ...).
-        has_drive: The axis has a drive; False for an encoder-only axis (no Power, no moves).
-        switches: The switch inputs the axis has, of ``"lim_neg"``, ``"lim_pos"``, ``"ref"``
-            (from its machine definition).
-        homeable: The machine definition gives the axis a homing recipe.
-        position: Actual position ``POS`` [u].
-        velocity: Actual velocity ``VEL`` [u/s].
-        following_error: Set point minus actual position [u].
-        volts: Analog command of the last servo cycle [V].
-        joint_position: Ground-truth joint coordinate [m or rad] (NaN if the plant has none).
-        vmax: Velocity at 10 V [u/s] from the servo constants (NaN before they are set).
-        state: ``GT_AxStatusString.StatStr`` (empty before the first scan).
-        error: ``GT_AxErrStringEN.ErrStr`` (empty: no axis error).
-        error_id: ``AxErrorID``.
-        referenced: The axis has its reference (``Ref``).
-        powered: The axis is not Disabled.
-        lim_pos: LIM+ input.
-        lim_neg: LIM− input.
-        ref: REF input.
-        index: Encoder index pulse level.
-        inputs: Further digital inputs of the axis' channel (empty: none).
-        outputs: Digital outputs of the axis' channel (empty: none), e.g. a knife valve.
-        power_request: Level the operator's MC_Power gets (``None``: not called).
-        jogging: Jog request of the last scan: +1, −1 or 0.
-        homing: The operator's homing procedure runs.
-        stopping: The operator's MC_Stop is executing.
-        message: Outcome of the operator's last command.
-        last_error: The operator's last refused command with its error (empty: none).
-        group: Name of the axes group the axis belongs to (empty: none).
-        constants: The axis' servo constants (None before they are set).
-    """
-
-    name: str
-    joint: str
-    unit: str
-    has_drive: bool
-    switches: tuple[str, ...]
-    homeable: bool
-    position: float
-    velocity: float
-    following_error: float
-    volts: float
-    joint_position: float
-    vmax: float
-    state: str
-    error: str
-    error_id: int
-    referenced: bool
-    powered: bool
-    lim_pos: bool
-    lim_neg: bool
-    ref: bool
-    index: bool
-    inputs: tuple[bool, ...]
-    outputs: tuple[bool, ...]
-    power_request: bool | None
-    jogging: int
-    homing: bool
-    stopping: bool
-    message: str
-    last_error: str = ""
-    group: str = ""
-    constants: mcl.ServoConstants | None = None
-
-
-@dataclass(frozen=True, slots=True)
-class SignalView:
-    """A value the machine publishes besides its axes (``scene.signals``), e.g. a pressure.
-
-    Attributes:
-        name: Its name in the scene (``"pressure_A"``).
-        value: Its value when the snapshot was taken (NaN if reading it failed).
-        unit: Its unit (``"bar"``, ``"N"``).
-    """
-
-    name: str
-    value: float
-    unit: str
-
-
-@dataclass(frozen=True, slots=True)
-class DemoView:
-    """State of the scene's demo program.
-
-    Attributes:
-        available: The scene has a demo program.
-        running: It is being called every PLC cycle.
-        done: It reported ``done``.
-        step: Its ``step`` text (empty before it first ran).
-        error: What ended it: its own ``error`` report or an exception, as text (empty:
-            none).
-    """
-
-    available: bool
-    running: bool
-    done: bool
-    step: str
-    error: str
-
-
-@dataclass(frozen=True, slots=True)
-class Snapshot:
-    """Everything the viewer shows, copied by the simulation thread between two PLC cycles.
-
-    Attributes:
-        generation: Increments with every (re)built scene; a viewer rebuilds its scene nodes
-            when it changes.
-        scene: Registry name of the scene.
-        description: The machine's one-line description (``MachineDef.description``).
-        time: Simulated time [s].
-        wall: Wall clock [s] when the snapshot was taken.
-        model: The scene's compiled model (shared, not copied: the viewer only reads it);
-            None for a machine of simulated axes, which has no 3-D model.
-        qpos: Joint coordinates of every joint [m, rad], shape (nq,) (empty without a model).
-        xpos: World position of every body [m], shape (nbody, 3) (empty without a model).
-        xquat: World orientation of every body (w, x, y, z), shape (nbody, 4) (empty without a
-            model).
-        axes: Axis views by axis name, in the scene's order.
-        signals: The machine's published signals (``scene.signals``) in definition order;
-            empty if it publishes none.
-        paused: The simulation is paused.
-        speed: Requested speed: simulated seconds per wall second (``inf``: as fast as possible).
-        realtime_factor: Achieved simulated seconds per wall second over the last second.
-        demo: State of the demo program.
-        fault: Text of an exception that paused the simulation (empty: none).
-        events: The error history, newest last (:data:`EVENTS_KEPT` at most).
-        results: The demo's results table: (column names, last :data:`RESULTS_SHOWN` rows as
-            texts); empty when the demo exposes none (see ``DemoProgram`` in scenes.machine).
-        channels: The scope channels of the scene (:class:`Recorder`).
-        groups: Names of the axes groups the axes belong to now.
-        contacts: Active contacts of the physics (``viewer.overlays.contact_forces``: point [m],
-            normal force [N]); None without a model.
-        constraints: Hard-stop and tendon forces of the physics
-            (``viewer.overlays.constraint_forces``: point [m], force [N]); None without a model.
-    """
-
-    generation: int
-    scene: str
-    description: str
-    time: float
-    wall: float
-    model: mujoco.MjModel | None
-    qpos: npt.NDArray[np.float64]
-    xpos: npt.NDArray[np.float64]
-    xquat: npt.NDArray[np.float64]
-    axes: Mapping[str, AxisView]
-    signals: tuple[SignalView, ...]
-    paused: bool
-    speed: float
-    realtime_factor: float
-    demo: DemoView
-    fault: str
-    events: tuple[Event, ...] = ()
-    results: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]] = ((), ())
-    channels: tuple[Channel, ...] = ()
-    groups: tuple[str, ...] = ()
-    contacts: npt.NDArray[np.float64] | None = None
-    constraints: npt.NDArray[np.float64] | None = None
-
-
-class Recorder:
-    """Every scope channel of a scene on one time base, in a ring buffer (thread-safe).
-
-    Per axis: position, set point, velocity, following error and command [V] (the last three
-    only with a drive), its switch inputs, index, digital outputs and an error flag (AxErrorID
-    ≠ 0); then the machine's published signals.
-
-    Args:
-        scene: The scene.
-        info: What the machine definition says about each axis (its switches).
-        length: Samples kept per channel.
-    """
-
-    def __init__(self, scene: Scene, info: Mapping[str, _AxisInfo], length: int) -> None:
-        channels: list[Channel] = []
-        readers: list[Callable[[], float]] = []
-
-        def add(name: str, unit: str, digital: bool, read: Callable[[], float]) -> None:
-            channels.append(Channel(name, unit, digital))
-            readers.append(read)
-
-        for name, axis in scene.axes.items():
-            unit = axis.config.unit
-            io = axis.io
-            add(f"{name} position", unit, False, functools.partial(_attribute, axis, "POS"))
-            if axis.has_drive:
-                add(f"{name} set point", unit, False, functools.partial(_set_point, axis))
-            add(f"{name} velocity", f"{unit}/s", False, functools.partial(_attribute, axis, "VEL"))
-            if axis.has_drive:
-                fe = functools.partial(_attribute, axis, "following_error")
-                add(f"{name} following error", unit, False, fe)
-                add(f"{name} command", "V", False, functools.partial(_attribute, axis, "volts"))
-            for switch in info[name].switches:
-                label = {"lim_neg": "LIM-", "lim_pos": "LIM+", "ref": "REF"}.get(switch, switch)
-                add(f"{name} {label}", "", True, functools.partial(_attribute, io, switch))
-            add(f"{name} index", "", True, functools.partial(_attribute, io, "index"))
-            for k in range(len(io.outputs)):
-                add(f"{name} DO{k}", "", True, functools.partial(_output, io, k))
-            add(f"{name} error", "", True, functools.partial(_axis_error, axis))
-        for signal_name, signal in scene.signals.items():
-            add(signal_name, signal.unit, False, _signal_reader(scene, signal.read))
-        self.channels = tuple(channels)
-        """The channels, in the order of :meth:`series`' rows."""
-        self._readers = readers
-        self._length = max(int(length), 2)
-        self._t = np.zeros(self._length)
-        self._values = np.zeros((len(channels), self._length))
-        self._next = 0
-        self._count = 0
-        self._lock = threading.Lock()
-
-    def record(self, t: float) -> None:
-        """Store one sample of every channel taken at simulated time ``t`` [s]."""
-        row = [read() for read in self._readers]
-        with self._lock:
-            k = self._next
-            self._t[k] = t
-            self._values[:, k] = row
-            self._next = (k + 1) % self._length
-            self._count = min(self._count + 1, self._length)
-
-    def series(self, since: float = -math.inf) -> tuple[npt.NDArray[np.float64], ...]:
-        """Copies of the samples at or after ``since`` [s], oldest first: ``(t, values)`` with
-        values of shape (channels, samples)."""
-        with self._lock:
-            n, k = self._count, self._next
-            order = np.arange(k - n, k) % self._length
-            t = self._t[order]
-            keep = t >= since
-            return t[keep], self._values[:, order[keep]]
-
-
-def _attribute(owner: object, name: str) -> float:
-    """A number or flag attribute as a float (a flag: 0 or 1)."""
-    return float(getattr(owner, name))
-
-
-def _set_point(axis: mcl.Axis) -> float:
-    """An axis' set point [u]: actual position plus following error."""
-    return axis.POS + axis.following_error
-
-
-def _output(io: mcl.channel.AxisChannel, k: int) -> float:
-    """Digital output ``k`` of a channel: 0 or 1."""
-    return float(bool(io.outputs[k]))
-
-
-def _axis_error(axis: mcl.Axis) -> float:
-    """1 while the axis has an error (AxErrorID ≠ 0), else 0."""
-    return float(axis.AxErrorID != 0)
-
-
-def _signal_reader(scene: Scene, read: Callable[[Scene], float]) -> Callable[[], float]:
-    """A published signal as a scope reader (NaN when reading it fails)."""
-
-    def reader() -> float:
-        try:
-            return float(read(scene))
-        except Exception:
-            return math.nan
-
-    return reader
-
-
-@dataclass(frozen=True, slots=True)
-class _AxisInfo:
-    """What the machine definition says about an axis' panel (fixed while the scene lives)."""
-
-    joint: str
-    unit: str
-    has_drive: bool
-    switches: tuple[str, ...]
-    homeable: bool
 
 
 def choices() -> list[str]:
@@ -474,7 +160,7 @@ class Session:
         self._definition = definition
         self._scene = scene
         self._operator = operator
-        self._axis_info = _axis_info(definition, scene)
+        self._axis_info = axis_info(definition, scene)
         self._model, self._data = mujoco_of(scene)
         self._has_demo = self._demo_factory is not None or definition.demo is not None
         self._demo = None
@@ -958,8 +644,12 @@ class Session:
         if demo is not None:
             self._demo_step = str(demo.step)
             self._demo_done_seen = bool(demo.done)
-            self._results = _results_of(demo)
-        views = {name: self._axis_view(name, axis) for name, axis in scene.axes.items()}
+            self._results = results_of(demo)
+        operators, info = self._operator.axes, self._axis_info
+        views = {
+            name: axis_view(name, axis, operators[name], info[name], scene.joint_position(name))
+            for name, axis in scene.axes.items()
+        }
         model, data = self._model, self._data
         self._snapshot = Snapshot(
             generation=self._generation,
@@ -968,9 +658,9 @@ class Session:
             time=sim,
             wall=now,
             model=model,
-            qpos=_copy(None if data is None else data.qpos, (0,)),
-            xpos=_copy(None if data is None else data.xpos, (0, 3)),
-            xquat=_copy(None if data is None else data.xquat, (0, 4)),
+            qpos=copy_array(None if data is None else data.qpos, (0,)),
+            xpos=copy_array(None if data is None else data.xpos, (0, 3)),
+            xquat=copy_array(None if data is None else data.xquat, (0, 4)),
             axes=MappingProxyType(views),
             signals=tuple(self._signal_view(name) for name in scene.signals),
             paused=self._paused,
@@ -1000,101 +690,6 @@ class Session:
             log.debug("signal %r of scene %r failed", name, self._scene_name, exc_info=True)
             value = math.nan
         return SignalView(name=name, value=value, unit=signal.unit)
-
-    def _axis_view(self, name: str, axis: mcl.Axis) -> AxisView:
-        io = axis.io
-        op = self._operator.axes[name]
-        info = self._axis_info[name]
-        return AxisView(
-            name=name,
-            joint=info.joint,
-            unit=info.unit,
-            has_drive=info.has_drive,
-            switches=info.switches,
-            homeable=info.homeable,
-            position=axis.POS,
-            velocity=axis.VEL,
-            following_error=axis.following_error,
-            volts=axis.volts,
-            joint_position=self._scene.joint_position(name),
-            vmax=axis.constants.Vmax if axis.constants is not None else math.nan,
-            state=op.status.StatStr,
-            error=op.error_text.ErrStr,
-            error_id=axis.AxErrorID,
-            referenced=axis.Ref,
-            powered=axis.state != mcl.AxisState.Disabled,
-            lim_pos=bool(io.lim_pos),
-            lim_neg=bool(io.lim_neg),
-            ref=bool(io.ref),
-            index=bool(io.index),
-            inputs=tuple(bool(i) for i in io.inputs),
-            outputs=tuple(bool(o) for o in io.outputs),
-            power_request=op.power_request,
-            jogging=op.jogging,
-            homing=op.homing,
-            stopping=op.stopping,
-            message=op.message,
-            last_error=op.last_error,
-            group=axis.group.name if isinstance(axis.group, mcl.AxesGroup) else "",
-            constants=axis.constants,
-        )
-
-
-def _results_of(demo: DemoProgram) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
-    """The last :data:`RESULTS_SHOWN` rows of a demo's optional ``results`` as texts."""
-    try:
-        rows = list(getattr(demo, "results", ()) or ())[-RESULTS_SHOWN:]
-        if not rows:
-            return (), ()
-        columns = tuple(str(c) for c in rows[-1])
-        return columns, tuple(tuple(_cell(row.get(c)) for c in columns) for row in rows)
-    except Exception:  # a demo's table must not stop the simulation thread
-        log.debug("results of the demo failed", exc_info=True)
-        return (), ()
-
-
-def _cell(value: object) -> str:
-    """A table cell: numbers with 3 decimals, None empty, anything else as text."""
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return f"{value:.3f}"
-    return str(value)
-
-
-def _axis_info(definition: MachineDef, scene: Scene) -> dict[str, _AxisInfo]:
-    """What the machine definition and the built scene say about each axis' panel."""
-    recipes = definition.homing
-    info: dict[str, _AxisInfo] = {}
-    for name, axis in scene.axes.items():
-        spec = definition.axes.get(name)
-        io = axis.io
-        info[name] = _AxisInfo(
-            joint=io.name if isinstance(io, MujocoAxisIO) else "",
-            unit=axis.config.unit,
-            has_drive=axis.has_drive,
-            switches=spec.switches if spec is not None else ("lim_neg", "lim_pos", "ref"),
-            homeable=name in recipes,
-        )
-    return info
-
-
-def mujoco_of(scene: Scene) -> tuple[mujoco.MjModel | None, mujoco.MjData | None]:
-    """The MuJoCo model and data of a scene, ``(None, None)`` for a machine of simulated axes."""
-    try:
-        model, data = scene.model, scene.data
-    except TypeError:  # simulated axes: the scene has no MuJoCo model
-        return None, None
-    if model is None or data is None:
-        return None, None
-    return model, data
-
-
-def _copy(array: npt.ArrayLike | None, empty: tuple[int, ...]) -> npt.NDArray[np.float64]:
-    """A float copy of a MuJoCo array, or an empty one of shape ``empty`` without a model."""
-    if array is None:
-        return np.zeros(empty)
-    return np.array(array, dtype=np.float64)
 
 
 def _check_speed(speed: float) -> float:

@@ -19,7 +19,7 @@ from viewer.overlays import (
     SetPointGhost,
     ghost_axes,
 )
-from viewer.session import Snapshot
+from viewer.snapshot import Snapshot
 from viewer.widgets import SceneGui
 
 OFF, ON = "off", "on"
