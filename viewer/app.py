@@ -329,30 +329,29 @@ class ViewerApp:
             self._speed_choice = gui.add_dropdown("Speed", labels, initial_value=current, order=2)
             self.gate.allow(self._speed_choice, choice_of(labels))
             self._pause = self._button("Pause", icon=viser.Icon.PLAYER_PAUSE, order=3)
-            step = self._button(
-                "Step",
-                hint="Pause and run one PLC cycle",
-                icon=viser.Icon.PLAYER_TRACK_NEXT,
-                order=4,
+            actions = (
+                ("Step", "Pause and run one PLC cycle", viser.Icon.PLAYER_TRACK_NEXT, session.step),
+                (
+                    "Reset scene",
+                    "Rebuild the scene from scratch",
+                    viser.Icon.REFRESH,
+                    session.reset,
+                ),
+                (
+                    "Save state",
+                    "Keep the machine as it is now (at rest: homed, powered, pressures)",
+                    viser.Icon.DEVICE_FLOPPY,
+                    session.save_state,
+                ),
+                (
+                    "Restore state",
+                    "Return to the saved state (time, physics, axes; the panel's blocks anew)",
+                    viser.Icon.RESTORE,
+                    self._restore_state,
+                ),
             )
-            reset = self._button(
-                "Reset scene",
-                hint="Rebuild the scene from scratch",
-                icon=viser.Icon.REFRESH,
-                order=5,
-            )
-            save_state = self._button(
-                "Save state",
-                hint="Keep the machine as it is now (at rest: homed, powered, pressures)",
-                icon=viser.Icon.DEVICE_FLOPPY,
-                order=6,
-            )
-            restore_state = self._button(
-                "Restore state",
-                hint="Return to the saved state (time, physics, axes; the panel's blocks anew)",
-                icon=viser.Icon.RESTORE,
-                order=7,
-            )
+            for order, (label, hint, icon, action) in enumerate(actions, start=4):
+                self._button(label, hint=hint, icon=icon, order=order).on_click(_call(action))
 
         @self._scene_choice.on_update
         def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
@@ -373,14 +372,10 @@ class ViewerApp:
             else:
                 session.pause()
 
-        @restore_state.on_click
-        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
-            self.operators.drop_all()
-            session.restore_state()
-
-        step.on_click(lambda event: session.step())
-        reset.on_click(lambda event: session.reset())
-        save_state.on_click(lambda event: session.save_state())
+    def _restore_state(self) -> None:
+        """Restore state: the held jogs end, the session returns to the saved state."""
+        self.operators.drop_all()
+        self.session.restore_state()
 
     def _build_demo(self) -> None:
         """The Demo folder: run and end the demo, release its group, its step."""
@@ -408,8 +403,8 @@ class ViewerApp:
             if demo.available and not demo.running:
                 session.start_demo()
 
-        self._end_demo.on_click(lambda event: session.end_demo())
-        release.on_click(lambda event: session.release_groups())
+        self._end_demo.on_click(_call(session.end_demo))
+        release.on_click(_call(session.release_groups))
 
     # ------------------------------------------------------------------------- GUI: scene
 
@@ -449,12 +444,11 @@ class ViewerApp:
 
     def _clear_scene(self) -> None:
         """Remove the 3-D scene and every panel of the scene that goes."""
-        if self._model_scene is not None:
-            self._model_scene.remove()
-            self._model_scene = None
-        if self._note is not None:
-            self._note.remove()
-            self._note = None
+        nodes: list[ModelScene | viser.LabelHandle | None] = [self._model_scene, self._note]
+        for node in nodes:
+            if node is not None:
+                node.remove()
+        self._model_scene = self._note = None
         self.views.clear()
         self._gui.remove()
         self._axes = {}
@@ -590,6 +584,11 @@ class ViewerApp:
         if self._results is not None:
             self._show("results", self._results, results_html(snapshot))
         self._show("events", self._events, events_html(snapshot))
+
+
+def _call(action: Callable[[], None]) -> Callable[[Any], None]:
+    """A button callback that calls ``action``."""
+    return lambda event: action()
 
 
 def _light(server: viser.ViserServer, environment_map: bool) -> None:

@@ -66,9 +66,7 @@ class Scope:
     def __init__(
         self, session: Session, server: viser.ViserServer, redraw: Callable[[], None]
     ) -> None:
-        self.session = session
-        self.server = server
-        self._redraw = redraw
+        self.session, self.server, self._redraw = session, server, redraw
         self.plot: viser.GuiUplotHandle | None = None
         self.traces: list[viser.GuiDropdownHandle[str]] = []
         """The trace choices."""

@@ -646,10 +646,7 @@ class Session:
             self._demo_done_seen = bool(demo.done)
             self._results = results_of(demo)
         operators, info = self._operator.axes, self._axis_info
-        views = {
-            name: axis_view(name, axis, operators[name], info[name], scene.joint_position(name))
-            for name, axis in scene.axes.items()
-        }
+        views = {name: axis_view(scene, name, operators[name], info[name]) for name in scene.axes}
         model, data = self._model, self._data
         self._snapshot = Snapshot(
             generation=self._generation,

@@ -236,20 +236,17 @@ class AxisInfo:
     homeable: bool
 
 
-def axis_view(
-    name: str, axis: mcl.Axis, operator: AxisOperator, info: AxisInfo, joint_position: float
-) -> AxisView:
-    """What the panel of axis ``name`` shows now.
+def axis_view(scene: Scene, name: str, op: AxisOperator, info: AxisInfo) -> AxisView:
+    """What the panel of the axis ``name`` of ``scene`` shows now.
 
     Args:
+        scene: The scene.
         name: The axis' name in the scene.
-        axis: The axis.
-        operator: Its operator (request flags, last command's outcome).
+        op: Its operator (request flags, last command's outcome).
         info: What the machine definition says about it.
-        joint_position: Ground-truth joint coordinate [m or rad] (NaN without one).
     """
+    axis = scene.axes[name]
     io = axis.io
-    op = operator
     return AxisView(
         name=name,
         joint=info.joint,
@@ -261,7 +258,7 @@ def axis_view(
         velocity=axis.VEL,
         following_error=axis.following_error,
         volts=axis.volts,
-        joint_position=joint_position,
+        joint_position=scene.joint_position(name),
         vmax=axis.constants.Vmax if axis.constants is not None else math.nan,
         state=op.status.StatStr,
         error=op.error_text.ErrStr,

@@ -76,12 +76,11 @@ class Views:
 
     def clear(self) -> None:
         """Drop the overlays, the followed body and the framing of the scene that goes."""
-        if self.ghost is not None:
-            self.ghost.remove()
-            self.ghost = None
-        if self.contacts is not None:
-            self.contacts.remove()
-            self.contacts = None
+        overlays: list[SetPointGhost | ContactOverlay | None] = [self.ghost, self.contacts]
+        for overlay in overlays:
+            if overlay is not None:
+                overlay.remove()
+        self.ghost = self.contacts = None
         self.follow = FOLLOW_OFF
         self._follow_anchor = {}
         self._bounds = None
