@@ -220,6 +220,22 @@ class ModelScene:
         self._colors: dict[int, Rgb] = {}
         self._skipped: list[int] = []
 
+        with server.atomic():
+            self._root = server.scene.add_frame(prefix, show_axes=False)
+            moving, tracked, self._tracked_handles = self._add_bodies(data, bodies)
+        self._moving_ids = np.array(moving, dtype=np.intp)
+        self._tracked_ids = np.array(tracked, dtype=np.intp)
+        self._sent_pos = np.array(data.xpos[self._tracked_ids], dtype=np.float64)
+        self._sent_quat = np.array(data.xquat[self._tracked_ids], dtype=np.float64)
+
+    # ----------------------------------------------------------------------------------- build
+
+    def _add_bodies(
+        self, data: mujoco.MjData, bodies: Collection[int] | None
+    ) -> tuple[list[int], list[int], list[viser.FrameHandle]]:
+        """One frame per body with a rendered geom (of ``bodies``, None: all) and its geoms;
+        the moving bodies, the tracked bodies (all but the world) and their frames."""
+        model, server, prefix = self._model, self._server, self._prefix
         # A body can move iff it is not welded to the world (body_weldid == 0 for the world body
         # and every body whose chain to it has no joint; mocap bodies are their own weld root).
         weld = np.asarray(model.body_weldid)
@@ -228,42 +244,32 @@ class ModelScene:
         # comparison until model.body_pos/body_quat relocate it.
         tracked: list[int] = []
         tracked_handles: list[viser.FrameHandle] = []
-
-        with server.atomic():
-            self._root = server.scene.add_frame(prefix, show_axes=False)
-            geoms_of_body: dict[int, list[int]] = {}
-            for g in range(model.ngeom):
-                if self._is_rendered(g):
-                    geoms_of_body.setdefault(int(model.geom_bodyid[g]), []).append(g)
-            used_body_nodes: set[str] = set()
-            for b in range(model.nbody):
-                if b not in geoms_of_body or (bodies is not None and b not in bodies):
-                    continue
-                body_name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body{b}"
-                node = self._unique(f"{prefix}/{_safe(body_name)}", b, used_body_nodes)
-                frame = server.scene.add_frame(
-                    node,
-                    show_axes=False,
-                    position=np.array(data.xpos[b], dtype=np.float64),
-                    wxyz=np.array(data.xquat[b], dtype=np.float64),
-                )
-                self._body_handles[body_name] = frame
-                if b != 0:
-                    tracked.append(b)
-                    tracked_handles.append(frame)
-                    if weld[b] != 0:
-                        moving.append(b)
-                used_geom_nodes: set[str] = set()
-                for g in geoms_of_body[b]:
-                    self._add_geom(g, node, used_geom_nodes)
-
-        self._moving_ids = np.array(moving, dtype=np.intp)
-        self._tracked_ids = np.array(tracked, dtype=np.intp)
-        self._tracked_handles = tracked_handles
-        self._sent_pos = np.array(data.xpos[self._tracked_ids], dtype=np.float64)
-        self._sent_quat = np.array(data.xquat[self._tracked_ids], dtype=np.float64)
-
-    # ----------------------------------------------------------------------------------- build
+        geoms_of_body: dict[int, list[int]] = {}
+        for g in range(model.ngeom):
+            if self._is_rendered(g):
+                geoms_of_body.setdefault(int(model.geom_bodyid[g]), []).append(g)
+        used_body_nodes: set[str] = set()
+        for b in range(model.nbody):
+            if b not in geoms_of_body or (bodies is not None and b not in bodies):
+                continue
+            body_name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body{b}"
+            node = self._unique(f"{prefix}/{_safe(body_name)}", b, used_body_nodes)
+            frame = server.scene.add_frame(
+                node,
+                show_axes=False,
+                position=np.array(data.xpos[b], dtype=np.float64),
+                wxyz=np.array(data.xquat[b], dtype=np.float64),
+            )
+            self._body_handles[body_name] = frame
+            if b != 0:
+                tracked.append(b)
+                tracked_handles.append(frame)
+                if weld[b] != 0:
+                    moving.append(b)
+            used_geom_nodes: set[str] = set()
+            for g in geoms_of_body[b]:
+                self._add_geom(g, node, used_geom_nodes)
+        return moving, tracked, tracked_handles
 
     def _is_rendered(self, g: int) -> bool:
         """Whether geom ``g`` gets a scene node (group and alpha; unsupported types count as

@@ -322,35 +322,62 @@ class AxisOperator:
             self.power(Axis=axis, Enable=self.power_request)
             if self.power.Error:
                 self._report("Power", self.power.ErrorID)
-
         if r.reset:
             self.resetting = True
-        if self.resetting or self.reset.Execute:
-            self.reset(Axis=axis, Execute=self.resetting)
-            if self.resetting and (self.reset.Done or self.reset.Error):
-                self.resetting = False
-                self._report("Reset", self.reset.ErrorID)
-
+        self.resetting = self._execute(self.reset, self.resetting, "Reset")
         if r.home is not None and not self.homing:
             self._start_homing(*r.home)
-        home = self.home
-        if home is not None and self.homing:
-            home(Execute=True)
-            if not home.Busy:
-                self.homing = False
-                if home.Done:
-                    self.message = "Home: done"
-                elif home.Error:
-                    self._report("Home", home.ErrorID)
-                else:
-                    self.message = "Home: aborted"
-                home(Execute=False)
+        self._scan_homing()
+        self._scan_jog(r)
+        self._scan_move(r.move)
+        if r.constants is not None:
+            values = {f: getattr(r.constants, f) for f in mcl.GT_SetConstant.INPUTS}
+            self.set_constant(Axis=axis, Execute=True, **values)
+            self._report("Write constants", self.set_constant.ErrorID)
+            self.set_constant(Axis=axis, Execute=False)
+        if r.stop and axis.has_drive:
+            if axis.group is not None:
+                self.message = "Stop: the axis' group ramps down and is released"
+                self.group_stop = True
+            else:
+                self.stopping = True
+        self.stopping = self._execute(self.stop, self.stopping, "Stop")
+        self.status(Axis=axis, Enable=True)
+        self.error_text(Axis=axis, Enable=True)
 
+    def _execute(self, block: mcl.MC_Reset | mcl.MC_Stop, running: bool, command: str) -> bool:
+        """Call a command block with ``Execute = running`` (once more after it ran, to drop
+        Execute); whether it still runs (its end is reported)."""
+        if running or block.Execute:
+            block(Axis=self.axis, Execute=running)
+            if running and (block.Done or block.Error):
+                self._report(command, block.ErrorID)
+                return False
+        return running
+
+    def _scan_homing(self) -> None:
+        """Call the running homing procedure; report how it ended."""
+        home = self.home
+        if home is None or not self.homing:
+            return
+        home(Execute=True)
+        if not home.Busy:
+            self.homing = False
+            if home.Done:
+                self.message = "Home: done"
+            elif home.Error:
+                self._report("Home", home.ErrorID)
+            else:
+                self.message = "Home: aborted"
+            home(Execute=False)
+
+    def _scan_jog(self, r: Requests) -> None:
+        """GT_Jog while a jog is requested (and once more when it ends)."""
         jog_pos, jog_neg = r.jog_pos, r.jog_neg
         if jog_pos or jog_neg or self.jog.Enable:
             velocity = r.jog_velocity or self._default_jog_velocity()
             self.jog(
-                Axis=axis,
+                Axis=self.axis,
                 Enable=jog_pos or jog_neg,
                 JogPos=jog_pos,
                 JogNeg=jog_neg,
@@ -359,7 +386,9 @@ class AxisOperator:
             if self.jog.Error:
                 self._report("Jog+" if jog_pos else "Jog−", self.jog.ErrorID)
 
-        move = r.move
+    def _scan_move(self, move: Move | None) -> None:
+        """Start a requested move (a fresh rising edge), or call the running one."""
+        axis = self.axis
         if move is not None:
             block = self.move_absolute if move.kind == "absolute" else self.move_relative
             if self.moving is not None:
@@ -378,27 +407,6 @@ class AxisOperator:
         elif self.moving is not None:
             self.moving(Axis=axis, Execute=True)
             self._check_move(self.moving)
-
-        if r.constants is not None:
-            values = {f: getattr(r.constants, f) for f in mcl.GT_SetConstant.INPUTS}
-            self.set_constant(Axis=axis, Execute=True, **values)
-            self._report("Write constants", self.set_constant.ErrorID)
-            self.set_constant(Axis=axis, Execute=False)
-
-        if r.stop and axis.has_drive:
-            if axis.group is not None:
-                self.message = "Stop: the axis' group ramps down and is released"
-                self.group_stop = True
-            else:
-                self.stopping = True
-        if self.stopping or self.stop.Execute:
-            self.stop(Axis=axis, Execute=self.stopping)
-            if self.stopping and (self.stop.Done or self.stop.Error):
-                self.stopping = False
-                self._report("Stop", self.stop.ErrorID)
-
-        self.status(Axis=axis, Enable=True)
-        self.error_text(Axis=axis, Enable=True)
 
     def _default_jog_velocity(self) -> float:
         constants = self.axis.constants
