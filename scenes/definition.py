@@ -115,6 +115,19 @@ class Signal:
 
 
 @dataclass(frozen=True)
+class Part:
+    """A machine of a cell (:attr:`MachineDef.parts`) and where its origin sits in the world.
+
+    Attributes:
+        machine: its definition; in the cell its names are prefixed with ``machine.name``.
+        position: its origin in the world [m].
+    """
+
+    machine: MachineDef
+    position: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
 class MachineDef:
     """A machine: model, axes, devices, demo, published signals.
 
@@ -129,6 +142,9 @@ class MachineDef:
         start: joint coordinates at power-up [m or rad] (default: the model's qpos0).
         demo_start: joint coordinates the demo starts from (``python -m scenes run``).
         servo_period, plc_period: default cycle times [s].
+        parts: the machines of a cell, side by side in one world (a cell has no axes or model
+            of its own: each part keeps its own, in its own namespace, e.g. ``press/R``; the
+            cell's demo and signals see them all).
     """
 
     name: str
@@ -142,8 +158,13 @@ class MachineDef:
     demo_start: Mapping[str, float] = field(default_factory=dict)
     servo_period: float = 0.001
     plc_period: float = 0.002
+    parts: tuple[Part, ...] = ()
 
     def __post_init__(self) -> None:
+        if self.parts:
+            if self.axes or self.model:
+                raise ValueError(f"cell {self.name!r}: its parts have the axes and models")
+            return
         if not self.axes:
             raise ValueError(f"machine {self.name!r} has no axes")
         for axis, spec in self.axes.items():
@@ -162,5 +183,10 @@ class MachineDef:
 
     @property
     def homing(self) -> dict[str, Recipe]:
-        """The homing recipes by axis name (axes without one are left out)."""
+        """The homing recipes by axis name (axes without one are left out; a cell's axes by
+        their names in the cell, ``press/R``)."""
+        if self.parts:
+            return {
+                f"{p.machine.name}/{a}": r for p in self.parts for a, r in p.machine.homing.items()
+            }
         return {n: a.homing for n, a in self.axes.items() if a.homing is not None}

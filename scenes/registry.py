@@ -23,6 +23,7 @@ ENTRY_POINTS = "mcl_testbench.machines"
 """The entry-point group through which installed packages register machines."""
 
 BUILTIN = {
+    "cell": "scenes.machines.cell:MACHINE",
     "flying_shear": "scenes.machines.flying_shear:MACHINE",
     "gantry": "scenes.machines.gantry:MACHINE",
     "press": "scenes.machines.press:MACHINE",

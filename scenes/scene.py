@@ -13,7 +13,7 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import mujoco
 
@@ -83,6 +83,7 @@ def compose(
             actuator.group = groups  # one drive-enable group per amplifier, unique in the scene
         if groups > 30:
             raise WiringError("at most 30 amplifiers fit in one scene (MuJoCo actuator groups)")
+        _share_world(root, child, machine.name, path, alone=len(machines) == 1)
         frame = root.attach(child)
         frame.pos = tuple((positions or {}).get(machine.name, (0.0, 0.0, 0.0)))
     xml = root.to_xml_string()
@@ -90,6 +91,38 @@ def compose(
         lambda: mujoco.MjModel.from_xml_string(xml, root.get_assets()), files, xml
     )
     return model, mujoco.MjData(model)
+
+
+WORLD = ("option", "compiler", "size")
+"""The elements of a model that belong to the whole world: machines sharing one physics must
+agree on them."""
+LOOKS = ("statistic", "visual")
+"""The elements of a model that only set how it is shown: the first machine's are kept (but for
+the statistic of several machines, which MuJoCo then computes from the whole world)."""
+
+
+def _share_world(root: Any, child: Any, machine: str, path: Path, alone: bool) -> None:
+    """Prepare ``child`` to join ``root``'s world: the settings of the whole world (timestep,
+    integrator, compiler) taken over by the first machine and checked against the others; the
+    view settings (statistic, headlight) the first machine's, the others' dropped."""
+    if not alone:
+        child.statistic.set_attributes(**dict.fromkeys(child.statistic.get_attributes()))
+    for tag in (*WORLD, *LOOKS):
+        mine, world = getattr(child, tag), getattr(root, tag)
+        for element, into in zip(
+            [mine, *mine.all_children()], [world, *world.all_children()], strict=True
+        ):
+            for key, value in element.get_attributes().items():
+                held = into.get_attributes().get(key)
+                if held is None:
+                    into.set_attributes(**{key: value})
+                elif tag in WORLD and str(held) != str(value):
+                    raise WiringError(
+                        f'{path}: <{element.tag} {key}="{value}">: machine {machine} needs '
+                        f"{key} {value}, another machine of the scene {held}; expected machines "
+                        f"that share one physics to agree on <{tag}>"
+                    )
+                element.set_attributes(**{key: None})
 
 
 class Scene(mcl.Machine):
@@ -133,14 +166,30 @@ class Scene(mcl.Machine):
     ) -> None:
         if not machines:
             raise ValueError("a scene needs at least one machine")
+        self.cell = next((m for m in machines if m.parts), None)
+        """The cell definition the scene was built from (None: plain machines)."""
+        if self.cell is not None:
+            if len(machines) > 1:
+                raise ValueError(f"cell {self.cell.name!r} stands alone in its scene")
+            machines = [p.machine for p in self.cell.parts]
+            positions = {
+                **{p.machine.name: p.position for p in self.cell.parts},
+                **(positions or {}),
+            }
         if sensors is not None:
             machines = [
                 replace(m, axes={a: replace(x, sensors=sensors) for a, x in m.axes.items()})
                 for m in machines
             ]
         self.machines = list(machines)
-        self.name = self.machines[0].name if len(self.machines) == 1 else "scene"
-        """The registry name of the (first) machine."""
+        self.name = (
+            self.cell.name
+            if self.cell is not None
+            else self.machines[0].name
+            if len(self.machines) == 1
+            else "scene"
+        )
+        """The registry name of the machine or cell ("scene" for machines composed ad hoc)."""
         first = self.machines[0]
         servo_period = first.servo_period if servo_period is None else servo_period
         plc_period = first.plc_period if plc_period is None else plc_period
@@ -185,22 +234,34 @@ class Scene(mcl.Machine):
                 self.modules.append(
                     mcl.Module(members[start_mod : start_mod + mcl.Module.MAX_AXES])
                 )
-            for s, signal in m.signals.items():
-                self.signals[s if single else f"{m.name}/{s}"] = signal
         self.scales = {name: scale for name, (_, scale) in scales.items()}
         """User units per SI unit of each axis (mm per m, deg per rad)."""
+        owners = {}  # published signal → the machine whose view reads it
+        for m in self.machines:
+            for s, signal in m.signals.items():
+                self.signals[s if single else f"{m.name}/{s}"] = signal
+                owners[s if single else f"{m.name}/{s}"] = m.name
+        self.signals.update(self.cell.signals if self.cell is not None else {})
+        self._signal_scenes: dict[str, Scene] = {}
         self.runtime = mcl.Runtime(self.plant, self.axes.values(), plc_period)
         self.trace = Trace(
             self.axes,
             every=max(trace_every, 1),
             truth={n: self._truth(n) for n in self.axes},
-            signals={n: self._reader(s) for n, s in self.signals.items()},
+            signals={n: self._reader(n) for n in self.signals},
             events=lambda: self.faults.events,
             keep=max(1, round(trace_seconds / (self.runtime.servo_period * max(trace_every, 1)))),
             stream=trace_file if trace_every else None,
         )
         if trace_every:
             self.runtime.observers.append(self.trace)
+        self.parts: dict[str, Scene] = {m.name: self for m in self.machines} if single else {}
+        """Each machine's own view of the scene by machine name (see :meth:`machine`)."""
+        if not single:
+            from scenes.namespace import MachineScene
+
+            self.parts = {m.name: MachineScene(self, m) for m in self.machines}
+            self._signal_scenes = {s: self.parts[m] for s, m in owners.items()}
 
     def _simulated(
         self, machine: MachineDef, starts: Mapping[str, float]
@@ -334,8 +395,24 @@ class Scene(mcl.Machine):
             raise TypeError(f"scene {self.name!r} runs simulated axes; it has no MuJoCo data")
         return self._data
 
-    def _reader(self, signal: Signal) -> mcl.trace.Reader:
-        return lambda: signal.read(self)
+    def _reader(self, name: str) -> mcl.trace.Reader:
+        signal, scenes = self.signals[name], self._signal_scenes  # views are made after the trace
+        return lambda: signal.read(scenes.get(name, self))
+
+    def machine(self, name: str) -> Scene:
+        """The view of the scene that machine ``name``'s own code sees: its axes, devices and
+        signals by their own names (``axes["X"]``), the physics and the time the scene's. In a
+        scene of one machine that is the scene itself.
+
+        Raises:
+            KeyError: no such machine in the scene (the message lists them).
+        """
+        try:
+            return self.parts[name]
+        except KeyError:
+            raise KeyError(
+                f"no machine {name!r} in the scene; machines: {list(self.parts)}"
+            ) from None
 
     def signal(self, name: str) -> float:
         """The current value of a published signal (e.g. ``"pressure_A"``).
@@ -347,7 +424,7 @@ class Scene(mcl.Machine):
             signal = self.signals[name]
         except KeyError:
             raise KeyError(f"no signal {name!r}; signals: {sorted(self.signals)}") from None
-        return signal.read(self)
+        return signal.read(self._signal_scenes.get(name, self))
 
     def io(self, axis: str) -> MujocoAxisIO:
         """The MuJoCo channel of an axis (joint position, amplifier, switches)."""

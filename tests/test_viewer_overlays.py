@@ -23,7 +23,7 @@ import viser
 import websockets.asyncio.client
 
 from scenes.machines import press
-from scenes.machines.press.hydraulics import ContactForce
+from scenes.machines.press.devices import ContactForce
 from tests.test_viewer_scene import limit_and_friction_forces
 from tests.test_viewer_session import FakeClock, run, view
 from viewer.app import ViewerApp

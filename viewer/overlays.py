@@ -28,7 +28,7 @@ import numpy.typing as npt
 import viser
 
 import scenes
-from scenes.machine import unit_and_scale
+from scenes.definition import unit_and_scale
 from viewer.model_scene import ModelScene
 
 GHOST_COLOR = (0.15, 0.75, 0.95)

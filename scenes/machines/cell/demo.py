@@ -1,0 +1,80 @@
+"""The cell's demo: the gantry's pick-and-place and the press's cycle, over and over until the
+gantry is done, at once, each machine's own demo unchanged, under the zone interlock."""
+
+from __future__ import annotations
+
+from scenes.machines import gantry, press
+from scenes.machines.cell.interlock import ZoneInterlock, ZoneUser
+from scenes.scene import Scene
+
+ZONE_X = 0.60
+"""The shared zone begins where the gantry's X joint passes 0.60 m (its place position is at
+0.75 m, beside the press) [m]."""
+RAM_UP = 0.020
+"""The press's ram counts as up above 20 mm of stroke (it returns to 10 mm) [m]."""
+
+
+def gantry_in_zone(scene: Scene) -> bool:
+    """The gantry's X joint is in the shared zone (from the physics)."""
+    return scene.joint("gantry/X").position > ZONE_X
+
+
+def ram_up(scene: Scene) -> bool:
+    """The press's ram is up, out of the shared zone (from the physics)."""
+    return scene.joint("press/R").position < RAM_UP
+
+
+class Demo:
+    """Both machines' demos, the press's over and over until the gantry's is done, one of them
+    in the shared zone at a time.
+
+    Args:
+        scene: the cell's scene.
+        interlock: False runs the demos without the interlock (what it prevents).
+    """
+
+    def __init__(self, scene: Scene, interlock: bool = True) -> None:
+        self.scene = scene
+        self.gantry = ZoneUser(
+            gantry.Demo(scene.machine("gantry")),
+            enter="carry to the place position",
+            leave="return to park",
+            left=lambda: not gantry_in_zone(scene),
+        )
+        self.press = ZoneUser(
+            press.Demo(scene.machine("press")),
+            enter="rapid approach",
+            leave="return",
+            left=lambda: ram_up(scene),
+        )
+        self.cycles = 1
+        """Press cycles begun so far."""
+        self.interlock = ZoneInterlock([self.gantry, self.press], scene.runtime.plc_period)
+        self.interlock.enabled = interlock
+
+    @property
+    def done(self) -> bool:
+        """The gantry's demo and the press's last cycle have finished."""
+        return self.gantry.demo.done and self.press.demo.done
+
+    @property
+    def error(self) -> str:
+        """The first machine's error (empty: none)."""
+        for name, user in (("gantry", self.gantry), ("press", self.press)):
+            if user.demo.error:
+                return f"{name}: {user.demo.error}"
+        return ""
+
+    @property
+    def step(self) -> str:
+        """What each machine does."""
+        return self.error or f"gantry: {self.gantry.demo.step}; press: {self.press.demo.step}"
+
+    def __call__(self) -> None:
+        """One PLC scan of the cell."""
+        if self.error:
+            return
+        if self.press.demo.done and not self.gantry.demo.done and not self.press.holding:
+            self.press.demo = press.Demo(self.scene.machine("press"))
+            self.cycles += 1
+        self.interlock()
