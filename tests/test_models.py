@@ -1,4 +1,9 @@
-"""The MJCF machine models honour the contract of models/README.md (names, numerics, physics)."""
+"""The gantry's model in motion (brake, amplifier, hard stop, obstacle), its README table, and
+every machine's hard stops resolved at the model timestep.
+
+The names, numerics and conventions every machine model keeps (models/README.md) are checked
+for each registered machine by tests/test_machine_contract.py.
+"""
 
 from __future__ import annotations
 
@@ -11,10 +16,11 @@ import mujoco
 import numpy as np
 import pytest
 
+from tests.test_machine_contract import num, place, run, switch_on, trip
+
 MODELS = Path(__file__).resolve().parent.parent / "models"
 GANTRY = MODELS / "gantry.xml"
 AXES = ("X", "Y", "Z")
-SWITCHES = ("lim_neg", "lim_pos", "ref")
 
 
 @pytest.fixture(scope="module")
@@ -36,69 +42,9 @@ def fresh() -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_path(str(GANTRY))
 
 
-def num(model: mujoco.MjModel, name: str) -> np.ndarray:
-    return np.asarray(model.numeric(name).data, dtype=float)
-
-
-def switch_on(model: mujoco.MjModel, data: mujoco.MjData, axis: str, kind: str) -> bool:
-    """The switch formula of models/README.md, from site positions only."""
-    e = data.xaxis[model.joint(axis).id]
-    cam = data.site_xpos[model.site(f"{axis}_{kind}_cam").id]
-    sw = data.site_xpos[model.site(f"{axis}_{kind}").id]
-    lo, hi = num(model, f"{axis}_{kind}_window")
-    d = float((cam - sw) @ e)
-    return lo <= d <= hi
-
-
-def trip(model: mujoco.MjModel, axis: str, kind: str) -> float:
-    name = f"{axis}_ref_edge" if kind == "ref" else f"{axis}_{kind}_trip"
-    return float(num(model, name)[0])
-
-
-def place(model: mujoco.MjModel, data: mujoco.MjData, axis: str, q: float) -> None:
-    data.qpos[model.jnt_qposadr[model.joint(axis).id]] = q
-    mujoco.mj_forward(model, data)
-
-
-def run(model: mujoco.MjModel, data: mujoco.MjData, seconds: float) -> None:
-    mujoco.mj_step(model, data, nstep=round(seconds / model.opt.timestep))
-
-
-def test_contract_names_exist(model: mujoco.MjModel) -> None:
-    assert model.opt.timestep == pytest.approx(0.0005)
-    model.key("home")
-    model.site("tool")
-    for name in ("bridge", "carriage", "ram", "X_obstacle"):
-        model.body(name)
-    for name in ("floor", "X_bumper", "X_obstacle_geom", "tool_geom"):
-        model.geom(name)
-    model.sensor("tool_pos")
-    for ax in AXES:
-        assert model.joint(ax).type == mujoco.mjtJoint.mjJNT_SLIDE
-        assert model.jnt_limited[model.joint(ax).id]
-        model.actuator(f"{ax}_amp")
-        for kind in SWITCHES:
-            model.site(f"{ax}_{kind}")
-            model.site(f"{ax}_{kind}_cam")
-            model.geom(f"{ax}_{kind}_geom")
-            model.geom(f"{ax}_{kind}_cam_geom")
-            assert num(model, f"{ax}_{kind}_window").shape == (2,)
-        for end in ("neg", "pos"):
-            model.geom(f"{ax}_stop_{end}")
-            model.numeric(f"{ax}_lim_{end}_trip")
-        for suffix in ("pos", "vel", "force"):
-            model.sensor(f"{ax}_{suffix}")
-        for name in ("lead", "J", "counts_per_rev", "index_width", "vmax", "kamp", "ref_edge"):
-            assert num(model, f"{ax}_{name}").shape == (1,)
-        assert num(model, f"{ax}_travel").shape == (2,)
-    assert num(model, "Z_brake_force").shape == (1,)
-    for name in ("X_obstacle_blockpos", "X_obstacle_blockneg"):
-        assert num(model, name).shape == (3,)
-
-
 def test_home_keyframe(model: mujoco.MjModel, data: mujoco.MjData) -> None:
-    np.testing.assert_array_equal(data.qpos, 0.0)
-    np.testing.assert_array_equal(data.act, 0.0)
+    """The gantry's home (every joint at 0, filter states 0: the contract test) lies inside its
+    working travel, with REF on for X and Y and off for Z, and no LIM actuated."""
     for ax in AXES:
         lo, hi = num(model, f"{ax}_travel")
         assert lo <= 0.0 <= hi
@@ -106,71 +52,6 @@ def test_home_keyframe(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     assert switch_on(model, data, "X", "ref") and switch_on(model, data, "Y", "ref")
     assert not switch_on(model, data, "Z", "ref")
     assert not any(switch_on(model, data, ax, k) for ax in AXES for k in ("lim_neg", "lim_pos"))
-
-
-def test_drive_parameters_are_consistent(model: mujoco.MjModel) -> None:
-    for ax in AXES:
-        j, a = model.joint(ax).id, model.actuator(f"{ax}_amp").id
-        lead, J = num(model, f"{ax}_lead")[0], num(model, f"{ax}_J")[0]
-        vmax, kamp = num(model, f"{ax}_vmax")[0], num(model, f"{ax}_kamp")[0]
-        armature = model.dof_armature[model.jnt_dofadr[j]]
-        assert armature == pytest.approx(J * (2 * math.pi / lead) ** 2)
-        assert num(model, f"{ax}_counts_per_rev")[0] * 1e-6 == pytest.approx(lead)
-        np.testing.assert_array_equal(model.actuator_ctrlrange[a], [-10.0, 10.0])
-        assert model.actuator_gainprm[a, 0] == pytest.approx(kamp * vmax / 10.0)
-        assert model.actuator_biasprm[a, 2] == pytest.approx(-kamp)
-        assert model.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_FILTEREXACT
-        assert model.actuator_forcelimited[a]
-        # the hard stops lie beyond the LIM trip points, which lie beyond the travel
-        lo, hi = model.jnt_range[j]
-        tlo, thi = num(model, f"{ax}_travel")
-        assert lo < trip(model, ax, "lim_neg") < tlo and thi < trip(model, ax, "lim_pos") < hi
-    # Z holds its weight with the drive at full force
-    weight = model.body_subtreemass[model.body("ram").id] * -model.opt.gravity[2]
-    assert model.actuator_forcerange[model.actuator("Z_amp").id, 1] > 10 * weight
-
-
-def test_switch_formula_at_joint_positions(model: mujoco.MjModel, data: mujoco.MjData) -> None:
-    """The geometric formula equals the joint-coordinate form d = q - trip."""
-    for ax in AXES:
-        lo, hi = model.jnt_range[model.joint(ax).id]
-        lim_neg, lim_pos, ref = (trip(model, ax, k) for k in SWITCHES)
-        for q in np.linspace(lo, hi, 61):
-            place(model, data, ax, q)
-            for kind in SWITCHES:
-                e = data.xaxis[model.joint(ax).id]
-                cam = data.site_xpos[model.site(f"{ax}_{kind}_cam").id]
-                sw = data.site_xpos[model.site(f"{ax}_{kind}").id]
-                assert (cam - sw) @ e == pytest.approx(q - trip(model, ax, kind), abs=1e-9)
-        cases = [
-            (lo, True, False, True),
-            (lim_neg - 0.001, True, False, True),
-            (lim_neg + 0.001, False, False, True),
-            (ref - 0.001, False, False, True),
-            (ref + 0.001, False, False, False),
-            (lim_pos - 0.001, False, False, False),
-            (lim_pos + 0.001, False, True, False),
-            (hi, False, True, False),
-        ]
-        for q, want_neg, want_pos, want_ref in cases:
-            place(model, data, ax, q)
-            got = tuple(switch_on(model, data, ax, k) for k in SWITCHES)
-            assert got == (want_neg, want_pos, want_ref), (ax, q)
-
-
-def test_dog_geoms_match_switch_windows(model: mujoco.MjModel, data: mujoco.MjData) -> None:
-    """What a viewer shows agrees with the formula: a switch is on iff its site is over its dog."""
-    for ax in AXES:
-        lo, hi = model.jnt_range[model.joint(ax).id]
-        for q in np.linspace(lo, hi, 97):
-            place(model, data, ax, q)
-            e = data.xaxis[model.joint(ax).id]
-            for kind in SWITCHES:
-                g = model.geom(f"{ax}_{kind}_cam_geom").id
-                half = np.abs(data.geom_xmat[g].reshape(3, 3).T @ e) @ model.geom_size[g]
-                s = (data.site_xpos[model.site(f"{ax}_{kind}").id] - data.geom_xpos[g]) @ e
-                if abs(abs(s) - half) > 1e-6:  # skip the edges themselves
-                    assert (abs(s) < half) == switch_on(model, data, ax, kind), (ax, kind, q)
 
 
 def test_brake_holds_z(fresh: mujoco.MjModel) -> None:
