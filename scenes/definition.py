@@ -182,11 +182,17 @@ class MachineDef:
                 raise ValueError(f"{self.name}.{axis}: a machine without a model needs AxisDef.sim")
 
     @property
+    def scene_axes(self) -> dict[str, AxisDef]:
+        """The axes by their names in a scene of this machine: its own, or a cell's parts'
+        prefixed with the part's name (``press/R``)."""
+        if self.parts:
+            return {
+                f"{p.machine.name}/{a}": d for p in self.parts for a, d in p.machine.axes.items()
+            }
+        return dict(self.axes)
+
+    @property
     def homing(self) -> dict[str, Recipe]:
         """The homing recipes by axis name (axes without one are left out; a cell's axes by
         their names in the cell, ``press/R``)."""
-        if self.parts:
-            return {
-                f"{p.machine.name}/{a}": r for p in self.parts for a, r in p.machine.homing.items()
-            }
-        return {n: a.homing for n, a in self.axes.items() if a.homing is not None}
+        return {n: a.homing for n, a in self.scene_axes.items() if a.homing is not None}

@@ -261,7 +261,7 @@ class Scene(mcl.Machine):
             from scenes.namespace import MachineScene
 
             self.parts = {m.name: MachineScene(self, m) for m in self.machines}
-            self._signal_scenes = {s: self.parts[m] for s, m in owners.items()}
+            self._signal_scenes.update({s: self.parts[m] for s, m in owners.items()})
 
     def _simulated(
         self, machine: MachineDef, starts: Mapping[str, float]

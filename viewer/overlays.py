@@ -227,7 +227,7 @@ def ghost_axes(
         if j < 0:
             raise KeyError(f"axis {name}: the model has no joint {joint!r}")
         rotary = int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_HINGE)
-        _, scale = unit_and_scale(definition.axes[name], rotary)
+        _, scale = unit_and_scale(definition.scene_axes[name], rotary)
         axes.append(GhostAxis(name, int(model.jnt_qposadr[j]), scale))
     return tuple(axes)
 

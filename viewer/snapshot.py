@@ -309,7 +309,7 @@ def axis_info(definition: MachineDef, scene: Scene) -> dict[str, AxisInfo]:
     recipes = definition.homing
     info: dict[str, AxisInfo] = {}
     for name, axis in scene.axes.items():
-        spec = definition.axes.get(name)
+        spec = definition.scene_axes.get(name)
         io = axis.io
         info[name] = AxisInfo(
             joint=io.name if isinstance(io, MujocoAxisIO) else "",
