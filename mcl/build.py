@@ -147,19 +147,8 @@ def build(packages: Sequence[str], verbose: bool = False) -> str:
             except (Exception, SystemExit) as error:
                 tail = log.read_text(errors="replace").splitlines()[-25:] if log.exists() else []
                 raise SystemExit("\n".join([f"compiled build failed: {error}", *tail])) from None
-            for target in compiled_files(others):
-                built = Path(temp) / "lib" / target.relative_to(ROOT)
-                shutil.copyfile(built, f"{target}.new")
-                os.replace(f"{target}.new", target)
-            remarks = (
-                [
-                    line
-                    for line in log.read_text(errors="replace").splitlines()
-                    if "warning:" in line
-                ]
-                if log.exists()
-                else []
-            )
+            _install(Path(temp) / "lib", compiled_files(others))
+            remarks = _remarks(log)
     finally:
         progress.close()
         os.close(out)
@@ -183,6 +172,21 @@ def build(packages: Sequence[str], verbose: bool = False) -> str:
         if remarks
         else f"built in {time.monotonic() - progress.start:.0f} s"
     )
+
+
+def _install(built: Path, targets: list[Path]) -> None:
+    """Put each compiled file beside its source, each in one rename (a running process keeps
+    the file it has open)."""
+    for target in targets:
+        shutil.copyfile(built / target.relative_to(ROOT), f"{target}.new")
+        os.replace(f"{target}.new", target)
+
+
+def _remarks(log: Path) -> list[str]:
+    """The warnings mypyc and the C compiler wrote to ``log``."""
+    if not log.exists():
+        return []
+    return [line for line in log.read_text(errors="replace").splitlines() if "warning:" in line]
 
 
 def clean() -> None:

@@ -13,7 +13,7 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, TypeVar, cast
 
 import mujoco
 
@@ -24,7 +24,6 @@ from scenes import start as start_check
 from scenes.definition import AxisDef, MachineDef, Signal, unit_and_scale
 from scenes.plant.drives import Device, WiringError
 from scenes.plant.mujoco import AxisWiring, Joint, MujocoAxisIO, MujocoPlant
-from scenes.plant.state import MujocoState, model_identity
 
 D = TypeVar("D")
 """A class of device (:meth:`Scene.device`)."""
@@ -168,38 +167,21 @@ class Scene(mcl.Machine):
             raise ValueError("a scene needs at least one machine")
         self.cell = next((m for m in machines if m.parts), None)
         """The cell definition the scene was built from (None: plain machines)."""
-        if self.cell is not None:
-            if len(machines) > 1:
-                raise ValueError(f"cell {self.cell.name!r} stands alone in its scene")
-            machines = [p.machine for p in self.cell.parts]
-            positions = {
-                **{p.machine.name: p.position for p in self.cell.parts},
-                **(positions or {}),
-            }
+        machines, positions = self._parts_of(machines, positions)
         if sensors is not None:
             machines = [
                 replace(m, axes={a: replace(x, sensors=sensors) for a, x in m.axes.items()})
                 for m in machines
             ]
         self.machines = list(machines)
-        self.name = (
-            self.cell.name
-            if self.cell is not None
-            else self.machines[0].name
-            if len(self.machines) == 1
-            else "scene"
-        )
+        single = len(self.machines) == 1
+        self.name = self.cell.name if self.cell else self.machines[0].name if single else "scene"
         """The registry name of the machine or cell ("scene" for machines composed ad hoc)."""
         first = self.machines[0]
-        servo_period = first.servo_period if servo_period is None else servo_period
-        plc_period = first.plc_period if plc_period is None else plc_period
-        self.signals: dict[str, Signal] = {}
-        """Published values by name (prefixed with the machine's name in a composed scene)."""
         self._model: mujoco.MjModel | None = None
         self._data: mujoco.MjData | None = None
         self.devices: dict[str, Device] = {}
         self._joints: dict[str, Joint] = {}
-        single = len(self.machines) == 1
         names = {
             (m.name, a): a if single else f"{m.name}/{a}" for m in self.machines for a in m.axes
         }
@@ -215,34 +197,13 @@ class Scene(mcl.Machine):
             except WiringError as error:  # a name the machine's file lacks: name the file
                 files = [model_path(m.model) for m in self.machines]
                 raise model_errors.in_files(error, files) from None
-        self.axes: dict[str, mcl.Axis] = {}
-        self.modules: list[mcl.Module] = []
-        for m in self.machines:
-            members = []
-            for a, spec in m.axes.items():
-                name = names[(m.name, a)]
-                io = ios[name]
-                unit, scale = scales[name]
-                config = replace(spec.config, servo_period=servo_period, unit=unit)
-                _check_resolution(io.resolution * scale, config, name)
-                axis = mcl.Axis(io, config, name=name)
-                if spec.constants is not None:
-                    axis.set_constants(spec.constants)
-                self.axes[name] = axis
-                members.append(axis)
-            for start_mod in range(0, len(members), mcl.Module.MAX_AXES):
-                self.modules.append(
-                    mcl.Module(members[start_mod : start_mod + mcl.Module.MAX_AXES])
-                )
+        servo_period = first.servo_period if servo_period is None else servo_period
+        self._make_axes(ios, scales, names, servo_period)
         self.scales = {name: scale for name, (_, scale) in scales.items()}
         """User units per SI unit of each axis (mm per m, deg per rad)."""
-        owners = {}  # published signal → the machine whose view reads it
-        for m in self.machines:
-            for s, signal in m.signals.items():
-                self.signals[s if single else f"{m.name}/{s}"] = signal
-                owners[s if single else f"{m.name}/{s}"] = m.name
-        self.signals.update(self.cell.signals if self.cell is not None else {})
+        owners = self._publish(single)
         self._signal_scenes: dict[str, Scene] = {}
+        plc_period = first.plc_period if plc_period is None else plc_period
         self.runtime = mcl.Runtime(self.plant, self.axes.values(), plc_period)
         self.trace = Trace(
             self.axes,
@@ -263,10 +224,61 @@ class Scene(mcl.Machine):
             self.parts = {m.name: MachineScene(self, m) for m in self.machines}
             self._signal_scenes.update({s: self.parts[m] for s, m in owners.items()})
 
+    def _parts_of(
+        self, machines: Sequence[MachineDef], positions: Mapping[str, Sequence[float]] | None
+    ) -> tuple[Sequence[MachineDef], Mapping[str, Sequence[float]] | None]:
+        """The machines of the scene and where they stand: a cell's parts in its place."""
+        if self.cell is None:
+            return machines, positions
+        if len(machines) > 1:
+            raise ValueError(f"cell {self.cell.name!r} stands alone in its scene")
+        places = {p.machine.name: p.position for p in self.cell.parts}
+        return [p.machine for p in self.cell.parts], {**places, **(positions or {})}
+
+    def _make_axes(
+        self,
+        ios: Mapping[str, mcl.channel.AxisChannel],
+        scales: Mapping[str, tuple[str, float]],
+        names: Mapping[tuple[str, str], str],
+        servo_period: float,
+    ) -> None:
+        """An mcl axis on each channel, with its machine data; six to a servo module."""
+        self.axes: dict[str, mcl.Axis] = {}
+        self.modules: list[mcl.Module] = []
+        for m in self.machines:
+            members = []
+            for a, spec in m.axes.items():
+                name = names[(m.name, a)]
+                unit, scale = scales[name]
+                config = replace(spec.config, servo_period=servo_period, unit=unit)
+                _check_resolution(ios[name].resolution * scale, config, name)
+                axis = mcl.Axis(ios[name], config, name=name)
+                if spec.constants is not None:
+                    axis.set_constants(spec.constants)
+                self.axes[name] = axis
+                members.append(axis)
+            size = mcl.Module.MAX_AXES
+            self.modules += [
+                mcl.Module(members[i : i + size]) for i in range(0, len(members), size)
+            ]
+
+    def _publish(self, single: bool) -> dict[str, str]:
+        """Every machine's published signals (prefixed in a composed scene) and the cell's;
+        returns which machine each machine signal belongs to."""
+        self.signals: dict[str, Signal] = {}
+        """Published values by name (prefixed with the machine's name in a composed scene)."""
+        owners = {}
+        for m in self.machines:
+            for s, signal in m.signals.items():
+                self.signals[s if single else f"{m.name}/{s}"] = signal
+                owners[s if single else f"{m.name}/{s}"] = m.name
+        self.signals.update(self.cell.signals if self.cell is not None else {})
+        return owners
+
     def _simulated(
         self, machine: MachineDef, starts: Mapping[str, float]
     ) -> tuple[dict[str, mcl.channel.AxisChannel], mcl.SimPlant, dict[str, tuple[str, float]]]:
-        sims: dict[str, mcl.channel.AxisChannel] = {}
+        sims: dict[str, mcl.SimAxis] = {}
         for a, spec in machine.axes.items():
             assert spec.sim is not None
             params = spec.sim
@@ -281,9 +293,9 @@ class Scene(mcl.Machine):
             if spec.sensors is not None:
                 params = replace(params, sensors=spec.sensors)
             sims[a] = mcl.SimAxis(params)
-        plant = mcl.SimPlant([s for s in sims.values() if isinstance(s, mcl.SimAxis)])
+        plant = mcl.SimPlant(list(sims.values()))
         scales = {a: unit_and_scale(spec, rotary=False) for a, spec in machine.axes.items()}
-        return sims, plant, scales
+        return dict(sims), plant, scales
 
     def _mujoco(
         self,
@@ -363,10 +375,7 @@ class Scene(mcl.Machine):
 
     def _truth(self, axis: str) -> mcl.trace.Reader:
         io = self.axes[axis].io
-        if isinstance(io, MujocoAxisIO):
-            return lambda: io.position
-        assert isinstance(io, mcl.SimAxis)
-        return lambda: io.x
+        return lambda: io.position
 
     @property
     def has_model(self) -> bool:
@@ -428,10 +437,9 @@ class Scene(mcl.Machine):
 
     def io(self, axis: str) -> MujocoAxisIO:
         """The MuJoCo channel of an axis (joint position, amplifier, switches)."""
-        io = self.axes[axis].io
-        if not isinstance(io, MujocoAxisIO):
+        if not self.has_model:
             raise TypeError(f"axis {axis} is a simulated axis, not on a MuJoCo model")
-        return io
+        return cast(MujocoAxisIO, self.axes[axis].io)  # a model's channels are MujocoAxisIO
 
     def device(self, name: str, kind: type[D]) -> D:
         """The machine's Python device ``name``, of class ``kind``.
@@ -463,11 +471,7 @@ class Scene(mcl.Machine):
 
     def joint_position(self, axis: str) -> float:
         """Ground-truth joint coordinate of an axis [m or rad]."""
-        io = self.axes[axis].io
-        if isinstance(io, MujocoAxisIO):
-            return io.position
-        assert isinstance(io, mcl.SimAxis)
-        return io.x
+        return self.axes[axis].io.position
 
     # ------------------------------------------------------------------ saved state
     def save_state(self) -> mcl.MachineState:
@@ -500,30 +504,7 @@ class Scene(mcl.Machine):
 
     def _identity(self) -> tuple[str, ...]:
         machines = ", ".join(f"{m.name} ({m.model or 'simulated axes'})" for m in self.machines)
-        plant = self.plant
-        physics: tuple[str, ...]
-        if isinstance(plant, MujocoPlant):
-            physics = (model_identity(plant.model),)
-        else:
-            assert isinstance(plant, mcl.SimPlant)
-            physics = plant.identity()
-        return (f"machine {machines}", *super()._identity(), *physics)
-
-    def _plant_state(self) -> object:
-        plant = self.plant
-        if isinstance(plant, MujocoPlant):
-            return MujocoState.of(plant)
-        assert isinstance(plant, mcl.SimPlant)
-        return plant.get_state()
-
-    def _restore_plant(self, state: object) -> None:
-        plant = self.plant
-        if isinstance(plant, MujocoPlant):
-            assert isinstance(state, MujocoState)
-            state.restore(plant)
-        else:
-            assert isinstance(plant, mcl.SimPlant) and isinstance(state, mcl.SimPlantState)
-            plant.set_state(state)
+        return (f"machine {machines}", *super()._identity())
 
     def _restored(self) -> None:
         self.trace.clear()
