@@ -80,6 +80,29 @@ class Contour:
         return float(errors.max()) if errors.size else 0.0
 
 
+def _segments(
+    group: mcl.AxesGroup,
+    distances: Sequence[Sequence[float]],
+    modes: Sequence[mcl.MC_BufferMode],
+    velocity: float,
+    acceleration: float,
+    jerk: float,
+) -> list[mcl.MC_MoveLinearRelative]:
+    """One MC_MoveLinearRelative per segment, its inputs bound."""
+    return [
+        mcl.MC_MoveLinearRelative(
+            AxesGroup=group,
+            Distance=list(d),
+            Velocity=velocity,
+            Acceleration=acceleration,
+            Deceleration=acceleration,
+            Jerk=jerk,
+            BufferMode=mode,
+        )
+        for d, mode in zip(distances, modes, strict=True)
+    ]
+
+
 def run_path(
     scene: Any,
     axes: Sequence[str],
@@ -114,18 +137,7 @@ def run_path(
     power = [mcl.MC_Power(Axis=a) for a in members]
     add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=a) for a in members]
     enable = mcl.MC_GroupEnable(AxesGroup=group)
-    moves = [
-        mcl.MC_MoveLinearRelative(
-            AxesGroup=group,
-            Distance=list(d),
-            Velocity=velocity,
-            Acceleration=acceleration,
-            Deceleration=acceleration,
-            Jerk=jerk,
-            BufferMode=mode,
-        )
-        for d, mode in zip(distances, modes, strict=True)
-    ]
+    moves = _segments(group, distances, modes, velocity, acceleration, jerk)
     go = [False]
 
     def program() -> None:

@@ -138,20 +138,18 @@ def _value_problem(value: object, parameter: inspect.Parameter | None) -> str:
 def check(spec: Mapping[str, Any]) -> list[Problem]:
     """Every mistake of a sweep described as in a sweep file (keys :data:`KEYS`), checked
     against the scenario's signature; empty when it can run."""
-    problems: list[Problem] = []
-    for key in spec:
-        if key not in KEYS:
-            problems.append((key, "unknown key", f"one of {sorted(KEYS)}{suggest(key, KEYS)}"))
+    problems: list[Problem] = [
+        (key, "unknown key", f"one of {sorted(KEYS)}{suggest(key, KEYS)}")
+        for key in spec
+        if key not in KEYS
+    ]
     if "scenario" not in spec:
-        problems.append(("scenario", "missing", 'scenario = "module:function"'))
-        return problems
+        return [*problems, ("scenario", "missing", 'scenario = "module:function"')]
     function, problem = _resolve(spec["scenario"])
     if function is None:
-        problems.append(("scenario", *problem))
-        return problems
+        return [*problems, ("scenario", *problem)]
     named, anything = _parameters(function)
-    takes_seed = "seed" in inspect.signature(function).parameters or anything
-    if not takes_seed:
+    if "seed" not in inspect.signature(function).parameters and not anything:
         problems.append(
             (
                 "scenario",
@@ -159,7 +157,30 @@ def check(spec: Mapping[str, Any]) -> list[Problem]:
                 "a function f(seed, **parameters) -> dict of metrics",
             )
         )
-    valid = sorted(named)
+    tables = _tables(spec, named, anything, problems)
+    grid, drawn = tables.get("grid", {}), tables.get("random", {})
+    problems += _grid_problems(grid, drawn, named)
+    problems += _random_problems(drawn, named)
+    problems += [
+        (
+            name,
+            "the scenario needs it (no default)",
+            f"it in [grid] ({name} = [...]) or [random] ({name} = [low, high])",
+        )
+        for name, parameter in named.items()
+        if parameter.default is inspect.Parameter.empty and name not in {*grid, *drawn}
+    ]
+    return problems + _setting_problems(spec)
+
+
+def _tables(
+    spec: Mapping[str, Any],
+    named: Mapping[str, inspect.Parameter],
+    anything: bool,
+    problems: list[Problem],
+) -> dict[str, Mapping[str, Any]]:
+    """The [grid] and [random] tables that are tables; the mistakes found go to ``problems``
+    (not a table, a name the scenario does not take)."""
     tables: dict[str, Mapping[str, Any]] = {}
     for table in ("grid", "random"):
         value = spec.get(table, {})
@@ -168,16 +189,24 @@ def check(spec: Mapping[str, Any]) -> list[Problem]:
             problems.append((table, f"{value!r} is not a table", f"[{table}] with lines {example}"))
             continue
         tables[table] = value
-        for name in value:
-            if name not in named and not anything:
-                problems.append(
-                    (
-                        f"{table}.{name}",
-                        f"not a parameter of {spec['scenario']}",
-                        f"one of {valid}{suggest(name, named)}",
-                    )
-                )
-    grid, drawn = tables.get("grid", {}), tables.get("random", {})
+        problems += [
+            (
+                f"{table}.{name}",
+                f"not a parameter of {spec['scenario']}",
+                f"one of {sorted(named)}{suggest(name, named)}",
+            )
+            for name in value
+            if name not in named and not anything
+        ]
+    return tables
+
+
+def _grid_problems(
+    grid: Mapping[str, Any], drawn: Mapping[str, Any], named: Mapping[str, inspect.Parameter]
+) -> list[Problem]:
+    """The mistakes of the [grid] table: not a list, empty, a value of the wrong type, a name
+    also in [random]."""
+    problems: list[Problem] = []
     for name, values in grid.items():
         key, parameter = f"grid.{name}", named.get(name)
         if not _is_list(values):
@@ -191,14 +220,21 @@ def check(spec: Mapping[str, Any]) -> list[Problem]:
         elif len(values) == 0:
             problems.append((key, "an empty list", "at least one value"))
         else:
-            for value in values:
-                wrong = _value_problem(value, parameter)
-                if wrong:
-                    hint = getattr(parameter.annotation, "__name__", "") if parameter else ""
-                    problems.append((key, wrong, f"values of type {hint}"))
-                    break
+            wrong = next((w for w in (_value_problem(v, parameter) for v in values) if w), "")
+            if wrong:
+                hint = getattr(parameter.annotation, "__name__", "") if parameter else ""
+                problems.append((key, wrong, f"values of type {hint}"))
         if name in drawn:
             problems.append((key, "in both [grid] and [random]", "it in one of them"))
+    return problems
+
+
+def _random_problems(
+    drawn: Mapping[str, Any], named: Mapping[str, inspect.Parameter]
+) -> list[Problem]:
+    """The mistakes of the [random] table: not [low, high], the wrong way round, a parameter
+    that takes no real numbers."""
+    problems: list[Problem] = []
     for name, bounds in drawn.items():
         key, parameter = f"random.{name}", named.get(name)
         if (
@@ -226,17 +262,13 @@ def check(spec: Mapping[str, Any]) -> list[Problem]:
                     f"{name} in [grid] instead",
                 )
             )
-    for name, parameter in named.items():
-        if parameter.default is inspect.Parameter.empty and name not in {*grid, *drawn}:
-            problems.append(
-                (
-                    name,
-                    "the scenario needs it (no default)",
-                    f"it in [grid] ({name} = [...]) or [random] ({name} = [low, high])",
-                )
-            )
-    integers = {"samples": 1, "seed": 0, "workers": 0}
-    for key, low in integers.items():
+    return problems
+
+
+def _setting_problems(spec: Mapping[str, Any]) -> list[Problem]:
+    """The mistakes of the sweep's own settings: samples, seed, workers, out, address."""
+    problems: list[Problem] = []
+    for key, low in {"samples": 1, "seed": 0, "workers": 0}.items():
         if key in spec and not (
             isinstance(spec[key], int) and not isinstance(spec[key], bool) and spec[key] >= low
         ):
@@ -539,6 +571,64 @@ def _toml_value(text: str) -> Any:
         return text
 
 
+def _read_toml(path: Path) -> tuple[str, dict[str, Any]]:
+    """A sweep file's text and its table.
+
+    Raises:
+        UserError: a missing or unreadable file, a TOML syntax error (``file:line``).
+    """
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise UserError.at(
+            str(path), "", "no such file", f"a sweep file (TOML), relative to {Path.cwd()}"
+        ) from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise UserError.at(str(path), "", f"cannot be read ({error})", "a TOML text file") from None
+    try:
+        return text, tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        message = str(error)
+        at = re.search(r"\(at line (\d+), column (\d+)\)", message)
+        line = at.group(1) if at else str(len(text.splitlines()) or 1)
+        column = f", column {at.group(2)}" if at else ""
+        what = re.sub(r"\s*\(at [^)]*\)$", "", message)
+        raise UserError.at(
+            f"{path}:{line}",
+            "",
+            f"TOML syntax: {what}{column}",
+            "valid TOML (key = value, [table])",
+        ) from None
+
+
+def _override(
+    spec: dict[str, Any], overrides: Sequence[str], problems: list[tuple[str, Problem]]
+) -> set[str]:
+    """Apply the command line's ``key=value`` overrides to ``spec``; returns the keys set (a
+    malformed one goes to ``problems``)."""
+    overridden: set[str] = set()
+    for item in overrides:
+        key, equals, value = item.partition("=")
+        key = key.strip()
+        if not equals or not key:
+            problems.append(
+                (
+                    "command line",
+                    (item, "not KEY=VALUE", "e.g. --set samples=5 or --grid x=[1,2,3]"),
+                )
+            )
+            continue
+        table, _, name = key.rpartition(".")
+        target = spec
+        if table:
+            target = spec.setdefault(table, {})
+            if not isinstance(target, dict):
+                continue  # check() reports the table itself
+        target[name] = _toml_value(value.strip())
+        overridden.add(key)
+    return overridden
+
+
 def from_toml(path: str | Path, overrides: Sequence[str] = ()) -> tuple[Sweep, dict[str, Any]]:
     """A sweep described in a TOML file, and its run options.
 
@@ -566,49 +656,9 @@ def from_toml(path: str | Path, overrides: Sequence[str] = ()) -> tuple[Sweep, d
             ``file:line: key: what is wrong; expected ...``.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise UserError.at(
-            str(path), "", "no such file", f"a sweep file (TOML), relative to {Path.cwd()}"
-        ) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserError.at(str(path), "", f"cannot be read ({error})", "a TOML text file") from None
-    try:
-        spec: dict[str, Any] = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        message = str(error)
-        at = re.search(r"\(at line (\d+), column (\d+)\)", message)
-        line = at.group(1) if at else str(len(text.splitlines()) or 1)
-        column = f", column {at.group(2)}" if at else ""
-        what = re.sub(r"\s*\(at [^)]*\)$", "", message)
-        raise UserError.at(
-            f"{path}:{line}",
-            "",
-            f"TOML syntax: {what}{column}",
-            "valid TOML (key = value, [table])",
-        ) from None
-    overridden: set[str] = set()
+    text, spec = _read_toml(path)
     problems: list[tuple[str, Problem]] = []
-    for item in overrides:
-        key, equals, value = item.partition("=")
-        key = key.strip()
-        if not equals or not key:
-            problems.append(
-                (
-                    "command line",
-                    (item, "not KEY=VALUE", "e.g. --set samples=5 or --grid x=[1,2,3]"),
-                )
-            )
-            continue
-        table, _, name = key.rpartition(".")
-        target = spec
-        if table:
-            target = spec.setdefault(table, {})
-            if not isinstance(target, dict):
-                continue  # check() reports the table itself
-        target[name] = _toml_value(value.strip())
-        overridden.add(key)
+    overridden = _override(spec, overrides, problems)
     lines = _Lines(text)
 
     def where(key: str) -> str:
