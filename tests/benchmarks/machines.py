@@ -45,7 +45,6 @@ class BarePhysics:
         import mujoco
 
         import mcl
-        import scenes
         from scenes.plant.mujoco import MujocoPlant
 
         self.scene = scene
@@ -59,10 +58,12 @@ class BarePhysics:
             return
         self.model = copy.deepcopy(scene.model)  # devices may write model fields (equality data)
         self.data = mujoco.MjData(self.model)
+        alone = len(scene.machines) == 1
         self.devices = (
             {
-                d: f(self.model, self.data, f"{scene.name}/")
-                for d, f in scenes.definition(scene.name).devices.items()
+                d if alone else f"{m.name}/{d}": f(self.model, self.data, f"{m.name}/")
+                for m in scene.machines
+                for d, f in m.devices.items()
             }
             if devices
             else {}
@@ -100,7 +101,8 @@ def machine(name: str) -> dict[str, Any]:
     import scenes
 
     definition = scenes.definition(name)
-    devices = definition.devices
+    parts = [p.machine for p in definition.parts] or [definition]
+    devices = [f"{m.name}/{d}" if definition.parts else d for m in parts for d in m.devices]
     runs = []
     for _ in range(REPEATS):
         scene = scenes.load(name, start=definition.demo_start, trace_every=0)
