@@ -9,124 +9,22 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
-from mcl.channel import AxisChannel, ChannelSnapshot
+from mcl import axis_state
+from mcl.axis_config import AxisConfig
+from mcl.axis_state import AxisSnapshot
+from mcl.channel import AxisChannel
 from mcl.command import Command, Halt, Hold, MoveTo, MoveVelocity, Status, Stop, blend_velocity
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
-from mcl.errors import ErrorID, StateError, check_finite
+from mcl.errors import ErrorID
 from mcl.servo import Regulator, ServoConstants
 from mcl.trajectory import Limits, PlanningError
 
 if TYPE_CHECKING:
     from mcl.module import Module
 
-
-@dataclass(frozen=True, slots=True)
-class AxisConfig:
-    """Machine data of one axis: what the module knows besides the GT_SetConstant constants.
-
-    Attributes:
-        resolution: travel per encoder count [u/count].
-        dev_max: following-error limit DevMax [u]; beyond it ERRPOS 2001 opens the loop.
-        in_position: in-position window [u] (settling integral Ki1, group InPosition).
-        acceleration, deceleration: defaults when an FB passes 0 [u/s²].
-        jerk: default jerk when an FB passes 0 [u/s³]; 0 = not jerk-limited.
-        max_acceleration, max_deceleration: maxima; larger FB inputs are clamped [u/s²].
-            ``max_deceleration`` is also the "maximum ramp" of error and power-off stops.
-        max_jerk: maximum jerk [u/s³]; 0 = unlimited.
-        modulo: period of a rotary (modulo) axis [u]; 0 = linear axis.
-        servo_period: servo cycle [s].
-        unit: the user unit u, for messages, traces and the viewer (``"mm"``, ``"deg"``).
-        quick_stop_time: after ERRPOS 2001 the position loop opens but the drive stays enabled
-            at 0 V this long [s], so the velocity-mode amplifier brakes the axis with its own
-            velocity loop before the enable drops and the holding brake engages (0 = the enable
-            drops at once and the axis coasts).
-        release_time: after running into a mechanical block (MC_StepBlock, GT_MoveAbsBlock's
-            TorqueLimit) the drive lets go this long [s] with the integral action off, so the
-            compressed block springs the axis back (or a load sags onto Kp alone) before the
-            axis backs off by the in-position window and is held clear of the block.
-    """
-
-    resolution: float = 0.001
-    dev_max: float = 2.0
-    in_position: float = 0.005
-    acceleration: float = 1000.0
-    deceleration: float = 1000.0
-    jerk: float = 0.0
-    max_acceleration: float = 20000.0
-    max_deceleration: float = 20000.0
-    max_jerk: float = 0.0
-    modulo: float = 0.0
-    servo_period: float = 0.001
-    quick_stop_time: float = 0.1
-    release_time: float = 0.05
-    unit: str = "mm"
-
-    def __post_init__(self) -> None:
-        positive = (
-            "resolution",
-            "dev_max",
-            "in_position",
-            "acceleration",
-            "deceleration",
-            "max_acceleration",
-            "max_deceleration",
-            "servo_period",
-        )
-        check_finite(self, positive, True)
-        check_finite(self, ("jerk", "max_jerk", "modulo", "quick_stop_time", "release_time"), False)
-
-
-@dataclass(frozen=True, slots=True)
-class AxisSnapshot:
-    """Everything an :class:`Axis` and its channel carry at one instant at rest
-    (:meth:`Axis.snapshot`): power and loop, reference (homing) and coordinate offset, error,
-    servo constants and regulator memory, the model (set point) state, the measured values
-    and the channel (:class:`~mcl.channel.ChannelSnapshot`). Positions [u], velocities [u/s],
-    times [s], volts [V].
-
-    Function blocks, axes groups and an armed touch probe belong to the PLC program, not to the
-    axis: they are not part of it.
-    """
-
-    name: str
-    config: AxisConfig
-    channel: ChannelSnapshot
-    state: AxisState
-    AxErrorID: int
-    POS: float
-    VEL: float
-    Ref: bool
-    opt_select: tuple[int, int]
-    constants: ServoConstants | None
-    regulator: tuple[float, float] | None
-    """Integral action [V] and last following error [u] (None: no constants yet)."""
-    speed_mode: int
-    loop_closed: bool
-    volts: float
-    offset: float
-    actual: float
-    sp_pos: float
-    sp_vel: float
-    sp_acc: float
-    t_sp: float
-    sp_time: float
-    t_cycle: float
-    quick_stop_until: float
-    following_error: float
-    captured: float
-    probe_position: float | None
-    hold: tuple[float, float] | None
-    """The position held in ErrorStop and the hold's start time (None: no hold)."""
-    estop_latched: bool
-    pos_prev: float
-    lim_prev: tuple[bool, ...]
-
-
-_AT_REST = (AxisState.Disabled, AxisState.StandStill, AxisState.ErrorStop)
-"""The axis states in which a state can be saved."""
+__all__ = ["Axis", "AxisConfig", "AxisSnapshot"]
 
 
 def _sign(x: float) -> float:
@@ -798,148 +696,29 @@ class Axis:
     def rest_problem(self) -> str:
         """Why the axis' state cannot be saved now, e.g. ``"axis X is in DiscreteMotion"``;
         empty when it can (Disabled, StandStill or ErrorStop with no command running)."""
-        state = self.state
-        if state not in _AT_REST:
-            return f"axis {self.name} is in {state.name}"
-        active = self.active
-        if self.queue or (active is not None and not isinstance(active, Hold)):
-            return f"axis {self.name} is in {state.name} with its stop ramp still running"
-        if self.analog_volts is not None:
-            return f"axis {self.name} is driven by GT_Analog ({self.analog_volts:g} V)"
-        return ""
+        return axis_state.rest_problem(self)
 
     def snapshot(self) -> AxisSnapshot:
         """The axis and its channel now, as an immutable value (see :meth:`restore`).
 
-        Function blocks are not part of it: they belong to the PLC program.
-
         Raises:
             StateError: a command is running (the message says which state the axis is in).
         """
-        problem = self.rest_problem()
-        if problem:
-            raise StateError(
-                f"cannot save the state: {problem}; stop it first (MC_Halt or MC_Stop, "
-                f"GT_Analog off) and wait until it is in StandStill, Disabled or ErrorStop"
-            )
-        io = self.io
-        regulator = self.regulator
-        hold = self.active
-        return AxisSnapshot(
-            name=self.name,
-            config=self.config,
-            channel=io.snapshot(),
-            state=self.state,
-            AxErrorID=self.AxErrorID,
-            POS=self.POS,
-            VEL=self.VEL,
-            Ref=self.Ref,
-            opt_select=self.opt_select,
-            constants=replace(self.constants) if self.constants is not None else None,
-            regulator=regulator.memory() if regulator is not None else None,
-            speed_mode=self.speed_mode,
-            loop_closed=self.loop_closed,
-            volts=self.volts,
-            offset=self.offset,
-            actual=self.actual,
-            sp_pos=self.sp_pos,
-            sp_vel=self.sp_vel,
-            sp_acc=self.sp_acc,
-            t_sp=self.t_sp,
-            sp_time=self._sp_time,
-            t_cycle=self.t_cycle,
-            quick_stop_until=self._quick_stop_until,
-            following_error=self.following_error,
-            captured=self.captured,
-            probe_position=self.probe_position,
-            hold=(hold.position, hold.t0) if isinstance(hold, Hold) else None,
-            estop_latched=self.estop_latched,
-            pos_prev=self._pos_prev,
-            lim_prev=self._lim_prev,
-        )
+        return axis_state.take(self)
 
     def check_snapshot(self, snapshot: AxisSnapshot) -> None:
         """Raise :class:`~mcl.errors.StateError` unless ``snapshot`` is of this axis: the same
         name, machine data and channel settings."""
-        if snapshot.name != self.name:
-            raise StateError(
-                f"the state of axis {snapshot.name!r} cannot be restored into axis {self.name!r}"
-            )
-        if snapshot.config != self.config:
-            raise StateError(
-                f"axis {self.name}: the state was saved with other machine data "
-                f"({snapshot.config}); this axis has {self.config}"
-            )
-        self.io.check_snapshot(snapshot.channel)
+        axis_state.check(self, snapshot)
 
     def restore(self, snapshot: AxisSnapshot) -> None:
-        """Return the axis and its channel to the moment ``snapshot`` was taken.
-
-        Positions, velocities, set point, regulator, reference, power, errors and the channel
-        come back exactly, so the same program gives the same motion as after the snapshot.
-        Whatever the PLC program had on the axis is let go, as after a power cycle of the
-        program: running and queued commands end Aborted (their blocks show CommandAborted), a
-        waiting touch probe is cancelled, GT_EStop holds are released and an axes group the
-        axis belongs to is taken apart. A program built afterwards finds the axis as saved
-        (a powered axis stays powered until its MC_Power is called with Enable FALSE).
+        """Return the axis and its channel to the moment ``snapshot`` was taken; whatever the
+        PLC program had on the axis is let go (see :func:`mcl.axis_state.restore`).
 
         Raises:
             StateError: the snapshot is of another axis (nothing is changed then).
         """
-        self.check_snapshot(snapshot)
-        s = snapshot
-        self._abort_all()
-        self._stops.clear()
-        self._estops.clear()
-        group = self.group
-        if group is not None:
-            from mcl.group import AxesGroup
-
-            if isinstance(group, AxesGroup):
-                group._abort_tickets()  # its blocks show CommandAborted
-                group.ungroup()
-            self.group = None
-        self.probe_generation += 1  # a waiting MC_TouchProbe sees CommandAborted
-        self._probe_armed = False
-        self._probe_window = None
-        self.probe_position = s.probe_position
-        self._probe_seq = s.channel.tp_seq
-        self.io.restore(s.channel)
-        if s.constants is not None:
-            self.set_constants(replace(s.constants))
-            assert self.regulator is not None and s.regulator is not None
-            self.regulator.set_memory(s.regulator)
-        else:
-            self.constants = None
-            self.regulator = None
-            self._sw_limits = False
-            self._vel_alpha = 1.0
-        self.state = s.state
-        self.AxErrorID = s.AxErrorID
-        self.POS, self.VEL = s.POS, s.VEL
-        self.Ref = s.Ref
-        self.opt_select = s.opt_select
-        self.speed_mode = s.speed_mode
-        self.loop_closed = s.loop_closed
-        self.analog_volts = None
-        self.volts = s.volts
-        self.offset, self.actual = s.offset, s.actual
-        self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = s.sp_pos, s.sp_vel, s.sp_acc, s.t_sp
-        self._sp_time, self.t_cycle = s.sp_time, s.t_cycle
-        self._quick_stop_until = s.quick_stop_until
-        self.following_error = s.following_error
-        self.captured = s.captured
-        self.estop_latched = s.estop_latched
-        self._powering_off = False
-        self._pos_prev = s.pos_prev
-        self._lim_prev = s.lim_prev
-        self.queue.clear()
-        self.active = None
-        if s.hold is not None:
-            hold = Hold(s.hold[0], s.state)
-            hold.t0 = s.hold[1]
-            hold.status = Status.Active
-            self.active = hold
+        axis_state.restore(self, snapshot)
 
     def _supervise(self, e: float, v: float, actual: float, lim_pos: bool, lim_neg: bool) -> None:
         """Following error, limit switches and software limits: the servo core's supervision."""

@@ -3,7 +3,7 @@
 :class:`AxisChannel` implements :class:`mcl.io.AxisIO` for every plant. A plant (the simulated
 axes of :mod:`mcl.simaxis`, the MuJoCo plant of ``scenes``) only supplies the physics: once per
 servo instant it calls :meth:`AxisChannel.sample` with the true position and switch levels, and it
-implements :meth:`AxisChannel.drive` to apply the command to its amplifier and brake. Everything
+gives each channel its :class:`Drive` (amplifier and brake) at construction. Everything
 between the physics and the servo core happens here, once for every plant: quantizing the encoder
 and latching its index, latching the touch probe after its sensor delay, and the injected faults
 of :mod:`mcl.faults`.
@@ -244,6 +244,16 @@ class ChannelSnapshot:
 
 
 @mypyc_attr(allow_interpreted_subclasses=True)
+class Drive:
+    """What a channel's outputs drive in the plant: the amplifier and the holding brake (a base
+    class: the compiled build calls it directly from :meth:`AxisChannel.write`)."""
+
+    def apply(self, volts: float, enabled: bool, brake: bool) -> None:
+        """Analog command [V] (0 when disabled), amplifier switched on, holding brake holds."""
+        raise NotImplementedError
+
+
+@mypyc_attr(allow_interpreted_subclasses=True)
 class AxisChannel:
     """The I/O of one axis as the module sees it; implements :class:`mcl.io.AxisIO`.
 
@@ -261,6 +271,8 @@ class AxisChannel:
             passes to :meth:`sample` in which the switch is actuated [m or rad]; an empty
             interval (lo > hi) for a switch the axis does not have.
         sensors: the sensors' imperfections (default: a precision machine; :data:`IDEAL`).
+        drive: what the outputs drive (None: the plant reads :attr:`volts`, :attr:`enabled`
+            and :attr:`brake` itself, as the simulated axis does).
     """
 
     def __init__(
@@ -277,6 +289,7 @@ class AxisChannel:
         digital_outputs: int = 0,
         windows: Sequence[tuple[float, float]] = NO_SWITCHES,
         sensors: Sensors | None = None,
+        drive: Drive | None = None,
     ) -> None:
         if len(windows) != 3 or any(not lo <= hi and lo != math.inf for lo, hi in windows):
             raise ValueError(
@@ -295,6 +308,7 @@ class AxisChannel:
             resolution, counts_per_rev, origin, index_width, sensors.index_jitter, rng
         )
         self.has_drive = bool(has_drive)
+        self._drive = drive
         self.probe = probe
         self.probe_delay = probe_delay
         self.counts = 0
@@ -531,10 +545,14 @@ class AxisChannel:
         if self.probe is not None:
             self._sample_probe(t, x, x if probe_q is None else probe_q)
         self.t, self._x = t, x
-        pending = self._pending
-        if pending is not None:  # the module's output latch: last cycle's outputs
-            self._pending = None
-            self._output(pending[0], pending[1])
+        if self._pending is not None:  # driven by hand: no runtime latched it at this instant
+            self.latch(t)
+
+    @property
+    def position(self) -> float:
+        """True position of the axis now [m or rad]: the physics' ground truth (a plant's
+        channel reads its physics; by default the position of the last sample)."""
+        return self._x
 
     def _actuated(self, i: int, at: float) -> bool:
         """Switch ``i`` at coordinate ``at``: on inside its window (shifted by this edge's
@@ -647,34 +665,55 @@ class AxisChannel:
         return volts + fault.offset + noise
 
     # ------------------------------------------------------------------ outputs
+    @property
+    def delayed(self) -> bool:
+        """The module latches the outputs for one servo cycle (``sensors.output_delay`` 1)."""
+        return self._delayed
+
     def write(self, volts: float, enable: bool) -> None:
         """Set the analog command [V] and the drive enable (:class:`mcl.io.AxisIO`); with
-        ``sensors.output_delay`` 1 they reach the drive at the next :meth:`sample`."""
+        ``sensors.output_delay`` 1 they reach the drive at the next :meth:`latch`."""
         if not self.has_drive:
             return
         if self._delayed:
             self._pending = (volts, enable)
         else:
-            self._output(volts, enable)
+            self._output(volts, enable, self.t)
 
-    def _output(self, volts: float, enable: bool) -> None:
-        """The module's outputs reach the amplifier and the brake (through their faults)."""
+    def latch(self, t: float) -> None:
+        """The module's output latch at the servo instant ``t`` [s]: the command written in the
+        last servo cycle reaches the drive (with ``output_delay`` 1; nothing is pending else).
+
+        :class:`mcl.runtime.Runtime` runs it as a phase of the servo cycle; a channel driven by
+        hand, without a runtime, latches at its next :meth:`sample`.
+        """
+        pending = self._pending
+        if pending is not None:
+            self._pending = None
+            self._output(pending[0], pending[1], t)
+
+    def _output(self, volts: float, enable: bool, t: float) -> None:
+        """The module's outputs reach the amplifier and the brake (through their faults) at
+        time ``t`` [s]."""
         if self._faults:
-            volts, on, brake = self._faulty_outputs(volts, enable)
+            volts, on, brake = self._faulty_outputs(volts, enable, t)
         else:
             if enable != self._enable_request and not enable:
-                self._disabled_at = self.t
+                self._disabled_at = t
             on, brake = enable, not enable
         self._enable_request = enable
         self.enabled = on
         self.brake = brake
-        self.volts = volts if on else 0.0
-        self.drive(self.volts, on, brake)
+        volts = volts if on else 0.0
+        self.volts = volts
+        drive = self._drive
+        if drive is not None:
+            drive.apply(volts, on, brake)
 
-    def _faulty_outputs(self, volts: float, enable: bool) -> tuple[float, bool, bool]:
+    def _faulty_outputs(self, volts: float, enable: bool, t: float) -> tuple[float, bool, bool]:
         faults = self._faults
         if enable != self._enable_request and not enable:
-            self._disabled_at = self.t
+            self._disabled_at = t
         analog = faults.get("analog_out")
         if isinstance(analog, flt.AnalogOffset):
             volts += analog.volts
@@ -686,16 +725,7 @@ class AxisChannel:
         if isinstance(brake_fault, flt.BrakeFailure):
             brake = False
         elif isinstance(brake_fault, flt.BrakeSlow):
-            brake = not on and (enable or self.t - self._disabled_at >= brake_fault.delay)
+            brake = not on and (enable or t - self._disabled_at >= brake_fault.delay)
         else:
             brake = not on
         return volts, on, brake
-
-    def drive(self, volts: float, enabled: bool, brake: bool) -> None:
-        """Apply the command to the plant's amplifier and brake (a plant overrides this).
-
-        Args:
-            volts: analog command [V] (0 when disabled).
-            enabled: the amplifier is switched on.
-            brake: the holding brake holds.
-        """

@@ -3,10 +3,8 @@
 No wall clock: a scenario is deterministic and runs as fast as the CPU allows. Each period is an
 integer multiple of the plant's timestep, checked at construction. At a PLC instant the program
 runs first (FB calls queue commands). Then every servo cycle runs in phases, each over all axes
-before the next: the plant samples every input; every axis measures; every axis computes its set
-point (memoised per instant, so a slave may read its master's set point of the same instant in
-any declaration order); every axis supervises, regulates and writes its output. Then the plant
-integrates one servo period.
+before the next (see :meth:`Runtime.run`): latch, sense, measure, set point, act, observe. Then
+the plant integrates one servo period.
 """
 
 from __future__ import annotations
@@ -23,8 +21,8 @@ from mcl.errors import ConditionTimeout, StateError
 from mcl.faults import FaultLog, FaultLogState, Injectable
 
 
-class Plant(Protocol):
-    """What the runtime steps: simulated axes or a MuJoCo model."""
+class Physics(Protocol):
+    """What a runtime steps: simulated axes or a MuJoCo model."""
 
     timestep: float
     """Integration step [s]."""
@@ -40,6 +38,26 @@ class Plant(Protocol):
 
     def sense(self) -> None:
         """Sample every axis' inputs for the servo cycle at the current instant."""
+        ...
+
+
+class Plant(Physics, Protocol):
+    """The physics of a :class:`Machine`: what a runtime steps, with its saved state and
+    identity (:class:`mcl.SimPlant`, the MuJoCo plant of ``scenes``). Each of its channels
+    reports the true position of its axis (:attr:`mcl.channel.AxisChannel.position`)."""
+
+    def identity(self) -> tuple[str, ...]:
+        """What a saved state must match to be restored here (timestep, model, physical data),
+        as texts."""
+        ...
+
+    def get_state(self) -> Any:
+        """The physics now with everything the plant adds to it (drives, devices), as an
+        immutable value that :meth:`set_state` restores any number of times."""
+        ...
+
+    def set_state(self, state: Any) -> None:
+        """Return to a state taken with :meth:`get_state` of a plant of the same identity."""
         ...
 
 
@@ -59,6 +77,20 @@ def ticks_per(period: float, timestep: float, what: str) -> int:
 class Runtime:
     """Runs a PLC program against axes on a plant, all in lockstep.
 
+    Every servo cycle runs these phases, each over all axes before the next:
+
+    1. latch: the module's output latch, where an axis' sensors delay the output by one cycle
+       (``Sensors.output_delay`` 1): the command written in the last cycle reaches the drive;
+    2. sense: the plant samples every input at this instant;
+    3. measure: every axis reads its position and velocity;
+    4. set point: every axis computes its model state (memoised per instant, so a slave may
+       read its master's set point of the same instant in any declaration order);
+    5. act: every axis supervises, regulates and writes its output (with no output delay it
+       reaches the drive at once);
+    6. observe: the observers (a trace) record the instant.
+
+    Then the plant integrates one servo period.
+
     Args:
         plant: what integrates the physics.
         axes: the axes whose servo cycles run here; their ``servo_period`` must be a multiple
@@ -66,11 +98,13 @@ class Runtime:
         plc_period: PLC cycle [s], an integer multiple of the servo period.
     """
 
-    def __init__(self, plant: Plant, axes: Iterable[Axis], plc_period: float = 0.002) -> None:
+    def __init__(self, plant: Physics, axes: Iterable[Axis], plc_period: float = 0.002) -> None:
         self.plant = plant
         self.axes = list(axes)
         if not self.axes:
             raise ValueError("a runtime needs at least one axis")
+        self._latched = [axis.io for axis in self.axes if axis.io.delayed]
+        """The channels whose outputs the module latches for a cycle."""
         servo_period = self.axes[0].servo_period
         if any(abs(ax.servo_period - servo_period) > 1e-12 for ax in self.axes):
             raise ValueError("all axes of a runtime must share one servo period")
@@ -117,6 +151,7 @@ class Runtime:
         end = start + round(timeout / dt)
         observers = self.observers
         faults = self.faults
+        latched = self._latched
         tick = self._tick
         while tick < end:
             plc_cycle = tick % plc_ticks == 0
@@ -125,6 +160,10 @@ class Runtime:
             t = tick * dt
             if faults is not None and faults.pending:
                 faults.due(t)
+            if latched:
+                now = plant.time  # the instant the plant samples at
+                for io in latched:
+                    io.latch(now)
             plant.sense()
             for axis in axes:
                 axis.measure(t)
@@ -176,10 +215,12 @@ class MachineState:
 class Machine:
     """Named axes on a plant with their lockstep runtime: the surface scenarios program against.
 
-    Subclasses (:class:`mcl.SimMachine`, ``scenes.Scene``) set ``axes`` and ``runtime``.
+    Subclasses (:class:`mcl.SimMachine`, ``scenes.Scene``) set ``axes``, ``plant`` and
+    ``runtime``.
     """
 
     axes: dict[str, Axis]
+    plant: Plant
     runtime: Runtime
 
     @property
@@ -272,21 +313,22 @@ class Machine:
         self._restored()
 
     def _identity(self) -> tuple[str, ...]:
-        """What a saved state must match: the machine, its model and periods, as texts."""
+        """What a saved state must match: the machine, its periods and its plant, as texts."""
         runtime = self.runtime
         return (
             f"{type(self).__name__} with axes {', '.join(self.axes)}",
             f"servo period {runtime.servo_period * 1e3:g} ms",
             f"PLC period {runtime.plc_period * 1e3:g} ms",
+            *self.plant.identity(),
         )
 
     def _plant_state(self) -> object:
-        """The plant's own state (a machine whose plant can save it overrides this)."""
-        raise StateError(f"the plant of {type(self).__name__} cannot save its state")
+        """The plant's own state (:meth:`Plant.get_state`)."""
+        return self.plant.get_state()
 
     def _restore_plant(self, state: object) -> None:
         """Restore the plant's state taken with :meth:`_plant_state`."""
-        raise StateError(f"the plant of {type(self).__name__} cannot restore a state")
+        self.plant.set_state(state)
 
     def _restored(self) -> None:
         """Called at the end of :meth:`restore_state` (e.g. to clear a trace)."""

@@ -150,6 +150,11 @@ class SimAxis(AxisChannel):
         p, x = self.params, self.x
         self.sample(self.t if t is None else t, x, x, x, x, analog=p.analog)
 
+    @property
+    def position(self) -> float:
+        """True position now [m] (:attr:`x`)."""
+        return self.x
+
 
 @dataclass(frozen=True, slots=True)
 class SimPlantState:
@@ -166,7 +171,9 @@ class SimPlantState:
 
 
 class SimPlant:
-    """Steps a set of simulated axes in lockstep; implements :class:`mcl.runtime.Plant`."""
+    """Steps a set of simulated axes in lockstep; implements :class:`mcl.runtime.Plant`.
+
+    The axes are given no drive: their physics reads the outputs of their own channel."""
 
     def __init__(self, axes: Sequence[SimAxis], timestep: float = 0.0005) -> None:
         """Args: axes: the simulated axes; timestep: integration step [s]."""
@@ -258,13 +265,3 @@ class SimMachine(Machine):
         ]
         """The axes in order, six to a servo module."""
         self.runtime = Runtime(self.plant, self.axes.values(), plc_period)
-
-    def _identity(self) -> tuple[str, ...]:
-        return (*super()._identity(), *self.plant.identity())
-
-    def _plant_state(self) -> object:
-        return self.plant.get_state()
-
-    def _restore_plant(self, state: object) -> None:
-        assert isinstance(state, SimPlantState)
-        self.plant.set_state(state)

@@ -1,6 +1,7 @@
 """Drive kinds and device models: what turns an axis' ±10 V into force on a MuJoCo joint.
 
-A drive is the plant side of :meth:`mcl.channel.AxisChannel.drive`:
+A drive is what a channel's outputs drive (:class:`mcl.channel.Drive`), given to the channel at
+construction:
 
 - :class:`ElectricAmplifier`: a velocity-mode servo amplifier written as the MJCF actuator
   ``<axis>_amp`` (control = volts), with an optional holding brake (``<axis>_brake_force``);
@@ -21,6 +22,7 @@ import numpy as np
 import numpy.typing as npt
 from mypy_extensions import mypyc_attr
 
+from mcl.channel import Drive as ChannelDrive
 from scenes.errors import WiringError
 
 __all__ = [
@@ -35,13 +37,9 @@ __all__ = [
 
 
 @mypyc_attr(allow_interpreted_subclasses=True)
-class Drive:
-    """Applies an axis command to the physics (a base class: the compiled build calls it
-    directly)."""
-
-    def apply(self, volts: float, enabled: bool, brake: bool) -> None:
-        """Analog command [V], amplifier on, holding brake engaged."""
-        raise NotImplementedError
+class Drive(ChannelDrive):
+    """Applies an axis command to a MuJoCo model, with the state it changed there (a base
+    class: the compiled build calls it directly)."""
 
     def get_state(self) -> npt.NDArray[np.float64]:
         """What the drive changed in the model (restored with :meth:`set_state`)."""

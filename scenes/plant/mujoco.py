@@ -3,9 +3,10 @@
 Per axis a :class:`MujocoAxisIO` (an :class:`mcl.channel.AxisChannel`) reads the joint: the
 encoder counts the joint coordinate through ``<axis>_lead`` with an index pulse per motor
 revolution, LIM−/LIM+/REF come from switch and cam sites (on slide and hinge joints alike), the
-touch probe from marks on a coordinate. Its drive (:mod:`scenes.plant.drives`) applies the command.
-:class:`MujocoPlant` steps the model: devices with state integrate before every physics step;
-without devices one ``mj_step(model, data, n)`` call runs a whole servo period.
+touch probe from marks on a coordinate. :class:`MujocoPlant` builds each axis' drive
+(:mod:`scenes.plant.drives`: the amplifier, a device, or none) and gives it to the channel at
+construction; it steps the model: devices with state integrate before every physics step; without
+devices one ``mj_step(model, data, n)`` call runs a whole servo period.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from scenes.plant.drives import (
     ElectricAmplifier,
     WiringError,
 )
+from scenes.plant.state import MujocoState, model_identity
 
 SWITCHES = ("lim_neg", "lim_pos", "ref")
 """The switch kinds of an axis, in the order of :attr:`MujocoAxisIO.windows`."""
@@ -127,7 +129,7 @@ class MujocoAxisIO(AxisChannel):
     Args:
         model, data: the compiled model and its data (positions current, e.g. after mj_forward).
         wiring: which joint and names belong to the axis.
-        devices: the scene's devices by name (for a ``"device"`` drive).
+        drive: what its outputs drive (:func:`drive_for`; None: an encoder-only axis).
     """
 
     def __init__(
@@ -135,7 +137,7 @@ class MujocoAxisIO(AxisChannel):
         model: mujoco.MjModel,
         data: mujoco.MjData,
         wiring: AxisWiring,
-        devices: Mapping[str, Device] | None = None,
+        drive: Drive | None = None,
     ) -> None:
         self.model, self.data = model, data
         p, a = wiring.prefix, wiring.axis.removeprefix(wiring.prefix)
@@ -149,7 +151,8 @@ class MujocoAxisIO(AxisChannel):
         self._qpos: Any = memoryview(data.qpos)  # item access without numpy scalars
         self.dof = int(model.jnt_dofadr[self.joint])
         if wiring.drive == "electric":
-            _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{p}{a}_amp")
+            self.actuator = _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{p}{a}_amp")
+            """The amplifier's actuator id (an electric drive)."""
         lead = float(numeric(model, f"{p}{a}_lead", 1, 0.0)[0])
         per_rev = float(numeric(model, f"{p}{a}_counts_per_rev", 1, 0.0, 1e9)[0])
         width = float(numeric(model, f"{p}{a}_index_width", 1, 0.0, per_rev - 1)[0])
@@ -190,49 +193,11 @@ class MujocoAxisIO(AxisChannel):
             digital_outputs=wiring.digital_outputs,
             windows=(pos, neg, ref),
             sensors=wiring.sensors,
+            drive=drive,
         )
         self._analog = wiring.analog
-        self.drive_model: Drive | None = self._drive(p, a, wiring, devices or {})
         self.write(0.0, False)
         self.sense(float(data.time))
-
-    def _drive(
-        self, p: str, a: str, wiring: AxisWiring, devices: Mapping[str, Device]
-    ) -> Drive | None:
-        model = self.model
-        if wiring.drive == "encoder":
-            return None
-        if wiring.drive == "device":
-            device = devices.get(wiring.device)
-            if device is None or not hasattr(device, "apply"):
-                raise WiringError(
-                    f"axis {wiring.axis}: drive 'device' needs a device named {wiring.device!r} "
-                    f"that takes volts (apply); devices: {sorted(devices)}"
-                )
-            driven: DrivenDevice = device  # type: ignore[assignment]
-            return DeviceDrive(driven)
-        if wiring.drive != "electric":
-            raise WiringError(
-                f"axis {wiring.axis}: drive must be 'electric', 'device' or 'encoder', "
-                f"got {wiring.drive!r}"
-            )
-        actuator = _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"{p}{a}_amp")
-        lo, hi = model.actuator_ctrlrange[actuator]
-        if not (model.actuator_ctrllimited[actuator] and lo <= -10.0 and hi >= 10.0):
-            raise WiringError(
-                f"actuator {p}{a}_amp must have ctrlrange -10 10 (volts), has {lo:g} {hi:g}"
-            )
-        for i, name in enumerate(("gain", "bias")):
-            prm = (model.actuator_gainprm if i == 0 else model.actuator_biasprm)[actuator][:3]
-            if not np.all(np.isfinite(prm)):
-                raise WiringError(f"actuator {p}{a}_amp: {name}prm {prm} must be finite")
-        if not math.isfinite(float(model.dof_armature[self.dof])):
-            raise WiringError(f"joint {wiring.axis}: armature must be finite")
-        self.actuator = actuator
-        brake = f"{p}{a}_brake_force"
-        has_brake = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, brake) >= 0
-        force = float(numeric(model, brake, 1, 0.0)[0]) if has_brake else 0.0
-        return ElectricAmplifier(model, self.data, actuator, self.dof, force)
 
     def _window(self, p: str, a: str, kind: str) -> tuple[float, float, float]:
         """Window of ``q`` in which the switch is actuated: the README formula, solved for ``q``.
@@ -272,11 +237,6 @@ class MujocoAxisIO(AxisChannel):
         q: float = self._qpos[self.qpos_adr]
         return q
 
-    def drive(self, volts: float, enabled: bool, brake: bool) -> None:
-        """Apply the command to the amplifier or device (see :class:`AxisChannel`)."""
-        if self.drive_model is not None:
-            self.drive_model.apply(volts, enabled, brake)
-
     def sense(self, t: float) -> None:
         """Sample encoder, switches, probe and analog inputs at time ``t`` [s]."""
         qpos = self._qpos
@@ -294,6 +254,52 @@ class MujocoAxisIO(AxisChannel):
             None if self._probe_qpos is None else qpos[self._probe_qpos],
             () if self._analog is None else self._analog(),
         )
+
+
+def drive_for(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    wiring: AxisWiring,
+    devices: Mapping[str, Device],
+) -> Drive | None:
+    """The drive of an axis: its amplifier ``<axis>_amp`` (``"electric"``), the device that
+    takes its volts (``"device"``) or none (``"encoder"``).
+
+    Raises:
+        WiringError: the model or the devices lack what the drive needs (the message says what).
+    """
+    if wiring.drive == "encoder":
+        return None
+    if wiring.drive == "device":
+        device = devices.get(wiring.device)
+        if device is None or not hasattr(device, "apply"):
+            raise WiringError(
+                f"axis {wiring.axis}: drive 'device' needs a device named {wiring.device!r} "
+                f"that takes volts (apply); devices: {sorted(devices)}"
+            )
+        driven: DrivenDevice = device  # type: ignore[assignment]
+        return DeviceDrive(driven)
+    if wiring.drive != "electric":
+        raise WiringError(
+            f"axis {wiring.axis}: drive must be 'electric', 'device' or 'encoder', "
+            f"got {wiring.drive!r}"
+        )
+    amp = f"{wiring.axis}_amp"
+    actuator = _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, amp)
+    lo, hi = model.actuator_ctrlrange[actuator]
+    if not (model.actuator_ctrllimited[actuator] and lo <= -10.0 and hi >= 10.0):
+        raise WiringError(f"actuator {amp} must have ctrlrange -10 10 (volts), has {lo:g} {hi:g}")
+    for i, name in enumerate(("gain", "bias")):
+        prm = (model.actuator_gainprm if i == 0 else model.actuator_biasprm)[actuator][:3]
+        if not np.all(np.isfinite(prm)):
+            raise WiringError(f"actuator {amp}: {name}prm {prm} must be finite")
+    dof = int(model.jnt_dofadr[_id(model, mujoco.mjtObj.mjOBJ_JOINT, wiring.axis)])
+    if not math.isfinite(float(model.dof_armature[dof])):
+        raise WiringError(f"joint {wiring.axis}: armature must be finite")
+    brake = f"{wiring.axis}_brake_force"
+    has_brake = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, brake) >= 0
+    force = float(numeric(model, brake, 1, 0.0)[0]) if has_brake else 0.0
+    return ElectricAmplifier(model, data, actuator, dof, force)
 
 
 class Joint:
@@ -351,7 +357,13 @@ class MujocoPlant:
         self.devices = dict(devices or {})
         self._hooks = [d.before_step for d in self.devices.values()]
         mujoco.mj_forward(model, data)
-        self.ios = {w.axis: MujocoAxisIO(model, data, w, self.devices) for w in wirings}
+        self.ios: dict[str, MujocoAxisIO] = {}
+        self._drives: list[Drive | None] = []
+        """Every axis' drive, in the order of the axes (their state is the plant's)."""
+        for wiring in wirings:
+            drive = drive_for(model, data, wiring, self.devices)
+            self.ios[wiring.axis] = MujocoAxisIO(model, data, wiring, drive)
+            self._drives.append(drive)
         self._channels = list(self.ios.values())
         self._spec = mujoco.mjtState.mjSTATE_INTEGRATION
 
@@ -378,26 +390,35 @@ class MujocoPlant:
         for io in self._channels:
             io.sense(t)
 
-    def get_state(self) -> list[npt.NDArray[np.float64]]:
-        """The physics state with everything Python adds to it: the integration state of
-        ``data``, every drive's and every device's state (copies)."""
+    def identity(self) -> tuple[str, ...]:
+        """What a state must match to be restored here: the model (:func:`model_identity`)."""
+        return (model_identity(self.model),)
+
+    def get_state(self) -> MujocoState:
+        """The physics state with everything Python adds to it (read-only copies)."""
+        return MujocoState.of(self)
+
+    def set_state(self, state: MujocoState) -> None:
+        """Restore a state taken with :meth:`get_state` (then ``mj_forward``)."""
+        state.restore(self)
+
+    def arrays(self) -> list[npt.NDArray[np.float64]]:
+        """The integration state of ``data``, then every drive's and every device's state
+        (copies)."""
         size = mujoco.mj_stateSize(self.model, self._spec)
         physics = np.empty(size)
         mujoco.mj_getState(self.model, self.data, physics, self._spec)
-        drives = [
-            io.drive_model.get_state() if io.drive_model is not None else np.zeros(0)
-            for io in self.ios.values()
-        ]
+        drives = [d.get_state() if d is not None else np.zeros(0) for d in self._drives]
         return [physics, *drives, *(d.get_state() for d in self.devices.values())]
 
-    def set_state(self, state: Sequence[npt.NDArray[np.float64]]) -> None:
-        """Restore a state taken with :meth:`get_state` (then ``mj_forward``)."""
-        physics, *rest = state
+    def set_arrays(self, arrays: Sequence[npt.NDArray[np.float64]]) -> None:
+        """Restore arrays taken with :meth:`arrays` (then ``mj_forward``)."""
+        physics, *rest = arrays
         mujoco.mj_setState(self.model, self.data, physics, self._spec)
-        ios = list(self.ios.values())
-        for io, drive_state in zip(ios, rest[: len(ios)], strict=True):
-            if io.drive_model is not None:
-                io.drive_model.set_state(drive_state)
-        for device, device_state in zip(self.devices.values(), rest[len(ios) :], strict=True):
+        drives = self._drives
+        for drive, drive_state in zip(drives, rest[: len(drives)], strict=True):
+            if drive is not None:
+                drive.set_state(drive_state)
+        for device, device_state in zip(self.devices.values(), rest[len(drives) :], strict=True):
             device.set_state(device_state)
         mujoco.mj_forward(self.model, self.data)

@@ -11,20 +11,24 @@ from __future__ import annotations
 
 import zlib
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
 import numpy.typing as npt
 
 from mcl import MachineState
-from scenes.plant.mujoco import MujocoPlant
+
+if TYPE_CHECKING:
+    from scenes.plant.mujoco import MujocoPlant
 
 __all__ = ["MachineState", "MujocoState", "model_identity"]
 
 
 @dataclass(frozen=True, slots=True)
 class MujocoState:
-    """The MuJoCo plant at one instant: read-only copies of :meth:`MujocoPlant.get_state`.
+    """The MuJoCo plant at one instant (:meth:`MujocoPlant.get_state`): read-only copies of
+    :meth:`MujocoPlant.arrays`.
 
     Attributes:
         arrays: the integration state of the model, then one array per drive (in the order of
@@ -37,7 +41,7 @@ class MujocoState:
     def of(cls, plant: MujocoPlant) -> MujocoState:
         """The plant's state now."""
         arrays = []
-        for array in plant.get_state():
+        for array in plant.arrays():
             copy = np.array(array, dtype=np.float64)
             copy.flags.writeable = False
             arrays.append(copy)
@@ -45,7 +49,7 @@ class MujocoState:
 
     def restore(self, plant: MujocoPlant) -> None:
         """Return ``plant`` to this state (then ``mj_forward``)."""
-        plant.set_state([array.copy() for array in self.arrays])
+        plant.set_arrays([array.copy() for array in self.arrays])
 
 
 def model_identity(model: mujoco.MjModel) -> str:
