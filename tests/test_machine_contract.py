@@ -89,7 +89,8 @@ def modelled(name: str) -> list[MachineDef]:
     parts = [part.machine for part in getattr(machine, "parts", ())]
     own = [m for m in parts if m.model and scenes.MACHINES.get(m.name) is not m]
     if not own:
-        pytest.skip(f"{name}: no model of its own (its parts are checked under their names)")
+        why = "its parts are checked under their own names" if parts else "simulated axes"
+        pytest.skip(f"{name}: no MJCF model of its own ({why})")
     return own
 
 
@@ -399,49 +400,54 @@ def reach(model: mujoco.MjModel, ax: str) -> tuple[float, float]:
     return -1.0, 1.0
 
 
+Placed = tuple[mujoco.MjModel, mujoco.MjData, str, tuple[str, ...], float]
+"""A model, its data with one axis placed, the axis, its switch kinds, its coordinate [m]."""
+
+
+def swept(name: str, count: int = 0) -> Iterator[Placed]:
+    """Each slide axis with switches of the machine's models placed in turn (the rest at home):
+    at ``count`` coordinates across its reach, or (``count`` 0) at both ends of its reach and
+    1 mm either side of each trip point."""
+    for machine in modelled(name):
+        model = compiled(machine)
+        data = at_home(model)
+        for ax, kinds in slides_with_switches(machine):
+            lo, hi = reach(model, ax)
+            points = [lo, hi, *(trip(model, ax, k) + dq for k in kinds for dq in (-1e-3, 1e-3))]
+            for q in np.linspace(lo, hi, count) if count else points:
+                place(model, data, ax, q)
+                yield model, data, ax, kinds, float(q)
+
+
 @pytest.mark.parametrize("name", NAMES)
 def test_switch_formula_at_joint_positions(name: str) -> None:
     """The geometric formula equals the joint-coordinate form d = q - trip, and each switch is
     on where the README's table says: LIM− at and below its trip, LIM+ at and above its trip,
     REF below its edge."""
-    for machine in modelled(name):
-        model = compiled(machine)
-        data = at_home(model)
-        for ax, kinds in slides_with_switches(machine):
-            lo, hi = reach(model, ax)
-            for q in np.linspace(lo, hi, 61):
-                place(model, data, ax, q)
-                for kind in kinds:
-                    e = data.xaxis[model.joint(ax).id]
-                    cam = data.site_xpos[model.site(f"{ax}_{kind}_cam").id]
-                    sw = data.site_xpos[model.site(f"{ax}_{kind}").id]
-                    assert (cam - sw) @ e == pytest.approx(q - trip(model, ax, kind), abs=1e-9)
-            trips = {kind: trip(model, ax, kind) for kind in kinds}
-            points = [lo, hi, *(t + dq for t in trips.values() for dq in (-0.001, 0.001))]
-            for q in points:
-                place(model, data, ax, q)
-                got = tuple(switch_on(model, data, ax, k) for k in kinds)
-                want = tuple(q >= trips[k] if k == "lim_pos" else q <= trips[k] for k in kinds)
-                assert got == want, (ax, q)
+    for model, data, ax, kinds, q in swept(name, 61):
+        for kind in kinds:
+            e = data.xaxis[model.joint(ax).id]
+            cam = data.site_xpos[model.site(f"{ax}_{kind}_cam").id]
+            sw = data.site_xpos[model.site(f"{ax}_{kind}").id]
+            assert (cam - sw) @ e == pytest.approx(q - trip(model, ax, kind), abs=1e-9)
+    for model, data, ax, kinds, q in swept(name):
+        got = tuple(switch_on(model, data, ax, k) for k in kinds)
+        at = {k: trip(model, ax, k) for k in kinds}
+        want = tuple(q >= at[k] if k == "lim_pos" else q <= at[k] for k in kinds)
+        assert got == want, (ax, q)
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_dog_geoms_match_switch_windows(name: str) -> None:
     """What a viewer shows agrees with the formula: a switch is on iff its site is over its dog."""
-    for machine in modelled(name):
-        model = compiled(machine)
-        data = at_home(model)
-        for ax, kinds in slides_with_switches(machine):
-            lo, hi = reach(model, ax)
-            for q in np.linspace(lo, hi, 97):
-                place(model, data, ax, q)
-                e = data.xaxis[model.joint(ax).id]
-                for kind in kinds:
-                    g = model.geom(f"{ax}_{kind}_cam_geom").id
-                    half = np.abs(data.geom_xmat[g].reshape(3, 3).T @ e) @ model.geom_size[g]
-                    s = (data.site_xpos[model.site(f"{ax}_{kind}").id] - data.geom_xpos[g]) @ e
-                    if abs(abs(s) - half) > 1e-6:  # skip the edges themselves
-                        assert (abs(s) < half) == switch_on(model, data, ax, kind), (ax, kind, q)
+    for model, data, ax, kinds, q in swept(name, 97):
+        e = data.xaxis[model.joint(ax).id]
+        for kind in kinds:
+            g = model.geom(f"{ax}_{kind}_cam_geom").id
+            half = np.abs(data.geom_xmat[g].reshape(3, 3).T @ e) @ model.geom_size[g]
+            s = (data.site_xpos[model.site(f"{ax}_{kind}").id] - data.geom_xpos[g]) @ e
+            if abs(abs(s) - half) > 1e-6:  # skip the edges themselves
+                assert (abs(s) < half) == switch_on(model, data, ax, kind), (ax, kind, q)
 
 
 def test_the_readme_parser_finds_the_gantry_contract() -> None:
@@ -470,18 +476,25 @@ def test_the_readme_parser_finds_the_gantry_contract() -> None:
 # ------------------------------------------------------------------------ running
 @pytest.mark.parametrize("name", NAMES)
 def test_the_model_compiles_and_steps(name: str) -> None:
-    """The file compiles alone and rests finite for a second from home; the machine's scene
-    (its model attached under its prefix) steps too."""
+    """The file compiles alone and rests finite for a second from home."""
     for machine in modelled(name):
         model = compiled(machine)
         data = at_home(model)
         run(model, data, 1.0)
         assert np.isfinite(data.qpos).all() and np.isfinite(data.qvel).all()
         assert data.time == pytest.approx(1.0)
-        scene = scenes.load(name, trace_every=0)
-        scene.run(timeout=0.2)
-        assert scene.time == pytest.approx(0.2)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_the_machines_scene_builds_and_steps(name: str) -> None:
+    """The scene of the machine (its model attached under its prefix, a cell's models side by
+    side, or its simulated axes) runs 0.2 s with its drives off and stays finite."""
+    scene = scenes.load(name, trace_every=0)
+    scene.run(timeout=0.2)
+    assert scene.time == pytest.approx(0.2)
+    if scene.has_model:
         assert np.isfinite(scene.data.qpos).all() and np.isfinite(scene.data.qvel).all()
+    assert all(math.isfinite(scene.joint_position(axis)) for axis in scene.axes)
 
 
 @pytest.mark.parametrize("name", NAMES)
