@@ -1,19 +1,68 @@
 """The shape of a PLC program as the demos and the viewer see it: :class:`StepSequence`, the step
-sequence the demos share, and :class:`DemoProgram`, what a demo reports while it runs."""
+sequence the demos share (its steps declared as a table of :class:`Step`), and
+:class:`DemoProgram`, what a demo reports while it runs."""
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
+
+
+class Block(Protocol):
+    """What a step watches of a function block: its error outputs."""
+
+    @property
+    def Error(self) -> bool:
+        """The block failed."""
+        ...
+
+    @property
+    def ErrorID(self) -> int:
+        """Why it failed."""
+        ...
+
+
+def never() -> bool:
+    """A step that is never complete (the last one: finished)."""
+    return False
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a :class:`StepSequence`.
+
+    Attributes:
+        name: what the program does in it (shown as ``step``).
+        complete: the step is complete (checked once per scan, after the blocks ran).
+        blocks: the blocks whose error stops the sequence in this step, by name.
+        then: gives the name of the step that follows (None: the next in order); called once,
+            when the step is complete, it may prepare that step (e.g. the next cut's inputs).
+    """
+
+    name: str
+    complete: Callable[[], bool] = never
+    blocks: Mapping[str, Block] = field(default_factory=dict)
+    then: Callable[[], str] | None = None
 
 
 class StepSequence:
     """The usual shape of a demo program: a PLC step sequence. ``STEPS`` names the steps in
     order (the last one means finished), ``index`` is the step now, a non-empty ``error`` stops
-    it; a subclass is called once per PLC cycle and advances ``index``."""
+    it; a subclass is called once per PLC cycle and advances ``index``.
+
+    A subclass may declare its steps as a table (:meth:`declare`): then each scan runs its
+    blocks and calls :meth:`advance`, which stops on an error of a block the step watches and
+    otherwise goes on once the step is complete.
+    """
 
     STEPS: ClassVar[tuple[str, ...]] = ("done",)
     index = 0
     error = ""
+    entered = 0.0
+    """When the current step began [s] (the ``now`` of :meth:`advance`)."""
+    table: tuple[Step, ...] = ()
+    """The declared steps, in the order of ``STEPS``."""
 
     @property
     def step(self) -> str:
@@ -24,6 +73,39 @@ class StepSequence:
     def done(self) -> bool:
         """The sequence is complete."""
         return self.index == len(self.STEPS) - 1
+
+    def declare(self, *steps: Step) -> None:
+        """Declare the steps, one :class:`Step` per name of ``STEPS`` in its order.
+
+        Raises:
+            ValueError: the names are not those of ``STEPS``.
+        """
+        names = tuple(s.name for s in steps)
+        if names != self.STEPS:
+            raise ValueError(f"the steps {names} are not STEPS {self.STEPS}")
+        self.table = steps
+
+    def advance(self, now: float = 0.0) -> None:
+        """After the scan's blocks: stop on an error of a block the step watches (``error``
+        from :meth:`failure`), else go to the following step once this one is complete;
+        ``now`` is the time [s] (it becomes ``entered``)."""
+        step = self.table[self.index]
+        for name, block in step.blocks.items():
+            if block.Error:
+                self.error = self.failure(step.name, name, block.ErrorID)
+                return
+        if step.complete():
+            following = self.index + 1 if step.then is None else self.STEPS.index(step.then())
+            self.enter(following, now)
+
+    def enter(self, index: int, now: float) -> None:
+        """Go to step number ``index`` at time ``now`` [s] (a subclass may record the step
+        that ended)."""
+        self.index, self.entered = index, now
+
+    def failure(self, step: str, block: str, error_id: int) -> str:
+        """The ``error`` text when ``block`` fails in ``step``."""
+        return f"{step}: {block} error {error_id}"
 
 
 class DemoProgram(Protocol):

@@ -12,12 +12,11 @@ import pytest
 import mcl
 import scenes
 from scenes.machines.press import AXES, MASS, PREFIX, cylinder_data
+from scenes.machines.press.devices import CylinderDevice
+from scenes.machines.press.hydraulic_axis import HydraulicAxis, HydraulicPlant
 from scenes.machines.press.hydraulics import (
     BAR,
     Cylinder,
-    CylinderDevice,
-    HydraulicAxis,
-    HydraulicPlant,
     Supply,
     Valve,
     ValveCylinder,

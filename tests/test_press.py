@@ -16,7 +16,6 @@ from scenes.machines.press import (
     BAR_PER_VOLT,
     FORCE_GAIN,
     FORCE_INPUTS,
-    HOMING,
     PART,
     PRESSURE_STOP,
     REFERENCE,
@@ -24,7 +23,9 @@ from scenes.machines.press import (
     WEIGHT,
     Demo,
 )
-from scenes.machines.press.hydraulics import BAR, CylinderDevice
+from scenes.machines.press import STEP_BLOCK_INPUTS as HOMING
+from scenes.machines.press.devices import CylinderDevice
+from scenes.machines.press.hydraulics import BAR
 from scenes.tools.cli import main
 
 FULL_SCALE = 200.0 * BAR * np.pi / 4.0 * 0.080**2 / 1000.0

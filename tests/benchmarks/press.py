@@ -61,7 +61,7 @@ def hydraulics(steps: int = 20000) -> dict[str, Any]:
     import mujoco
 
     import scenes
-    from scenes.machines.press.hydraulics import CylinderDevice
+    from scenes.machines.press.devices import CylinderDevice
 
     scene = scenes.load("press", trace_every=0)
     device = scene.devices["cylinder"]

@@ -38,13 +38,53 @@ def mark_at(marks: mcl.Marks, k: int) -> float:
 
 
 # ---------------------------------------------------------------------------------- devices
+class RollingCoupling:
+    """A rolling contact in the model: the equality ``follower = a0 + a1·leader`` (a linear
+    joint coupling, MuJoCo's ``<joint>`` equality with its polynomial coefficients), rewritten
+    by a device before a physics step. A new slope ``a1`` moves ``a0`` so that the follower
+    stays where it is at the leader's position: the coupling stays continuous.
+
+    Args:
+        model: the compiled model.
+        equality: the equality's (prefixed) name.
+        a1: the slope at the start.
+        follower, leader: the two joint coordinates now.
+    """
+
+    def __init__(
+        self, model: mujoco.MjModel, equality: str, a1: float, follower: float, leader: float
+    ) -> None:
+        eq = int(model.equality(equality).id)
+        self._coef: Any = memoryview(model.eq_data.reshape(-1))
+        self._base = eq * model.eq_data.shape[1]
+        self.a1 = a1
+        """Follower per leader travel."""
+        self.a0 = follower - a1 * leader
+        """Follower at leader 0."""
+        self.write()
+
+    def slope(self, a1: float, leader: float) -> bool:
+        """Set the slope ``a1`` at the leader's coordinate ``leader``; False: it was that."""
+        if a1 == self.a1:
+            return False
+        self.a0 += (self.a1 - a1) * leader
+        self.a1 = a1
+        self.write()
+        return True
+
+    def write(self) -> None:
+        """Write ``a0`` and ``a1`` into the model's equality."""
+        self._coef[self._base] = self.a0
+        self._coef[self._base + 1] = self.a1
+
+
 class EccentricRoll:
     """The driven pinch roll is eccentric: strip speed = r·(1 + e·sin(n·L))·L̇, the line-speed
     ripple (±e, n times per roll turn: 2.08 Hz at 60 m/min for n = 1).
 
-    The roll drives the strip through the equality ``pinch`` (``M = a0 + a1·L``); before every
-    step the slope becomes the roll's effective radius at its angle and the offset keeps the
-    coupling continuous. ``eccentricity`` and ``per_turn`` may change at any time.
+    The roll drives the strip through the equality ``pinch`` (``M = a0 + a1·L``, a
+    :class:`RollingCoupling`); before every step its slope becomes the roll's effective radius
+    at its angle. ``eccentricity`` and ``per_turn`` may change at any time.
 
     Args:
         model, data: the compiled model and its data (positions current).
@@ -57,39 +97,35 @@ class EccentricRoll:
         """Relative amplitude of the speed ripple [-] (0.01 = ±1 %)."""
         self.per_turn = 1
         """Ripple periods per roll turn (1: an eccentric roll, 2: an oval one)."""
-        self._eq = int(model.equality(f"{prefix}pinch").id)
         self._roll = int(model.joint(f"{prefix}L").qposadr[0])
-        self._strip = int(model.joint(f"{prefix}M").qposadr[0])
-        self._coef: Any = memoryview(model.eq_data.reshape(-1))
-        self._base = self._eq * model.eq_data.shape[1]
         self._qpos: Any = memoryview(data.qpos)
-        self.a1 = self.radius * (1.0 + self.eccentricity * math.sin(self.per_turn * self._angle()))
-        self.a0 = float(data.qpos[self._strip]) - self.a1 * self._angle()
-        self._write()
+        strip = float(data.qpos[int(model.joint(f"{prefix}M").qposadr[0])])
+        q = self._angle()
+        self.pinch = RollingCoupling(model, f"{prefix}pinch", self._radius_at(q), strip, q)
+        """The strip's travel on the roll's angle."""
 
     def _angle(self) -> float:
         angle: float = self._qpos[self._roll]
         return angle
 
-    def _write(self) -> None:
-        self._coef[self._base] = self.a0
-        self._coef[self._base + 1] = self.a1
+    def _radius_at(self, angle: float) -> float:
+        """The roll's effective radius at its angle [m]."""
+        return self.radius * (1.0 + self.eccentricity * math.sin(self.per_turn * angle))
 
     def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """New slope at the roll's angle, offset kept continuous."""
         q = self._angle()
-        a1 = self.radius * (1.0 + self.eccentricity * math.sin(self.per_turn * q))
-        self.a0 += (self.a1 - a1) * q
-        self.a1 = a1
-        self._write()
+        self.pinch.slope(self._radius_at(q), q)
 
     def get_state(self) -> npt.NDArray[np.float64]:
-        return np.array([self.a0, self.a1, self.eccentricity, float(self.per_turn)])
+        pinch = self.pinch
+        return np.array([pinch.a0, pinch.a1, self.eccentricity, float(self.per_turn)])
 
     def set_state(self, state: npt.NDArray[np.float64]) -> None:
-        self.a0, self.a1, self.eccentricity = (float(v) for v in state[:3])
+        pinch = self.pinch
+        pinch.a0, pinch.a1, self.eccentricity = (float(v) for v in state[:3])
         self.per_turn = round(float(state[3]))
-        self._write()
+        pinch.write()
 
 
 class MeasuringWheel:
@@ -115,8 +151,8 @@ class MeasuringWheel:
       wheel reads ``ε`` long.
 
     :meth:`ideal` turns every error off (a perfect wheel on a rigid strip). The wheel rolls on
-    the strip through the equality ``wheel_roll`` (``W = a0 + a1·M``), rewritten before every
-    step with ``a0`` kept continuous. Every parameter may change at any time.
+    the strip through the equality ``wheel_roll`` (``W = a0 + a1·M``, a :class:`RollingCoupling`),
+    rewritten before every step. Every parameter may change at any time.
 
     Args:
         model, data: the compiled model and its data (positions current).
@@ -162,12 +198,9 @@ class MeasuringWheel:
             for _ in range(self.PARTS)
         ]
         self._gain = math.sqrt(2.0 / self.PARTS)
-        self._eq = int(model.equality(f"{prefix}wheel_roll").id)
         self._wheel = int(wheel.qposadr[0])
         strip = model.joint(f"{prefix}M")
         self._strip, self._strip_dof = int(strip.qposadr[0]), int(strip.dofadr[0])
-        self._coef: Any = memoryview(model.eq_data.reshape(-1))
-        self._base = self._eq * model.eq_data.shape[1]
         self._qpos: Any = memoryview(data.qpos)
         self._qvel: Any = memoryview(data.qvel)
         self.liftoffs = 0
@@ -179,9 +212,11 @@ class MeasuringWheel:
         """The current (or last) lift-off: when it began [s], the strip speed then [m/s]."""
         self.applied = self.slip
         """The slip in effect [-] (lift-off included)."""
-        self.a1 = self._slope(self.applied, float(data.qpos[self._wheel]))
-        self.a0 = float(data.qpos[self._wheel]) - self.a1 * m
-        self._write()
+        angle = float(data.qpos[self._wheel])
+        self.roll = RollingCoupling(
+            model, f"{prefix}wheel_roll", self._slope(self.applied, angle), angle, m
+        )
+        """The wheel's angle on the strip's travel."""
 
     def ideal(self) -> None:
         """Turn every error source off: the wheel reads the strip's travel exactly."""
@@ -235,10 +270,6 @@ class MeasuringWheel:
             coasting = 0.0
         return coasting / v - 1.0
 
-    def _write(self) -> None:
-        self._coef[self._base] = self.a0
-        self._coef[self._base + 1] = self.a1
-
     def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """The wheel's rolling for the coming step, its angle kept continuous."""
         t = float(data.time)
@@ -249,18 +280,14 @@ class MeasuringWheel:
             self.next_liftoff = m + self._gap(self.liftoffs)
         if self.liftoff_rate > 0.0 or t - self.lifted[0] < self.liftoff_time:
             slip += self._liftoff(t, m, v)
-        a1 = self._slope(slip, self._qpos[self._wheel])
-        if a1 == self.a1:
-            return
-        self.a0 += (self.a1 - a1) * m
-        self.a1, self.applied = a1, slip
-        self._write()
+        if self.roll.slope(self._slope(slip, self._qpos[self._wheel]), m):
+            self.applied = slip
 
     def get_state(self) -> npt.NDArray[np.float64]:
         return np.array(
             [
-                self.a0,
-                self.a1,
+                self.roll.a0,
+                self.roll.a1,
                 self.applied,
                 self.slip,
                 self.random,
@@ -282,13 +309,13 @@ class MeasuringWheel:
 
     def set_state(self, state: npt.NDArray[np.float64]) -> None:
         values = [float(v) for v in state]
-        self.a0, self.a1, self.applied, self.slip, self.random = values[:5]
+        self.roll.a0, self.roll.a1, self.applied, self.slip, self.random = values[:5]
         self.slip_per_speed, self.diameter, self.runout, self.runout_phase = values[5:9]
         self.liftoff_rate, self.liftoff_time, self.drag_torque = values[9:12]
         self.tension, self.stiffness = values[12:14]
         self.liftoffs, self.next_liftoff = round(values[14]), values[15]
         self.lifted = (values[16], values[17])
-        self._write()
+        self.roll.write()
 
 
 TOUCH = 1.0e-5

@@ -2,8 +2,9 @@
 
 Runs on the pure-Python simulated axis (no physics engine) and prints what a commissioning
 engineer watches: positions, states and the output edges of every function block. The program
-is written the way a PLC programmer writes it: one scan function with a step counter, the
-blocks' constant inputs bound once.
+is written the way a PLC programmer writes it: one scan function that sets the blocks' inputs by
+the step, the steps declared as a table (each step's end), the blocks' constant inputs bound
+once.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from typing import Any
 
 import mcl
 from scenes.definition import AxisDef, MachineDef
-from scenes.program import StepSequence
+from scenes.program import Step, StepSequence, never
 from scenes.scene import Scene
 
 CONSTANTS = dict(Kp=3.0, Ki=150.0, Ff=1.0, Kc=50.0, Vmax=500.0, Filter=2.0, Ka=0.0065)
@@ -65,14 +66,20 @@ class Demo(StepSequence):
             for name in ("power", "move", "first", "second", "third", "velocity", "stop")
         }
         """The blocks a report watches, by name."""
-
-    def next(self) -> None:
-        """Go to the next step."""
-        self.index += 1
+        done = (
+            lambda: self.power.Status,
+            lambda: self.move.Done,
+            lambda: self.third.Done,
+            lambda: self.velocity.InVelocity,
+            lambda: self.stop.Done,
+            lambda: X.state == mcl.AxisState.StandStill,
+            never,
+        )
+        self.declare(*(Step(s, d, self.blocks) for s, d in zip(STEPS, done, strict=True)))
 
     def __call__(self) -> None:
         """One PLC scan."""
-        X, step = self.X, self.index
+        step = self.index
         self.power.Enable = True
         self.power()
         self.move.Execute = step == 1
@@ -84,19 +91,7 @@ class Demo(StepSequence):
         self.velocity()
         self.stop.Execute = step == 4
         self.stop()
-        if (
-            (step == 0 and self.power.Status)
-            or (step == 1 and self.move.Done)
-            or (step == 2 and self.third.Done)
-            or (step == 3 and self.velocity.InVelocity)
-            or (step == 4 and self.stop.Done)
-            or (step == 5 and X.state == mcl.AxisState.StandStill)
-        ):
-            self.next()
-
-        for name, fb in self.blocks.items():
-            if fb.Error:
-                self.error = f"{STEPS[self.index]}: {name} error {fb.ErrorID}"
+        self.advance()
 
 
 MACHINE = MachineDef(

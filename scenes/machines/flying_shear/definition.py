@@ -1,0 +1,72 @@
+"""The flying shear in the registry (:data:`MACHINE`): its axes, its Python devices (run before
+every physics step), its demo and the signals it publishes."""
+
+from __future__ import annotations
+
+from scenes.definition import MachineDef, Signal
+from scenes.machines.flying_shear.axes import AXES, PREFIX
+from scenes.machines.flying_shear.demo import Demo
+from scenes.machines.flying_shear.devices import (
+    CutRecorder,
+    EccentricRoll,
+    KnifeCylinder,
+    MeasuringWheel,
+)
+from scenes.scene import Scene
+
+DEVICES = {
+    "ripple": EccentricRoll,
+    "wheel": MeasuringWheel,
+    "knife": KnifeCylinder,
+    "cuts": CutRecorder,  # after the knife: it reads the knife's force of the same step
+}
+"""The machine's Python devices by name (each ``(model, data, prefix) -> device``)."""
+
+
+def _signal_knife(scene: Scene) -> float:
+    return 1000.0 * scene.joint(f"{PREFIX}K").position
+
+
+def _signal_valve(scene: Scene) -> float:
+    return scene.device("knife", KnifeCylinder).spool
+
+
+def _signal_drag(scene: Scene) -> float:
+    return scene.device("knife", KnifeCylinder).drag
+
+
+def _signal_piece(scene: Scene) -> float:
+    return scene.device("cuts", CutRecorder).last_piece
+
+
+def _signal_mark(scene: Scene) -> float:
+    return scene.device("cuts", CutRecorder).last_mark
+
+
+def _signal_speed(scene: Scene) -> float:
+    return 60.0 * scene.joint(f"{PREFIX}M").velocity
+
+
+def _signal_relative(scene: Scene) -> float:
+    return 1000.0 * (scene.joint(f"{PREFIX}S").velocity - scene.joint(f"{PREFIX}M").velocity)
+
+
+MACHINE = MachineDef(
+    name="flying_shear",
+    description="flying shear: strip line, measuring wheel, carriage gearing in, knife cylinder",
+    model="flying_shear.xml",
+    axes=AXES,
+    devices=DEVICES,
+    demo=Demo,
+    signals={
+        "knife": Signal("mm", _signal_knife),
+        "valve": Signal("-", _signal_valve),
+        "drag": Signal("N", _signal_drag),
+        "strip_speed": Signal("m/min", _signal_speed),
+        "carriage_minus_strip": Signal("mm/s", _signal_relative),
+        "last_piece": Signal("mm", _signal_piece),
+        "last_cut_to_mark": Signal("mm", _signal_mark),
+    },
+    demo_start={"S": 0.3},
+)
+"""The flying shear in the registry."""
