@@ -4,9 +4,21 @@ cylinder (:class:`.hydraulics.ValveCylinder`) moving a mass without a physics en
 
 from __future__ import annotations
 
-from mcl.channel import IDEAL, AxisChannel, Sensors
+from mcl.channel import IDEAL, AxisChannel, Drive, Sensors
 from mcl.simaxis import after_friction
 from scenes.machines.press.hydraulics import BAR, ValveCylinder
+
+
+class ValveDrive(Drive):
+    """The axis' command goes to the valve; the brake is the load-holding valves."""
+
+    def __init__(self, hydraulics: ValveCylinder) -> None:
+        self.hydraulics = hydraulics
+
+    def apply(self, volts: float, enabled: bool, brake: bool) -> None:
+        h = self.hydraulics
+        h.command = volts if enabled else 0.0
+        h.hold = brake
 
 
 class HydraulicAxis(AxisChannel):
@@ -39,14 +51,17 @@ class HydraulicAxis(AxisChannel):
         start: float = 0.0,
         sensors: Sensors | None = None,
     ) -> None:
+        valve = ValveDrive(hydraulics)
         super().__init__(
             "hydraulic",
             resolution,
             10000,
             start,
             sensors=IDEAL if sensors is None else sensors,
+            drive=valve,
         )
         self.hydraulics = hydraulics
+        self.valve = valve
         self.mass, self.load, self.viscous = mass, load, viscous
         self.x = start
         """Extension [m]."""
@@ -57,9 +72,8 @@ class HydraulicAxis(AxisChannel):
         self.sense()
 
     def drive(self, volts: float, enabled: bool, brake: bool) -> None:
-        h = self.hydraulics
-        h.command = volts if enabled else 0.0
-        h.hold = brake
+        """Set the valve directly (what the module's outputs do through the axis' drive)."""
+        self.valve.apply(volts, enabled, brake)
 
     def step(self) -> None:
         """Integrate one step of the hydraulics' timestep."""
