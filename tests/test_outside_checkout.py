@@ -41,7 +41,7 @@ except mcl.ConditionTimeout:
     pass
 print(json.dumps({{"compiled": [mcl.COMPILED, scenes.COMPILED], "pos": X.POS,
                   "joint": scene.joint_position("X"), "scenes": scenes.__file__,
-                  "plant": sys.modules["scenes.plant"].__file__}}))
+                  "plant": sys.modules["scenes.plant.mujoco"].__file__}}))
 """
 
 
