@@ -106,12 +106,15 @@ class Signal:
     """An extra value a machine publishes for the trace and the viewer (a pressure, a force).
 
     Attributes:
-        unit: its unit, e.g. ``"bar"``, ``"N"``, ``"mm"``.
+        unit: its unit, e.g. ``"bar"``, ``"N"``, ``"mm"``, ``"−1…1"`` (a valve's spool),
+            ``"0/1"`` (a flag).
         read: reads it from a running scene.
+        label: what the viewer calls it (``"carriage − strip"``); empty: its name.
     """
 
     unit: str
     read: Callable[[Scene], float]
+    label: str = ""
 
 
 @dataclass(frozen=True)

@@ -748,7 +748,7 @@ def test_published_signals_are_shown_with_their_units(
     app.frame()
     assert app._signals is not None
     page = signals_html(shear.snapshot)
-    assert "cut_force" in page and " N" in page and "bar" in page
+    assert "cut force [N]" in page and "broken [bar]" in page  # no label: the name, readable
     assert app._signals.content == page
 
     plain = ViewerApp(Session("single_axis"), server)

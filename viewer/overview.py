@@ -1,30 +1,204 @@
-"""The all-axes overview: one row per axis of the current scene (a table in an HTML element).
+"""The all-axes overview: one row per axis of the current scene, as an engineer's online view.
+
+Each row: set and actual position [u], set and actual velocity [u/s], the following error and
+its peak since the last reset (µm for axes in mm or m), the command in percent of ±10 V, a status
+word of lamps, and under the row a line of its own for the error text. The table has fixed
+column widths (``table-layout: fixed``): a value never moves, whatever the error text's length
+(it wraps into two lines at most, then ends in an ellipsis; the full text is its tooltip).
+Encoder-only axes show "—" where they have no set point and no output.
 
 Interface used by the per-page layout (:mod:`viewer.page`): ``Overview(gui)`` adds its element
 to the current container of ``gui`` (a page's ``client.gui``); :meth:`Overview.update` sends the
-table when it changed.
+table when it changed. The peaks are reset by :meth:`viewer.session.Session.reset_peaks` (the
+layout binds it to a button).
 """
 
 from __future__ import annotations
 
 import html
+import math
 
 import viser
 
-from viewer.snapshot import Snapshot
+from viewer.panels import lamp_dot
+from viewer.snapshot import AxisView, Snapshot
+
+FULL_SCALE_VOLTS = 10.0
+"""The analog command at 100 % [V] (the output is ±10 V)."""
+
+NONE = "—"
+"""What a cell shows that the axis does not have (an encoder-only axis' set point)."""
+
+FE_UNITS: dict[str, tuple[float, str]] = {"mm": (1e3, "µm"), "m": (1e6, "µm"), "deg": (1e3, "mdeg")}
+"""Following error shown per axis unit: (factor from the axis unit, shown unit); other units
+are shown as they are, with four decimals."""
+
+VALUE_COLUMNS: tuple[tuple[str, str, float, str], ...] = (
+    ("set_position", "Set pos [u]", 6.6, "set point (model position) [u]"),
+    ("position", "Act pos [u]", 6.6, "actual position POS [u]"),
+    ("set_velocity", "Set vel [u/s]", 6.0, "set velocity [u/s]"),
+    ("velocity", "Act vel [u/s]", 6.0, "actual velocity VEL [u/s]"),
+    ("following_error", "FE", 6.2, "following error: set point − actual position"),
+    ("peak_following_error", "FE peak", 6.2, "largest |following error| since Reset peaks"),
+    ("output", "Out [%]", 4.4, "analog command in % of ±10 V"),
+)
+"""The value columns: (data-field, header, width [em], tooltip)."""
+
+LAMPS: tuple[tuple[str, str, str], ...] = (
+    ("ready", "Rdy", "ready: powered, no error, standstill"),
+    ("enabled", "En", "enabled: drive enable on"),
+    ("homed", "Hom", "homed: the axis has its reference"),
+    ("in_position", "InP", "in position: standstill, |FE| within the in-position window"),
+    ("moving", "Mov", "moving: the set point is in motion"),
+    ("lim_neg", "L−", "LIM− switch"),
+    ("lim_pos", "L+", "LIM+ switch"),
+    ("sw_limit", "SW", "software limit reached"),
+    ("error", "Err", "axis error"),
+)
+"""The status word: (data-field, header, tooltip), left to right."""
+
+NAME_WIDTH, UNIT_WIDTH, LAMP_WIDTH = 3.6, 2.8, 1.9
+"""Widths of the axis name, unit and each lamp column [em of the table's font]."""
+
+ERROR_LINES = 2
+"""Lines the error text may wrap into before it is cut off (always reserved)."""
+
+_CELL = "padding:0.1em 0.3em;white-space:nowrap;overflow:hidden"
+_NUMBER = f"{_CELL};text-align:right;font-family:monospace"
+
+
+def fe_scale(unit: str) -> tuple[float, str, int]:
+    """How the following error of an axis in ``unit`` is shown: (factor, unit, decimals)."""
+    factor, shown = FE_UNITS.get(unit, (1.0, unit))
+    return factor, shown, 1 if factor != 1.0 else 4
+
+
+def _number(value: float, decimals: int) -> str:
+    """A number with ``decimals`` decimals (no "-0.00"); "—" for NaN (the axis has no such
+    value)."""
+    if math.isnan(value):
+        return NONE
+    return f"{value if round(value, decimals) else 0.0:.{decimals}f}"
+
+
+def _values(view: AxisView) -> dict[str, str]:
+    """The text of each value cell of ``view``'s row (escaped)."""
+    factor, fe_unit, decimals = fe_scale(view.unit)
+    suffix = f'<span style="color:#78909c"> {html.escape(fe_unit)}</span>'
+    drive = view.has_drive
+    return {
+        "set_position": _number(view.set_position, 3),
+        "position": _number(view.position, 3),
+        "set_velocity": _number(view.set_velocity, 2),
+        "velocity": _number(view.velocity, 2),
+        "following_error": _number(view.following_error * factor, decimals) + suffix
+        if drive
+        else NONE,
+        "peak_following_error": _number(view.peak_following_error * factor, decimals) + suffix
+        if drive
+        else NONE,
+        "output": _number(100.0 * view.volts / FULL_SCALE_VOLTS, 1) if drive else NONE,
+    }
+
+
+def status_word(view: AxisView) -> dict[str, bool]:
+    """The lamps of ``view``'s status word, by their :data:`LAMPS` field."""
+    return {
+        "ready": view.powered and view.standstill and not view.error_id,
+        "enabled": view.enabled,
+        "homed": view.referenced,
+        "in_position": view.in_position,
+        "moving": view.moving,
+        "lim_neg": view.lim_neg,
+        "lim_pos": view.lim_pos,
+        "sw_limit": view.sw_limit_neg or view.sw_limit_pos,
+        "error": view.error_id != 0,
+    }
+
+
+LAMP_KINDS = {
+    "moving": "on_output",
+    "lim_neg": "on_limit",
+    "lim_pos": "on_limit",
+    "sw_limit": "on_ref",
+    "error": "on_limit",
+}
+"""Colour of a lit lamp of the status word (the others: ``"on_info"``, green)."""
+
+
+def _error_text(view: AxisView) -> str:
+    """The axis error as number and text, and the last refused command (empty: neither)."""
+    parts = [f"{view.error_id} {view.error}".strip()] if view.error_id else []
+    if view.last_error:
+        parts.append(f"refused: {view.last_error}")
+    return " · ".join(parts)
+
+
+def _row(view: AxisView) -> str:
+    """The value row and the error line of one axis."""
+    name = html.escape(view.name)
+    values = _values(view)
+    cells = "".join(
+        f'<td data-field="{field}" style="{_NUMBER}">{values[field]}</td>'
+        for field, _, _, _ in VALUE_COLUMNS
+    )
+    word, note = status_word(view), _window_note(view)
+    lamps = "".join(
+        f'<td data-field="{field}" style="{_CELL};text-align:center" title="{tip}'
+        f'{note if field == "in_position" else ""}">'
+        f"{lamp_dot(word[field], LAMP_KINDS.get(field, 'on_info'))}</td>"
+        for field, _, tip in LAMPS
+    )
+    text = _error_text(view)
+    line = ERROR_LINES * 1.3
+    span = 2 + len(VALUE_COLUMNS) + len(LAMPS)
+    error = (
+        f'<tr data-axis="{name}" data-line="error"><td colspan="{span}"'
+        f' style="padding:0 0.3em 0.2em 0.3em;border-bottom:1px solid #eceff1">'
+        f'<div data-field="error_text" title="{html.escape(text)}" style="height:{line}em;'
+        f"line-height:1.3em;overflow:hidden;overflow-wrap:anywhere;display:-webkit-box;"
+        f"-webkit-box-orient:vertical;-webkit-line-clamp:{ERROR_LINES};color:#c62828;"
+        f'font-size:0.95em">{html.escape(text)}</div></td></tr>'
+    )
+    return (
+        f'<tr data-axis="{name}" data-line="values"><td data-field="name" style="{_CELL}">'
+        f'<b>{name}</b></td><td data-field="unit" style="{_CELL};color:#546e7a">'
+        f"{html.escape(view.unit)}</td>{cells}{lamps}</tr>{error}"
+    )
+
+
+def _window_note(view: AxisView) -> str:
+    """The in-position window in the lamp's tooltip (``" (±5.0 µm)"``)."""
+    factor, unit, decimals = fe_scale(view.unit)
+    return f" (±{view.in_position_window * factor:.{decimals}f} {html.escape(unit)})"
+
+
+def _head() -> tuple[str, float]:
+    """The column widths and the header row; the table's width [em]."""
+    widths = [NAME_WIDTH, UNIT_WIDTH, *(w for _, _, w, _ in VALUE_COLUMNS)]
+    widths += [LAMP_WIDTH] * len(LAMPS)
+    columns = "".join(f'<col style="width:{w}em">' for w in widths)
+    header = '<th style="text-align:left">Axis</th><th style="text-align:left">u</th>'
+    header += "".join(
+        f'<th title="{tip}" style="text-align:right">{label}</th>'
+        for _, label, _, tip in VALUE_COLUMNS
+    )
+    header += "".join(
+        f'<th title="{tip}" style="text-align:center">{label}</th>' for _, label, tip in LAMPS
+    )
+    return f"<colgroup>{columns}</colgroup><tr>{header}</tr>", sum(widths)
 
 
 def overview_html(snapshot: Snapshot) -> str:
-    """The overview table of every axis of ``snapshot``."""
-    rows = "".join(
-        f"<tr><td>{html.escape(name)}</td><td>{view.position:.3f}</td>"
-        f"<td>{view.velocity:.3f}</td><td>{view.following_error:.4f}</td>"
-        f"<td>{html.escape(view.state)}</td></tr>"
-        for name, view in snapshot.axes.items()
-    )
+    """The overview table of every axis of ``snapshot`` (texts escaped)."""
+    head, width = _head()
+    rows = "".join(_row(view) for view in snapshot.axes.values())
     return (
-        "<table><tr><th>axis</th><th>position</th><th>velocity</th><th>following error</th>"
-        f"<th>state</th></tr>{rows}</table>"
+        '<div style="overflow-x:auto;padding:0 0.5em">'
+        f'<table data-overview="axes" style="table-layout:fixed;width:{width:.1f}em;'
+        f'border-collapse:collapse;font-size:0.8em">'
+        f'<thead style="font-size:0.85em;color:#455a64;vertical-align:bottom">{head}</thead>'
+        f"<tbody>{rows}</tbody></table></div>"
     )
 
 

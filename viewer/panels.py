@@ -8,7 +8,7 @@ import math
 import time
 from collections.abc import Sequence
 
-from viewer.snapshot import AxisView, Snapshot
+from viewer.snapshot import AxisView, SignalView, Snapshot
 
 SPEEDS: dict[str, float] = {
     "0.1×": 0.1,
@@ -58,34 +58,49 @@ def utc(wall: float) -> str:
 
 
 def _box(content: str) -> str:
-    """A panel's text block."""
-    return f'<div style="font-size:0.85em;padding:0 0.75em">{content}</div>'
+    """A panel's text block (long words wrap anywhere rather than widen the panel)."""
+    return f'<div style="font-size:0.85em;padding:0 0.75em;overflow-wrap:anywhere">{content}</div>'
+
+
+def lamp_dot(on: bool, kind: str) -> str:
+    """A round lamp: lit in the colour of ``kind`` (``"on_limit"``, ``"on_ref"``,
+    ``"on_info"``, ``"on_output"``), grey when off."""
+    color = _LAMP_HTML[kind] if on else _LAMP_HTML["off"]
+    return (
+        f'<span style="display:inline-block;width:0.75em;height:0.75em;border-radius:50%;'
+        f'background:{color};border:1px solid #90a4ae;vertical-align:-0.1em"></span>'
+    )
 
 
 def _lamp(on: bool, label: str, kind: str) -> str:
-    color = _LAMP_HTML[kind] if on else _LAMP_HTML["off"]
     return (
-        f'<span style="white-space:nowrap;margin-right:0.7em">'
-        f'<span style="display:inline-block;width:0.75em;height:0.75em;border-radius:50%;'
-        f'background:{color};border:1px solid #90a4ae;vertical-align:-0.1em"></span> '
-        f"{label}</span>"
+        f'<span style="white-space:nowrap;margin-right:0.7em">{lamp_dot(on, kind)} {label}</span>'
     )
+
+
+VALUE_WIDTH = "58%"
+"""Width of the value column of a read-out table (the names wrap in the rest)."""
 
 
 def _table(rows: Sequence[tuple[str, str]]) -> str:
-    """A two-column read-out table (names left, values right in monospace)."""
+    """A two-column read-out table of fixed layout: names left (they wrap), values right in
+    monospace in a column of fixed width (never pushed out of the panel; too long a value is
+    cut off)."""
     body = "".join(
-        f'<tr><td style="padding:0 0.5em 0 0">{name}</td>'
-        f'<td style="text-align:right;font-family:monospace;white-space:pre">{value}</td></tr>'
+        f'<tr data-row="{name}"><td style="padding:0 0.5em 0 0">{name}</td>'
+        f'<td data-value="{name}" style="text-align:right;font-family:monospace;'
+        f'white-space:pre;overflow:hidden;text-overflow:ellipsis">{value}</td></tr>'
         for name, value in rows
     )
-    return f'<table style="width:100%;border-collapse:collapse">{body}</table>'
+    return (
+        f'<table style="width:100%;table-layout:fixed;border-collapse:collapse">'
+        f'<colgroup><col><col style="width:{VALUE_WIDTH}"></colgroup>{body}</table>'
+    )
 
 
 def _axis_rows(view: AxisView) -> list[tuple[str, str]]:
     """The read-out rows of an axis panel (the command only with a drive)."""
     unit = html.escape(view.unit)
-    error = html.escape(view.error) if view.error else "—"
     rows = [
         ("Position", f"{view.position:10.3f} {unit}"),
         ("Velocity", f"{view.velocity:10.2f} {unit}/s"),
@@ -97,24 +112,33 @@ def _axis_rows(view: AxisView) -> list[tuple[str, str]]:
         ]
     else:
         rows.append(("Drive", "none (encoder only)"))
-    rows += [
-        ("State", f"<b>{html.escape(view.state or '—')}</b>"),
-        ("Error", f'<span style="color:#c62828">{error}</span>' if view.error else error),
-    ]
-    if view.last_error:
-        rows.append(
-            ("Refused", f'<span style="color:#c62828">{html.escape(view.last_error)}</span>')
-        )
+    rows.append(("State", f"<b>{html.escape(view.state or '—')}</b>"))
     if view.group:
         rows.append(("Group", html.escape(view.group)))
     return rows
+
+
+def _texts(view: AxisView) -> str:
+    """The axis error and the last refused command, each on a line of its own under the values
+    (wrapped: however long, they never push the values out of the panel)."""
+    alarm = bool(view.error_id or view.error)
+    error = f"{view.error_id} {html.escape(view.error)}" if alarm else "—"
+    lines = [("Error", error, alarm)]
+    if view.last_error:
+        lines.append(("Refused", html.escape(view.last_error), True))
+    return "".join(
+        f'<div data-text="{label}" style="margin-top:0.2em">{label}: '
+        f'<span style="color:{"#c62828" if alarm else "inherit"}">{text}</span></div>'
+        for label, text, alarm in lines
+    )
 
 
 def axis_panel_html(view: AxisView) -> str:
     """The read-outs of one axis as HTML: values in the axis' unit, state, error text, lamps.
 
     Only what the axis has is shown: the switches of its machine definition, its digital inputs
-    (``DI``) and outputs (``DO``, read-only), the command only if it has a drive.
+    (``DI``) and outputs (``DO``, read-only), the command only if it has a drive. The error and
+    a refused command's text go under the values, wrapped.
 
     Args:
         view: The axis view of a snapshot.
@@ -134,18 +158,22 @@ def axis_panel_html(view: AxisView) -> str:
         outputs = f'<div style="line-height:1.6">Outputs: {outputs}</div>'
     message = html.escape(view.message) if view.message else "&nbsp;"
     return _box(
-        f"{_table(_axis_rows(view))}"
+        f"{_table(_axis_rows(view))}{_texts(view)}"
         f'<div style="margin-top:0.4em;line-height:1.6">{lamps}</div>{outputs}'
         f'<div style="color:#546e7a;margin-top:0.2em">{message}</div>'
     )
 
 
 def signals_html(snapshot: Snapshot) -> str:
-    """The machine's published signals as HTML: name, value, unit (texts escaped)."""
-    rows = [
-        (html.escape(s.name), f"{s.value:12.3f} {html.escape(s.unit)}") for s in snapshot.signals
-    ]
+    """The machine's published signals as HTML: label with unit, value (texts escaped)."""
+    rows = [(html.escape(_signal_label(s)), f"{s.value:12.3f}") for s in snapshot.signals]
     return _box(_table(rows))
+
+
+def _signal_label(signal: SignalView) -> str:
+    """A signal's label with its unit: ``"carriage − strip [mm/s]"``."""
+    label = signal.label or signal.name
+    return f"{label} [{signal.unit}]" if signal.unit else label
 
 
 def status_html(snapshot: Snapshot) -> str:
@@ -192,41 +220,44 @@ def demo_html(snapshot: Snapshot) -> str:
 
 
 def events_html(snapshot: Snapshot, shown: int = EVENTS_SHOWN) -> str:
-    """The error history, newest first: UTC time, simulated time, source, text (escaped)."""
+    """The error history, newest first: per entry a line of UTC time, simulated time and
+    source, and under it the text, wrapped (texts escaped)."""
     events = snapshot.events[-shown:][::-1]
     if not events:
         return _box("No errors.")
-    rows = "".join(
-        f'<tr><td style="white-space:nowrap;font-family:monospace">{utc(e.wall)}</td>'
-        f'<td style="white-space:nowrap;font-family:monospace">t={e.time:.3f}</td>'
-        f"<td>{html.escape(e.source)}</td><td>{html.escape(e.text)}</td></tr>"
+    entries = "".join(
+        f'<div data-event style="margin-bottom:0.3em">'
+        f'<div style="color:#546e7a;font-family:monospace;white-space:nowrap;overflow:hidden;'
+        f'text-overflow:ellipsis">{utc(e.wall)} t={e.time:.3f} {html.escape(e.source)}</div>'
+        f"<div>{html.escape(e.text)}</div></div>"
         for e in events
     )
-    return (
-        f'<div style="font-size:0.8em;padding:0 0.75em"><table style="border-collapse:collapse">'
-        f"{rows}</table></div>"
-    )
+    return f'<div style="font-size:0.8em;padding:0 0.75em;overflow-wrap:anywhere">{entries}</div>'
 
 
 def results_html(snapshot: Snapshot) -> str:
-    """The demo's results table (last rows; texts escaped)."""
+    """The demo's results table (last rows; texts escaped): it scrolls sideways inside the
+    panel when it is wider than the panel."""
     columns, rows = snapshot.results
     if not columns:
         return _box("No results yet.")
-    head = "".join(f'<th style="padding:0 0.4em">{html.escape(c)}</th>' for c in columns)
+    head = "".join(
+        f'<th style="padding:0 0.4em;white-space:nowrap">{html.escape(c)}</th>' for c in columns
+    )
     body = "".join(
         "<tr>"
         + "".join(
-            f'<td style="text-align:right;font-family:monospace;padding:0 0.4em">'
-            f"{html.escape(v)}</td>"
+            f'<td style="text-align:right;font-family:monospace;padding:0 0.4em;'
+            f'white-space:nowrap">{html.escape(v)}</td>'
             for v in row
         )
         + "</tr>"
         for row in rows
     )
     return (
-        f'<div style="font-size:0.8em;padding:0 0.75em;overflow-x:auto">'
-        f'<table style="border-collapse:collapse"><tr>{head}</tr>{body}</table></div>'
+        f'<div data-results style="font-size:0.8em;margin:0 0.75em;max-width:100%;'
+        f'overflow-x:auto"><table style="border-collapse:collapse"><tr>{head}</tr>{body}'
+        f"</table></div>"
     )
 
 

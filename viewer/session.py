@@ -33,6 +33,7 @@ from scenes import DemoProgram, MachineDef
 from scenes.scene import Scene
 from viewer.operator import AxisRequests, Clock, OperatorProgram
 from viewer.overlays import constraint_forces, contact_forces
+from viewer.peaks import PeakHold
 from viewer.recorder import Recorder
 from viewer.snapshot import (
     DemoView,
@@ -173,6 +174,7 @@ class Session:
             scene, self._axis_info, round(SCOPE_SECONDS / (plc * self._record_every)) + 1
         )
         self._axis_errors = {name: axis.AxErrorID for name, axis in scene.axes.items()}
+        self._peaks = PeakHold(scene.axes)
         self._results = ((), ())
         self._generation += 1
         self._fault = ""
@@ -465,6 +467,10 @@ class Session:
         """The faults set on ``axis`` now."""
         return list(self._scene.faults.active(axis))
 
+    def reset_peaks(self) -> None:
+        """The Reset peaks button: the peak following errors start again from now."""
+        self._post(lambda: self._peaks.reset())
+
     def toggle_power(self, axis: str) -> None:
         """The Power button of an axis: ends a running demo, then toggles the drive.
 
@@ -503,6 +509,7 @@ class Session:
             elif demo.done:
                 self._operator.release_groups()
         self._operator()
+        self._peaks.sample()
         errors = self._axis_errors
         for name, axis in self._scene.axes.items():
             code = axis.AxErrorID
@@ -646,7 +653,11 @@ class Session:
             self._demo_done_seen = bool(demo.done)
             self._results = results_of(demo)
         operators, info = self._operator.axes, self._axis_info
-        views = {name: axis_view(scene, name, operators[name], info[name]) for name in scene.axes}
+        peak = self._peaks.peak
+        views = {
+            name: axis_view(scene, name, operators[name], info[name], peak(name))
+            for name in scene.axes
+        }
         model, data = self._model, self._data
         self._snapshot = Snapshot(
             generation=self._generation,
@@ -686,7 +697,8 @@ class Session:
         except Exception:  # a faulty reader must not stop the simulation thread
             log.debug("signal %r of scene %r failed", name, self._scene_name, exc_info=True)
             value = math.nan
-        return SignalView(name=name, value=value, unit=signal.unit)
+        label = signal.label or name.replace("_", " ")
+        return SignalView(name=name, value=value, unit=signal.unit, label=label)
 
 
 def _check_speed(speed: float) -> float:

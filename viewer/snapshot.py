@@ -95,6 +95,19 @@ class AxisView:
         last_error: The operator's last refused command with its error (empty: none).
         group: Name of the axes group the axis belongs to (empty: none).
         constants: The axis' servo constants (None before they are set).
+        set_position: Set point (model position, GT_SInfo 20) [u]; NaN without a drive.
+        set_velocity: Set velocity (model velocity) [u/s]; NaN without a drive.
+        peak_following_error: Largest |following error| since the last peak reset, taken
+            every PLC scan (:class:`~viewer.peaks.PeakHold`) [u].
+        enabled: The drive enable is on (``MC_Power.Status``).
+        standstill: The axis is in StandStill.
+        moving: The set point is in motion (set velocity or acceleration ≠ 0).
+        in_position: The position loop is closed, the set point at rest and |following
+            error| within the axis' in-position window (``AxisConfig.in_position``).
+        in_position_window: The axis' in-position window [u].
+        sw_limit_pos: The positive software limit is reached (active, axis referenced, set
+            point at or beyond ``LimPos``) or tripped (ERRSWP 2006).
+        sw_limit_neg: The same for the negative limit (``LimNeg``, ERRSWN 2007).
     """
 
     name: str
@@ -128,6 +141,16 @@ class AxisView:
     last_error: str = ""
     group: str = ""
     constants: mcl.ServoConstants | None = None
+    set_position: float = math.nan
+    set_velocity: float = math.nan
+    peak_following_error: float = 0.0
+    enabled: bool = False
+    standstill: bool = False
+    moving: bool = False
+    in_position: bool = False
+    in_position_window: float = 0.0
+    sw_limit_pos: bool = False
+    sw_limit_neg: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -137,12 +160,14 @@ class SignalView:
     Attributes:
         name: Its name in the scene (``"pressure_A"``).
         value: Its value when the snapshot was taken (NaN if reading it failed).
-        unit: Its unit (``"bar"``, ``"N"``).
+        unit: Its unit (``"bar"``, ``"N"``, ``"−1…1"``).
+        label: What the page calls it (``"pressure A"``): the signal's label, else its name.
     """
 
     name: str
     value: float
     unit: str
+    label: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -236,7 +261,9 @@ class AxisInfo:
     homeable: bool
 
 
-def axis_view(scene: Scene, name: str, op: AxisOperator, info: AxisInfo) -> AxisView:
+def axis_view(
+    scene: Scene, name: str, op: AxisOperator, info: AxisInfo, peak: float = 0.0
+) -> AxisView:
     """What the panel of the axis ``name`` of ``scene`` shows now.
 
     Args:
@@ -244,9 +271,13 @@ def axis_view(scene: Scene, name: str, op: AxisOperator, info: AxisInfo) -> Axis
         name: The axis' name in the scene.
         op: Its operator (request flags, last command's outcome).
         info: What the machine definition says about it.
+        peak: Its peak |following error| since the last reset [u].
     """
     axis = scene.axes[name]
     io = axis.io
+    drive = axis.has_drive
+    powered = axis.state != mcl.AxisState.Disabled
+    limit_neg, limit_pos = sw_limits_reached(axis)
     return AxisView(
         name=name,
         joint=info.joint,
@@ -264,7 +295,7 @@ def axis_view(scene: Scene, name: str, op: AxisOperator, info: AxisInfo) -> Axis
         error=op.error_text.ErrStr,
         error_id=axis.AxErrorID,
         referenced=axis.Ref,
-        powered=axis.state != mcl.AxisState.Disabled,
+        powered=powered,
         lim_pos=bool(io.lim_pos),
         lim_neg=bool(io.lim_neg),
         ref=bool(io.ref),
@@ -279,7 +310,32 @@ def axis_view(scene: Scene, name: str, op: AxisOperator, info: AxisInfo) -> Axis
         last_error=op.last_error,
         group=axis.group.name if isinstance(axis.group, mcl.AxesGroup) else "",
         constants=axis.constants,
+        set_position=axis.optional(20) if drive else math.nan,
+        set_velocity=axis.sp_vel if drive else math.nan,
+        peak_following_error=peak,
+        enabled=axis.drive_enabled,
+        standstill=axis.state == mcl.AxisState.StandStill,
+        moving=axis.moving,
+        in_position=axis.loop_closed
+        and not axis.moving
+        and abs(axis.following_error) <= axis.config.in_position,
+        in_position_window=axis.config.in_position,
+        sw_limit_pos=limit_pos,
+        sw_limit_neg=limit_neg,
     )
+
+
+def sw_limits_reached(axis: mcl.Axis) -> tuple[bool, bool]:
+    """Whether the negative and the positive software limit is reached: active (``LimPos`` >
+    ``LimNeg``, linear axis), the axis referenced and its set point at or beyond the limit
+    (half a count: rounding), or the limit tripped (ERRSWN 2007, ERRSWP 2006)."""
+    code, c = axis.AxErrorID, axis.constants
+    negative, positive = code == mcl.ErrorID.ERRSWN, code == mcl.ErrorID.ERRSWP
+    if c is not None and c.sw_limits_active and axis.Ref and not axis.config.modulo:
+        margin = 0.5 * axis.config.resolution
+        negative = negative or axis.sp_pos <= c.LimNeg + margin
+        positive = positive or axis.sp_pos >= c.LimPos - margin
+    return negative, positive
 
 
 def results_of(demo: DemoProgram) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:

@@ -20,8 +20,10 @@ MACHINE = MachineDef(
     parts=(Part(gantry.MACHINE), Part(press.MACHINE, (2.4, 0.0, 0.0))),
     demo=Demo,
     signals={
-        "gantry_in_zone": Signal("-", lambda scene: float(gantry_in_zone(scene))),
-        "ram_up": Signal("-", lambda scene: float(ram_up(scene))),
+        "gantry_in_zone": Signal(
+            "0/1", lambda scene: float(gantry_in_zone(scene)), "gantry in the press zone"
+        ),
+        "ram_up": Signal("0/1", lambda scene: float(ram_up(scene)), "ram up"),
     },
     demo_start={
         **{f"gantry/{a}": q for a, q in gantry.MACHINE.demo_start.items()},
