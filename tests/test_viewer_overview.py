@@ -94,7 +94,7 @@ def test_the_row_shows_set_point_and_actual_values_in_the_axis_units() -> None:
     session.advance(150)
     view, cells = session.snapshot.axes["X"], row(session, "X")
     axis = session.scene.axes["X"]
-    assert cells["unit"] == "mm"
+    assert cells["name"] == "X mm"  # the axis and its unit
     assert float(cells["set_position"]) == pytest.approx(axis.sp_pos, abs=0.0005)
     assert float(cells["position"]) == pytest.approx(axis.POS, abs=0.0005)
     assert float(cells["set_velocity"]) == pytest.approx(400.0, abs=0.005)

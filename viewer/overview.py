@@ -34,31 +34,31 @@ FE_UNITS: dict[str, tuple[float, str]] = {"mm": (1e3, "µm"), "m": (1e6, "µm"),
 are shown as they are, with four decimals."""
 
 VALUE_COLUMNS: tuple[tuple[str, str, float, str], ...] = (
-    ("set_position", "Set pos [u]", 6.6, "set point (model position) [u]"),
-    ("position", "Act pos [u]", 6.6, "actual position POS [u]"),
-    ("set_velocity", "Set vel [u/s]", 6.0, "set velocity [u/s]"),
-    ("velocity", "Act vel [u/s]", 6.0, "actual velocity VEL [u/s]"),
-    ("following_error", "FE", 6.2, "following error: set point − actual position"),
-    ("peak_following_error", "FE peak", 6.2, "largest |following error| since Reset peaks"),
-    ("output", "Out [%]", 4.4, "analog command in % of ±10 V"),
+    ("set_position", "Set pos [u]", 5.8, "set point (model position) [u]"),
+    ("position", "Act pos [u]", 5.8, "actual position POS [u]"),
+    ("set_velocity", "Set vel [u/s]", 5.4, "set velocity [u/s]"),
+    ("velocity", "Act vel [u/s]", 5.4, "actual velocity VEL [u/s]"),
+    ("following_error", "FE", 5.8, "following error: set point − actual position"),
+    ("peak_following_error", "FE peak", 5.8, "largest |following error| since Reset peaks"),
+    ("output", "Out [%]", 3.8, "analog command in % of ±10 V"),
 )
 """The value columns: (data-field, header, width [em], tooltip)."""
 
 LAMPS: tuple[tuple[str, str, str], ...] = (
-    ("ready", "Rdy", "ready: powered, no error, standstill"),
-    ("enabled", "En", "enabled: drive enable on"),
-    ("homed", "Hom", "homed: the axis has its reference"),
-    ("in_position", "InP", "in position: standstill, |FE| within the in-position window"),
-    ("moving", "Mov", "moving: the set point is in motion"),
-    ("lim_neg", "L−", "LIM− switch"),
-    ("lim_pos", "L+", "LIM+ switch"),
-    ("sw_limit", "SW", "software limit reached"),
-    ("error", "Err", "axis error"),
+    ("ready", "Ready", "ready: powered, no error, standstill"),
+    ("enabled", "Enabled", "enabled: drive enable on"),
+    ("homed", "Homed", "homed: the axis has its reference"),
+    ("in_position", "In pos", "in position: standstill, |FE| within the in-position window"),
+    ("moving", "Moving", "moving: the set point is in motion"),
+    ("lim_neg", "LIM−", "LIM− switch"),
+    ("lim_pos", "LIM+", "LIM+ switch"),
+    ("sw_limit", "SW lim", "software limit reached (LimNeg or LimPos)"),
+    ("error", "Error", "axis error"),
 )
-"""The status word: (data-field, header, tooltip), left to right."""
+"""The status word: (data-field, header (written upwards), tooltip), left to right."""
 
-NAME_WIDTH, UNIT_WIDTH, LAMP_WIDTH = 3.6, 2.8, 1.9
-"""Widths of the axis name, unit and each lamp column [em of the table's font]."""
+NAME_WIDTH, LAMP_WIDTH = 3.6, 1.5
+"""Widths of the axis name (with its unit) and of each lamp column [em of the table's font]."""
 
 ERROR_LINES = 2
 """Lines the error text may wrap into before it is cut off (always reserved)."""
@@ -151,7 +151,7 @@ def _row(view: AxisView) -> str:
     )
     text = _error_text(view)
     line = ERROR_LINES * 1.3
-    span = 2 + len(VALUE_COLUMNS) + len(LAMPS)
+    span = 1 + len(VALUE_COLUMNS) + len(LAMPS)
     error = (
         f'<tr data-axis="{name}" data-line="error"><td colspan="{span}"'
         f' style="padding:0 0.3em 0.2em 0.3em;border-bottom:1px solid #eceff1">'
@@ -162,8 +162,8 @@ def _row(view: AxisView) -> str:
     )
     return (
         f'<tr data-axis="{name}" data-line="values"><td data-field="name" style="{_CELL}">'
-        f'<b>{name}</b></td><td data-field="unit" style="{_CELL};color:#546e7a">'
-        f"{html.escape(view.unit)}</td>{cells}{lamps}</tr>{error}"
+        f'<b>{name}</b> <span data-field="unit" style="color:#78909c">'
+        f"{html.escape(view.unit)}</span></td>{cells}{lamps}</tr>{error}"
     )
 
 
@@ -175,16 +175,18 @@ def _window_note(view: AxisView) -> str:
 
 def _head() -> tuple[str, float]:
     """The column widths and the header row; the table's width [em]."""
-    widths = [NAME_WIDTH, UNIT_WIDTH, *(w for _, _, w, _ in VALUE_COLUMNS)]
+    widths = [NAME_WIDTH, *(w for _, _, w, _ in VALUE_COLUMNS)]
     widths += [LAMP_WIDTH] * len(LAMPS)
     columns = "".join(f'<col style="width:{w}em">' for w in widths)
-    header = '<th style="text-align:left">Axis</th><th style="text-align:left">u</th>'
+    header = '<th style="text-align:left" title="axis and its unit u">Axis</th>'
     header += "".join(
-        f'<th title="{tip}" style="text-align:right">{label}</th>'
+        f'<th title="{tip}" style="text-align:right;padding:0 0.3em">{label}</th>'
         for _, label, _, tip in VALUE_COLUMNS
     )
     header += "".join(
-        f'<th title="{tip}" style="text-align:center">{label}</th>' for _, label, tip in LAMPS
+        f'<th title="{tip}" style="writing-mode:vertical-rl;transform:rotate(180deg);'
+        f'text-align:left;white-space:nowrap;font-weight:normal;padding:0.2em 0">{label}</th>'
+        for _, label, tip in LAMPS
     )
     return f"<colgroup>{columns}</colgroup><tr>{header}</tr>", sum(widths)
 
@@ -196,7 +198,7 @@ def overview_html(snapshot: Snapshot) -> str:
     return (
         '<div style="overflow-x:auto;padding:0 0.5em">'
         f'<table data-overview="axes" style="table-layout:fixed;width:{width:.1f}em;'
-        f'border-collapse:collapse;font-size:0.8em">'
+        f'border-collapse:collapse;font-size:0.75em">'
         f'<thead style="font-size:0.85em;color:#455a64;vertical-align:bottom">{head}</thead>'
         f"<tbody>{rows}</tbody></table></div>"
     )
