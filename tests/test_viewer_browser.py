@@ -311,8 +311,8 @@ def test_the_machine_definition_decides_what_the_panels_show(
             p.get_by_text(re.compile(r"^\s*-?\d+\.\d+ m/s$")).wait_for(timeout=5_000)
             for name in ("Power", "Home", "Jog+", "Jog−", "Stop"):
                 assert p.get_by_role("button", name=name, exact=True).count() == 0, name
-            # signals panel: name, value, unit
-            p.get_by_role("cell", name="cut_force").wait_for(timeout=5_000)
+            # signals panel: label with unit (no label given: the name, readable), value
+            p.get_by_role("cell", name="cut force [N]").wait_for(timeout=5_000)
             # knife: unit deg, a drive, two digital outputs, only a REF switch, no recipe
             p.get_by_role("tab", name="knife", exact=True).click()
             p.get_by_text("Jog velocity [deg/s]").wait_for(timeout=5_000)
