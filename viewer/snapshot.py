@@ -16,6 +16,7 @@ import mcl
 from scenes import DemoProgram, MachineDef
 from scenes.plant.mujoco import MujocoAxisIO
 from scenes.scene import Scene
+from viewer.axis_commissioning import CommissioningView
 from viewer.operator import AxisOperator
 
 log = logging.getLogger(__name__)
@@ -95,6 +96,7 @@ class AxisView:
         last_error: The operator's last refused command with its error (empty: none).
         group: Name of the axes group the axis belongs to (empty: none).
         constants: The axis' servo constants (None before they are set).
+        commissioning: Reversing sequence, step test and jog speed (None: not given).
     """
 
     name: str
@@ -128,6 +130,7 @@ class AxisView:
     last_error: str = ""
     group: str = ""
     constants: mcl.ServoConstants | None = None
+    commissioning: CommissioningView | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -156,6 +159,8 @@ class DemoView:
         step: Its ``step`` text (empty before it first ran).
         error: What ended it: its own ``error`` report or an exception, as text (empty:
             none).
+        runs: Times it was started since Run demo (repeats included).
+        repeat: Repeat demo is on.
     """
 
     available: bool
@@ -163,6 +168,8 @@ class DemoView:
     done: bool
     step: str
     error: str
+    runs: int = 0
+    repeat: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -279,6 +286,7 @@ def axis_view(scene: Scene, name: str, op: AxisOperator, info: AxisInfo) -> Axis
         last_error=op.last_error,
         group=axis.group.name if isinstance(axis.group, mcl.AxesGroup) else "",
         constants=axis.constants,
+        commissioning=op.commissioning_view,
     )
 
 
