@@ -14,10 +14,11 @@ every PLC scan for :data:`STEP_WINDOW` and computes from it (:func:`step_respons
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 import mcl
 
@@ -66,7 +67,7 @@ class StepResponse:
 
 
 def step_response(
-    times: Sequence[float], positions: Sequence[float], start: float, amplitude: float
+    times: npt.ArrayLike, positions: npt.ArrayLike, start: float, amplitude: float
 ) -> StepResponse:
     """The figures of a step response.
 
@@ -104,7 +105,7 @@ def step_response(
     )
 
 
-def _crossing(t: np.ndarray, y: np.ndarray, level: float) -> float:
+def _crossing(t: npt.NDArray[np.float64], y: npt.NDArray[np.float64], level: float) -> float:
     """First time [s] ``y`` reaches ``level`` (linear between samples); NaN if it never does."""
     above = np.flatnonzero(y >= level)
     if above.size == 0:
