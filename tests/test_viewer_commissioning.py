@@ -19,6 +19,7 @@ import mcl.faults
 from tests.helpers import run_coroutine
 from viewer.app import ViewerApp
 from viewer.commissioning import JOG_SPEEDS
+from viewer.operator import Move
 from viewer.reversing import Reversing
 from viewer.session import REPEAT_PAUSE, Session
 from viewer.step_test import STEP_WINDOW, step_response
@@ -129,8 +130,6 @@ def test_a_fault_ends_the_reversing_sequence(gantry: Session) -> None:
 
 
 def test_an_operator_move_takes_the_axis_over_from_the_sequence(gantry: Session) -> None:
-    from viewer.operator import Move
-
     requests = gantry.requests("X")
     requests.reverse(Reversing(0.0, 100.0, 200.0, 2000.0, 0.0, cycles=0))
     record(gantry, 100)
@@ -139,6 +138,31 @@ def test_an_operator_move_takes_the_axis_over_from_the_sequence(gantry: Session)
     assert samples[-1, 1] == pytest.approx(30.0, abs=0.01)  # where the operator sent it
     view = gantry.snapshot.axes["X"]
     assert view.commissioning is not None and view.commissioning.reversing.phase == "aborted"
+
+
+# ------------------------------------------------------------------------------------ override
+
+
+def test_override_50_percent_halves_a_running_move_without_a_velocity_jump(
+    gantry: Session,
+) -> None:
+    requests = gantry.requests("X")
+    requests.move(Move("absolute", 600.0, 200.0, 2000.0))
+    before = record(gantry, 400)  # 0.8 s: at 200 mm/s since 0.1 s
+    requests.override = 50.0
+    after = record(gantry, 600)
+    samples = np.concatenate((before, after))
+    t, x = samples[:, 0], samples[:, 1]
+    velocity = np.diff(x) / np.diff(t)
+    acceleration = np.diff(velocity) / np.diff(t[1:])
+    assert velocity[300:399].mean() == pytest.approx(200.0, rel=0.02)
+    assert velocity[-100:].mean() == pytest.approx(100.0, rel=0.02)
+    config = gantry.scene.axes["X"].config
+    assert np.abs(acceleration[390:]).max() <= config.deceleration  # ramped, no jump
+    view = gantry.snapshot.axes["X"]
+    assert view.commissioning is not None and view.commissioning.override == 50.0
+    with pytest.raises(ValueError):
+        requests.override = 151.0
 
 
 # ------------------------------------------------------------------------------------ jog speed
@@ -308,6 +332,9 @@ def test_the_controls_start_a_sequence_and_choose_the_jog_speed(
     speed = _input(app, "Jog speed")
     _gui_update(app, 5, speed, JOG_SPEEDS[1])
     assert gantry.requests("X").jog_slow
+    _gui_update(app, 5, _input(app, "Override [%]"), 80.0)
+    _gui_update(app, 5, _input(app, "Override [%]"), 200.0)  # beyond 150 %: refused
+    assert gantry.requests("X").override == 80.0
     _gui_update(app, 5, _input(app, "B [mm]"), 20.0)
     _gui_update(app, 5, _input(app, "Cycles (0: until stopped)"), 1.0)
     _gui_update(app, 5, _input(app, "Dwell [s]"), 0.1)

@@ -1,6 +1,11 @@
 """The commissioning functions of one axis as PLC code: the reversing sequence
-(:mod:`viewer.reversing`) and the step test (:mod:`viewer.step_test`), started and ended from
-the operator's requests, called once per PLC scan by the axis' operator program.
+(:mod:`viewer.reversing`), the step test (:mod:`viewer.step_test`) and the velocity override
+(``MC_SetOverride``), started and ended from the operator's requests, called once per PLC scan
+by the axis' operator program.
+
+The override is the library's: until the operator first sets it, ``MC_SetOverride`` is not
+called (a demo program keeps its own); from then on it is called every scan with Enable, the
+operator's VelFactor and AccFactor, JerkFactor as they follow from it (VelFactor², VelFactor³).
 
 A jog, a move, a homing or Stop of the operator ends a running sequence or step test (the
 operator takes the axis over); a step test starts only while no sequence runs, and a sequence
@@ -19,6 +24,9 @@ from viewer.step_test import STEP_WINDOW, StepListener, StepResponse, StepTest
 
 log = logging.getLogger(__name__)
 
+MAX_OVERRIDE = 150.0
+"""Largest velocity override the operator may set [%]."""
+
 Note = Callable[[str, str, int], None]
 """Hears what became of a command: (command, text, ErrorID). ErrorID 0 with a text that starts
 with ``"refused"``: the program refused it; 0 otherwise: it ended (or started) well."""
@@ -32,11 +40,13 @@ class CommissioningRequests:
         reversing: a reversing sequence to start; None: none.
         end_reversing: a Stop sequence press (MC_Halt).
         step: a step test press: (amplitude [u], client id of the page); None: none.
+        override: velocity override [%], 0 … :data:`MAX_OVERRIDE`; None: not set yet.
     """
 
     reversing: Reversing | None = None
     end_reversing: bool = False
     step: tuple[float, int] | None = None
+    override: float | None = None
 
 
 NO_COMMISSIONING = CommissioningRequests()
@@ -52,12 +62,14 @@ class CommissioningView:
         step_running: A step test records.
         step: Figures of the last step test (None: none yet).
         jog_slow: The slow jog speed is chosen.
+        override: The override the axis follows [%] (100 until the operator sets one).
     """
 
     reversing: ReversingProgress
     step_running: bool
     step: StepResponse | None
     jog_slow: bool
+    override: float = 100.0
 
 
 class AxisCommissioning:
@@ -80,13 +92,20 @@ class AxisCommissioning:
         self.axis = axis
         self.reversing = ReversingSequence(axis, sim_time)
         self.step_test = StepTest(axis, sim_time)
+        self.override = mcl.MC_SetOverride(Axis=axis)
         self.on_step = on_step
         self._note = note
 
     def view(self, jog_slow: bool) -> CommissioningView:
         """What the commissioning controls show now (``jog_slow``: the jog speed chosen)."""
         test = self.step_test
-        return CommissioningView(self.reversing.progress, test.running, test.result, jog_slow)
+        return CommissioningView(
+            self.reversing.progress,
+            test.running,
+            test.result,
+            jog_slow,
+            100.0 * self.axis.override_factor,
+        )
 
     def __call__(self, r: CommissioningRequests, taken_over: bool) -> None:
         """One scan: start and end as requested (``taken_over``: the operator jogs, moves,
@@ -104,6 +123,22 @@ class AxisCommissioning:
             self._start_step(*r.step)
         self._outcome("Reversing", self.reversing())
         self._outcome("Step test", self.step_test())
+        if r.override is not None:
+            self._scan_override(r.override / 100.0)
+
+    def _scan_override(self, factor: float) -> None:
+        """MC_SetOverride with ``factor`` (1.0 = 100 %); a refusal is reported once."""
+        block = self.override
+        refused = block.Error
+        block(
+            Axis=self.axis,
+            Enable=True,
+            VelFactor=factor,
+            AccFactor=factor**2,
+            JerkFactor=factor**3,
+        )
+        if block.Error and not refused:
+            self._note("Override", "refused", block.ErrorID)
 
     def _start_step(self, amplitude: float, client_id: int) -> None:
         """Start a step test (refused unless the axis stands still in position)."""

@@ -1,8 +1,9 @@
-"""The commissioning controls of one driven axis (a folder in its tab): the jog speed, the
-reversing sequence A ↔ B with its progress, and the step test of the position loop with its
-figures. Every element is made with :class:`~viewer.widgets.SceneGui` (the gate checks what a
-page sends); a press only sets a request of :class:`~viewer.operator.AxisRequests`, and the
-operator program does the rest in the simulation thread."""
+"""The commissioning controls of one driven axis (a folder in its tab): the velocity
+override, the jog speed, the reversing sequence A ↔ B with its progress, and the step test of
+the position loop with its figures. Every element is made with
+:class:`~viewer.widgets.SceneGui` (the gate checks what a page sends); a press only sets a
+request of :class:`~viewer.operator.AxisRequests`, and the operator program does the rest in
+the simulation thread."""
 
 from __future__ import annotations
 
@@ -13,8 +14,10 @@ from typing import Any
 
 import viser
 
+from viewer.axis_commissioning import MAX_OVERRIDE
 from viewer.operator import SLOW_JOG_FRACTION, AxisRequests
 from viewer.reversing import MAX_CYCLES, MAX_DWELL, Reversing
+from viewer.security import number_in
 from viewer.session import Session
 from viewer.snapshot import AxisView
 from viewer.step_test import StepResponse, amplitude_range
@@ -70,9 +73,10 @@ class CommissioningPanel:
         vmax = view.vmax if math.isfinite(view.vmax) and view.vmax > 0.0 else 100.0
         axis = session.scene.axes[view.name]
         with gui.api.add_folder("Commissioning", expand_by_default=False):
+            self._build_override()
             self._build_jog_speed()
             self._build_reversing(vmax)
-            self.progress = gui.api.add_html(_box("Reversing: not started."))
+            self.progress = gui.api.add_html("")
             self._build_step(*amplitude_range(axis.config.resolution))
             self.figures = gui.api.add_html(step_html(None, False, self.unit))
 
@@ -82,7 +86,10 @@ class CommissioningPanel:
         c = view.commissioning
         if c is None:
             return
-        progress = _box("Reversing: " + html.escape(c.reversing.text or "not started."))
+        progress = _box(
+            f"Override {c.override:.0f} %<br>Reversing: "
+            + html.escape(c.reversing.text or "not started.")
+        )
         figures = step_html(c.step, c.step_running, self.unit)
         if progress != self._shown[0]:
             self.progress.content = progress
@@ -99,6 +106,22 @@ class CommissioningPanel:
     def _button(self, label: str, action: Click, **kwargs: Any) -> None:
         self.buttons.append(label)
         self._gui.button(label, **kwargs).on_click(action)
+
+    def _build_override(self) -> None:
+        """The override slider, 0 … 150 % (MC_SetOverride)."""
+        gui = self._gui
+        slider = gui.api.add_slider(
+            "Override [%]", min=0.0, max=MAX_OVERRIDE, step=5.0, initial_value=100.0
+        )
+        gui.gate.allow(slider, number_in(0.0, MAX_OVERRIDE))
+        gui.inputs.append(slider)
+
+        @slider.on_update
+        def _(event: viser.GuiEvent[viser.GuiSliderHandle[float]]) -> None:
+            requests = self._requests()
+            value = float(slider.value)
+            if requests is not None and math.isfinite(value) and 0.0 <= value <= MAX_OVERRIDE:
+                requests.override = value
 
     def _build_jog_speed(self) -> None:
         """The Jog speed switch (fast or slow jog, buttons and hotkeys alike)."""

@@ -27,6 +27,7 @@ Reversing      :class:`~viewer.reversing.ReversingSequence`: ``MC_MoveAbsolute``
 Step test      :class:`~viewer.step_test.StepTest`: a set-point step (``MC_MoveRelative`` at the
                axis' limits) from standstill, its response recorded and measured.
 Jog speed      fast (the jog velocity) or slow (:data:`SLOW_JOG_FRACTION` of it).
+Override       ``MC_SetOverride``, every scan once the operator set a velocity override.
 Release group  every axes group the scene's axes belong to: ``MC_GroupReset`` (from
                GroupErrorStop), ``MC_GroupDisable`` (the group ramps to standstill), then
                ``MC_UngroupAllAxes``: the axes can be jogged, moved and homed one by one again.
@@ -52,6 +53,7 @@ from dataclasses import dataclass
 import mcl
 from scenes.procedures import HomeAxis, HomingRecipe, Recipe
 from viewer.axis_commissioning import (
+    MAX_OVERRIDE,
     NO_COMMISSIONING,
     AxisCommissioning,
     CommissioningRequests,
@@ -176,6 +178,7 @@ class AxisRequests:
         self._reversing: Reversing | None = None
         self._end_reversing = False
         self._step: tuple[float, int] | None = None
+        self._override: float | None = None
         self.jog_slow = False
         """Jog at :data:`SLOW_JOG_FRACTION` of the jog velocity (the Jog speed switch)."""
 
@@ -254,6 +257,17 @@ class AxisRequests:
         with self._lock:
             self._step = (float(amplitude), int(client_id))
 
+    @property
+    def override(self) -> float | None:
+        """Velocity override [%] (MC_SetOverride); None: the operator has not set one."""
+        return self._override
+
+    @override.setter
+    def override(self, percent: float) -> None:
+        if not (math.isfinite(percent) and 0.0 <= percent <= MAX_OVERRIDE):
+            raise ValueError(f"override must be in [0, {MAX_OVERRIDE:g}] %, got {percent}")
+        self._override = float(percent)
+
     def jog(self, direction: int) -> None:
         """Hold Jog+ (``direction`` > 0) or Jog− (< 0) for another :data:`DEADMAN` seconds.
 
@@ -299,7 +313,7 @@ class AxisRequests:
                 move=self._move,
                 constants=self._constants,
                 commissioning=CommissioningRequests(
-                    self._reversing, self._end_reversing, self._step
+                    self._reversing, self._end_reversing, self._step, self._override
                 ),
                 jog_slow=self.jog_slow,
             )
