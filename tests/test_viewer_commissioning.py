@@ -8,7 +8,7 @@ tests/test_viewer_session.py.
 from __future__ import annotations
 
 import math
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import pytest
@@ -17,12 +17,19 @@ import viser
 import mcl
 import mcl.faults
 from tests.helpers import run_coroutine
+from tests.test_viewer_browser import browser, page, viewer, wait_for
 from viewer.app import ViewerApp
 from viewer.commissioning import JOG_SPEEDS
 from viewer.operator import Move
 from viewer.reversing import Reversing
+from viewer.server import Viewer
 from viewer.session import REPEAT_PAUSE, Session
 from viewer.step_test import STEP_WINDOW, step_response
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Page
+
+__all__ = ["browser", "page", "viewer"]  # the browser test's fixtures
 
 
 class FakeClock:
@@ -352,3 +359,34 @@ def test_the_controls_start_a_sequence_and_choose_the_jog_speed(
     assert not gantry.repeat_demo
     _gui_update(app, 5, app._repeat, "on")
     assert gantry.repeat_demo
+
+
+# ------------------------------------------------------------------------------------ browser
+
+
+@pytest.mark.browser
+def test_the_page_runs_a_step_test_and_shows_its_figures(page: Page, viewer: Viewer) -> None:
+    session = viewer.session
+    if not session.snapshot.axes["X"].powered:
+        page.get_by_role("button", name="Power", exact=True).click()
+        wait_for(lambda: session.snapshot.axes["X"].powered, 5.0, "X powered")
+    wait_for(
+        lambda: (
+            session.snapshot.axes["X"].state == "StandStill"
+            and abs(session.snapshot.axes["X"].following_error) < 0.005
+        ),
+        5.0,
+        "X in position",
+    )
+    folder = page.get_by_text("Commissioning", exact=True).first
+    folder.scroll_into_view_if_needed()
+    folder.click()
+    button = page.get_by_role("button", name="Step test", exact=True).first
+    button.scroll_into_view_if_needed()
+    start = session.scene.joint_position("X")
+    button.click()
+    page.get_by_text("rise time", exact=False).first.wait_for(timeout=30_000)
+    step = session.snapshot.axes["X"].commissioning
+    assert step is not None and step.step is not None
+    moved = (session.scene.joint_position("X") - start) * 1e3
+    assert moved == pytest.approx(step.step.amplitude, abs=0.01)  # the step, on the joint
