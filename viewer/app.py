@@ -57,7 +57,7 @@ from viewer.panels import (
 )
 from viewer.scope import Scope, Shown
 from viewer.security import BoundedLog, GuiGate, choice_of, harden
-from viewer.session import Session, choices
+from viewer.session import REPEAT_PAUSE, Session, choices
 from viewer.snapshot import Snapshot
 from viewer.views import OFF, ON, SWITCH_CHOICES, Views
 from viewer.widgets import SceneGui, gated_button
@@ -402,7 +402,7 @@ class ViewerApp:
                 "Repeat demo",
                 SWITCH_CHOICES,
                 initial_value=ON if session.repeat_demo else OFF,
-                hint="A demo that ends well starts again after 1 s",
+                hint=f"A demo that ends well starts again after {REPEAT_PAUSE:g} s",
                 order=1.5,
             )
             self.gate.allow(self._repeat, choice_of(SWITCH_CHOICES))

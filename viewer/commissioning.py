@@ -73,7 +73,7 @@ class CommissioningPanel:
         vmax = view.vmax if math.isfinite(view.vmax) and view.vmax > 0.0 else 100.0
         axis = session.scene.axes[view.name]
         with gui.api.add_folder("Commissioning", expand_by_default=False):
-            self._build_override()
+            self._build_override(view.commissioning.override if view.commissioning else 100.0)
             self._build_jog_speed()
             self._build_reversing(vmax)
             self.progress = gui.api.add_html("")
@@ -107,11 +107,15 @@ class CommissioningPanel:
         self.buttons.append(label)
         self._gui.button(label, **kwargs).on_click(action)
 
-    def _build_override(self) -> None:
-        """The override slider, 0 … 150 % (MC_SetOverride)."""
+    def _build_override(self, percent: float) -> None:
+        """The override slider, 0 … 150 % (MC_SetOverride), at the axis' override ``percent``."""
         gui = self._gui
         slider = gui.api.add_slider(
-            "Override [%]", min=0.0, max=MAX_OVERRIDE, step=5.0, initial_value=100.0
+            "Override [%]",
+            min=0.0,
+            max=MAX_OVERRIDE,
+            step=5.0,
+            initial_value=min(max(round(percent), 0.0), MAX_OVERRIDE),
         )
         gui.gate.allow(slider, number_in(0.0, MAX_OVERRIDE))
         gui.inputs.append(slider)
