@@ -72,6 +72,7 @@ from mcl.motion import (
     MC_MoveVelocity,
     MC_Stop,
 )
+from mcl.override import MC_SetOverride
 from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
@@ -130,6 +131,7 @@ __all__ = [
     "MC_ReadDigitalOutput",
     "MC_ReadStatus",
     "MC_Reset",
+    "MC_SetOverride",
     "MC_StepAbsSwitch",
     "MC_StepBlock",
     "MC_StepDirect",

@@ -19,6 +19,7 @@ from mcl.command import Command, Halt, Hold, MoveTo, MoveVelocity, Status, Stop,
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
 from mcl.errors import ErrorID
 from mcl.servo import Regulator, ServoConstants
+from mcl.time_scale import TimeScale
 from mcl.trajectory import Limits, PlanningError
 
 if TYPE_CHECKING:
@@ -88,6 +89,10 @@ class Axis:
         self.t_cycle = 0.0
         """The current servo instant [s] (a command that reads another axis passes it on)."""
         self._quick_stop_until = -math.inf
+        self.override_factor = 1.0
+        """The velocity factor MC_SetOverride commanded (1.0 = 100 %)."""
+        self._time_scale: TimeScale | None = None
+        """The override's scaling while its factor is not 1.0 or still ramping (None: off)."""
         self.following_error = 0.0
         self.captured = 0.0
         """Position captured at InSync [u] (GT_SInfo 24)."""
@@ -308,7 +313,9 @@ class Axis:
             if standstill:
                 self.sp_pos = self.actual  # zero the residual loop error
             try:
-                self._start(cmd, self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp, successor=None)
+                self._start(
+                    cmd, self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp, None, self._profile()
+                )
             except PlanningError:
                 self.sp_pos = held
                 cmd.status = Status.Error
@@ -334,14 +341,30 @@ class Axis:
         return self.last_target()
 
     def _start(
-        self, cmd: Command, p: float, v: float, a: float, t0: float, successor: Command | None
+        self,
+        cmd: Command,
+        p: float,
+        v: float,
+        a: float,
+        t0: float,
+        successor: Command | None,
+        profile: tuple[float, float] | None = None,
     ) -> None:
         """Activate ``cmd`` from the model state at ``t0``; it ends at the blending velocity
-        toward ``successor``."""
+        toward ``successor``. ``profile``: the velocity and acceleration in the profile time of
+        the overridden motion it takes over (None: that motion was not overridden)."""
         v_end = self._handover_velocity(cmd, successor, p) if successor is not None else 0.0
+        scale = self._time_scale
+        factor = 1.0
+        if scale is not None:
+            factor, v, a = scale.entry(cmd.overridable, v, a, profile)
         cmd.t0 = t0
         cmd.start(self, p, v, a, v_end)
         cmd.status = Status.Active
+        if scale is not None:
+            scale.factor = factor
+            if scale.idle:
+                self._time_scale = None
 
     def _handover_velocity(self, first: Command, second: Command, start: float) -> float:
         """Signed velocity at which ``first`` (starting at ``start`` [u]) hands over to
@@ -363,11 +386,31 @@ class Axis:
         v_end = self._handover_velocity(cmd, self.queue[0], self.sp_pos)
         if v_end == 0.0:
             return
+        v, a = self._profile() or (self.sp_vel, self.sp_acc)
         try:
-            cmd.plan(self.sp_pos, self.sp_vel, self.sp_acc, v_end)
+            cmd.plan(self.sp_pos, v, a, v_end)
         except PlanningError:
             return  # keeps its plan: the successor then starts from standstill
         cmd.t0 = self.t_sp
+
+    def _profile(self) -> tuple[float, float] | None:
+        """The running command's velocity and acceleration in its profile time at the last set
+        point, where it is overridden (None: it is not)."""
+        scale = self._time_scale
+        return scale.profile_state(self.t_sp) if scale is not None else None
+
+    def set_override(self, factor: float) -> None:
+        """MC_SetOverride: scale the overridable motion by ``factor`` (validated: 0 ..
+        :data:`~mcl.time_scale.MAX_FACTOR`), ramped (:mod:`mcl.time_scale`)."""
+        self.override_factor = factor
+        scale = self._time_scale
+        if scale is None:
+            if factor != 1.0:
+                self._time_scale = TimeScale(factor)
+            return
+        scale.target = factor
+        if scale.idle:
+            self._time_scale = None
 
     def _abort_all(
         self, except_cmd: Command | None = None, status: Status = Status.Aborted, error_id: int = 0
@@ -603,6 +646,8 @@ class Axis:
         cmd = self.active
         if cmd is None:
             p, v, a = self.sp_pos, 0.0, 0.0
+        elif self._time_scale is not None and cmd.overridable:
+            p, v, a = self._time_scale.setpoint(self, cmd, t)
         else:
             p, v, a = cmd.setpoint(self, t - cmd.t0)
             if cmd.signal and (self.queue or cmd.finished()):
@@ -662,17 +707,21 @@ class Axis:
         io.write(self.volts, True)
 
     def _handover(
-        self, cmd: Command, t: float, p: float, v: float, a: float
+        self, cmd: Command, t: float, p: float, v: float, a: float, factor: float | None = None
     ) -> tuple[float, float, float]:
-        """``cmd`` reached its activating signal: report it and start the successor (if any)."""
+        """``cmd`` reached its activating signal: report it and start the successor (if any).
+        ``factor``: the override's applied factor where ``cmd`` is overridden (None: it is not)."""
         te, pe, ve, ae = cmd.handover_state(t - cmd.t0, p, v, a)
         t_end = cmd.t0 + te
         cmd.status = Status.Done if cmd.finished() else Status.Aborted
+        profile = None
+        if factor is not None:  # the hand-over state in profile time, and as a set point
+            profile, ve, ae = (ve, ae), factor * ve, factor * factor * ae
         failed = False
         while self.queue:
             nxt = self.queue.popleft()
             try:
-                self._start(nxt, pe, ve, ae, t_end, self.queue[0] if self.queue else None)
+                self._start(nxt, pe, ve, ae, t_end, self.queue[0] if self.queue else None, profile)
             except PlanningError:
                 nxt.status, nxt.error_id = Status.Error, ErrorID.EParam
                 failed = True

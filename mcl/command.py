@@ -54,6 +54,8 @@ class Command:
     ignores_limit_switches = False
     accepts_buffered = True
     """A buffered or blending command may queue behind this one (not behind MC_GearIn)."""
+    overridable = False
+    """The command follows MC_SetOverride (its profile time is scaled, :mod:`mcl.time_scale`)."""
 
     def __init__(self, buffer_mode: MC_BufferMode = MC_BufferMode.Aborting) -> None:
         self.buffer_mode = buffer_mode
@@ -135,6 +137,7 @@ class MoveTo(ProfileCommand):
     """Discrete move to an absolute model target (MoveAbsolute/Relative/Additive, AbsBlock)."""
 
     blendable = True
+    overridable = True
 
     def __init__(self, buffer_mode: MC_BufferMode, limits: Limits, target: float) -> None:
         super().__init__(buffer_mode, limits)
@@ -156,6 +159,7 @@ class MoveVelocity(ProfileCommand):
     """Never-ending motion at a velocity; ``signal`` = InVelocity."""
 
     state = AxisState.ContinuousMotion
+    overridable = True
 
     def __init__(self, buffer_mode: MC_BufferMode, limits: Limits, velocity: float) -> None:
         super().__init__(buffer_mode, limits)

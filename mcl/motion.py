@@ -116,9 +116,11 @@ class MC_MoveAbsolute(_MoveFB):
 class MoveToBlock(MoveTo):
     """MoveTo that stops early on ExtStop (maximum ramp) or when the following error exceeds
     TorqueLimit (the drive lets go of the block and holds the axis clear of it,
-    :class:`~mcl.command.BlockRelease`)."""
+    :class:`~mcl.command.BlockRelease`); not overridden: its block detection and release run in
+    real time."""
 
     blendable = False
+    overridable = False
 
     def __init__(
         self,

@@ -35,6 +35,7 @@ DOC_PATH = Path(__file__).resolve().parent.parent / "docs" / "reference.md"
 CHAPTER_ORDER = (
     "administrative",
     "motion",
+    "override",
     "homing",
     "gearing",
     "force",
@@ -126,8 +127,9 @@ The motion states are DiscreteMotion, ContinuousMotion and SynchronizedMotion. A
 is refused with `Econst` 12 before GT_SetConstant, `Epower` 10 in Disabled, `Eerrstop` 11 in
 ErrorStop, `EAxStop` 6 in Stopping, 1000 on a group member and `Ehome` 9 in Homing (except the
 homing steps, MC_Halt and MC_Stop). MC_MoveAbsolute and GT_MoveAbsBlock need `Ref` (`Ehome` 9);
-without `Ref` the SW limits are not checked. The reading blocks, GT_SetConstant, GT_SInfo and
-GT_Analog (Disabled only) do not change the state.
+without `Ref` the SW limits are not checked. The reading blocks, GT_SetConstant, GT_SInfo,
+MC_SetOverride and GT_Analog (Disabled only) do not change the state; an override of 0 holds a
+moving axis on its path in its motion state.
 
 ## Axes groups
 An axes group (`mcl.AxesGroup`, the AXES_GROUP_REF) holds up to three axes in the order they were

@@ -39,6 +39,7 @@ import viser
 
 import scenes
 from viewer.axis_panel import AxisPanel, add_hotkeys
+from viewer.commissioning import CommissioningPanel
 from viewer.control import Control, Hold, Operators
 from viewer.faults_panel import build_faults
 from viewer.model_scene import ModelScene
@@ -56,9 +57,9 @@ from viewer.panels import (
 )
 from viewer.scope import Scope, Shown
 from viewer.security import BoundedLog, GuiGate, choice_of, harden
-from viewer.session import Session, choices
+from viewer.session import REPEAT_PAUSE, Session, choices
 from viewer.snapshot import Snapshot
-from viewer.views import Views
+from viewer.views import OFF, ON, SWITCH_CHOICES, Views
 from viewer.widgets import SceneGui, gated_button
 
 log = logging.getLogger(__name__)
@@ -166,6 +167,8 @@ class ViewerApp:
         self._last: Snapshot | None = None
         self._last_panel = self._last_plot = -math.inf
         self._axes: dict[str, AxisPanel] = {}
+        self._commissioning: dict[str, CommissioningPanel] = {}
+        """The Commissioning folders of the driven axes."""
         self._lamps: list[tuple[str, str, str, tuple[float, float, float]]] = []
         """Switch geoms coloured from the inputs: (axis, AxisView field, geom, lamp colour)."""
         self._note: viser.LabelHandle | None = None
@@ -378,7 +381,7 @@ class ViewerApp:
         self.session.restore_state()
 
     def _build_demo(self) -> None:
-        """The Demo folder: run and end the demo, release its group, its step."""
+        """The Demo folder: run and end the demo, repeat it, release its group, its step."""
         gui, session = self.server.gui, self.session
         with gui.add_folder("Demo", order=1):
             # two buttons, not a toggle: a click a slow page sends late must not restart a demo
@@ -395,7 +398,21 @@ class ViewerApp:
                 hint="Take the axes groups apart (MC_GroupDisable, MC_UngroupAllAxes)",
                 order=1,
             )
+            self._repeat = gui.add_dropdown(
+                "Repeat demo",
+                SWITCH_CHOICES,
+                initial_value=ON if session.repeat_demo else OFF,
+                hint=f"A demo that ends well starts again after {REPEAT_PAUSE:g} s",
+                order=1.5,
+            )
+            self.gate.allow(self._repeat, choice_of(SWITCH_CHOICES))
             self._demo_step = gui.add_html("", order=2)
+            self._demo_runs = gui.add_html("", order=3)
+
+        @self._repeat.on_update
+        def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
+            if self._repeat.value in SWITCH_CHOICES:
+                session.repeat_demo = self._repeat.value == ON
 
         @self._demo_button.on_click
         def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
@@ -422,6 +439,10 @@ class ViewerApp:
                     self._axes[name] = AxisPanel(
                         gui, self.session, self.operators, view, generation
                     )
+                    if view.has_drive:
+                        self._commissioning[name] = CommissioningPanel(
+                            gui, self.session, view, generation
+                        )
         if snapshot.signals:
             with gui.folder("Signals", order=3):
                 self._signals = self._add_panel("signals", signals_html(snapshot))
@@ -452,6 +473,7 @@ class ViewerApp:
         self.views.clear()
         self._gui.remove()
         self._axes = {}
+        self._commissioning = {}
         self._lamps = []
         self._signals = None
         self._results = None
@@ -577,13 +599,23 @@ class ViewerApp:
         if self._end_demo.disabled == demo.running:
             self._end_demo.disabled = not demo.running
         self._show("demo", self._demo_step, demo_html(snapshot))
+        self._show("demo runs", self._demo_runs, demo_runs_html(demo.runs, demo.repeat))
         for name, panel in self._axes.items():
             panel.show(snapshot.axes[name])
+        for name, commissioning in self._commissioning.items():
+            commissioning.show(snapshot.axes[name])
         if self._signals is not None:
             self._show("signals", self._signals, signals_html(snapshot))
         if self._results is not None:
             self._show("results", self._results, results_html(snapshot))
         self._show("events", self._events, events_html(snapshot))
+
+
+def demo_runs_html(runs: int, repeat: bool) -> str:
+    """Which run of a repeating demo this is (empty without Repeat demo)."""
+    if not (repeat and runs):
+        return ""
+    return f'<div style="font-size:0.85em;padding:0 0.75em">Run {runs} (repeating)</div>'
 
 
 def _call(action: Callable[[], None]) -> Callable[[Any], None]:

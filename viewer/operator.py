@@ -22,10 +22,19 @@ Stop           ``MC_Stop``: Execute from the request until Done (or Error), then
 Move           ``MC_MoveAbsolute`` (to a position) or ``MC_MoveRelative`` (by a distance) with the
                operator's velocity and acceleration; a new move aborts the last one.
 Write          ``GT_SetConstant`` with the operator's servo constants (tuning).
+Reversing      :class:`~viewer.reversing.ReversingSequence`: ``MC_MoveAbsolute`` to A, dwell, to B,
+               dwell, … for a number of cycles; Stop sequence ends it with ``MC_Halt``.
+Step test      :class:`~viewer.step_test.StepTest`: a set-point step (``MC_MoveRelative`` at the
+               axis' limits) from standstill, its response recorded and measured.
+Jog speed      fast (the jog velocity) or slow (:data:`SLOW_JOG_FRACTION` of it).
+Override       ``MC_SetOverride``, every scan once the operator set a velocity override.
 Release group  every axes group the scene's axes belong to: ``MC_GroupReset`` (from
                GroupErrorStop), ``MC_GroupDisable`` (the group ramps to standstill), then
                ``MC_UngroupAllAxes``: the axes can be jogged, moved and homed one by one again.
 =============  ===================================================================================
+
+A jog, a move, a homing or Stop of the operator ends a running reversing sequence or step test
+(the operator takes the axis over).
 
 A command a block refuses (an Error with its ErrorID) is reported through ``on_error`` (axis and
 text), so the panel can keep a history of refused commands and axis errors.
@@ -43,6 +52,15 @@ from dataclasses import dataclass
 
 import mcl
 from scenes.procedures import HomeAxis, HomingRecipe, Recipe
+from viewer.axis_commissioning import (
+    MAX_OVERRIDE,
+    NO_COMMISSIONING,
+    AxisCommissioning,
+    CommissioningRequests,
+    CommissioningView,
+)
+from viewer.reversing import Reversing
+from viewer.step_test import StepListener
 
 DEADMAN = 0.2
 """Wall time [s] a jog request stays alive after the last hold message of the browser."""
@@ -54,6 +72,12 @@ HOMING_PROCEDURES = ("recipe", "index pulse +", "index pulse −", "set position
 """Homing procedures of the Home button: the machine's recipe (REF and index, or to a block;
 only where the definition gives one), MC_StepRefPulse in the positive or negative direction,
 MC_StepDirect."""
+
+SLOW_JOG_FRACTION = 0.1
+"""Slow jog: this fraction of the jog velocity (fast jog: all of it)."""
+
+MIN_VELOCITY_FRACTION = 0.01
+"""The library's slowest motion: 1 % of Vmax (a slow jog is never slower)."""
 
 INDEX_FRACTION = 0.02
 """Index-search velocity of the index-pulse procedures without a recipe, as a fraction of Vmax."""
@@ -82,6 +106,8 @@ class Requests:
         move: a move press: (``"absolute"`` or ``"relative"``, position or distance [u],
             velocity [u/s], acceleration [u/s²]); None: none.
         constants: servo constants to write with GT_SetConstant; None: none.
+        commissioning: the presses of the commissioning controls.
+        jog_slow: jog at :data:`SLOW_JOG_FRACTION` of the jog velocity.
     """
 
     power: bool | None
@@ -94,6 +120,8 @@ class Requests:
     jog_velocity: float
     move: Move | None = None
     constants: mcl.ServoConstants | None = None
+    commissioning: CommissioningRequests = NO_COMMISSIONING
+    jog_slow: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -147,6 +175,12 @@ class AxisRequests:
         self._jog_velocity = 0.0
         self._move: Move | None = None
         self._constants: mcl.ServoConstants | None = None
+        self._reversing: Reversing | None = None
+        self._end_reversing = False
+        self._step: tuple[float, int] | None = None
+        self._override: float | None = None
+        self.jog_slow = False
+        """Jog at :data:`SLOW_JOG_FRACTION` of the jog velocity (the Jog speed switch)."""
 
     def set_power(self, on: bool) -> None:
         """Request the drive on (``True``) or off (``False``)."""
@@ -201,6 +235,39 @@ class AxisRequests:
         with self._lock:
             self._constants = constants
 
+    def reverse(self, sequence: Reversing) -> None:
+        """The Start sequence button: run a reversing sequence (replaces a running one)."""
+        with self._lock:
+            self._reversing = sequence
+
+    def end_reversing(self) -> None:
+        """The Stop sequence button: MC_Halt ends the reversing sequence."""
+        with self._lock:
+            self._end_reversing = True
+            self._reversing = None
+
+    def step_test(self, amplitude: float, client_id: int) -> None:
+        """The Step test button of the page ``client_id``: a step of ``amplitude`` [u].
+
+        Raises:
+            ValueError: An amplitude that is not finite.
+        """
+        if not math.isfinite(amplitude):
+            raise ValueError(f"step amplitude must be a finite number, got {amplitude}")
+        with self._lock:
+            self._step = (float(amplitude), int(client_id))
+
+    @property
+    def override(self) -> float | None:
+        """Velocity override [%] (MC_SetOverride); None: the operator has not set one."""
+        return self._override
+
+    @override.setter
+    def override(self, percent: float) -> None:
+        if not (math.isfinite(percent) and 0.0 <= percent <= MAX_OVERRIDE):
+            raise ValueError(f"override must be in [0, {MAX_OVERRIDE:g}] %, got {percent}")
+        self._override = float(percent)
+
     def jog(self, direction: int) -> None:
         """Hold Jog+ (``direction`` > 0) or Jog− (< 0) for another :data:`DEADMAN` seconds.
 
@@ -245,11 +312,17 @@ class AxisRequests:
                 jog_velocity=self._jog_velocity,
                 move=self._move,
                 constants=self._constants,
+                commissioning=CommissioningRequests(
+                    self._reversing, self._end_reversing, self._step, self._override
+                ),
+                jog_slow=self.jog_slow,
             )
-            self._toggle = self._reset = self._stop = False
+            self._toggle = self._reset = self._stop = self._end_reversing = False
             self._home = None
             self._move = None
             self._constants = None
+            self._reversing = None
+            self._step = None
         return requests
 
 
@@ -261,6 +334,8 @@ class AxisOperator:
         requests: Its request flags.
         recipe: Its homing recipe; ``None``: the Home button reports that there is none.
         on_error: Hears of every refused command and failed procedure: (axis name, text).
+        sim_time: Simulated time [s] (dwell of the reversing sequence, step test recording).
+        on_step: Hears that a step test starts (called in the simulation thread).
     """
 
     def __init__(
@@ -269,6 +344,9 @@ class AxisOperator:
         requests: AxisRequests,
         recipe: Recipe | None,
         on_error: ErrorSink | None = None,
+        *,
+        sim_time: Clock,
+        on_step: StepListener | None = None,
     ) -> None:
         self.axis = axis
         self.requests = requests
@@ -300,6 +378,15 @@ class AxisOperator:
         self.stopping = False
         self.message = ""
         """Outcome of the last operator command, e.g. ``"Home: done"``."""
+        self.commissioning = AxisCommissioning(axis, sim_time, self._note, on_step)
+        """Reversing sequence and step test."""
+        self.jog_slow = False
+        """The slow jog speed was chosen in the last scan."""
+
+    @property
+    def commissioning_view(self) -> CommissioningView:
+        """What the commissioning controls show now."""
+        return self.commissioning.view(self.jog_slow)
 
     @property
     def jogging(self) -> int:
@@ -328,6 +415,8 @@ class AxisOperator:
         if r.home is not None and not self.homing:
             self._start_homing(*r.home)
         self._scan_homing()
+        taken_over = r.move is not None or r.jog_pos or r.jog_neg or r.home is not None or r.stop
+        self.commissioning(r.commissioning, taken_over)
         self._scan_jog(r)
         self._scan_move(r.move)
         if r.constants is not None:
@@ -376,6 +465,9 @@ class AxisOperator:
         jog_pos, jog_neg = r.jog_pos, r.jog_neg
         if jog_pos or jog_neg or self.jog.Enable:
             velocity = r.jog_velocity or self._default_jog_velocity()
+            self.jog_slow = r.jog_slow
+            if r.jog_slow:
+                velocity = max(SLOW_JOG_FRACTION * velocity, self._slowest_velocity())
             self.jog(
                 Axis=self.axis,
                 Enable=jog_pos or jog_neg,
@@ -408,14 +500,34 @@ class AxisOperator:
             self.moving(Axis=axis, Execute=True)
             self._check_move(self.moving)
 
+    def _note(self, command: str, text: str, error_id: int) -> None:
+        """What became of a commissioning command (:data:`~viewer.axis_commissioning.Note`)."""
+        if error_id:
+            self._report(command, error_id)
+        elif text.startswith("refused"):
+            self._refuse(command, text.removeprefix("refused: "))
+        else:
+            self.message = f"{command}: {text}"
+
+    def _refuse(self, command: str, why: str) -> None:
+        """A command the operator program itself refuses (reported like a block's refusal)."""
+        self.message = self.last_error = f"{command}: refused: {why}"
+        if self._on_error is not None:
+            self._on_error(self.axis.name, self.message)
+
     def _default_jog_velocity(self) -> float:
+        return DEFAULT_JOG_FRACTION * self._vmax()
+
+    def _slowest_velocity(self) -> float:
+        """The library's slowest motion [u/s] (with a margin for rounding)."""
+        return MIN_VELOCITY_FRACTION * self._vmax() * (1.0 + 1e-9)
+
+    def _vmax(self) -> float:
         constants = self.axis.constants
-        vmax = constants.Vmax if constants is not None else 0.0
-        return DEFAULT_JOG_FRACTION * vmax
+        return constants.Vmax if constants is not None else 0.0
 
     def _start_homing(self, procedure: str, position: float) -> None:
         """Set up the chosen homing procedure (called by the scan that takes the press)."""
-        axis = self.axis
         if procedure == "recipe":
             if self.recipe is None:
                 self.message = "Home: no homing recipe for this axis"
@@ -432,10 +544,10 @@ class AxisOperator:
                 else mcl.MC_Direction.MC_Negative
             )
             recipe = self.recipe.recipe if self.recipe is not None else None
-            constants = axis.constants
-            vmax = constants.Vmax if constants is not None else 0.0
             pulse.Velocity = (
-                recipe.index_velocity if isinstance(recipe, HomingRecipe) else INDEX_FRACTION * vmax
+                recipe.index_velocity
+                if isinstance(recipe, HomingRecipe)
+                else INDEX_FRACTION * self._vmax()
             )
             pulse.SetPosition = position
             self.home = pulse
@@ -517,6 +629,8 @@ class OperatorProgram:
         recipes: Homing recipes by axis name (axes without one cannot be homed).
         clock: Monotonic wall clock [s] for the jog dead-man deadlines.
         on_error: Hears of every refused command: (axis or group, text).
+        sim_time: Simulated time [s] of the scene.
+        on_step: Hears that a step test starts (in the simulation thread).
     """
 
     def __init__(
@@ -525,11 +639,21 @@ class OperatorProgram:
         recipes: Mapping[str, Recipe],
         clock: Clock = time.monotonic,
         on_error: ErrorSink | None = None,
+        *,
+        sim_time: Clock,
+        on_step: StepListener | None = None,
     ) -> None:
         self.requests = {name: AxisRequests(clock) for name in axes}
         """Request flags by axis name (the only thing the GUI writes)."""
         self.axes = {
-            name: AxisOperator(axis, self.requests[name], recipes.get(name), on_error)
+            name: AxisOperator(
+                axis,
+                self.requests[name],
+                recipes.get(name),
+                on_error,
+                sim_time=sim_time,
+                on_step=on_step,
+            )
             for name, axis in axes.items()
         }
         """Function blocks by axis name."""

@@ -46,6 +46,7 @@ from viewer.snapshot import (
     mujoco_of,
     results_of,
 )
+from viewer.step_test import StepListener
 
 log = logging.getLogger(__name__)
 
@@ -68,6 +69,9 @@ SCOPE_SECONDS = 10.0
 
 EVENTS_KEPT = 200
 """Entries of the error history kept (oldest dropped)."""
+
+REPEAT_PAUSE = 1.0
+"""Simulated time [s] between the end of a demo and its repeat (with Repeat demo on)."""
 
 
 def choices() -> list[str]:
@@ -139,6 +143,12 @@ class Session:
         self._results: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]] = ((), ())
         self._saved: dict[str, mcl.MachineState] = {}
         """The state saved with :meth:`save_state`, by machine name."""
+        self.on_step: StepListener | None = None
+        """Hears that a step test starts: (client id, axis, start, length [s] of simulated
+        time); called in the simulation thread (None: nobody listens)."""
+        self._repeat = False
+        self._repeat_at: float | None = None
+        self._demo_runs = 0
         self._install(scene, self._scene, self._operator)
 
     # ------------------------------------------------------------------------------ building
@@ -151,8 +161,19 @@ class Session:
     def _operator_for(self, name: str, scene: Scene) -> OperatorProgram:
         """A fresh operator program on the axes of ``scene`` (of the machine ``name``)."""
         return OperatorProgram(
-            scene.axes, scenes.definition(name).homing, self._clock, on_error=self.record_event
+            scene.axes,
+            scenes.definition(name).homing,
+            self._clock,
+            on_error=self.record_event,
+            sim_time=lambda: scene.time,
+            on_step=self._step_started,
         )
+
+    def _step_started(self, client_id: int, axis: str, start: float, length: float) -> None:
+        """A step test starts: tell :attr:`on_step` (simulation thread)."""
+        listener = self.on_step
+        if listener is not None:
+            listener(client_id, axis, start, length)
 
     def _install(self, name: str, scene: Scene, operator: OperatorProgram) -> None:
         """Make a freshly built scene the running one (simulation thread or not yet running)."""
@@ -167,6 +188,8 @@ class Session:
         self._demo = None
         self._demo_step = self._demo_error = ""
         self._demo_done_seen = False
+        self._repeat_at = None
+        self._demo_runs = 0
         plc = scene.runtime.plc_period
         self._record_every = max(1, round(HISTORY_SAMPLE / plc))
         self._scan_count = 0
@@ -394,19 +417,36 @@ class Session:
         def apply() -> None:
             if generation != self._generation:
                 return  # the scene was replaced meanwhile
-            factory = self._demo_factory or scenes.demo
-            self._demo_step = self._demo_error = ""
-            self._demo_done_seen = False
-            try:
-                self._demo = factory(self._scene)
-            except Exception as exc:  # a bug in a user program must not kill the viewer
-                log.exception("demo program of scene %r failed to start", self._scene_name)
-                self._demo = None
-                self._demo_error = f"{type(exc).__name__}: {exc}"
-                return
-            self._operator.release_power()
+            self._demo_runs = 0
+            self._begin_demo()
 
         self._post(apply)
+
+    @property
+    def repeat_demo(self) -> bool:
+        """Repeat demo: a demo that ends successfully starts again after :data:`REPEAT_PAUSE`
+        (a fresh program from the demo factory); a failed demo does not repeat."""
+        return self._repeat
+
+    @repeat_demo.setter
+    def repeat_demo(self, repeat: bool) -> None:
+        self._repeat = bool(repeat)
+
+    def _begin_demo(self) -> None:
+        """Make a fresh demo program and run it (simulation thread)."""
+        factory = self._demo_factory or scenes.demo
+        self._demo_step = self._demo_error = ""
+        self._demo_done_seen = False
+        self._repeat_at = None
+        try:
+            self._demo = factory(self._scene)
+        except Exception as exc:  # a bug in a user program must not kill the viewer
+            log.exception("demo program of scene %r failed to start", self._scene_name)
+            self._demo = None
+            self._demo_error = f"{type(exc).__name__}: {exc}"
+            return
+        self._demo_runs += 1
+        self._operator.release_power()
 
     def end_demo(self) -> None:
         """Stop calling the demo program and take its axes groups apart, so that every axis
@@ -508,6 +548,9 @@ class Session:
                 self._operator.release_groups()
             elif demo.done:
                 self._operator.release_groups()
+                self._repeat_at = self._scene.time + REPEAT_PAUSE
+        elif demo is not None and self._repeat_at is not None:
+            self._scan_repeat()
         self._operator()
         self._peaks.sample()
         errors = self._axis_errors
@@ -522,6 +565,13 @@ class Session:
             self._scan_count = 0
             t = self._scene.runtime.time
             self._recorder.record(t)
+
+    def _scan_repeat(self) -> None:
+        """The ended demo starts again once the repeat pause is over (if Repeat demo is on)."""
+        if not self._repeat:
+            self._repeat_at = None
+        elif self._repeat_at is not None and self._scene.time >= self._repeat_at - 1e-9:
+            self._begin_demo()
 
     def _run_cycles(self, cycles: int) -> None:
         """Run ``cycles`` PLC cycles; an exception pauses the simulation and is reported."""
@@ -680,6 +730,8 @@ class Session:
                 done=self._demo_done_seen,
                 step=self._demo_step,
                 error=self._demo_error,
+                runs=self._demo_runs,
+                repeat=self._repeat,
             ),
             fault=self._fault,
             events=tuple(self._events),

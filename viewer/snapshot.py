@@ -16,6 +16,7 @@ import mcl
 from scenes import DemoProgram, MachineDef
 from scenes.plant.mujoco import MujocoAxisIO
 from scenes.scene import Scene
+from viewer.axis_commissioning import CommissioningView
 from viewer.operator import AxisOperator
 
 log = logging.getLogger(__name__)
@@ -108,6 +109,7 @@ class AxisView:
         sw_limit_pos: The positive software limit is reached (active, axis referenced, set
             point at or beyond ``LimPos``) or tripped (ERRSWP 2006).
         sw_limit_neg: The same for the negative limit (``LimNeg``, ERRSWN 2007).
+        commissioning: Reversing sequence, step test and jog speed (None: not given).
     """
 
     name: str
@@ -151,6 +153,7 @@ class AxisView:
     in_position_window: float = 0.0
     sw_limit_pos: bool = False
     sw_limit_neg: bool = False
+    commissioning: CommissioningView | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -181,6 +184,8 @@ class DemoView:
         step: Its ``step`` text (empty before it first ran).
         error: What ended it: its own ``error`` report or an exception, as text (empty:
             none).
+        runs: Times it was started since Run demo (repeats included).
+        repeat: Repeat demo is on.
     """
 
     available: bool
@@ -188,6 +193,8 @@ class DemoView:
     done: bool
     step: str
     error: str
+    runs: int = 0
+    repeat: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -322,6 +329,7 @@ def axis_view(
         in_position_window=axis.config.in_position,
         sw_limit_pos=limit_pos,
         sw_limit_neg=limit_neg,
+        commissioning=op.commissioning_view,
     )
 
 
