@@ -1,8 +1,10 @@
 """Axis marks of the 3-D view: every axis' name and positive direction drawn on the machine.
 
 Each axis with a joint in the model (driven or encoder-only) gets a mark that rides on the body
-its joint moves: a frame at the joint's anchor (``data.xanchor``) whose local z is the joint's
-axis (``data.xaxis``), computed each frame from the body poses of the snapshot. A slide gets a
+its joint moves: a frame at the joint's anchor on that body whose local z is the joint's axis
+(``data.xaxis``), computed each frame from the body poses of the snapshot (MuJoCo's
+``data.xanchor`` of a slide is the anchor where ``q = qpos0``, on the parent; the mark's anchor
+is that point carried along by the slide). A slide gets a
 straight arrow along +axis that starts where the moving part ends (so it is not hidden inside
 it) on the line through the anchor; a hinge gets a curved arrow turning the positive way about
 the axis (right-hand rule) around the part's end face, and a thin line along the axis. A label
@@ -225,8 +227,8 @@ class AxisMarks:
             f"{node}/arrow",
             points=head.astype(np.float32),
             colors=MARK_COLOR,
-            shaft_radius=0.04 * length,
-            head_radius=0.1 * length,
+            shaft_radius=0.05 * length,
+            head_radius=0.13 * length,
             head_length=0.2 * length,
         )
         label = scene.add_label(
