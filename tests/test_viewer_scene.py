@@ -283,6 +283,38 @@ def test_set_geom_color_sends_only_changes(
         scene.set_geom_color("hidden_collision", (1.0, 1.0, 1.0))
 
 
+def test_tinted_bodies_turn_red_keep_a_lit_lamp_and_send_only_changes(
+    server: viser.ViserServer, model: mujoco.MjModel, sent: list[viser.infra.Message]
+) -> None:
+    """The carriage tinted red: its two geoms mix 60 % red into their colours (one message
+    each), except the lit one, which keeps its light and shows the tint once reset; the same
+    tint again sends nothing; an empty tint restores the model's colours."""
+    scene = ModelScene(model, server)
+    carriage = model.body("carriage").id
+    box, cam = model.geom("carriage_box").id, model.geom("cam").id
+    assert sorted(scene.body_geoms(carriage)) == sorted([box, cam])
+    scene.set_geom_color("cam", (0.0, 0.0, 1.0))  # a lamp lit
+    sent.clear()
+    assert scene.tint_bodies([carriage], (1.0, 0.0, 0.0)) is True
+    assert len(sent) == 1  # the box; the lit cam keeps its light
+    r, g, b = scene.model_color(box)
+    assert scene.geom_color(box) == (
+        round(0.4 * r + 0.6 * 255),
+        round(0.4 * g),
+        round(0.4 * b),
+    )
+    assert scene.geom_color(cam) == (0, 0, 255)
+    assert scene.tint_bodies([carriage], (1.0, 0.0, 0.0)) is False and len(sent) == 1
+    scene.reset_geom_color("cam")  # the lamp goes off: the cam shows its tint
+    cr, cg, cb = scene.geom_color(cam)
+    assert cr > 150 and cr > cg + 60 and cr > cb + 60
+    assert scene.tinted_bodies == {carriage}
+    assert scene.tint_bodies([], (1.0, 0.0, 0.0)) is True
+    assert scene.geom_color(box) == scene.model_color(box)
+    assert scene.geom_color(cam) == scene.model_color(cam)
+    assert not scene.tinted_bodies
+
+
 def test_scene_can_be_removed(server: viser.ViserServer, model: mujoco.MjModel) -> None:
     scene = ModelScene(model, server, prefix="a/b")
     assert scene.prefix == "/a/b"

@@ -3,6 +3,8 @@
 Modules:
     model_scene: a MuJoCo model as viser scene nodes that follow the bodies.
     overlays: the set-point ghost and the force arrows drawn over the model.
+    axis_marks: each axis' name and positive direction drawn on the part it moves.
+    legend: what every colour of the 3-D view means (bodies, lamps, overlays).
     operator: the operator's request flags (HMI variables) and the PLC program that passes them
         to the library's function blocks.
     session: the scene simulated in its own thread, paced to the wall clock; its commands and

@@ -42,6 +42,9 @@ from viewer.axis_panel import AxisPanel, add_hotkeys
 from viewer.commissioning import CommissioningPanel
 from viewer.control import Control, Hold, Operators
 from viewer.faults_panel import build_faults
+from viewer.legend import LAMP_LIMIT as LAMP_LIMIT  # the lamps' colours, under their old home
+from viewer.legend import LAMP_REF as LAMP_REF
+from viewer.legend import SWITCHES
 from viewer.model_scene import ModelScene
 from viewer.overlays import ContactOverlay, SetPointGhost
 from viewer.panels import (
@@ -63,15 +66,6 @@ from viewer.views import OFF, ON, SWITCH_CHOICES, Views
 from viewer.widgets import SceneGui, gated_button
 
 log = logging.getLogger(__name__)
-
-LAMP_LIMIT = (0.95, 0.15, 0.10)
-"""Colour of an actuated limit switch (red), RGB in [0, 1]."""
-
-LAMP_REF = (1.0, 0.72, 0.0)
-"""Colour of an actuated reference switch (amber), RGB in [0, 1]."""
-
-SWITCHES = (("lim_neg", LAMP_LIMIT), ("lim_pos", LAMP_LIMIT), ("ref", LAMP_REF))
-"""Switch kinds of models/README.md and their lamp colours."""
 
 _Hold = Hold
 """A jog a page holds (:class:`~viewer.control.Hold`)."""
@@ -499,6 +493,7 @@ class ViewerApp:
         data.xquat[:] = snapshot.xquat
         self._model_scene = ModelScene(model, self.server, prefix="/scene", data=data)
         self.views.add_forces()
+        self.views.add_marks(snapshot, self._model_scene)
         handles = self._model_scene.geom_handles
         self._lamps = [
             (name, kind, geom, color)

@@ -21,13 +21,18 @@ mesh       ``add_mesh_simple`` of ``model.mesh_vert``/``model.mesh_face``
 =========  ===================================================================================
 
 Height fields and SDF geoms are not rendered; they are listed in :attr:`ModelScene.skipped_geoms`.
+
+Every geom shows its *base* colour (the model's, or a tint of its body:
+:meth:`ModelScene.tint_bodies`, e.g. the parts of an axis in error) unless
+:meth:`ModelScene.set_geom_color` lights it up (a switch lamp);
+:meth:`ModelScene.reset_geom_color` returns it to its base colour.
 """
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from types import MappingProxyType
-from typing import TypeAlias
+from typing import Any, TypeAlias
 
 import mujoco
 import numpy as np
@@ -53,6 +58,9 @@ PLANE_THICKNESS = 0.005
 
 GRID_LIFT = 0.0005
 """Height [m] of a plane's grid above the plane, so that grid and slab do not z-fight."""
+
+TINT_SHARE = 0.6
+"""Share of the tint colour in a tinted geom's colour (the rest is the model's colour)."""
 
 _DEFAULT_GEOM_RGBA = np.array([0.5, 0.5, 0.5, 1.0], dtype=np.float32)
 """MuJoCo's default geom rgba: a geom with a material and this rgba shows the material's rgba."""
@@ -217,7 +225,10 @@ class ModelScene:
         self._geom_handles_by_id: dict[int, GeomHandle] = {}
         self._geom_ids: dict[str, int] = {}
         self._model_colors: dict[int, Rgb] = {}
+        self._base_colors: dict[int, Rgb] = {}
         self._colors: dict[int, Rgb] = {}
+        self._geoms_of_body: dict[int, list[int]] = {}
+        self._tinted: frozenset[int] = frozenset()
         self._skipped: list[int] = []
 
         with server.atomic():
@@ -357,8 +368,8 @@ class ModelScene:
             return
 
         self._geom_handles_by_id[g] = handle
-        self._model_colors[g] = color
-        self._colors[g] = color
+        self._geoms_of_body.setdefault(int(model.geom_bodyid[g]), []).append(g)
+        self._model_colors[g] = self._base_colors[g] = self._colors[g] = color
         if geom_name:
             self._geom_handles[geom_name] = handle
             self._geom_ids[geom_name] = g
@@ -556,7 +567,7 @@ class ModelScene:
         return self._set_color(geom_name, _to_rgb(rgb))
 
     def reset_geom_color(self, geom_name: str) -> bool:
-        """Give a geom back the colour of the model.
+        """Give a geom back its base colour: the model's, or its body's tint.
 
         Args:
             geom_name: Name of a rendered geom.
@@ -570,24 +581,98 @@ class ModelScene:
         g = self._geom_ids.get(geom_name)
         if g is None:
             raise KeyError(self._unknown_geom(geom_name))
-        return self._set_color(geom_name, self._model_colors[g])
+        return self._set_color(geom_name, self._base_colors[g])
 
     def _set_color(self, geom_name: str, color: Rgb) -> bool:
         """Assign ``color`` to the node of ``geom_name`` unless it already shows it."""
         g = self._geom_ids.get(geom_name)
         if g is None:
             raise KeyError(self._unknown_geom(geom_name))
+        return self._show_color(g, color)
+
+    def _show_color(self, g: int, color: Rgb) -> bool:
+        """Assign ``color`` to the node of geom ``g`` unless it already shows it."""
         if self._colors[g] == color:
             return False
         self._geom_handles_by_id[g].color = color
         self._colors[g] = color
         return True
 
+    def geom_color(self, g: int) -> Rgb:
+        """Colour geom ``g`` (an id) shows now.
+
+        Raises:
+            KeyError: If the geom is not rendered.
+        """
+        return self._colors[g]
+
+    def model_color(self, g: int) -> Rgb:
+        """Colour the model gives geom ``g`` (an id) as drawn (or this scene's one colour).
+
+        Raises:
+            KeyError: If the geom is not rendered.
+        """
+        return self._model_colors[g]
+
+    def body_geoms(self, body: int) -> list[int]:
+        """Ids of the rendered geoms of body ``body`` (an id; empty: none)."""
+        return list(self._geoms_of_body.get(body, ()))
+
+    @property
+    def tinted_bodies(self) -> frozenset[int]:
+        """Ids of the bodies whose geoms are tinted now (:meth:`tint_bodies`)."""
+        return self._tinted
+
+    def tint_bodies(
+        self, bodies: Collection[int], rgb: Sequence[float] | npt.NDArray[np.floating]
+    ) -> bool:
+        """Tint the geoms of exactly these bodies (the others return to the model's colours).
+
+        A tinted geom's base colour is :data:`TINT_SHARE` of ``rgb`` mixed with the model's
+        colour. A geom lit by :meth:`set_geom_color` keeps its light until it is reset. Only
+        geoms whose colour changes are sent, so calling this every frame is cheap.
+
+        Args:
+            bodies: Body ids.
+            rgb: Red, green, blue in [0, 1] of the tint.
+
+        Returns:
+            Whether any geom changed its colour (and a message was sent).
+        """
+        tint = np.asarray(_to_rgb(rgb), dtype=np.float64)
+        wanted = frozenset(int(b) for b in bodies)
+        changed = False
+        for b in wanted | self._tinted:
+            for g in self._geoms_of_body.get(b, ()):
+                model = np.asarray(self._model_colors[g], dtype=np.float64)
+                if b in wanted:
+                    mixed = (1.0 - TINT_SHARE) * model + TINT_SHARE * tint
+                    base: Rgb = _to_rgb(mixed / 255.0)
+                else:
+                    base = self._model_colors[g]
+                lit = self._colors[g] != self._base_colors[g]
+                self._base_colors[g] = base
+                if not lit:
+                    changed |= self._show_color(g, base)
+        self._tinted = wanted
+        return changed
+
+    def on_click(self, callback: Callable[[viser.ClientHandle, int], None]) -> None:
+        """Call ``callback(client, body id)`` when a page clicks a geom of this scene."""
+
+        def clicked(body: int) -> Callable[[Any], None]:
+            """The click callback of the geoms of ``body`` (the event is viser's pointer event)."""
+            return lambda event: callback(event.client, body)
+
+        for g, handle in self._geom_handles_by_id.items():
+            handle.on_click(clicked(int(self._model.geom_bodyid[g])))
+
     def remove(self) -> None:
         """Remove all nodes of this model from the scene; the object is unusable afterwards."""
         self._root.remove()
         self._geom_handles.clear()
         self._geom_handles_by_id.clear()
+        self._geoms_of_body.clear()
         self._geom_ids.clear()
         self._body_handles.clear()
         self._tracked_handles = []

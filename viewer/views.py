@@ -1,5 +1,6 @@
 """Views and cameras: the camera presets framed on the machine, cameras that follow a body, and
-the 3-D overlays the View folder shows (set-point ghost, forces); for every page."""
+the 3-D overlays the View folder shows (set-point ghost, forces, axis marks, the parts of an axis
+in error tinted red, the legend; a click on a part names it on that page); for every page."""
 
 from __future__ import annotations
 
@@ -11,6 +12,8 @@ import numpy as np
 import numpy.typing as npt
 import viser
 
+from viewer.axis_marks import AxisMarks, axis_joints, mark_length
+from viewer.legend import ERROR_TINT, LegendRow, body_row, legend_html, legend_rows
 from viewer.model_scene import ModelScene
 from viewer.overlays import (
     DEFAULT_FORCE_SCALE,
@@ -18,6 +21,7 @@ from viewer.overlays import (
     ContactOverlay,
     SetPointGhost,
     ghost_axes,
+    moved_bodies,
 )
 from viewer.snapshot import Snapshot
 from viewer.widgets import SceneGui
@@ -71,16 +75,34 @@ class Views:
         """Body the pages' cameras follow (:data:`FOLLOW_OFF`: none)."""
         self._follow_anchor: dict[int, tuple[int, npt.NDArray[np.float64]]] = {}
         """Per page: the followed body and its position [m] when the camera last moved along."""
+        self.marks: AxisMarks | None = None
+        """The axis marks of the current model (None without a model)."""
+        self.show_axis_labels = True
+        """The axis marks are drawn (the View folder's toggle)."""
+        self.legend: list[LegendRow] = []
+        """The legend of the current model."""
         self._follow_ids: dict[str, int] = {}
         self._bounds: tuple[npt.NDArray[np.float64], float] | None = None
+        self._scene: ModelScene | None = None
+        self._moved: dict[str, list[int]] = {}
+        """Per axis with a joint: the bodies it moves (tinted while it is in error)."""
+        self._failing: frozenset[str] = frozenset()
 
     def clear(self) -> None:
         """Drop the overlays, the followed body and the framing of the scene that goes."""
-        overlays: list[SetPointGhost | ContactOverlay | None] = [self.ghost, self.contacts]
+        overlays: list[SetPointGhost | ContactOverlay | AxisMarks | None] = [
+            self.ghost,
+            self.contacts,
+            self.marks,
+        ]
         for overlay in overlays:
             if overlay is not None:
                 overlay.remove()
-        self.ghost = self.contacts = None
+        self.ghost = self.contacts = self.marks = None
+        self._scene = None
+        self._moved = {}
+        self._failing = frozenset()
+        self.legend = []
         self.follow = FOLLOW_OFF
         self._follow_anchor = {}
         self._bounds = None
@@ -100,6 +122,26 @@ class Views:
             self.server, prefix="/contacts", scale=FORCE_SCALES[self.force_scale]
         )
 
+    def add_marks(self, snapshot: Snapshot, scene: ModelScene) -> None:
+        """The axis marks, error tints, legend and click explanations of a new model."""
+        model = snapshot.model
+        if model is None:
+            return
+        joints = [(name, view.joint) for name, view in snapshot.axes.items() if view.joint]
+        radius = 1.0 if self._bounds is None else self._bounds[1]
+        axes = axis_joints(model, joints)
+        self.marks = AxisMarks(self.server, model, axes, mark_length(radius))
+        self._scene = scene
+        self._moved = {a.axis: moved_bodies(model, [int(model.jnt_qposadr[a.joint])]) for a in axes}
+        self.legend = legend_rows(model, {joint: name for name, joint in joints})
+        scene.on_click(self._explain)
+
+    def _explain(self, client: viser.ClientHandle, body: int) -> None:
+        """A click on a part: that page is told what it is."""
+        row = body_row(self.legend, body)
+        if row is not None:
+            client.add_notification(row.part, row.role, auto_close_seconds=8.0)
+
     def build(self, gui: SceneGui, model: mujoco.MjModel, scene: ModelScene | None) -> None:
         """The View folder: camera presets, follow camera and the 3-D overlays (each page moves
         its own camera; for everyone)."""
@@ -117,6 +159,9 @@ class Views:
                 button.on_click(self._look(direction))
         with folder:
             self._build_choices(gui)
+            if self.legend:
+                with gui.api.add_folder("Legend", expand_by_default=False):
+                    gui.api.add_html(legend_html(self.legend))
 
     def _look(self, direction: Sequence[float]) -> Callable[[Any], None]:
         """A camera preset button's callback: the page looks at the machine from ``direction``."""
@@ -131,10 +176,17 @@ class Views:
         return look
 
     def _build_choices(self, gui: SceneGui) -> None:
-        """The Follow, Set-point ghost and Forces dropdowns."""
+        """The Follow, Axis labels, Set-point ghost and Forces dropdowns."""
         bodies = [FOLLOW_OFF, *self._follow_ids]
         follow = gui.dropdown(
             "Follow", bodies, FOLLOW_OFF, control=False, hint="Cameras keep their offset to it"
+        )
+        labels = gui.dropdown(
+            "Axis labels",
+            SWITCH_CHOICES,
+            SWITCH_CHOICES[self.show_axis_labels],
+            control=False,
+            hint="Each axis' name and positive direction on the part it moves",
         )
         ghost = gui.dropdown(
             "Set-point ghost",
@@ -156,6 +208,11 @@ class Views:
             self.follow = follow.value
             self._redraw()
 
+        @labels.on_update
+        def _(event: Any) -> None:
+            self.show_axis_labels = labels.value == ON
+            self._redraw()
+
         @ghost.on_update
         def _(event: Any) -> None:
             self.show_ghost = ghost.value == ON
@@ -169,10 +226,12 @@ class Views:
             self._redraw()
 
     def update(self, snapshot: Snapshot) -> None:
-        """Set-point ghost, forces and the follow cameras, as the View folder says."""
+        """Set-point ghost, forces, axis marks, error tints and the follow cameras, as the View
+        folder says."""
         model = snapshot.model
         if model is None:
             return
+        self._show_errors(snapshot)
         ghost = self.ghost
         if self.show_ghost:
             if ghost is None:
@@ -190,6 +249,21 @@ class Views:
             if snapshot.contacts is not None:
                 contacts.update(snapshot.contacts, snapshot.constraints)
         self._follow_cameras(snapshot)
+
+    def _show_errors(self, snapshot: Snapshot) -> None:
+        """The axis marks where their joints are, and the parts of the axes in error tinted
+        (sent only when the set of axes in error changes)."""
+        marks = self.marks
+        if marks is not None:
+            marks.visible = self.show_axis_labels
+            if self.show_axis_labels:
+                errors = {name: view.error_id for name, view in snapshot.axes.items()}
+                marks.update(snapshot.xpos, snapshot.xquat, errors)
+        failing = frozenset(n for n, v in snapshot.axes.items() if v.error_id and n in self._moved)
+        if failing != self._failing and self._scene is not None:
+            self._failing = failing
+            bodies = {b for name in failing for b in self._moved[name]}
+            self._scene.tint_bodies(bodies, ERROR_TINT)
 
     def _follow_cameras(self, snapshot: Snapshot) -> None:
         """Move each page's camera by the travel of the followed body since the last move, so
