@@ -260,3 +260,15 @@ def test_gantry_x_at_50_percent_of_400_mm_s_runs_200_mm_s_on_the_joint() -> None
     assert worst[0] < X.config.dev_max, f"{worst[0] * 1e3:.1f} µm"
     scene.run(scan, timeout=0.2)
     assert scene.joint_position("X") * scale - start == pytest.approx(600.0, abs=0.01)
+
+
+def test_a_saved_state_brings_back_the_factor_it_was_saved_with() -> None:
+    machine, X = fresh_axis()
+    mcl.MC_SetOverride(Axis=X, VelFactor=0.5)(Enable=True)
+    state = machine.save_state()
+    mcl.MC_SetOverride(Axis=X, VelFactor=1.0)(Enable=True)
+    machine.restore_state(state)
+    assert X.override_factor == 0.5
+    move = mcl.MC_MoveVelocity(Axis=X)
+    machine.run(lambda: move(Execute=True, **MOVE), until=lambda: move.InVelocity, timeout=1.0)
+    assert mean_velocity(machine, lambda: move(), 0.2) == pytest.approx(100.0, rel=0.01)
