@@ -62,6 +62,8 @@ class AxisSnapshot:
     estop_latched: bool
     pos_prev: float
     lim_prev: tuple[bool, ...]
+    override: float = 1.0
+    """The velocity factor MC_SetOverride wrote (1.0 = 100 %)."""
 
 
 _AT_REST = (AxisState.Disabled, AxisState.StandStill, AxisState.ErrorStop)
@@ -130,6 +132,7 @@ def take(axis: Axis) -> AxisSnapshot:
         estop_latched=axis.estop_latched,
         pos_prev=axis._pos_prev,
         lim_prev=axis._lim_prev,
+        override=axis.override_factor,
     )
 
 
@@ -209,6 +212,8 @@ def restore(axis: Axis, snapshot: AxisSnapshot) -> None:
     axis._powering_off = False
     axis._pos_prev = s.pos_prev
     axis._lim_prev = s.lim_prev
+    axis._time_scale = None
+    axis.set_override(s.override)
     axis.queue.clear()
     axis.active = None
     if s.hold is not None:

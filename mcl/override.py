@@ -19,7 +19,8 @@ ramps): MC_Stop, MC_Halt and GT_Jog's release ramp, error and power-off stops, a
 (MC_GearIn, MC_GearInPos: it follows its master), the homing steps (their search velocities set
 how exactly a switch is found), GT_MoveAbsBlock (its block detection and release are timed),
 MC_ForceControl and group motion (MC_GroupSetOverride is not implemented). A command that takes
-over a motion that was not overridden starts at 100 % and ramps to the factor.
+over a motion that was not overridden starts at 100 % and ramps to the factor. MC_GearInPos, while
+it waits for its start point, continues the slave's previous motion without the override.
 
 `AccFactor` and `JerkFactor` are accepted and checked (finite, >= 0) but not applied separately:
 with time scaling they follow from VelFactor (VelFactor² and VelFactor³).

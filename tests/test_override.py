@@ -260,3 +260,40 @@ def test_gantry_x_at_50_percent_of_400_mm_s_runs_200_mm_s_on_the_joint() -> None
     assert worst[0] < X.config.dev_max, f"{worst[0] * 1e3:.1f} µm"
     scene.run(scan, timeout=0.2)
     assert scene.joint_position("X") * scale - start == pytest.approx(600.0, abs=0.01)
+
+
+def test_a_saved_state_brings_back_the_factor_it_was_saved_with() -> None:
+    machine, X = fresh_axis()
+    mcl.MC_SetOverride(Axis=X, VelFactor=0.5)(Enable=True)
+    state = machine.save_state()
+    mcl.MC_SetOverride(Axis=X, VelFactor=1.0)(Enable=True)
+    machine.restore_state(state)
+    assert X.override_factor == 0.5
+    move = mcl.MC_MoveVelocity(Axis=X)
+    machine.run(lambda: move(Execute=True, **MOVE), until=lambda: move.InVelocity, timeout=1.0)
+    assert mean_velocity(machine, lambda: move(), 0.2) == pytest.approx(100.0, rel=0.01)
+
+
+def test_an_encoder_only_axis_refuses_the_override() -> None:
+    machine = mcl.SimMachine({"W": mcl.SimAxisParams(start=0.2, has_drive=False)})
+    W = machine.axes["W"]
+    override = mcl.MC_SetOverride(Axis=W, VelFactor=0.5)
+    override(Enable=True)
+    assert override.Error and override.ErrorID == mcl.ErrorID.ENoDrive and not override.Busy
+    assert W.override_factor == 1.0
+
+
+def test_jogging_at_half_override_runs_at_half_and_stops_on_its_own_ramp() -> None:
+    """GT_Jog at 50 % of 200 mm/s runs 100 mm/s; let go, it stops with JogDec 1000 mm/s² from
+    100 mm/s in 0.1 s (the release ramp is not overridden)."""
+    machine, X = fresh_axis()
+    jog = mcl.GT_Jog(Axis=X, Enable=True, JogVelo=200.0, JogAcc=2000.0, JogDec=1000.0)
+    override = mcl.MC_SetOverride(Axis=X, Enable=True, VelFactor=0.5)
+    press = [True]
+    scan = program(override, lambda: jog(JogPos=press[0]))
+    machine.run(scan, timeout=0.3)
+    assert mean_velocity(machine, scan, 0.2) == pytest.approx(100.0, rel=0.01)
+    press[0] = False
+    t0 = machine.runtime.time
+    machine.run(scan, until=lambda: X.sp_vel == 0.0, timeout=1.0)
+    assert machine.runtime.time - t0 == pytest.approx(0.1, abs=0.005)
