@@ -295,3 +295,23 @@ def test_the_token_in_the_address_is_traded_for_a_cookie_by_a_redirect(viewer: V
     assert cookie.startswith(f"{viewer.policy.cookie_name}={token};") and "HttpOnly" in cookie
     assert get(f"/?token={token}x").status == 403  # a wrong token is still refused
     assert get("/?view=top", Cookie=cookie.split(";")[0]).status == 200
+
+
+def test_a_silent_operator_with_nobody_asking_loses_control_and_its_jog(
+    server: viser.ViserServer, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import viewer.control
+
+    session = Session("single_axis")
+    operators = Operators(session, server, FakeClock())
+    operators.take(1)
+    operators.hold(1, session.snapshot.generation, "X", +1)
+    age = {1: LIFESIGN_TIMEOUT - 0.1}
+    monkeypatch.setattr(viewer.control, "lifesign", lambda _, c: Lifesign(0.01, age[c]))
+    operators.supervise()
+    assert operators.control.owner == 1 and 1 in operators.holds
+    assert session.requests("X").take().jog_pos  # the jog runs while the page answers
+    age[1] = LIFESIGN_TIMEOUT + 0.1
+    operators.supervise()
+    assert operators.control.owner is None and 1 not in operators.holds
+    assert not session.requests("X").take().jog_pos  # the jog ended with the lifesign
