@@ -373,10 +373,12 @@ def test_one_operator_in_control_the_others_watch(
         other.get_by_text("take control first").first.wait_for(timeout=10_000)
         assert session.snapshot.axes["X"].powered == powered
         assert viewer.app.control.owner == owner
-        newcomer = take_control(other, viewer)
-        assert newcomer != owner
-        page.get_by_text("Control taken").first.wait_for(timeout=10_000)
-        page.get_by_text(f"operator #{newcomer}").first.wait_for(timeout=10_000)
+        other.get_by_role("button", name="Request control", exact=True).click()
+        page.get_by_role("button", name="Grant", exact=True).click()  # the operator hands over
+        wait_for(lambda: viewer.app.control.owner not in (None, owner), 10.0, "the handover")
+        newcomer = viewer.app.control.owner
+        other.get_by_text("You are in control").wait_for(timeout=10_000)
+        page.get_by_text(f"Watching — operator #{newcomer} in control").wait_for(timeout=10_000)
     finally:
         context.close()
     wait_for(lambda: viewer.app.control.owner is None, 10.0, "control to be freed on leaving")

@@ -905,7 +905,7 @@ def test_only_the_token_opens_the_page_and_it_comes_back_as_a_cookie(guarded: Vi
     port, token = guarded.port, guarded.token
     assert token is not None and guarded.url.endswith(f"/?token={token}")
     status, headers = _http(port, f"/?token={token}")
-    assert status == 200
+    assert status == 303 and headers["Location"] == "/"  # the token leaves the address bar
     cookie = headers["Set-Cookie"]
     assert f"mcl_viewer_token_{port}={token}" in cookie and "HttpOnly" in cookie
     assert "SameSite=Strict" in cookie
@@ -920,7 +920,7 @@ def test_a_foreign_host_header_is_refused(guarded: Viewer) -> None:
     for host in (f"attacker.example:{port}", "attacker.example", f"127.0.0.1:{port + 1}"):
         assert _http(port, f"/?token={token}", host=host)[0] == 403, host
     for host in (f"localhost:{port}", f"127.0.0.1:{port}"):
-        assert _http(port, f"/?token={token}", host=host)[0] == 200, host
+        assert _http(port, f"/?token={token}", host=host)[0] == 303, host
 
 
 def test_every_response_forbids_framing_and_carries_a_content_policy(guarded: Viewer) -> None:
@@ -1284,7 +1284,6 @@ def test_over_the_websocket_control_hotkey_steps_and_value_checks(guarded: Viewe
     wait_for(lambda: session.snapshot.axes["X"].powered, 10.0)
     step_plus = next(c for c in app._commands if c._impl.props.label == "X step +")
     slider = next(h for h in app._scene_inputs if getattr(h, "label", "").startswith("Jog velo"))
-    take = app._take
 
     def send(kind: str, **fields: Any) -> bytes:
         return msgspec.msgpack.encode({"type": kind, **fields})
@@ -1309,9 +1308,11 @@ def test_over_the_websocket_control_hotkey_steps_and_value_checks(guarded: Viewe
             }
             await connection.send(send("ViewerCameraMessage", **camera))  # viser: connected
             for _ in range(100):
-                if guarded.server.get_clients():
+                if app.control_pages.pages:
                     break
                 await asyncio.sleep(0.05)
+            (page,) = app.control_pages.pages.values()
+            take = page.take
             start = session.scene.joint_position("X")
             await connection.send(send("CommandTriggerMessage", uuid=step_plus._impl.uuid))
             await asyncio.sleep(1.0)

@@ -41,6 +41,7 @@ import scenes
 from viewer.axis_panel import AxisPanel, add_hotkeys
 from viewer.commissioning import CommissioningPanel
 from viewer.control import Control, Hold, Operators
+from viewer.control_page import ControlPages
 from viewer.faults_panel import build_faults
 from viewer.legend import LAMP_LIMIT as LAMP_LIMIT  # the lamps' colours, under their old home
 from viewer.legend import LAMP_REF as LAMP_REF
@@ -50,7 +51,6 @@ from viewer.overlays import ContactOverlay, SetPointGhost
 from viewer.panels import (
     NO_MODEL_NOTE,
     SPEEDS,
-    control_html,
     demo_html,
     events_html,
     results_html,
@@ -159,7 +159,7 @@ class ViewerApp:
         self._model_scene: ModelScene | None = None
         self._generation = 0
         self._last: Snapshot | None = None
-        self._last_panel = self._last_plot = -math.inf
+        self._last_panel = self._last_plot = self._last_control = -math.inf
         self._axes: dict[str, AxisPanel] = {}
         self._commissioning: dict[str, CommissioningPanel] = {}
         """The Commissioning folders of the driven axes."""
@@ -273,41 +273,38 @@ class ViewerApp:
         self._build_demo()
 
     def _build_operator(self) -> None:
-        """The Operator tab, in a window of its own (never scrolled out of sight): STOP all,
-        who is in control, Take and Release control."""
+        """The Operator tab, in a window of its own (never scrolled out of sight): STOP all, and
+        per page its control line and buttons (:class:`~viewer.control_page.ControlPages`)."""
         gui, operators = self.server.gui, self.operators
         operator = gui.add_panel(order=-1)
         operator.float(x=15, y=-15, width=300)
-        with operator.add_tab("Operator", icon=viser.Icon.USER):
+        with operator.add_tab("Operator", icon=viser.Icon.USER) as tab:
             self._stop_all = self._button(
                 "STOP all axes",
                 control=False,
                 color="red",
                 icon=viser.Icon.HAND_STOP,
                 hint="Ends the demo, ramps every axis and group down (anyone may press it)",
+                order=0,
             )
-            self._control_status = gui.add_html("")
-            self._take = self._button(
-                "Take control", control=False, icon=viser.Icon.USER_CHECK, hint="Operate"
-            )
-            self._give = self._button(
-                "Release control", control=False, icon=viser.Icon.USER_X, hint="Watch only"
-            )
+        self.control_pages = ControlPages(self.gate, operators, tab, order=1)
+        """The control line and buttons of each page."""
+        self.server.on_client_connect(self.control_pages.connect)
+        self.server.on_client_disconnect(self.control_pages.disconnect)
 
         @self._stop_all.on_click
         def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
             operators.drop_all()
             self.session.stop_all()
 
-        @self._take.on_click
-        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
-            if event.client_id is not None:
-                operators.take(event.client_id)
-
-        @self._give.on_click
-        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
-            if event.client_id is not None:
-                operators.give(event.client_id)
+    def _update_control(self) -> None:
+        """Supervise control (lifesign, requests) and, at the panel rate, refresh each page's
+        control line (also while the simulation is paused)."""
+        self.operators.supervise()
+        now = time.monotonic()
+        if now - self._last_control >= self._panel_period:
+            self._last_control = now
+            self.control_pages.refresh()
 
     def _build_simulation(self) -> None:
         """The Simulation folder: status, scene, speed, pause, step, reset, save and restore."""
@@ -525,6 +522,7 @@ class ViewerApp:
         while not self._stopping.is_set():
             try:
                 self.renew_holds()
+                self._update_control()
                 self.frame()
                 failing = False
             except Exception:  # keep the viewer alive; the next frame starts afresh
@@ -576,11 +574,9 @@ class ViewerApp:
             self._shown[name] = handle.content = content
 
     def _update_panels(self, snapshot: Snapshot) -> None:
-        """Status line, control, demo, buttons, axis read-outs, history (only changes sent)."""
+        """Status line, demo, buttons, axis read-outs, history (only changes sent)."""
         self.panel_updates += 1
         self._show("status", self._status, status_html(snapshot))
-        control = self.control
-        self._show("control", self._control_status, control_html(control.owner, control.since))
         pause_label = "Resume" if snapshot.paused else "Pause"
         if pause_label != self._pause_label:
             self._pause_label = self._pause.label = pause_label

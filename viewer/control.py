@@ -1,16 +1,20 @@
-"""Who operates: one page in control at a time, the others watch; the dead-man of the jogs the
-page in control holds (buttons and keys), and the notes the pages get about it."""
+"""Who operates: one page in control at a time, the others watch and may ask for control (the
+operator grants or refuses; a page that closes or stops answering hands it on); the dead-man of
+the jogs the page in control holds (buttons and keys), and the notes the pages get about it."""
 
 from __future__ import annotations
 
+import enum
 import math
 import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import viser
 
+from viewer.lifesign import lifesign
 from viewer.session import Session
 
 HOLD_TIMEOUT = 1.0
@@ -30,8 +34,41 @@ KEY_JOG_REPEAT = 0.15
 ~0.03-0.1 s); the jog stops this long after the key is let go."""
 
 
+REQUEST_TIMEOUT = 30.0
+"""Wall time [s] a request for control waits for the operator's answer before it counts as
+refused."""
+
+
+class Asked(enum.Enum):
+    """What a page's Take control (or Request control) press did."""
+
+    TAKEN = "taken"
+    """Nobody was in control: the page is now."""
+    HOLDS = "holds"
+    """The page was in control already."""
+    ASKED = "asked"
+    """The page's request waits for the operator's answer."""
+    PENDING = "pending"
+    """The page's request was waiting already."""
+    BUSY = "busy"
+    """Another page's request waits: one at a time."""
+
+
+@dataclass(frozen=True)
+class Request:
+    """A page asks the operator in control for control."""
+
+    requester: int
+    """Client id of the page asking."""
+    owner: int
+    """Client id of the operator asked."""
+    since: float
+    """Monotonic wall clock [s] of the request."""
+
+
 class Control:
-    """Who operates: one client at a time holds control, the others watch (thread-safe)."""
+    """Who operates: one client at a time holds control, the others watch; a watcher asks the
+    operator for control, who grants or refuses (thread-safe)."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
@@ -39,21 +76,83 @@ class Control:
         """Client id of the operator in control (None: nobody)."""
         self.since = 0.0
         """Wall clock [s since the epoch] when the owner took control."""
+        self.request: Request | None = None
+        """The request waiting for the owner's answer (None: none)."""
+
+    def _pass(self, client_id: int | None) -> None:
+        """Control passes to ``client_id`` (None: nobody); a waiting request ends (under the
+        lock)."""
+        self.owner, self.since, self.request = client_id, time.time(), None
 
     def take(self, client_id: int) -> int | None:
-        """``client_id`` takes control; the client that had it (None: nobody)."""
+        """``client_id`` takes control whoever has it; the client that had it (None: nobody)."""
         with self._lock:
             previous = self.owner
-            self.owner, self.since = client_id, time.time()
+            self._pass(client_id)
         return previous
 
-    def release(self, client_id: int) -> bool:
-        """``client_id`` gives control up (if it has it); whether it had it."""
+    def ask(self, client_id: int, now: float) -> Asked:
+        """``client_id`` presses Take control at ``now`` [s, monotonic]: takes it if nobody has
+        it, else asks the operator (one request at a time)."""
         with self._lock:
+            if self.owner is None:
+                self._pass(client_id)
+                return Asked.TAKEN
+            if self.owner == client_id:
+                return Asked.HOLDS
+            if self.request is not None:
+                return Asked.PENDING if self.request.requester == client_id else Asked.BUSY
+            self.request = Request(client_id, self.owner, now)
+            return Asked.ASKED
+
+    def answer(self, client_id: int, grant: bool) -> Request | None:
+        """The operator ``client_id`` grants (control passes) or refuses the waiting request;
+        the request answered (None: ``client_id`` is not in control or nobody asks)."""
+        with self._lock:
+            request = self.request
+            if request is None or self.owner != client_id:
+                return None
+            if grant:
+                self._pass(request.requester)
+            else:
+                self.request = None
+            return request
+
+    def cancel(self, client_id: int) -> Request | None:
+        """``client_id`` withdraws its request; the request withdrawn (None: it had none)."""
+        with self._lock:
+            request = self.request
+            if request is None or request.requester != client_id:
+                return None
+            self.request = None
+            return request
+
+    def expire(self, now: float, timeout: float) -> Request | None:
+        """End the request if it has waited longer than ``timeout`` [s] at ``now`` [s,
+        monotonic]; the request ended (None: none expired)."""
+        with self._lock:
+            request = self.request
+            if request is None or now - request.since <= timeout:
+                return None
+            self.request = None
+            return request
+
+    def leave(self, client_id: int) -> tuple[bool, int | None]:
+        """``client_id`` gives control up or is gone: control passes to the waiting requester
+        (else nobody); a request of ``client_id`` ends. Whether it was in control, and who is
+        now."""
+        with self._lock:
+            if self.request is not None and self.request.requester == client_id:
+                self.request = None
             if self.owner != client_id:
-                return False
-            self.owner = None
-            return True
+                return False, self.owner
+            self._pass(self.request.requester if self.request is not None else None)
+            return True, self.owner
+
+    def release(self, client_id: int) -> bool:
+        """``client_id`` gives control up (if it has it): whether it had it (control passes to
+        a waiting requester, else nobody)."""
+        return self.leave(client_id)[0]
 
     def holds(self, client_id: int) -> bool:
         """Whether ``client_id`` is in control."""
@@ -108,10 +207,9 @@ class Operators:
         )
 
     def disconnect(self, client: viser.ClientHandle) -> None:
-        """A page closed: its jog ends and it loses control."""
-        self.drop(client.client_id)
-        if self.control.release(client.client_id):
-            self.session.record_event("viewer", f"operator #{client.client_id} left: no control")
+        """A page closed: its jog ends, its request ends, and its control passes to the page
+        that asked for it (else to nobody), at once."""
+        self._gone(client.client_id, "left")
 
     def refused(self, client_id: int, label: str, reason: str) -> None:
         """A page sent something the gate refused: history entry and a note (once a second)."""
@@ -126,28 +224,88 @@ class Operators:
         if client is not None:
             client.add_notification(f"{what}: refused", reason, color="red", auto_close_seconds=4.0)
 
+    def note(self, client_id: int, title: str, body: str, color: Any = None) -> None:
+        """A notification on the page ``client_id`` (if it is open)."""
+        client = self.server.get_clients().get(client_id)
+        if client is not None:
+            client.add_notification(title, body, color=color, auto_close_seconds=8.0)
+
+    def _event(self, text: str) -> None:
+        self.session.record_event("viewer", text)
+
     def take(self, client_id: int) -> None:
-        """The Take control button: the page operates; the one that did watches (told so)."""
-        previous = self.control.take(client_id)
-        if previous == client_id:
+        """The Take control (Request control) button: takes control if nobody has it, else
+        asks the operator in control, who grants or refuses it."""
+        asked = self.control.ask(client_id, self._clock())
+        request = self.control.request
+        if asked is Asked.TAKEN:
+            self._event(f"operator #{client_id} took control")
+        elif asked is Asked.ASKED and request is not None:
+            self._event(f"operator #{client_id} requests control from operator #{request.owner}")
+            self.note(
+                request.owner,
+                "Control requested",
+                f"Operator #{client_id} requests control: Grant or Refuse in the Operator "
+                f"window (refused by itself after {REQUEST_TIMEOUT:g} s).",
+                "yellow",
+            )
+        elif asked is Asked.BUSY:
+            self.note(client_id, "Request not sent", "Another operator's request waits.", "red")
+
+    def answer(self, client_id: int, grant: bool) -> None:
+        """The Grant or Refuse button of the operator in control."""
+        request = self.control.answer(client_id, grant)
+        if request is None:
             return
-        if previous is not None:
-            self.drop(previous)
-            other = self.server.get_clients().get(previous)
-            if other is not None:
-                other.add_notification(
-                    "Control taken",
-                    f"Operator #{client_id} operates now; you watch.",
-                    color="yellow",
-                    auto_close_seconds=8.0,
-                )
-        self.session.record_event("viewer", f"operator #{client_id} took control")
+        if grant:
+            self.drop(client_id)
+            self._event(f"operator #{client_id} granted control to operator #{request.requester}")
+            self.note(request.requester, "Control granted", f"by operator #{client_id}", "green")
+        else:
+            self._event(f"operator #{client_id} refused control to operator #{request.requester}")
+            refused = f"refused by operator #{client_id}"
+            self.note(request.requester, "Request refused", refused, "red")
+
+    def cancel(self, client_id: int) -> None:
+        """The Cancel request button of a page whose request waits."""
+        if self.control.cancel(client_id) is not None:
+            self._event(f"operator #{client_id} withdrew the request for control")
 
     def give(self, client_id: int) -> None:
-        """The Release control button: the page watches (if it was in control)."""
-        if self.control.release(client_id):
+        """The Release control button: the page watches (if it was in control); control
+        passes to a page that asked for it."""
+        was_owner, owner = self.control.leave(client_id)
+        if was_owner:
             self.drop(client_id)
-            self.session.record_event("viewer", f"operator #{client_id} released control")
+            self._event(f"operator #{client_id} released control")
+            if owner is not None:
+                self.note(owner, "Control passed to you", f"operator #{client_id} released it")
+
+    def supervise(self) -> None:
+        """Refuse a request unanswered for :data:`REQUEST_TIMEOUT`; a page in control without
+        a lifesign for :data:`~viewer.lifesign.LIFESIGN_TIMEOUT` is gone (see :meth:`_gone`)."""
+        request = self.control.expire(self._clock(), REQUEST_TIMEOUT)
+        if request is not None:
+            text = f"no answer from operator #{request.owner} within {REQUEST_TIMEOUT:g} s"
+            self._event(f"request of operator #{request.requester} for control refused: {text}")
+            self.note(request.requester, "Request refused", text, "red")
+        owner = self.control.owner
+        sign = lifesign(self.server, owner) if owner is not None else None
+        if owner is not None and sign is not None and not sign.alive:
+            self._gone(owner, f"stopped answering (no lifesign for {sign.age:.1f} s)")
+
+    def _gone(self, client_id: int, why: str) -> None:
+        """The page ``client_id`` closed or stopped answering: its jog ends, its control passes
+        to the page that asked for it (else to nobody)."""
+        self.drop(client_id)
+        was_owner, owner = self.control.leave(client_id)
+        if not was_owner:
+            return
+        if owner is None:
+            self._event(f"operator #{client_id} {why}: nobody in control")
+        else:
+            self._event(f"operator #{client_id} {why}: operator #{owner} in control")
+            self.note(owner, "Control passed to you", f"operator #{client_id} {why}", "green")
 
     # ------------------------------------------------------------------------- jog dead-man
 

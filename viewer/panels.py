@@ -1,4 +1,4 @@
-"""The HTML of the read-out panels: axis panels, status line, control, demo, signals, results,
+"""The HTML of the read-out panels: axis panels, status line, demo, signals, results,
 error history (every text from the simulation escaped)."""
 
 from __future__ import annotations
@@ -191,15 +191,6 @@ def status_html(snapshot: Snapshot) -> str:
         f"<b>{html.escape(snapshot.scene)}</b> · t = {snapshot.time:9.3f} s · {state}"
         f'<div style="color:#546e7a">{html.escape(snapshot.description)}{note}</div>'
     )
-
-
-def control_html(owner: int | None, since: float) -> str:
-    """Who is in control (``owner``, None: nobody) and since when [s since the epoch]."""
-    if owner is None:
-        text = "Nobody is in control: press <b>Take control</b> to operate."
-    else:
-        text = f"In control: <b>operator #{owner}</b> since {utc(since)[:8]} UTC"
-    return _box(text)
 
 
 def demo_html(snapshot: Snapshot) -> str:

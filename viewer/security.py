@@ -11,9 +11,12 @@ Expected Host only     The ``Host`` header must name this server (``127.0.0.1:PO
                        machine when it binds beyond loopback, plus ``allowed_hosts``); anything
                        else (DNS rebinding) gets 403.
 Secret token           :func:`make_token` at each start; the printed address carries it as
-                       ``?token=…``. The page that presents it gets it back as an HttpOnly,
-                       SameSite=Strict cookie (named per port) that every further request
-                       (files, websocket) must carry. Mandatory when binding beyond loopback.
+                       ``?token=…``. A request that presents it there is answered with a 303
+                       redirect to the same address without the token (so neither the address
+                       bar nor the history keeps it) that sets an HttpOnly, SameSite=Strict
+                       cookie (named per port) every further request (files, websocket) must
+                       carry. Mandatory when binding beyond loopback.
+One Host header        A request with more than one ``Host`` header gets 400.
 Headers                Every response carries a Content-Security-Policy with
                        ``frame-ancestors 'none'``, ``X-Frame-Options: DENY``, ``nosniff``,
                        ``Referrer-Policy: no-referrer`` (the token never leaks) and
@@ -26,6 +29,10 @@ GUI values             :class:`GuiGate` checks every value, hold message and hot
                        sends against the element's rule (type, choices, finite range) and
                        whether the sender holds control, before viser applies it or passes it
                        on to the other pages.
+Small messages         A websocket message from a page may be :data:`MAX_MESSAGE` long at most; a
+                       longer one closes that page's connection (code 1009).
+Lifesign               Every page is pinged (:mod:`viewer.lifesign`); one that stops answering is
+                       dropped.
 No share, no upload    :func:`harden` makes the server drop viser's requests to open a public
                        share tunnel and to upload files (:data:`REFUSED_MESSAGES`).
 =====================  ==========================================================================
@@ -56,7 +63,7 @@ from collections.abc import Awaitable, Callable, Iterable, Sequence
 from dataclasses import dataclass
 from http.cookies import SimpleCookie
 from typing import Any
-from urllib.parse import parse_qs, urlsplit
+from urllib.parse import parse_qs, parse_qsl, urlencode, urlsplit
 
 import viser
 import viser._messages as messages
@@ -65,6 +72,8 @@ from viser.infra import ClientId
 from websockets.asyncio.server import ServerConnection
 from websockets.http11 import Request, Response
 
+from viewer.lifesign import CLOSE_TIMEOUT, LIFESIGN_INTERVAL, LIFESIGN_TIMEOUT, LifesignConnection
+
 log = logging.getLogger(__name__)
 
 VISER_VERSION = "1.1.1"
@@ -72,6 +81,10 @@ VISER_VERSION = "1.1.1"
 
 MAX_PATH = 1024
 """Longest request target (path and query) served [characters]; longer ones get 414."""
+
+MAX_MESSAGE = 1024 * 1024
+"""Longest websocket message a page may send [bytes] (1 MiB; a page sends GUI values, camera
+poses and hold messages of a few hundred bytes)."""
 
 LOG_BURST = 20
 """Lines of refused requests and bad messages logged per :data:`LOG_WINDOW` at most."""
@@ -197,6 +210,27 @@ class BoundedLog:
         self._logger.warning("viewer: %s", line)
 
 
+def _host_of(request: Request) -> str | None:
+    """The request's Host header (stripped, lower case; "" without one), None if it has
+    several."""
+    values = request.headers.get_all("Host")
+    if len(values) > 1:
+        return None
+    return values[0].strip().lower() if values else ""
+
+
+def _is_websocket(request: Request) -> bool:
+    """Whether ``request`` asks to open a websocket."""
+    return any(v.strip().lower() == "websocket" for v in request.headers.get_all("Upgrade"))
+
+
+def _without_token(target: str) -> str:
+    """A request target (path and query) without its ``token`` parameter."""
+    parts = urlsplit(target)
+    query = urlencode([(k, v) for k, v in parse_qsl(parts.query, True) if k != "token"])
+    return (parts.path or "/") + (f"?{query}" if query else "")
+
+
 def _describe(exc: BaseException) -> str:
     """An exception in one short line."""
     return f"{type(exc).__name__}: {exc}"[:200]
@@ -296,10 +330,12 @@ class AccessPolicy:
         """Why ``request`` must be refused, or None if it may pass."""
         if len(request.path) > MAX_PATH:
             return Refusal(http.HTTPStatus.REQUEST_URI_TOO_LONG, "request target too long")
-        host = request.headers.get("Host", "").strip().lower()
+        host = _host_of(request)
+        if host is None:
+            return Refusal(http.HTTPStatus.BAD_REQUEST, "more than one Host header")
         if host not in self.hosts():
             return Refusal(http.HTTPStatus.FORBIDDEN, f"unexpected Host header {host[:80]!r}")
-        if request.headers.get("Upgrade", "").lower() == "websocket":
+        if _is_websocket(request):
             origin = request.headers.get("Origin", "").strip().lower()
             if origin != f"http://{host}":
                 return Refusal(http.HTTPStatus.FORBIDDEN, f"cross-origin websocket {origin[:80]!r}")
@@ -314,8 +350,8 @@ class AccessPolicy:
 
     def headers(self, request: Request) -> dict[str, str]:
         """The security headers of every response to ``request``."""
-        host = request.headers.get("Host", "").strip().lower()
-        connect = f" ws://{host}" if host in self.hosts() else ""
+        host = _host_of(request)
+        connect = f" ws://{host}" if host is not None and host in self.hosts() else ""
         csp = (
             "default-src 'self'; "
             "script-src 'self' 'unsafe-inline' 'unsafe-eval' 'wasm-unsafe-eval' blob:; "
@@ -350,6 +386,9 @@ class AccessPolicy:
                     f"refused {_path(request)!r} from {_peer(connection)}: {refusal.reason}"
                 )
                 return connection.respond(refusal.status, refusal.reason + "\n")
+            token_in_query = self.token is not None and self._token_of(request)[1]
+            if token_in_query and not _is_websocket(request):
+                return self._redirect(connection, request)
             if inner is None:
                 return None
             try:
@@ -360,18 +399,22 @@ class AccessPolicy:
 
         return process
 
+    def _redirect(self, connection: ServerConnection, request: Request) -> Response:
+        """The answer to a request that passed with the token in its query: 303 to the same
+        address without it, setting the token cookie."""
+        response = connection.respond(http.HTTPStatus.SEE_OTHER, "see other\n")
+        response.headers["Location"] = _without_token(request.path)
+        response.headers["Set-Cookie"] = (
+            f"{self.cookie_name}={self.token}; Path=/; HttpOnly; SameSite=Strict"
+        )
+        return response
+
     def process_response(
         self, connection: ServerConnection, request: Request, response: Response
     ) -> Response | None:
-        """Add the security headers (and the token cookie to a page opened with the token)."""
+        """Add the security headers."""
         for name, value in self.headers(request).items():
             response.headers[name] = value
-        if self.token is not None and response.status_code == http.HTTPStatus.OK:
-            token, from_query = self._token_of(request)
-            if from_query and token == self.token:
-                response.headers["Set-Cookie"] = (
-                    f"{self.cookie_name}={self.token}; Path=/; HttpOnly; SameSite=Strict"
-                )
         return None
 
 
@@ -429,6 +472,11 @@ def secure_server(policy: AccessPolicy, **kwargs: Any) -> viser.ViserServer:
     def serve(handler: Any, *args: Any, **options: Any) -> Any:
         options["process_request"] = policy.process_request(options.get("process_request"))
         options["process_response"] = policy.process_response
+        options["max_size"] = MAX_MESSAGE
+        options["create_connection"] = LifesignConnection
+        options["ping_interval"] = LIFESIGN_INTERVAL
+        options["ping_timeout"] = LIFESIGN_TIMEOUT
+        options["close_timeout"] = CLOSE_TIMEOUT
         return original(_guard_handler(handler, bounded), *args, **options)
 
     with _serve_lock:
@@ -529,6 +577,30 @@ def boolean(value: Any) -> bool:
     return isinstance(value, bool)
 
 
+_GATED = (
+    (messages.GuiUpdateMessage, "_handle_gui_updates"),
+    (messages.GuiButtonHoldMessage, "_handle_gui_button_hold"),
+    (messages.CommandTriggerMessage, "_handle_command_trigger"),
+)
+"""The messages a page sends to GUI elements, and the handlers of viser's GUI for them."""
+
+
+def _release(interface: Any, gui: viser.GuiApi) -> None:
+    """Take the GUI message handlers of ``gui`` off ``interface`` (the server's or a page's
+    connection): the gate calls them after its checks instead."""
+    handlers = interface._incoming_handlers
+    for message_class, name in _GATED:
+        handler = getattr(gui, name)
+        if handler in handlers.get(message_class, ()):
+            interface.unregister_handler(message_class, handler)
+
+
+async def _adopt(client: viser.ClientHandle) -> None:
+    """A page connected: what it sends to its own elements (``client.gui``) passes the gate
+    too (run in the event loop before any other connect callback makes such an element)."""
+    _release(client._websock_connection, client.gui)
+
+
 _gates: weakref.WeakKeyDictionary[viser.ViserServer, GuiGate] = weakref.WeakKeyDictionary()
 """The gate installed on each server."""
 
@@ -538,7 +610,8 @@ class GuiGate:
 
     An element without a rule accepts nothing. A refused value is not applied, not passed on to
     the other pages, and the sender's element is set back to the server's value; ``on_refused``
-    hears of it (client id, element label, reason).
+    hears of it (client id, element label, reason). The elements of one page alone
+    (``client.gui``) pass the same checks: their messages reach viser only through the gate.
 
     Args:
         server: The viser server (its GUI handlers are wrapped).
@@ -561,22 +634,27 @@ class GuiGate:
         self._log = log or BoundedLog()
         gui = server.gui
         websock = server._websock_server
-        self._update = gui._handle_gui_updates
-        self._hold = gui._handle_gui_button_hold
-        self._command = gui._handle_command_trigger
         previous = _gates.get(server)
         if previous is not None:  # a new app on the same server: its gate replaces the old one
             websock.unregister_handler(messages.GuiUpdateMessage, previous._on_update)
             websock.unregister_handler(messages.GuiButtonHoldMessage, previous._on_hold)
             websock.unregister_handler(messages.CommandTriggerMessage, previous._on_command)
         else:
-            websock.unregister_handler(messages.GuiUpdateMessage, self._update)
-            websock.unregister_handler(messages.GuiButtonHoldMessage, self._hold)
-            websock.unregister_handler(messages.CommandTriggerMessage, self._command)
+            _release(websock, gui)
+            server.on_client_connect(_adopt)
         _gates[server] = self
         websock.register_handler(messages.GuiUpdateMessage, self._on_update)
         websock.register_handler(messages.GuiButtonHoldMessage, self._on_hold)
         websock.register_handler(messages.CommandTriggerMessage, self._on_command)
+
+    def _scope(self, client_id: int, uuid: str) -> viser.GuiApi | None:
+        """The GUI the element ``uuid`` belongs to: the server's (every page's) or that of the
+        page ``client_id`` (None: the page is gone)."""
+        gui = self.server.gui
+        if uuid in gui._gui_input_handle_from_uuid or uuid in gui._command_handle_from_uuid:
+            return gui
+        client = self.server.get_clients().get(client_id)
+        return client.gui if client is not None else None
 
     def allow(self, handle: Any, accept: Callable[[Any], bool], control: bool = True) -> None:
         """Let pages change ``handle`` with values ``accept`` takes (by the operator in control
@@ -596,7 +674,8 @@ class GuiGate:
     def _refuse(self, client_id: int, uuid: str, label: str, reason: str) -> None:
         self._log.warning(f"client {client_id}: refused {label or uuid!r}: {reason}")
         self._on_refused(client_id, label, reason)
-        handle = self.server.gui._gui_input_handle_from_uuid.get(uuid)
+        scope = self._scope(client_id, uuid)
+        handle = scope._gui_input_handle_from_uuid.get(uuid) if scope is not None else None
         client = self.server.get_clients().get(client_id)
         if handle is not None and client is not None and not isinstance(handle.value, bool):
             client._websock_connection.queue_message(
@@ -621,7 +700,9 @@ class GuiGate:
             if rule.control and not self._in_control(client_id):
                 self._refuse(client_id, message.uuid, rule.label, "take control first")
                 return
-            await self._update(client_id, message)
+            scope = self._scope(client_id, message.uuid)
+            if scope is not None:
+                await scope._handle_gui_updates(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad GUI update: {_describe(exc)}")
 
@@ -635,7 +716,9 @@ class GuiGate:
             if rule.control and not self._in_control(client_id):
                 self._refuse(client_id, message.uuid, rule.label, "take control first")
                 return
-            await self._command(client_id, message)
+            scope = self._scope(client_id, message.uuid)
+            if scope is not None:
+                await scope._handle_command_trigger(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad command message: {_describe(exc)}")
 
@@ -649,6 +732,8 @@ class GuiGate:
             if rule.control and not self._in_control(client_id):
                 self._refuse(client_id, message.uuid, rule.label, "take control first")
                 return
-            await self._hold(client_id, message)
+            scope = self._scope(client_id, message.uuid)
+            if scope is not None:
+                await scope._handle_gui_button_hold(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad hold message: {_describe(exc)}")
