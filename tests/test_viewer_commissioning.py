@@ -305,7 +305,8 @@ def test_a_failed_demo_does_not_repeat(clock: FakeClock) -> None:
 def _callbacks_without_a_browser(app: ViewerApp) -> None:
     """Let the values the gate passes on reach the elements' callbacks at once (viser runs
     them only for a connected page, in its thread pool)."""
-    passed_on = app.gate._update
+    gui = app.server.gui
+    passed_on = gui._handle_gui_updates
 
     async def update(client_id: Any, message: Any) -> None:
         await passed_on(client_id, message)
@@ -313,7 +314,7 @@ def _callbacks_without_a_browser(app: ViewerApp) -> None:
         for callback in handle._impl.update_cb:
             callback(viser.GuiEvent(cast(Any, None), client_id, handle))
 
-    app.gate._update = update
+    gui._handle_gui_updates = update  # type: ignore[method-assign]
 
 
 def _gui_update(app: ViewerApp, client_id: int, handle: Any, value: Any) -> None:
