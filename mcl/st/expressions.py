@@ -101,10 +101,10 @@ class Expressions:
                 return const(self.round_real(float(value), t), t)
             return const(T.wrap_value(value, t) if isinstance(t, Elementary) else value, t)
         if isinstance(node, tf.Real):
-            value = float(str(node.value).replace("_", ""))
+            real = float(str(node.value).replace("_", ""))
             typed = getattr(node, "type_name", None)
             t = self.unit.type_named(str(typed), node) if typed else T.ANY_REAL
-            return const(self.round_real(value, t), t)
+            return const(self.round_real(real, t), t)
         if isinstance(node, tf.Lduration):
             return const(_duration(node, 1_000_000), T.LTIME)
         if isinstance(node, tf.Duration):

@@ -40,7 +40,7 @@ _READABLE = {
 """Names for the grammar's terminals in messages."""
 
 
-class _Transformer(tf.GrammarTransformer):  # type: ignore[misc]
+class _Transformer(tf.GrammarTransformer):
     """blark's transformer, with the ``**`` level as a binary operation."""
 
     power_expression = tf._annotator_wrapper(tf.BinaryOperation.from_lark)
@@ -90,7 +90,7 @@ def _found(error: lark.UnexpectedInput, text: str) -> str:
             "unexpected end of the source" if token.type == "$END" else f"unexpected {str(token)!r}"
         )
     if isinstance(error, lark.UnexpectedCharacters):
-        word = _WORD.match(text, error.pos_in_stream)
+        word = _WORD.match(text, error.pos_in_stream or 0)
         return f"unexpected {word.group() if word else error.char!r}"
     return "unexpected end of the source"
 

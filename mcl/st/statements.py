@@ -168,7 +168,7 @@ class Statements:
         else:
             c = control.code
             test = f"({c} <= {end_code} if {step_code} > 0 else {c} >= {end_code})"
-        increment = f"{control.code} = {T.wrap_code(f'{control.code} + {step_code}', control.type)}"
+        increment = f"{control.code} = {T.wrap_code(f'{control.code} + {step_code}', control.type)}"  # type: ignore[arg-type]
         self.out.emit(f"while {test}:")
         self.loops.append(increment)
         self.out.depth += 1
