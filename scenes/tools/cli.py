@@ -13,17 +13,26 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
+import mcl.st
 import scenes
 from scenes.errors import UserError
 from scenes.tools.report import EdgeLog
 
 
-def run(name: str, timeout: float = 300.0) -> int:
-    """Run the demo of machine ``name`` from its demo start and print the report."""
+def run(
+    name: str, timeout: float = 300.0, st_program: str | None = None, maps: Sequence[str] = ()
+) -> int:
+    """Run the demo of machine ``name`` (or the ST program ``st_program``) from its demo start
+    and print the report."""
     definition = scenes.definition(name)
     scene = scenes.load(name, start=definition.demo_start, trace_every=0)
-    program = scenes.demo(scene)
+    program: Any = (
+        scenes.demo(scene)
+        if st_program is None
+        else mcl.st.load(st_program, scene, mapping=dict(m.partition("=")[::2] for m in maps))
+    )
     log = EdgeLog(scene)
     log.watch(**getattr(program, "blocks", {}))
     steps = [program.step]
@@ -91,6 +100,11 @@ def main(argv: list[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
     run_parser = sub.add_parser("run", help="run a machine's demo program headless")
     run_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+    run_parser.add_argument("--program", help="an IEC 61131-3 Structured Text file to run")
+    run_parser.add_argument(
+        "--map", action="append", default=[], metavar="NAME=AXIS", help="bind Pohon.Ax1=X"
+    )
+    run_parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds")
     sub.add_parser("list", help="list the machines")
     plot_parser = sub.add_parser("plot", help="plot a trace file as PNG and HTML")
     plot_parser.add_argument("trace", help="a trace written by trace.to_csv or streamed (.npy)")
@@ -119,7 +133,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return _command(args)
-    except UserError as error:
+    except (UserError, mcl.st.STError) as error:
         for line in error.lines:
             print(line, file=sys.stderr)
         return 2
@@ -142,7 +156,7 @@ def _command(args: argparse.Namespace) -> int:
         for name in sorted(scenes.MACHINES):
             print(f"{name:<{width}}  {scenes.MACHINES[name].description}")
         return 0
-    return run(args.name)
+    return run(args.name, args.timeout, args.program, args.map)
 
 
 def _listed(item: str) -> str:

@@ -1,0 +1,11 @@
+"""PLC programs in IEC 61131-3 Structured Text: parsed with blark, translated to Python that
+calls mcl's function blocks, compiled with ``compile()`` (see docs/st.md).
+
+``mcl.st.load("prog.st", scene, mapping={"Pohon.Ax1": "X"})`` gives an :class:`STProgram`;
+``scene.run(prog)`` scans it, ``prog.Start = True`` writes a variable.
+"""
+
+from mcl.st.errors import PLCFault, STError
+from mcl.st.program import STProgram, compile_source, from_source, load
+
+__all__ = ["PLCFault", "STError", "STProgram", "compile_source", "from_source", "load"]

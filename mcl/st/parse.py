@@ -1,0 +1,123 @@
+"""Parse IEC 61131-3 Structured Text with blark into its typed tree (line and column on every
+node); a syntax error is one :class:`~mcl.st.errors.STError` naming ``file:line:column``.
+
+blark's grammar (TwinCAT's flavour) lacks the IEC exponent operator ``**``; it is added here as
+its own level between the unary operators and ``*``/``/``/``MOD`` (IEC 61131-3 ed. 3, Tab. 71),
+left-associative like every IEC operator.
+"""
+
+from __future__ import annotations
+
+import importlib.resources
+import re
+from functools import cache
+from typing import Any
+
+import blark.transform as tf
+import lark
+from blark import util
+
+from mcl.st.errors import STError
+
+_TERM = "expression_term: unary_expression ( MULTIPLY_OPERATOR unary_expression )*"
+_POWER = (
+    "expression_term: power_expression ( MULTIPLY_OPERATOR power_expression )*\n"
+    "power_expression: unary_expression ( POWER_OPERATOR unary_expression )*\n"
+    'POWER_OPERATOR: "**"\n'
+)
+_STARTS = ["iec_source"]
+_WORD = re.compile(r"\w+|\S")
+
+_READABLE = {
+    "SEMICOLON": "';'",
+    "ASSIGNMENT": "':='",
+    "IDENTIFIER": "a name",
+    "LPAR": "'('",
+    "RPAR": "')'",
+    "COMMA": "','",
+    "COLON": "':'",
+}
+"""Names for the grammar's terminals in messages."""
+
+
+class _Transformer(tf.GrammarTransformer):
+    """blark's transformer, with the ``**`` level as a binary operation."""
+
+    power_expression = tf._annotator_wrapper(tf.BinaryOperation.from_lark)
+
+
+@cache
+def parser() -> lark.Lark:
+    """blark's Earley parser with ``**`` (built once per process)."""
+    grammar = importlib.resources.files("blark").joinpath("iec.lark").read_text()
+    if _TERM not in grammar:
+        raise RuntimeError("blark's grammar changed: pin the version pyproject.toml names")
+    return lark.Lark(
+        grammar.replace(_TERM, _POWER),
+        parser="earley",
+        maybe_placeholders=True,
+        propagate_positions=True,
+        start=_STARTS,
+        import_paths=[str(importlib.resources.files("blark"))],
+    )
+
+
+def parse(source: str, filename: str) -> tf.SourceCode:
+    """The typed tree of ``source``.
+
+    Raises:
+        STError: a syntax error, ``filename:line:column: ...; expected ...``.
+    """
+    comments, cleaned = util.find_and_clean_comments(source)
+    try:
+        tree = parser().parse(cleaned, start="iec_source")
+    except lark.UnexpectedInput as error:
+        raise STError.at(
+            f"{filename}:{error.line}:{error.column}", _found(error, cleaned), _expected(error)
+        ) from None
+    transformer = _Transformer(comments=comments, fn=filename, source_code=source)
+    result: Any = transformer.transform(tree)
+    if not isinstance(result, tf.SourceCode):
+        raise STError.at(f"{filename}:1:1", "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
+    return result
+
+
+def _found(error: lark.UnexpectedInput, text: str) -> str:
+    """What the parser met."""
+    if isinstance(error, lark.UnexpectedToken):
+        token = error.token
+        return (
+            "unexpected end of the source" if token.type == "$END" else f"unexpected {str(token)!r}"
+        )
+    if isinstance(error, lark.UnexpectedCharacters):
+        word = _WORD.match(text, error.pos_in_stream or 0)
+        return f"unexpected {word.group() if word else error.char!r}"
+    return "unexpected end of the source"
+
+
+def _expected(error: lark.UnexpectedInput) -> str:
+    """What would have been valid there, in words."""
+    names: set[str] = set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
+    if {"IDENTIFIER", "INTEGER"} <= names or {"IDENTIFIER", "SIGNED_INTEGER"} <= names:
+        return "an expression"
+    words = sorted({_READABLE.get(n) or _pattern(n) for n in names} - {""}, key=_closing_first)
+    return ", ".join(words[:8]) if words else "a valid statement"
+
+
+def _closing_first(word: str) -> tuple[bool, str]:
+    """Order of the expected words: the closing keywords (``'END_IF'``) first."""
+    return not word.startswith("'END_"), word
+
+
+def _pattern(terminal: str) -> str:
+    """A terminal as its literal text (``'END_IF'``), or its name in lower case."""
+    try:
+        pattern = parser().get_terminal(terminal).pattern
+    except KeyError:
+        return terminal.lower()
+    if terminal.startswith("_"):
+        return repr(terminal[1:].upper())
+    if isinstance(pattern, lark.lexer.PatternStr):
+        return repr(pattern.value)
+    text = pattern.value
+    return repr(text.split("|")[0].strip("()?:i")) if text.isupper() else terminal.lower()

@@ -1,0 +1,232 @@
+"""A loaded ST program (:class:`STProgram`): call it once per PLC scan (``scene.run(prog)``);
+its variables read and write as attributes (``prog.Start = True``, ``prog.Head_X.Done``).
+
+A run-time fault (division by zero, an array index out of range) stops the program as a PLC
+stops: it is no longer scanned, every axis of the machine ramps down and is disabled
+(MC_Power's Enable dropping), and :attr:`STProgram.error` names ``file:line`` and the fault.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from mcl.st import functions as F  # noqa: N812
+from mcl.st.errors import STError, nearest
+from mcl.st.parse import parse
+from mcl.st.scope import Unit, Var
+from mcl.st.translate import Module, translate
+from mcl.st.types import Elementary
+
+
+class STProgram:
+    """One PROGRAM of an ST file, translated and compiled, bound to a machine's axes.
+
+    Args:
+        module: the translated file.
+        name: the PROGRAM (None: the file's first).
+        axes: the machine's axes by name (``mcl.Axis``).
+        clock: the simulated time [s]; None: ``period`` per scan from 0.
+        period: the scan period [s] when there is no clock.
+        filename: the ST file, for messages.
+    """
+
+    def __init__(
+        self,
+        module: Module,
+        name: str | None,
+        axes: Mapping[str, Any],
+        clock: Callable[[], float] | None,
+        period: float,
+        filename: str,
+    ) -> None:
+        programs = {n.upper(): n for n in module.programs}
+        if name is None:
+            name = next(iter(module.programs))
+        elif name.upper() not in programs:
+            raise STError.at(filename, f"no PROGRAM {name!r}", ", ".join(module.programs))
+        name = programs[name.upper()]
+        own = self.__dict__
+        own["name"], own["module"], own["filename"] = name, module, filename
+        own["error"], own["scans"], own["_axes"] = "", 0, dict(axes)
+        own["_where"] = f"<st {filename}>"
+        own["_vars"] = {
+            k: v
+            for k, v in {**module.globals, **module.programs[name]}.items()
+            if "." in v.code or v.constant is not None
+        }
+        clock = clock if clock is not None else (lambda: self.scans * period)
+        namespace: dict[str, Any] = {"__name__": f"st_{Path(filename).stem}"}
+        exec(compile(module.source, own["_where"], "exec"), namespace)
+        namespace["_axes"] = own["_axes"]
+        namespace["_clock"] = lambda: round(clock() * 1000.0)
+        namespace["_g"] = namespace["_Globals"]()
+        own["_namespace"] = namespace
+        own["_instance"] = namespace[_python(module, name)]()
+
+    @property
+    def stopped(self) -> bool:
+        """A run-time fault stopped the program."""
+        return bool(self.error)
+
+    @property
+    def done(self) -> bool:
+        """The program's BOOL ``done`` (if it declares one), else False."""
+        var = self._vars.get("done")
+        return bool(self._read(var)) if var is not None else False
+
+    @property
+    def step(self) -> str:
+        """The program's ``step`` variable as text (if it declares one), else its name; the
+        error once one stopped it."""
+        var = self._vars.get("step")
+        return self.error or (str(self._read(var)) if var is not None else self.name)
+
+    def __call__(self) -> None:
+        """One PLC scan (nothing once a fault stopped the program)."""
+        if self.error:
+            return
+        try:
+            self._instance()
+        except Exception as fault:  # any fault stops the PLC, never a traceback
+            self._stop(fault, sys.exc_info()[2])
+        self.__dict__["scans"] += 1
+
+    def _stop(self, fault: Exception, tb: TracebackType | None) -> None:
+        """Stop the PLC: the error names file:line; every axis ramps down and is disabled."""
+        line = 0
+        while tb is not None:
+            if tb.tb_frame.f_code.co_filename == self._where:
+                line = tb.tb_lineno
+            tb = tb.tb_next
+        st_line = self.module.st_lines[line - 1] if 0 < line <= len(self.module.st_lines) else 0
+        what = str(fault) if isinstance(fault, F.STFault) else f"{type(fault).__name__}: {fault}"
+        self.__dict__["error"] = f"{self.filename}:{st_line}: {what}; the program stopped"
+        for axis in self._axes.values():
+            axis.power(False)
+
+    # ------------------------------------------------------------------ variables
+    def _var(self, name: str) -> Var:
+        var = self._vars.get(name.lower())
+        if var is None:
+            close = nearest(name, [v.name for v in self._vars.values()])
+            hint = f" (did you mean {', '.join(close)}?)" if close else ""
+            raise AttributeError(f"{self.name} has no variable {name!r}{hint}")
+        return var
+
+    def _read(self, var: Var) -> Any:
+        if var.constant is not None:
+            return var.constant
+        owner, _, attr = var.code.partition(".")
+        target = self._namespace["_g"] if owner == "_g" else self._instance
+        return getattr(target, attr)
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return self._read(self._var(name))
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        var = self._var(name)
+        if var.constant is not None:
+            raise AttributeError(f"{var.name} is a CONSTANT")
+        owner, _, attr = var.code.partition(".")
+        target = self._namespace["_g"] if owner == "_g" else self._instance
+        setattr(target, attr, stored(value, var))
+
+    def variables(self) -> dict[str, Any]:
+        """Every variable of the program and the globals, by name, with its value now."""
+        return {v.name: self._read(v) for v in self._vars.values()}
+
+
+def stored(value: Any, var: Var) -> Any:
+    """``value`` as variable ``var`` holds it (wrapped, rounded, cut).
+
+    Raises:
+        TypeError: a value its type cannot take.
+    """
+    t = var.type
+    if not isinstance(t, Elementary):
+        return value
+    if t.kind == "bool":
+        return bool(value)
+    if t.kind == "string":
+        return str(value)[: t.bits]
+    if isinstance(value, bool | int | float) and math.isfinite(value):
+        if t.integral or t.kind == "time":
+            from mcl.st.types import wrap_value
+
+            return wrap_value(round(value), t) if t.integral else round(value)
+        return F.f32(float(value)) if t.name == "REAL" else float(value)
+    raise TypeError(f"{var.name} is {t.name}: {value!r} is no such value")
+
+
+def _python(module: Module, name: str) -> str:
+    from mcl.st.catalog import python_name
+
+    return python_name(name)
+
+
+def compile_source(
+    source: str,
+    filename: str = "program.st",
+    axes: Mapping[str, Any] | None = None,
+    mapping: Mapping[str, str] | None = None,
+) -> Module:
+    """Parse and translate an ST source; ``axes`` and ``mapping`` name what AXIS_REFs bind to.
+
+    Raises:
+        STError: a syntax or type error (``file:line:column: ...``), or a mapping onto an axis
+            the machine lacks.
+    """
+    axes = dict(axes or {})
+    for key, axis in (mapping or {}).items():
+        if axis not in axes:
+            raise STError.at(
+                filename,
+                f"the mapping {key} -> {axis!r} names no axis",
+                f"one of {', '.join(axes) or 'no axes'}",
+            )
+    unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}))
+    return translate(parse(source, filename), unit)
+
+
+def load(
+    path: str | Path,
+    machine: Any = None,
+    mapping: Mapping[str, str] | None = None,
+    program: str | None = None,
+    period: float = 0.01,
+) -> STProgram:
+    """Load the ST file ``path`` for ``machine`` (an :class:`mcl.Machine`, e.g. a scene, or
+    None): its axes bind AXIS_REFs by name or through ``mapping`` (``{"Pohon.Ax1": "X"}``),
+    its simulated time runs the timers.
+
+    Raises:
+        STError: the file is missing, or has a syntax or type error.
+    """
+    file = Path(path)
+    try:
+        source = file.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
+    return from_source(source, machine, mapping, program, str(file), period)
+
+
+def from_source(
+    source: str,
+    machine: Any = None,
+    mapping: Mapping[str, str] | None = None,
+    program: str | None = None,
+    filename: str = "program.st",
+    period: float = 0.01,
+) -> STProgram:
+    """As :func:`load`, from the text of a source."""
+    axes = dict(machine.axes) if machine is not None else {}
+    module = compile_source(source, filename, axes, mapping)
+    clock = (lambda: machine.time) if machine is not None else None
+    return STProgram(module, program, axes, clock, period, filename)

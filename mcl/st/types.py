@@ -1,0 +1,213 @@
+"""The data types of ST programs as the translator sees them: the elementary types with their
+IEC widths, and the derived ones (ARRAY, STRUCT, enumeration, function block, AXIS_REF).
+
+Values at run time: BOOL is ``bool``; every integer and bit string is ``int`` (wrapped to its
+width on every store); REAL and LREAL are ``float`` (REAL rounded to 32 bits); TIME is ``int``
+milliseconds, LTIME ``int`` nanoseconds; STRING is ``str``; an enumeration value is ``int``; an
+ARRAY is a ``list`` per dimension; a STRUCT and a function block are objects.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class Type:
+    """A data type; ``name`` as the source spells it in messages."""
+
+    name: str
+
+    @property
+    def kind(self) -> str:
+        """``bool``, ``int``, ``bits``, ``real``, ``time``, ``string``, ``enum``, ``array``,
+        ``struct``, ``block``, ``axis``, ``group``."""
+        return "?"
+
+
+@dataclass(frozen=True)
+class Elementary(Type):
+    """An elementary type: its kind and, for integers and bit strings, its width."""
+
+    base: str = "int"
+    bits: int = 0
+    signed: bool = False
+
+    @property
+    def kind(self) -> str:
+        return self.base
+
+    @property
+    def numeric(self) -> bool:
+        """Takes part in arithmetic (integers, bit strings, reals)."""
+        return self.base in ("int", "bits", "real")
+
+    @property
+    def integral(self) -> bool:
+        """An integer or a bit string."""
+        return self.base in ("int", "bits")
+
+
+def _ints() -> dict[str, Elementary]:
+    types: dict[str, Elementary] = {}
+    for bits, signed, unsigned, bitstring in (
+        (8, "SINT", "USINT", "BYTE"),
+        (16, "INT", "UINT", "WORD"),
+        (32, "DINT", "UDINT", "DWORD"),
+        (64, "LINT", "ULINT", "LWORD"),
+    ):
+        types[signed] = Elementary(signed, "int", bits, True)
+        types[unsigned] = Elementary(unsigned, "int", bits, False)
+        types[bitstring] = Elementary(bitstring, "bits", bits, False)
+    return types
+
+
+ELEMENTARY: dict[str, Elementary] = {
+    "BOOL": Elementary("BOOL", "bool", 1),
+    **_ints(),
+    "REAL": Elementary("REAL", "real", 32, True),
+    "LREAL": Elementary("LREAL", "real", 64, True),
+    "TIME": Elementary("TIME", "time", 32, False),
+    "LTIME": Elementary("LTIME", "time", 64, False),
+    "STRING": Elementary("STRING", "string", 80),
+}
+"""The elementary types by name; STRING's ``bits`` is its default length [characters]."""
+
+BOOL = ELEMENTARY["BOOL"]
+DINT = ELEMENTARY["DINT"]
+LINT = ELEMENTARY["LINT"]
+REAL = ELEMENTARY["REAL"]
+LREAL = ELEMENTARY["LREAL"]
+TIME = ELEMENTARY["TIME"]
+LTIME = ELEMENTARY["LTIME"]
+STRING = ELEMENTARY["STRING"]
+ANY_INT = Elementary("ANY_INT", "int", 0, True)
+"""An integer literal without a type: it takes the type of the other operand."""
+ANY_REAL = Elementary("ANY_REAL", "real", 0, True)
+"""A real literal without a type: REAL next to a REAL, else LREAL."""
+
+
+def string_of(length: int) -> Elementary:
+    """STRING(length)."""
+    return STRING if length == STRING.bits else Elementary(f"STRING({length})", "string", length)
+
+
+@dataclass(frozen=True)
+class ArrayType(Type):
+    """ARRAY[lo..hi, ...] OF element: ``dims`` the bounds of each dimension."""
+
+    element: Type = BOOL
+    dims: tuple[tuple[int, int], ...] = ()
+
+    @property
+    def kind(self) -> str:
+        return "array"
+
+
+@dataclass(frozen=True)
+class StructType(Type):
+    """A STRUCT: its fields in order, ``python`` the class generated for it."""
+
+    fields: dict[str, Type] = field(default_factory=dict, hash=False, compare=False)
+    python: str = ""
+
+    @property
+    def kind(self) -> str:
+        return "struct"
+
+
+@dataclass(frozen=True)
+class EnumType(Type):
+    """An enumeration: value name → integer; ``base`` the integer type (default INT)."""
+
+    values: dict[str, int] = field(default_factory=dict, hash=False, compare=False)
+    base: Elementary = ELEMENTARY["INT"]
+
+    @property
+    def kind(self) -> str:
+        return "enum"
+
+
+@dataclass(frozen=True)
+class Member:
+    """An input, output or in-out of a block or function: its type and direction."""
+
+    type: Type
+    direction: str
+    """``input``, ``output``, ``in_out`` or ``local``."""
+    python: str
+    """Its attribute name in the generated code."""
+
+
+@dataclass(frozen=True)
+class BlockType(Type):
+    """A function block type: mcl's (``origin`` ``mcl``), a standard one (``std``) or the
+    user's (``user``); ``members`` by their ST names, ``python`` the class to instantiate."""
+
+    origin: str = "user"
+    members: dict[str, Member] = field(default_factory=dict, hash=False, compare=False)
+    python: str = ""
+
+    @property
+    def kind(self) -> str:
+        return "block"
+
+
+@dataclass(frozen=True)
+class RefType(Type):
+    """AXIS_REF (``axis``) or AXES_GROUP_REF (``group``)."""
+
+    ref: str = "axis"
+
+    @property
+    def kind(self) -> str:
+        return self.ref
+
+
+AXIS = RefType("AXIS_REF", "axis")
+GROUP = RefType("AXES_GROUP_REF", "group")
+SEQUENCE = ArrayType("ARRAY OF LREAL", LREAL, ((0, -1),))
+"""A group block's per-member values (any length)."""
+
+
+def mask(t: Elementary) -> int:
+    """All bits of an integer type set."""
+    return (1 << t.bits) - 1
+
+
+def wrap_value(value: int, t: Elementary) -> int:
+    """``value`` wrapped to the width of integer type ``t``."""
+    if not t.bits:
+        return value
+    if t.signed:
+        half = 1 << (t.bits - 1)
+        return ((value + half) & mask(t)) - half
+    return value & mask(t)
+
+
+def wrap_code(code: str, t: Elementary) -> str:
+    """Python code wrapping the integer ``code`` to the width of ``t`` (inline arithmetic)."""
+    if not t.bits:
+        return code
+    if t.signed:
+        half = 1 << (t.bits - 1)
+        return f"(((({code}) + {half}) & {mask(t)}) - {half})"
+    return f"(({code}) & {mask(t)})"
+
+
+def wider(a: Elementary, b: Elementary) -> Elementary:
+    """The type of an integer operation on ``a`` and ``b``: the wider one (a literal takes
+    the other's)."""
+    if a is ANY_INT or not a.bits:
+        return b
+    if b is ANY_INT or not b.bits:
+        return a
+    return b if b.bits > a.bits else a
+
+
+def real_of(a: Elementary, b: Elementary) -> Elementary:
+    """The type of a real operation: LREAL unless no operand is LREAL and one is REAL."""
+    names = {a.name, b.name}
+    if "LREAL" in names:
+        return LREAL
+    return REAL if "REAL" in names else LREAL
