@@ -564,6 +564,8 @@ class GuiGate:
         self._update = gui._handle_gui_updates
         self._hold = gui._handle_gui_button_hold
         self._command = gui._handle_command_trigger
+        self._pages: dict[int, viser.GuiApi] = {}
+        """The pages' own GUIs (``client.gui``) the gate checks, by client id."""
         previous = _gates.get(server)
         if previous is not None:  # a new app on the same server: its gate replaces the old one
             websock.unregister_handler(messages.GuiUpdateMessage, previous._on_update)
@@ -588,6 +590,25 @@ class GuiGate:
         ``control`` is False)."""
         self.rules[handle._impl.uuid] = Rule(button_value, control, label)
 
+    def cover(self, client: viser.ClientHandle) -> None:
+        """Check what the page sends to its own elements (``client.gui``) too: their handlers
+        run only after the gate's checks (:meth:`uncover` when the page goes)."""
+        gui, connection = client.gui, client._websock_connection
+        for message_class, handler in (
+            (messages.GuiUpdateMessage, gui._handle_gui_updates),
+            (messages.GuiButtonHoldMessage, gui._handle_gui_button_hold),
+            (messages.CommandTriggerMessage, gui._handle_command_trigger),
+            (messages.FileTransferStartUpload, gui._handle_file_transfer_start),
+            (messages.FileTransferPart, gui._handle_file_transfer_part),
+        ):
+            if handler in connection._incoming_handlers.get(message_class, []):
+                connection.unregister_handler(message_class, handler)
+        self._pages[client.client_id] = gui
+
+    def uncover(self, client_id: int) -> None:
+        """The page went: forget its GUI."""
+        self._pages.pop(client_id, None)
+
     def forget(self, handles: Iterable[Any]) -> None:
         """Drop the rules of removed elements."""
         for handle in handles:
@@ -596,7 +617,10 @@ class GuiGate:
     def _refuse(self, client_id: int, uuid: str, label: str, reason: str) -> None:
         self._log.warning(f"client {client_id}: refused {label or uuid!r}: {reason}")
         self._on_refused(client_id, label, reason)
-        handle = self.server.gui._gui_input_handle_from_uuid.get(uuid)
+        page = self._pages.get(client_id)
+        handle = self.server.gui._gui_input_handle_from_uuid.get(uuid) or (
+            page._gui_input_handle_from_uuid.get(uuid) if page is not None else None
+        )
         client = self.server.get_clients().get(client_id)
         if handle is not None and client is not None and not isinstance(handle.value, bool):
             client._websock_connection.queue_message(
@@ -622,6 +646,9 @@ class GuiGate:
                 self._refuse(client_id, message.uuid, rule.label, "take control first")
                 return
             await self._update(client_id, message)
+            page = self._pages.get(client_id)
+            if page is not None:
+                await page._handle_gui_updates(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad GUI update: {_describe(exc)}")
 
@@ -636,6 +663,9 @@ class GuiGate:
                 self._refuse(client_id, message.uuid, rule.label, "take control first")
                 return
             await self._command(client_id, message)
+            page = self._pages.get(client_id)
+            if page is not None:
+                await page._handle_command_trigger(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad command message: {_describe(exc)}")
 
@@ -650,5 +680,8 @@ class GuiGate:
                 self._refuse(client_id, message.uuid, rule.label, "take control first")
                 return
             await self._hold(client_id, message)
+            page = self._pages.get(client_id)
+            if page is not None:
+                await page._handle_gui_button_hold(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad hold message: {_describe(exc)}")
