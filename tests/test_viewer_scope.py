@@ -6,13 +6,16 @@ two pages' scopes independent of each other)."""
 from __future__ import annotations
 
 import math
+import time
 from contextlib import nullcontext
 
 import numpy as np
 import pytest
 import viser
 
-from tests.test_viewer_session import FakeClock, run
+from tests.test_viewer_overlays import Page, choose
+from tests.test_viewer_session import FakeClock, run, wait_for
+from viewer.app import ViewerApp
 from viewer.operator import Move
 from viewer.recorder import Ring
 from viewer.scope import FREEZE, RUN, SINGLE, PageScope, plot_rows
@@ -29,7 +32,7 @@ from viewer.scope_capture import (
     threshold_trigger,
 )
 from viewer.scope_readout import MAX_POINTS, aligned, decimate, readout, recording_csv
-from viewer.scope_units import auto_range, display_of
+from viewer.scope_units import auto_range, display_of, settled_range
 from viewer.security import BoundedLog, GuiGate
 from viewer.session import HISTORY_SAMPLE, SCOPE_SECONDS, Session
 from viewer.snapshot import Channel
@@ -76,6 +79,13 @@ def test_an_auto_range_never_zooms_onto_a_single_dac_step() -> None:
     assert high - low >= 1.0
     low, high = auto_range(fe, np.array([-40.0, 25.0, math.nan]))
     assert low <= -40.0 and high >= 25.0 and high - low < 80.0
+
+
+def test_an_auto_range_stays_while_the_traces_fit_it() -> None:
+    assert settled_range(None, (0.0, 1.0)) == (0.0, 1.0)
+    assert settled_range((0.0, 1.0), (0.1, 0.9)) == (0.0, 1.0)  # fits: no redraw
+    assert settled_range((0.0, 1.0), (0.1, 1.2)) == (0.1, 1.2)  # grew out of it
+    assert settled_range((0.0, 1.0), (0.4, 0.45)) == (0.4, 0.45)  # too small in it
 
 
 # ------------------------------------------------------------------------------- triggers
@@ -324,6 +334,37 @@ def test_a_watchers_scope_settings_leave_the_operators_scope_alone(
     assert operator.channels[0] == "X following error" and operator.acquisition.running
     assert operator.acquisition.length == 2.0 and operator.recording.window.end > 0.45
     assert watcher.channels[0] == "Y position" and not watcher.acquisition.running
+
+
+def test_a_page_connected_gets_its_own_scope_and_its_bad_values_are_refused(
+    server: viser.ViserServer, gantry: tuple[Session, FakeClock], caplog: pytest.LogCaptureFixture
+) -> None:
+    session, _ = gantry
+    app = ViewerApp(session, server)
+    page = Page(server, (2.0, -2.0, 2.0))
+    try:
+        wait_for(lambda: app.pages.get(page.client_id) is not None)
+        mine = app.pages.get(page.client_id)
+        assert mine is not None and mine.scope is not None
+        scope = mine.scope
+        for handle, bad in (
+            (scope._slots[0], "__import__('os')"),
+            (scope._pre, math.nan),
+            (scope._level, 1e300),
+            (scope._length, 7),
+        ):
+            before = handle.value
+            choose(page, handle, bad)
+            time.sleep(0.2)
+            assert handle.value == before
+        choose(page, scope._slots[0], "Z velocity")  # a good value passes the gate
+        wait_for(lambda: scope.channels[0] == "Z velocity")
+        for label in ("Ch 1", "Pre-trigger [%]", "Level", "Recording"):
+            assert f"refused '{label}': invalid value" in caplog.text
+    finally:
+        page.close()
+    wait_for(lambda: app.pages.get(page.client_id) is None)
+    assert page.client_id not in app.gate._pages
 
 
 def test_a_trigger_is_no_trigger_until_chosen() -> None:

@@ -33,7 +33,7 @@ from viewer.scope_capture import (
     threshold_trigger,
 )
 from viewer.scope_readout import aligned, decimate, readout, readout_html, recording_csv
-from viewer.scope_units import Display, auto_range, display_of
+from viewer.scope_units import Display, auto_range, display_of, settled_range
 from viewer.security import GuiGate, choice_of, number_in
 from viewer.session import Session
 from viewer.snapshot import Snapshot
@@ -137,6 +137,7 @@ class PageScope:
         self._sent: tuple[Any, ...] = ()
         self._style: tuple[Any, ...] = ()
         self._text: dict[str, str] = {}
+        self._auto: dict[str, tuple[float, float]] = {}
         self._ui = SceneGui(gate, gui=gui)
         self._elements: list[Any] = []
         self._build(gui)
@@ -150,6 +151,7 @@ class PageScope:
         self.plot = gui.add_uplot(
             data=(np.zeros(2), np.zeros(2)),
             series=(viser.uplot.Series(label="t [s]"), viser.uplot.Series(label="")),
+            scales={"x": viser.uplot.Scale(time=False, auto=True)},
             legend={"live": False},
             aspect=1.9,
         )
@@ -434,8 +436,16 @@ class PageScope:
         return recording.values[recording.names.index(name)]
 
     def ranges(self) -> tuple[tuple[float, float], ...]:
-        """The y range of each channel shown [display unit]: manual or auto."""
-        return tuple(self.manual.get(n) or self._auto_range(n) for n in self.recording.names)
+        """The y range of each channel shown [display unit]: manual, or auto (kept while the
+        traces fit it well)."""
+        shown = []
+        for name in self.recording.names:
+            manual = self.manual.get(name)
+            if manual is None:
+                manual = settled_range(self._auto.get(name), self._auto_range(name))
+                self._auto[name] = manual
+            shown.append(manual)
+        return tuple(shown)
 
     def _send(self) -> None:
         """Send the plot when anything it shows changed."""

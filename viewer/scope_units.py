@@ -47,9 +47,9 @@ FOLLOWING_ERROR_UNITS: dict[str, tuple[str, float]] = {
 
 UNIT_TABLE: dict[str, tuple[str, float, float]] = {
     "µm": ("µm", 1.0, 1.0),
-    "mm": ("mm", 1.0, 0.001),
-    "m": ("m", 1.0, 1e-6),
-    "deg": ("deg", 1.0, 0.001),
+    "mm": ("mm", 1.0, 0.01),
+    "m": ("m", 1.0, 1e-5),
+    "deg": ("deg", 1.0, 0.01),
     "mdeg": ("mdeg", 1.0, 1.0),
     "mm/s": ("mm/s", 1.0, 0.1),
     "m/s": ("m/s", 1.0, 1e-4),
@@ -109,3 +109,16 @@ def _nice(value: float, rounding: Callable[[float], int]) -> float:
         return value
     step = 10.0 ** (math.floor(math.log10(abs(value))) - 3)
     return float(rounding(value / step)) * step
+
+
+def settled_range(
+    previous: tuple[float, float] | None, wanted: tuple[float, float], fill: float = 0.25
+) -> tuple[float, float]:
+    """``previous`` while ``wanted`` fits in it and spans at least ``fill`` of it, else
+    ``wanted``: an auto range that does not change (and redraw the plot) with every sample."""
+    if previous is None:
+        return wanted
+    low, high = previous
+    if low <= wanted[0] and wanted[1] <= high and wanted[1] - wanted[0] >= fill * (high - low):
+        return previous
+    return wanted
