@@ -277,9 +277,14 @@ def test_a_threshold_trigger_on_x_position_catches_the_crossing_within_one_sampl
     scope._trigger.value = "threshold"  # type: ignore[misc]
     scope._act(SINGLE)
     session.requests("X").move(Move("relative", 100.0, 400.0, 4000.0))
-    for _ in range(20):
-        run(session, clock, 0.1)
-        scope.update()
+    level = x0 + 50.0
+    crossed = math.inf  # the physics: the first PLC cycle with X past the level
+    for _ in range(1000):
+        session.advance(1)
+        x = session.scene.axes["X"].POS
+        if x >= level:
+            crossed = min(crossed, session.scene.runtime.time)
+    scope.update()
     window = scope.recording.window
     assert window.complete and window.trigger_at is not None
     t, values = session.recorder.series()
@@ -287,6 +292,7 @@ def test_a_threshold_trigger_on_x_position_catches_the_crossing_within_one_sampl
     position = values[names.index("X position")]
     first = t[np.flatnonzero(position >= x0 + 50.0)[0]]
     assert window.trigger_at == first  # the first recorder sample past the level
+    assert 0.0 <= window.trigger_at - crossed < HISTORY_SAMPLE  # within one sample
     assert window.start == pytest.approx(first - 0.05)  # 10 % pre-trigger
 
 
@@ -361,6 +367,13 @@ def test_a_page_connected_gets_its_own_scope_and_its_bad_values_are_refused(
         wait_for(lambda: scope.channels[0] == "Z velocity")
         for label in ("Ch 1", "Pre-trigger [%]", "Level", "Recording"):
             assert f"refused '{label}': invalid value" in caplog.text
+        session.load("single_axis")  # a new scene: the page's scope is built anew
+        session.advance(1)
+        app.frame()
+        rebuilt = app.pages.get(page.client_id)
+        assert rebuilt is not None and rebuilt.scope is not None and rebuilt.scope is not scope
+        assert rebuilt.scope._all == session.snapshot.channels != scope._all
+        assert set(rebuilt.scope.channels) <= {c.name for c in session.snapshot.channels}
     finally:
         page.close()
     wait_for(lambda: app.pages.get(page.client_id) is None)

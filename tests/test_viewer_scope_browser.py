@@ -104,6 +104,7 @@ def test_the_peak_following_error_of_a_400_mm_s_move_with_the_a_to_peak_cursor(
     recording = scope.recording
     wait_for(lambda: "[µm]" in chart(page)[0]["axes"], 15.0, "the µm axis")
     assert chart(page)[0]["series"][1] == "X following error [µm]"
+    assert "--" not in page.locator(".u-legend").first.inner_text()  # no empty values
     page.get_by_role("tab", name="Cursors").click()
     page.get_by_role("button", name="A to peak", exact=True).click()
     peak = recording.values[0][np.argmax(np.abs(recording.values[0]))]
