@@ -73,13 +73,6 @@ class Page:
             self.scope.remove()
         self.overview = self.scope = None
 
-    def remove(self) -> None:
-        """The page went: its panels and the gate's rules of its controls go."""
-        self.clear()
-        self._gate.uncover(self.client.client_id)
-        for panel in (self._scope_panel, self._overview_panel):
-            panel.remove()
-
 
 class Pages:
     """The pages open, by client id (thread-safe).
