@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 import time
 from contextlib import nullcontext
+from types import SimpleNamespace
+from typing import cast
 
 import numpy as np
 import pytest
@@ -17,6 +19,8 @@ from tests.test_viewer_overlays import Page, choose
 from tests.test_viewer_session import FakeClock, run, wait_for
 from viewer.app import ViewerApp
 from viewer.operator import Move
+from viewer.page import Page as ViewerPage
+from viewer.page import Pages
 from viewer.recorder import Ring
 from viewer.scope import FREEZE, RUN, SINGLE, PageScope, plot_rows
 from viewer.scope_capture import (
@@ -36,6 +40,7 @@ from viewer.scope_units import auto_range, display_of, settled_range
 from viewer.security import BoundedLog, GuiGate
 from viewer.session import HISTORY_SAMPLE, SCOPE_SECONDS, Session
 from viewer.snapshot import Channel
+from viewer.step_test import STEP_WINDOW
 
 DT = 0.002
 """Sample period [s] of the hand-made rings."""
@@ -382,3 +387,31 @@ def test_a_page_connected_gets_its_own_scope_and_its_bad_values_are_refused(
 def test_a_trigger_is_no_trigger_until_chosen() -> None:
     assert Trigger().kind == FREE_RUN
     assert error_trigger(CHANNELS).rows == (1,)
+
+
+def test_a_step_test_from_a_page_is_recorded_in_that_pages_scope(
+    server: viser.ViserServer, gate: GuiGate, gantry: tuple[Session, FakeClock]
+) -> None:
+    session, clock = gantry
+    pages = Pages(session, gate)
+    scope = scope_of(server, gate, session)
+    pages._pages[7] = cast(ViewerPage, SimpleNamespace(scope=scope))
+    session.on_step = pages.show_step
+    session.requests("X").set_power(True)
+    run(session, clock, 0.5)
+    before = session.scene.joint_position("X")
+    session.requests("X").step_test(1.0, client_id=7)
+    for _ in range(int(1.2 * STEP_WINDOW / session.scene.runtime.plc_period)):
+        session.advance(1)
+    scope.update()
+    recording = scope.recording
+    assert recording.window.complete
+    assert [h.split(" [")[0] for h in recording.headers()] == [
+        "X set point",
+        "X position",
+        "X following error",
+    ]
+    position = np.asarray(recording.values[1])
+    assert position[-1] - position[0] == pytest.approx(1.0, abs=0.01)  # the step [mm]
+    moved = 1e3 * (session.scene.joint_position("X") - before)  # on the joint [mm]
+    assert moved == pytest.approx(1.0, abs=0.01)

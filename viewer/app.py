@@ -181,6 +181,7 @@ class ViewerApp:
         self._gui = SceneGui(self.gate)
         self.pages = Pages(session, self.gate, self._plot)
         """Each page's own panels (overview, scope)."""
+        session.on_step = self.pages.show_step
         server.on_client_connect(self.operators.connect)
         server.on_client_disconnect(self.operators.disconnect)
         server.on_client_connect(self.pages.connect)

@@ -14,6 +14,7 @@ from viewer.scope import PageScope
 from viewer.security import GuiGate
 from viewer.session import Session
 from viewer.snapshot import Snapshot
+from viewer.widgets import gated_button
 
 COLUMN_WIDTH = 680
 """Width [CSS px] of a page's left column (overview and scope)."""
@@ -46,6 +47,7 @@ class Page:
         self._scope_panel.dock_below(self._overview_panel)
         self._scope = self._scope_panel.add_tab("Scope", icon=viser.Icon.CHART_LINE)
         self.overview: Overview | None = None
+        self._reset_peaks: viser.GuiButtonHandle | None = None
         self.scope: PageScope | None = None
         """The page's scope (None until built)."""
         self.generation = -1
@@ -58,6 +60,14 @@ class Page:
         gui = self.client.gui
         with self._axes:
             self.overview = Overview(gui)
+            self._reset_peaks = gated_button(
+                self._gate,
+                "Reset peaks",
+                gui=gui,
+                icon=viser.Icon.REFRESH,
+                hint="The peak following errors start again from now (for every page)",
+            )
+            self._reset_peaks.on_click(lambda event: self.session.reset_peaks())
         with self._scope:
             self.scope = PageScope(
                 gui, self._gate, self.session, snapshot, self.client.atomic, self._redraw
@@ -68,6 +78,10 @@ class Page:
         """Remove the scene's panels' content."""
         if self.overview is not None:
             self.overview.remove()
+        if self._reset_peaks is not None:
+            self._gate.forget([self._reset_peaks])
+            self._reset_peaks.remove()
+            self._reset_peaks = None
         if self.scope is not None:
             self.scope.remove()
         self.overview = self.scope = None
@@ -101,6 +115,14 @@ class Pages:
             page = self._pages.pop(client.client_id, None)
         if page is not None:
             page.clear()
+
+    def show_step(self, client_id: int, axis: str, start: float, length: float) -> None:
+        """A step test started from page ``client_id``: that page's scope records the axis'
+        set point, position and following error from ``start`` [s] for ``length`` [s]."""
+        page = self.get(client_id)
+        if page is not None and page.scope is not None:
+            channels = [f"{axis} set point", f"{axis} position", f"{axis} following error"]
+            page.scope.capture(channels, start, length)
 
     def get(self, client_id: int) -> Page | None:
         """The page of ``client_id`` (None: not open)."""
