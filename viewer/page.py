@@ -1,6 +1,6 @@
-"""The layout of each page (each browser tab): a left column of its own panels, the all-axes
-overview on top and the scope docked below it (wide), the control panel on the right and the
-3-D canvas between them. What a page does there (its scope's settings) is its own."""
+"""The layout of each page (each browser tab): a wide panel of its own on the left, the all-axes
+overview on top and the scope below it, the control panel on the right and the 3-D canvas
+between them. What a page does there (its scope's settings) is its own."""
 
 from __future__ import annotations
 
@@ -39,13 +39,14 @@ class Page:
     ) -> None:
         self.client, self._gate, self.session, self._redraw = client, gate, session, redraw
         gui = client.gui
-        self._overview_panel = gui.add_panel()
-        self._overview_panel.dock_left()
-        self._overview_panel.set_width(COLUMN_WIDTH)
-        self._axes = self._overview_panel.add_tab("Axes", icon=viser.Icon.LIST_DETAILS)
-        self._scope_panel = gui.add_panel()
-        self._scope_panel.dock_below(self._overview_panel)
-        self._scope = self._scope_panel.add_tab("Scope", icon=viser.Icon.CHART_LINE)
+        # one panel: docked panels split a column in equal halves (viser 1.1.1 has no split
+        # weights), which leaves the overview half empty and the scope cramped
+        self._panel = gui.add_panel()
+        self._panel.dock_left()
+        self._panel.set_width(COLUMN_WIDTH)
+        with self._panel.add_tab("Axes and scope", icon=viser.Icon.CHART_LINE):
+            self._axes = gui.add_folder("All axes")
+            self._scope = gui.add_folder("Scope")
         self.overview: Overview | None = None
         self._reset_peaks: viser.GuiButtonHandle | None = None
         self.scope: PageScope | None = None

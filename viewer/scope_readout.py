@@ -58,14 +58,17 @@ def readout(recording: Recording, a: float, b: float) -> Readout:
 
 def readout_html(r: Readout) -> str:
     """The read-out table: channel, last value, A, B, B−A; then Δt and 1/Δt."""
+    cell = '<td style="text-align:right;font-family:monospace">'
     rows = "".join(
-        f"<tr><td>{html.escape(h)}</td><td>{_number(last)}</td><td>{_number(a)}</td>"
-        f"<td>{_number(b)}</td><td>{_number(b - a)}</td></tr>"
+        f"<tr><td>{html.escape(h)}</td>{cell}{_number(last)}</td>{cell}{_number(a)}</td>"
+        f"{cell}{_number(b)}</td>{cell}{_number(b - a)}</td></tr>"
         for h, last, a, b in zip(r.headers, r.last, r.at_a, r.at_b, strict=True)
     )
+    head = '<th style="text-align:right">'
     return (
-        '<table style="font-size:0.8em;width:100%"><tr><th>channel</th><th>last</th>'
-        f"<th>A = {r.a:.4f} s</th><th>B = {r.b:.4f} s</th><th>B−A</th></tr>{rows}</table>"
+        '<table style="font-size:0.8em;width:100%;table-layout:fixed">'
+        f'<tr><th style="text-align:left;width:34%">channel</th>{head}last</th>'
+        f"{head}A = {r.a:.4f} s</th>{head}B = {r.b:.4f} s</th>{head}B−A</th></tr>{rows}</table>"
         f"<div>Δt = {r.dt * 1e3:.3f} ms, 1/Δt = {_number(r.rate)} Hz</div>"
     )
 

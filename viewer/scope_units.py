@@ -46,17 +46,17 @@ FOLLOWING_ERROR_UNITS: dict[str, tuple[str, float]] = {
 """The following error of an axis of a unit (key) in a finer unit: (unit, factor)."""
 
 UNIT_TABLE: dict[str, tuple[str, float, float]] = {
-    "µm": ("µm", 1.0, 1.0),
+    "µm": ("µm", 1.0, 10.0),
     "mm": ("mm", 1.0, 0.01),
     "m": ("m", 1.0, 1e-5),
     "deg": ("deg", 1.0, 0.01),
-    "mdeg": ("mdeg", 1.0, 1.0),
+    "mdeg": ("mdeg", 1.0, 10.0),
     "mm/s": ("mm/s", 1.0, 0.1),
     "m/s": ("m/s", 1.0, 1e-4),
     "deg/s": ("deg/s", 1.0, 0.1),
     "m/min": ("m/min", 1.0, 0.01),
-    "V": ("V", 1.0, 0.05),
-    "mV": ("V", 1e-3, 0.05),
+    "V": ("V", 1.0, 0.1),
+    "mV": ("V", 1e-3, 0.1),
     "bar": ("bar", 1.0, 0.05),
     "Pa": ("bar", 1e-5, 0.05),
     "MPa": ("bar", 10.0, 0.05),
