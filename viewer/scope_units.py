@@ -47,9 +47,9 @@ FOLLOWING_ERROR_UNITS: dict[str, tuple[str, float]] = {
 
 UNIT_TABLE: dict[str, tuple[str, float, float]] = {
     "µm": ("µm", 1.0, 10.0),
-    "mm": ("mm", 1.0, 0.01),
-    "m": ("m", 1.0, 1e-5),
-    "deg": ("deg", 1.0, 0.01),
+    "mm": ("mm", 1.0, 0.05),
+    "m": ("m", 1.0, 5e-5),
+    "deg": ("deg", 1.0, 0.1),
     "mdeg": ("mdeg", 1.0, 10.0),
     "mm/s": ("mm/s", 1.0, 0.1),
     "m/s": ("m/s", 1.0, 1e-4),
