@@ -48,6 +48,20 @@ from viewer.snapshot import RESULTS_SHOWN, AxisView
 ROOT = Path(__file__).resolve().parent.parent
 
 
+CAMERA = {
+    "wxyz": [1.0, 0.0, 0.0, 0.0],
+    "position": [2.0, -2.0, 2.0],
+    "fov": 1.0,
+    "near": 0.01,
+    "far": 100.0,
+    "image_height": 600,
+    "image_width": 800,
+    "look_at": [0.0, 0.0, 0.0],
+    "up_direction": [0.0, 0.0, 1.0],
+}
+"""The camera a page reports when it opens (a ViewerCameraMessage's fields)."""
+
+
 class FakeClock:
     """A wall clock the test moves by hand [s]; with ``tick`` > 0 it also moves on by that much
     each time it is read."""
@@ -1289,18 +1303,7 @@ def test_over_the_websocket_control_hotkey_steps_and_value_checks(guarded: Viewe
             subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
         ) as connection:
             await asyncio.wait_for(connection.recv(), 10)
-            camera = {
-                "wxyz": [1.0, 0.0, 0.0, 0.0],
-                "position": [2.0, -2.0, 2.0],
-                "fov": 1.0,
-                "near": 0.01,
-                "far": 100.0,
-                "image_height": 600,
-                "image_width": 800,
-                "look_at": [0.0, 0.0, 0.0],
-                "up_direction": [0.0, 0.0, 1.0],
-            }
-            await connection.send(send("ViewerCameraMessage", **camera))  # viser: connected
+            await connection.send(send("ViewerCameraMessage", **CAMERA))  # viser: connected
             for _ in range(100):
                 if app.control_pages.pages:
                     break
