@@ -15,6 +15,7 @@ import pytest
 
 from tests.test_viewer_browser import browser, wait_for
 from viewer.operator import Move
+from viewer.page import COLUMN_WIDTH
 from viewer.page import Page as ViewerPage
 from viewer.scope import PageScope
 from viewer.server import Viewer
@@ -96,7 +97,8 @@ def test_the_peak_following_error_of_a_400_mm_s_move_with_the_a_to_peak_cursor(
 ) -> None:
     page, mine = operator
     scope = scope_of(mine)
-    assert 640 <= chart(page)[0]["width"] <= 700  # a wide plot in the left column
+    width = chart(page)[0]["width"]
+    assert 0.85 * COLUMN_WIDTH <= width <= COLUMN_WIDTH  # a wide plot in the left column
     page.get_by_role("button", name="Single", exact=True).click()
     wait_for(lambda: scope.acquisition.single, 10.0, "Single to arrive")
     viewer.session.requests("X").move(Move("relative", 150.0, 400.0, 4000.0))

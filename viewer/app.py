@@ -187,6 +187,9 @@ class ViewerApp:
         server.on_client_connect(self.pages.connect)
         server.on_client_disconnect(self.pages.disconnect)
         _light(server, environment_map)
+        # docked, the control panel leaves the canvas to the machine (floating, it covers its
+        # right part: the camera frames the machine in the middle of the canvas)
+        server.gui.main_panel.dock_right()
         self._build_static_gui()
         self._rebuild(session.snapshot)
 

@@ -16,7 +16,7 @@ from viewer.session import Session
 from viewer.snapshot import Snapshot
 from viewer.widgets import gated_button
 
-COLUMN_WIDTH = 680
+COLUMN_WIDTH = 660
 """Width [CSS px] of a page's left column (overview and scope)."""
 
 
