@@ -3,7 +3,9 @@ node); a syntax error is one :class:`~mcl.st.errors.STError` naming ``file:line:
 
 blark's grammar (TwinCAT's flavour) lacks the IEC exponent operator ``**``; it is added here as
 its own level between the unary operators and ``*``/``/``/``MOD`` (IEC 61131-3 ed. 3, Tab. 71),
-left-associative like every IEC operator.
+left-associative like every IEC operator. It also lacks IEC's CONFIGURATION (B.1.7): added here
+as CONFIGURATION, RESOURCE ... ON, TASK (name and ``:=`` items) and PROGRAM ... WITH; its nodes
+stay lark trees (read by :mod:`mcl.st.task`).
 """
 
 from __future__ import annotations
@@ -25,6 +27,23 @@ _POWER = (
     "power_expression: unary_expression ( POWER_OPERATOR unary_expression )*\n"
     'POWER_OPERATOR: "**"\n'
 )
+_LIBRARY = "_library_element_declaration: data_type_declaration"
+_CONFIGURATION = r"""
+configuration_declaration: _CONFIGURATION IDENTIFIER _configuration_body _END_CONFIGURATION ";"*
+_configuration_body: [ global_var_declarations ] resource_declaration+
+resource_declaration: _RESOURCE IDENTIFIER _ON IDENTIFIER _resource_body _END_RESOURCE ";"*
+_resource_body: [ global_var_declarations ] task_configuration* program_configuration*
+task_configuration: _TASK IDENTIFIER "(" task_initialization ( "," task_initialization )* ")" ";"+
+task_initialization: IDENTIFIER ":=" expression
+program_configuration: _PROGRAM IDENTIFIER [ _WITH IDENTIFIER ] ":" IDENTIFIER ";"+
+_CONFIGURATION: /\bCONFIGURATION\b/i
+_END_CONFIGURATION: /\bEND_CONFIGURATION\b/i
+_RESOURCE: /\bRESOURCE\b/i
+_END_RESOURCE: /\bEND_RESOURCE\b/i
+_ON: /\bON\b/i
+_TASK: /\bTASK\b/i
+_WITH: /\bWITH\b/i
+"""
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
 
@@ -50,16 +69,22 @@ class _Transformer(tf.GrammarTransformer):
 def parser() -> lark.Lark:
     """blark's Earley parser with ``**`` (built once per process)."""
     grammar = importlib.resources.files("blark").joinpath("iec.lark").read_text()
-    if _TERM not in grammar:
+    if _TERM not in grammar or _LIBRARY not in grammar:
         raise RuntimeError("blark's grammar changed: pin the version pyproject.toml names")
     return lark.Lark(
-        grammar.replace(_TERM, _POWER),
+        _extended(grammar),
         parser="earley",
         maybe_placeholders=True,
         propagate_positions=True,
         start=_STARTS,
         import_paths=[str(importlib.resources.files("blark"))],
     )
+
+
+def _extended(grammar: str) -> str:
+    """blark's grammar with ``**`` and CONFIGURATION."""
+    library = _LIBRARY + " | configuration_declaration"
+    return grammar.replace(_TERM, _POWER).replace(_LIBRARY, library) + _CONFIGURATION
 
 
 def parse(source: str, filename: str) -> tf.SourceCode:

@@ -17,8 +17,10 @@ from typing import Any
 
 from mcl.st import functions as F  # noqa: N812
 from mcl.st.errors import STError, nearest
+from mcl.st.io import channels
 from mcl.st.parse import parse
 from mcl.st.scope import Unit, Var
+from mcl.st.task import ticks
 from mcl.st.translate import Module, translate
 from mcl.st.types import Elementary
 
@@ -30,8 +32,9 @@ class STProgram:
         module: the translated file.
         name: the PROGRAM (None: the file's first).
         axes: the machine's axes by name (``mcl.Axis``).
-        clock: the simulated time [s]; None: ``period`` per scan from 0.
-        period: the scan period [s] when there is no clock.
+        clock: the simulated time [s]; None: the task's interval per run from 0.
+        period: the PLC period it is called at [s] (the scene's); None: its TASK's INTERVAL
+            (or 10 ms without a TASK).
         filename: the ST file, for messages.
     """
 
@@ -41,25 +44,33 @@ class STProgram:
         name: str | None,
         axes: Mapping[str, Any],
         clock: Callable[[], float] | None,
-        period: float,
+        period: float | None,
         filename: str,
     ) -> None:
         programs = {n.upper(): n for n in module.programs}
+        task = module.task
         if name is None:
-            name = next(iter(module.programs))
+            name = (
+                task.program if task is not None and task.program else next(iter(programs.values()))
+            )
         elif name.upper() not in programs:
             raise STError.at(filename, f"no PROGRAM {name!r}", ", ".join(module.programs))
         name = programs[name.upper()]
         own = self.__dict__
         own["name"], own["module"], own["filename"] = name, module, filename
         own["error"], own["scans"], own["_axes"] = "", 0, dict(axes)
+        if period is None:
+            period = task.interval if task is not None else 0.01
+        own["every"] = ticks(task, period) if task is not None else 1
+        """The PLC scans per run of the program (its TASK's INTERVAL over the scene's period)."""
+        own["_calls"] = 0
         own["_where"] = f"<st {filename}>"
         own["_vars"] = {
             k: v
             for k, v in {**module.globals, **module.programs[name]}.items()
             if "." in v.code or v.constant is not None
         }
-        clock = clock if clock is not None else (lambda: self.scans * period)
+        clock = clock if clock is not None else (lambda: self.scans * period * self.every)
         namespace: dict[str, Any] = {"__name__": f"st_{Path(filename).stem}"}
         exec(compile(module.source, own["_where"], "exec"), namespace)
         namespace["_axes"] = own["_axes"]
@@ -87,9 +98,14 @@ class STProgram:
         return self.error or (str(self._read(var)) if var is not None else self.name)
 
     def __call__(self) -> None:
-        """One PLC scan (nothing once a fault stopped the program)."""
+        """One PLC scan (nothing once a fault stopped the program); the program runs every
+        :attr:`every`-th scan (its TASK's INTERVAL)."""
         if self.error:
             return
+        if self.every > 1:
+            calls = self.__dict__["_calls"] = self._calls + 1
+            if (calls - 1) % self.every:
+                return
         try:
             self._instance()
         except Exception as fault:  # any fault stops the PLC, never a traceback
@@ -185,13 +201,13 @@ def compile_source(
     """
     axes = dict(axes or {})
     for key, axis in (mapping or {}).items():
-        if axis not in axes:
+        if axis not in axes and not (axis.startswith("%") or "." in axis):
             raise STError.at(
                 filename,
                 f"the mapping {key} -> {axis!r} names no axis",
                 f"one of {', '.join(axes) or 'no axes'}",
             )
-    unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}))
+    unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}), channels=channels(axes))
     return translate(parse(source, filename), unit)
 
 
@@ -200,14 +216,17 @@ def load(
     machine: Any = None,
     mapping: Mapping[str, str] | None = None,
     program: str | None = None,
-    period: float = 0.01,
+    period: float | None = None,
 ) -> STProgram:
     """Load the ST file ``path`` for ``machine`` (an :class:`mcl.Machine`, e.g. a scene, or
     None): its axes bind AXIS_REFs by name or through ``mapping`` (``{"Pohon.Ax1": "X"}``),
-    its simulated time runs the timers.
+    its I/O located variables (``AT %IX0.2``) or named I/O (``{"Knife": "S.DO0"}``, see
+    :mod:`mcl.st.io`), its simulated time runs the timers; a TASK's INTERVAL runs the program
+    every n-th scan of the machine's PLC period (``period`` without a machine).
 
     Raises:
-        STError: the file is missing, or has a syntax or type error.
+        STError: the file is missing, has a syntax or type error, an I/O address the machine
+            lacks, or a TASK INTERVAL that is no multiple of the PLC period.
     """
     file = Path(path)
     try:
@@ -223,10 +242,12 @@ def from_source(
     mapping: Mapping[str, str] | None = None,
     program: str | None = None,
     filename: str = "program.st",
-    period: float = 0.01,
+    period: float | None = None,
 ) -> STProgram:
     """As :func:`load`, from the text of a source."""
     axes = dict(machine.axes) if machine is not None else {}
     module = compile_source(source, filename, axes, mapping)
     clock = (lambda: machine.time) if machine is not None else None
+    runtime = getattr(machine, "runtime", None)
+    period = runtime.plc_period if runtime is not None else period
     return STProgram(module, program, axes, clock, period, filename)
