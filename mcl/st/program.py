@@ -63,7 +63,6 @@ class STProgram:
             period = task.interval if task is not None else 0.01
         own["every"] = ticks(task, period) if task is not None else 1
         """The PLC scans per run of the program (its TASK's INTERVAL over the scene's period)."""
-        own["_calls"] = 0
         own["_where"] = f"<st {filename}>"
         own["_vars"] = {
             k: v
@@ -75,9 +74,18 @@ class STProgram:
         exec(compile(module.source, own["_where"], "exec"), namespace)
         namespace["_axes"] = own["_axes"]
         namespace["_clock"] = lambda: round(clock() * 1000.0)
-        namespace["_g"] = namespace["_Globals"]()
         own["_namespace"] = namespace
-        own["_instance"] = namespace[_python(module, name)]()
+        self.restart()
+
+    def restart(self) -> None:
+        """A cold restart: every variable at its initial value, every block new, the fault
+        cleared; the program is scanned again (the axes as the stop left them: its MC_Power
+        and MC_Reset bring them back)."""
+        namespace = self._namespace
+        namespace["_g"] = namespace["_Globals"]()
+        own = self.__dict__
+        own["_instance"] = namespace[_python(self.module, self.name)]()
+        own["error"], own["_calls"] = "", 0
 
     @property
     def stopped(self) -> bool:
