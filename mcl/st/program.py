@@ -1,5 +1,7 @@
 """A loaded ST program (:class:`STProgram`): call it once per PLC scan (``scene.run(prog)``);
 its variables read and write as attributes (``prog.Start = True``, ``prog.Head_X.Done``).
+Like a Python demo it reports ``done``, ``step`` and ``error`` from the program's variables of
+those names (a ``step`` of an enumeration by its value's name).
 
 A run-time fault (division by zero, an array index out of range) stops the program as a PLC
 stops: it is no longer scanned, every axis of the machine ramps down and is disabled
@@ -22,7 +24,7 @@ from mcl.st.parse import parse
 from mcl.st.scope import Unit, Var
 from mcl.st.task import ticks
 from mcl.st.translate import Module, translate
-from mcl.st.types import Elementary
+from mcl.st.types import Elementary, EnumType
 
 
 class STProgram:
@@ -58,7 +60,7 @@ class STProgram:
         name = programs[name.upper()]
         own = self.__dict__
         own["name"], own["module"], own["filename"] = name, module, filename
-        own["error"], own["scans"], own["_axes"] = "", 0, dict(axes)
+        own["fault"], own["scans"], own["_axes"] = "", 0, dict(axes)
         if period is None:
             period = task.interval if task is not None else 0.01
         own["every"] = ticks(task, period) if task is not None else 1
@@ -74,6 +76,7 @@ class STProgram:
         exec(compile(module.source, own["_where"], "exec"), namespace)
         namespace["_axes"] = own["_axes"]
         namespace["_clock"] = lambda: round(clock() * 1000.0)
+        namespace["_now"] = clock
         own["_namespace"] = namespace
         self.restart()
 
@@ -85,12 +88,19 @@ class STProgram:
         namespace["_g"] = namespace["_Globals"]()
         own = self.__dict__
         own["_instance"] = namespace[_python(self.module, self.name)]()
-        own["error"], own["_calls"] = "", 0
+        own["fault"], own["_calls"] = "", 0
 
     @property
     def stopped(self) -> bool:
         """A run-time fault stopped the program."""
-        return bool(self.error)
+        return bool(self.fault)
+
+    @property
+    def error(self) -> str:
+        """The run-time fault that stopped the program (``file:line: ...``), else the program's
+        own STRING ``error`` (if it declares one: why its sequence stopped), else empty."""
+        var = self._vars.get("error")
+        return self.fault or (str(self._read(var)) if var is not None else "")
 
     @property
     def done(self) -> bool:
@@ -103,12 +113,17 @@ class STProgram:
         """The program's ``step`` variable as text (if it declares one), else its name; the
         error once one stopped it."""
         var = self._vars.get("step")
-        return self.error or (str(self._read(var)) if var is not None else self.name)
+        if self.error or var is None:
+            return self.error or self.name
+        value = self._read(var)
+        if isinstance(var.type, EnumType):  # the value's name, as declared
+            return next((n for n, v in var.type.values.items() if v == value), str(value))
+        return str(value)
 
     def __call__(self) -> None:
         """One PLC scan (nothing once a fault stopped the program); the program runs every
         :attr:`every`-th scan (its TASK's INTERVAL)."""
-        if self.error:
+        if self.fault:
             return
         if self.every > 1:
             calls = self.__dict__["_calls"] = self._calls + 1
@@ -129,7 +144,7 @@ class STProgram:
             tb = tb.tb_next
         st_line = self.module.st_lines[line - 1] if 0 < line <= len(self.module.st_lines) else 0
         what = str(fault) if isinstance(fault, F.STFault) else f"{type(fault).__name__}: {fault}"
-        self.__dict__["error"] = f"{self.filename}:{st_line}: {what}; the program stopped"
+        self.__dict__["fault"] = f"{self.filename}:{st_line}: {what}; the program stopped"
         for axis in self._axes.values():
             axis.power(False)
 
