@@ -2,6 +2,7 @@
 to their Python versions: the same scans from the same start, every trace sample equal."""
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -11,7 +12,7 @@ import scenes
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "st"
 
 
-def run_to_done(machine: str, program_of) -> tuple[int, object, scenes.Scene]:
+def run_to_done(machine: str, program_of) -> tuple[int, Any, scenes.Scene]:
     """Run a program from the demo start until it is done; the scans it took, it, the scene."""
     scene = scenes.load(machine, start=scenes.definition(machine).demo_start, trace_seconds=1e4)
     program = program_of(scene)

@@ -225,7 +225,8 @@ def _group(unit: Unit, target: str, value: Any, scope: Scope | None) -> str:
                 unit, element, f"AXES_GROUP_REF has no {element.name}", "CornerTolerance"
             )
         tolerance = Expressions(unit, scope or unit.globals).expr(element.value)
-        if not (tolerance.const and tolerance.type.numeric and tolerance.value > 0):
+        numeric = isinstance(tolerance.type, Elementary) and tolerance.type.numeric
+        if not (tolerance.const and numeric and tolerance.value > 0):
             raise STErrorAt(
                 unit, element, f"CornerTolerance {tolerance.code}", "a constant > 0 [mm]"
             )
