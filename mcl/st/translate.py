@@ -12,6 +12,7 @@ import blark.transform as tf
 from mcl.st.catalog import python_name
 from mcl.st.declarations import STErrorAt, constant_of, declare_type, initial, spec_type
 from mcl.st.expressions import Expressions
+from mcl.st.hoist import hoisted as hoisted_inputs
 from mcl.st.scope import Callable_, Scope, Unit, Var
 from mcl.st.statements import Emitter, Statements
 from mcl.st.task import Task, configurations, task_of
@@ -188,12 +189,15 @@ class POU:
             out.emit("return _r")
             out.depth -= 1
         else:
+            hoisted = hoisted_inputs(x, self.node.body, lambda m, v, p: x.convert(v, m.type, p))
             out.emit(f"class {self.python}:")
             out.depth += 1
             out.emit("def __init__(self):")
             out.depth += 1
-            for line in self.init or ["pass"]:
+            for line in [*self.init, *(f"{i}.{m} = {c}" for (i, m), c in hoisted.items())]:
                 out.emit(line)
+            if not self.init:
+                out.emit("pass")
             out.depth -= 1
             out.emit("")
             reads, writes = self.unit.reads + self.reads, self.unit.writes + self.writes
@@ -208,7 +212,9 @@ class POU:
             out.depth += 1
             for line in self.temps:
                 out.emit(line)
-            Statements(x, out).block(self.node.body)
+            statements = Statements(x, out)
+            statements.hoisted = hoisted
+            statements.block(self.node.body)
             out.depth -= 2
         out.emit("")
         out.emit("")
