@@ -164,6 +164,8 @@ def default(unit: Unit, t: Type) -> str:
             return f"_mcl.{t.python}()"
         if t.origin == "std":
             return f"_std.{t.python}(_clock)"
+        if t.origin == "ext":
+            return f"_ext[{t.name!r}]()"
         return f"{t.python}()"
     return "None"
 

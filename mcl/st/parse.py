@@ -10,6 +10,7 @@ stay lark trees (read by :mod:`mcl.st.task`).
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.resources
 import re
 from functools import cache
@@ -102,9 +103,63 @@ def parse(source: str, filename: str) -> tf.SourceCode:
         ) from None
     transformer = _Transformer(comments=comments, fn=filename, source_code=source)
     result: Any = transformer.transform(tree)
+    _untangle(result)
     if not isinstance(result, tf.SourceCode):
         raise STError.at(f"{filename}:1:1", "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
+
+
+def _untangle(node: Any) -> None:
+    """Undo an ambiguity of blark's grammar, in place: in ``(A := 1.0, B := 2.0, C := 3.0)``
+    it may read ``1.0, B := 2.0`` as a bare array of A (TwinCAT's ``:=`` as an operator);
+    such an element is split back into ``A := 1.0`` and ``B := 2.0``."""
+    if isinstance(node, list):
+        for item in node:
+            _untangle(item)
+        return
+    if not dataclasses.is_dataclass(node) or isinstance(node, type):
+        return
+    if isinstance(node, tf.StructureInitialization):
+        node.elements = [part for e in node.elements for part in _split(e)]
+    for f in dataclasses.fields(node):
+        if f.name != "meta":
+            _untangle(getattr(node, f.name))
+
+
+def _split(element: Any) -> list[Any]:
+    """One structure element, or the elements a bare array of ``name := value`` hides."""
+    value = getattr(element, "value", None)
+    if not isinstance(value, tf.ArrayInitialization) or value.brackets:
+        return [element]
+    items = _flat(value)
+    rest = items[1:]
+    if not rest or not all(_is_assignment(i) for i in rest):
+        return [element]
+    parts = [dataclasses.replace(element, value=items[0])]
+    for item in rest:
+        parts.append(tf.StructureElementInitialization(item.left.name, item.right, item.meta))
+    return parts
+
+
+def _flat(array: Any) -> list[Any]:
+    """The items of a bare array, its nested bare arrays opened."""
+    items: list[Any] = []
+    for i in array.elements:
+        inner = i.element
+        if isinstance(inner, tf.ArrayInitialization) and not inner.brackets and i.count is None:
+            items += _flat(inner)
+        else:
+            items.append(inner)
+    return items
+
+
+def _is_assignment(node: Any) -> bool:
+    """``name := value`` read as an expression."""
+    return (
+        isinstance(node, tf.BinaryOperation)
+        and str(node.op) == ":="
+        and isinstance(node.left, tf.SimpleVariable)
+    )
 
 
 def _found(error: lark.UnexpectedInput, text: str) -> str:

@@ -19,6 +19,7 @@ from typing import Any
 
 from mcl.st import functions as F  # noqa: N812
 from mcl.st.errors import STError, nearest
+from mcl.st.external import External
 from mcl.st.io import channels
 from mcl.st.parse import parse
 from mcl.st.scope import Unit, Var
@@ -38,6 +39,7 @@ class STProgram:
         period: the PLC period it is called at [s] (the scene's); None: its TASK's INTERVAL
             (or 10 ms without a TASK).
         filename: the ST file, for messages.
+        blocks: what makes an instance of each of the machine's own block types, by name.
     """
 
     def __init__(
@@ -48,6 +50,7 @@ class STProgram:
         clock: Callable[[], float] | None,
         period: float | None,
         filename: str,
+        blocks: Mapping[str, Callable[[], Any]] | None = None,
     ) -> None:
         programs = {n.upper(): n for n in module.programs}
         task = module.task
@@ -77,6 +80,7 @@ class STProgram:
         namespace["_axes"] = own["_axes"]
         namespace["_clock"] = lambda: round(clock() * 1000.0)
         namespace["_now"] = clock
+        namespace["_ext"] = dict(blocks or {})
         own["_namespace"] = namespace
         self.restart()
 
@@ -215,8 +219,10 @@ def compile_source(
     filename: str = "program.st",
     axes: Mapping[str, Any] | None = None,
     mapping: Mapping[str, str] | None = None,
+    blocks: Mapping[str, External] | None = None,
 ) -> Module:
-    """Parse and translate an ST source; ``axes`` and ``mapping`` name what AXIS_REFs bind to.
+    """Parse and translate an ST source; ``axes`` and ``mapping`` name what AXIS_REFs bind to,
+    ``blocks`` the machine's own block types (:class:`mcl.st.External`).
 
     Raises:
         STError: a syntax or type error (``file:line:column: ...``), or a mapping onto an axis
@@ -231,6 +237,7 @@ def compile_source(
                 f"one of {', '.join(axes) or 'no axes'}",
             )
     unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}), channels=channels(axes))
+    unit.types.update({n.upper(): b.block_type(n) for n, b in (blocks or {}).items()})
     return translate(parse(source, filename), unit)
 
 
@@ -240,9 +247,11 @@ def load(
     mapping: Mapping[str, str] | None = None,
     program: str | None = None,
     period: float | None = None,
+    blocks: Mapping[str, External] | None = None,
 ) -> STProgram:
     """Load the ST file ``path`` for ``machine`` (an :class:`mcl.Machine`, e.g. a scene, or
-    None): its axes bind AXIS_REFs by name or through ``mapping`` (``{"Pohon.Ax1": "X"}``),
+    None), with the machine's own block types ``blocks`` (:class:`mcl.st.External`): its axes
+    bind AXIS_REFs by name or through ``mapping`` (``{"Pohon.Ax1": "X"}``),
     its I/O located variables (``AT %IX0.2``) or named I/O (``{"Knife": "S.DO0"}``, see
     :mod:`mcl.st.io`), its simulated time runs the timers; a TASK's INTERVAL runs the program
     every n-th scan of the machine's PLC period (``period`` without a machine).
@@ -256,7 +265,7 @@ def load(
         source = file.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
         raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
-    return from_source(source, machine, mapping, program, str(file), period)
+    return from_source(source, machine, mapping, program, str(file), period, blocks)
 
 
 def from_source(
@@ -266,11 +275,13 @@ def from_source(
     program: str | None = None,
     filename: str = "program.st",
     period: float | None = None,
+    blocks: Mapping[str, External] | None = None,
 ) -> STProgram:
     """As :func:`load`, from the text of a source."""
     axes = dict(machine.axes) if machine is not None else {}
-    module = compile_source(source, filename, axes, mapping)
+    module = compile_source(source, filename, axes, mapping, blocks)
     clock = (lambda: machine.time) if machine is not None else None
     runtime = getattr(machine, "runtime", None)
     period = runtime.plc_period if runtime is not None else period
-    return STProgram(module, program, axes, clock, period, filename)
+    made = {n: b.make for n, b in (blocks or {}).items()}
+    return STProgram(module, program, axes, clock, period, filename, made)

@@ -42,7 +42,12 @@ def run(
     program: Any = (
         scenes.demo(scene)
         if st_program is None
-        else mcl.st.load(st_program, scene, mapping=dict(m.partition("=")[::2] for m in maps))
+        else mcl.st.load(
+            st_program,
+            scene,
+            mapping=dict(m.partition("=")[::2] for m in maps),
+            blocks=machine_blocks(scene),
+        )
     )
     log = EdgeLog(scene)
     log.watch(**getattr(program, "blocks", {}))
@@ -64,6 +69,22 @@ def run(
         print(f"demo stopped: {program.error}", file=sys.stderr)
         return 1
     return 0
+
+
+def machine_blocks(scene: scenes.Scene) -> dict[str, mcl.st.External]:
+    """The machine's own ST block types: ``blocks(scene)`` of its package's ``st_blocks``
+    module (``scenes.machines.<name>.st_blocks``), if it has one."""
+    import importlib
+
+    name = f"scenes.machines.{scene.name}.st_blocks"
+    try:
+        module = importlib.import_module(name)
+    except ModuleNotFoundError as error:
+        if error.name not in (name, f"scenes.machines.{scene.name}"):
+            raise
+        return {}
+    blocks: dict[str, mcl.st.External] = module.blocks(scene)
+    return blocks
 
 
 def st_task(path: str) -> mcl.st.Task | None:

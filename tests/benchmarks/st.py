@@ -14,13 +14,11 @@ Run: ``python -m tests.benchmarks.st``.
 from __future__ import annotations
 
 import time
-from pathlib import Path
 from typing import Any
 
 from tests.benchmarks import report_in_both_modes
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "st"
-MACHINES = ("gantry", "press")
+MACHINES = ("gantry", "flying_shear", "press")
 """The machines whose demos exist in ST."""
 REPEATS = 3
 """Runs of each demo; the fastest counts."""
@@ -28,11 +26,11 @@ REPEATS = 3
 
 def per_scan(machine: str, st: bool) -> float:
     """µs per PLC scan of the machine's demo (ST or Python), over a whole run to its end."""
-    import mcl.st
     import scenes
+    from tests.test_st_demos import st_demo
 
     scene = scenes.load(machine, start=scenes.definition(machine).demo_start, trace_every=0)
-    program: Any = mcl.st.load(EXAMPLES / f"{machine}_demo.st", scene) if st else scenes.demo(scene)
+    program: Any = st_demo(scene) if st else scenes.demo(scene)
     spent = [0.0, 0]
     clock = time.perf_counter
 
