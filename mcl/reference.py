@@ -12,7 +12,9 @@ English and Czech texts. A short hand-written introduction explains the conventi
 from __future__ import annotations
 
 import argparse
+import ast
 import enum
+import functools
 import inspect
 import io
 import os
@@ -370,11 +372,33 @@ def chapters() -> list[tuple[ModuleType, list[type[FunctionBlock]]]]:
 def _annotation(cls: type, name: str) -> str:
     """The declared type of input ``name`` (the most derived declaration)."""
     for klass in cls.__mro__:
-        hints = inspect.get_annotations(klass)
+        hints = inspect.get_annotations(klass) or _source_annotations(klass)
         if name in hints:
             hint = hints[name]
             return hint if isinstance(hint, str) else getattr(hint, "__name__", repr(hint))
     return ""
+
+
+@functools.cache
+def _source_annotations(klass: type) -> dict[str, str]:
+    """The annotations of ``klass``'s body read from its source: a compiled class keeps none
+    (its module is an extension beside the ``.py`` file); empty where there is no source."""
+    # from the top package's directory: a compiled module's __file__ is not where it lies
+    package = sys.modules.get(klass.__module__.partition(".")[0])
+    file = getattr(package, "__file__", None)
+    if not file or klass.__module__ == "builtins":
+        return {}
+    source = Path(file).parent.parent.joinpath(*klass.__module__.split(".")).with_suffix(".py")
+    if not source.is_file():
+        return {}
+    for node in ast.walk(ast.parse(source.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ClassDef) and node.name == klass.__name__:
+            return {
+                item.target.id: ast.unparse(item.annotation)
+                for item in node.body
+                if isinstance(item, ast.AnnAssign) and isinstance(item.target, ast.Name)
+            }
+    return {}
 
 
 def _in_out_type(name: str) -> str:
@@ -394,14 +418,18 @@ def _value(value: Any) -> str:
 
 def declared_inputs(cls: type[FunctionBlock]) -> dict[str, Any]:
     """The inputs of ``cls`` (not the in-outs) with their declared initial values."""
-    spec = input_spec(cls())
+    instance = cls()
+    spec = input_spec(instance)
     defaults: dict[str, Any] = {}
     for name in spec.kinds:
         if name in cls.REFS:
             continue
         for klass in cls.__mro__:
             if name in vars(klass):
-                defaults[name] = vars(klass)[name]
+                default = vars(klass)[name]
+                # a compiled class holds its attributes in descriptors: the instance's value
+                compiled = inspect.isdatadescriptor(default) and not isinstance(default, property)
+                defaults[name] = getattr(instance, name) if compiled else default
                 break
     return defaults
 
@@ -414,20 +442,39 @@ def inputs(cls: type[FunctionBlock]) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _attributes(instance: object) -> list[tuple[str, object]]:
+    """(name, value) of the attributes of ``instance``, base classes' first: its ``__dict__``
+    (pure Python) or, for a compiled class (no ``__dict__``), the attributes mypyc declares
+    per class."""
+    if hasattr(instance, "__dict__"):
+        return list(vars(instance).items())
+    names: dict[str, None] = {}
+    for klass in reversed(type(instance).__mro__):
+        names.update(dict.fromkeys(getattr(klass, "__mypyc_attrs__", ())))
+    return [(name, getattr(instance, name)) for name in names if hasattr(instance, name)]
+
+
 def outputs(cls: type[FunctionBlock]) -> list[tuple[str, str, str]]:
     """(name, type, note) of the outputs of ``cls``: the public (capitalised) attributes of a
     fresh instance that are not inputs, then its public properties."""
     names = set(cls.REFS) | set(declared_inputs(cls))
     instance = cls()
     rows: list[tuple[str, str, str]] = []
-    for name, value in vars(instance).items():
+    attributes = _attributes(instance)
+    for name, value in attributes:
         if name[:1].isupper() and name not in names:
             rows.append((name, type(value).__name__, ""))
+    names |= {name for name, _ in attributes}
+    compiled = not hasattr(instance, "__dict__")
     for name in dir(cls):
         attr = inspect.getattr_static(cls, name, None)
-        if name[:1].isupper() and name not in names and isinstance(attr, property):
+        if not name[:1].isupper() or name in names:
+            continue
+        if isinstance(attr, property):
             hint = inspect.get_annotations(attr.fget).get("return", "") if attr.fget else ""
             rows.append((name, str(hint), summary(attr.fget)))
+        elif compiled and inspect.isdatadescriptor(attr):  # a compiled class' property
+            rows.append((name, type(getattr(instance, name)).__name__, ""))
     return rows
 
 

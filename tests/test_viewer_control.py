@@ -19,7 +19,7 @@ import websockets.asyncio.client
 from websockets.asyncio.client import ClientConnection
 
 from tests.helpers import run_coroutine
-from tests.test_viewer_session import FakeClock
+from tests.test_viewer_session import CAMERA, FakeClock
 from viewer.control import REQUEST_TIMEOUT, Asked, Control, Operators
 from viewer.control_page import control_html, lifesign_html
 from viewer.lifesign import LIFESIGN_INTERVAL, LIFESIGN_TIMEOUT, Lifesign
@@ -27,17 +27,6 @@ from viewer.security import MAX_MESSAGE
 from viewer.server import Viewer
 from viewer.session import Session
 
-CAMERA = {
-    "wxyz": [1.0, 0.0, 0.0, 0.0],
-    "position": [2.0, -2.0, 2.0],
-    "fov": 1.0,
-    "near": 0.01,
-    "far": 100.0,
-    "image_height": 600,
-    "image_width": 800,
-    "look_at": [0.0, 0.0, 0.0],
-    "up_direction": [0.0, 0.0, 1.0],
-}
 """The camera message a viser page sends first (viser counts the page as connected then)."""
 
 

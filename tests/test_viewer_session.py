@@ -39,13 +39,27 @@ from tests.helpers import run_coroutine
 from viewer.app import LAMP_LIMIT, LAMP_REF, ViewerApp
 from viewer.operator import DEADMAN, Move
 from viewer.panels import axis_panel_html, results_html, signals_html
-from viewer.scope import scope_csv
+from viewer.scope import SINGLE, PageScope
 from viewer.security import LOG_BURST, REFUSED_MESSAGES, AccessPolicy, BoundedLog
 from viewer.server import DEFAULT_HOST, PortInUseError, Viewer, port_available
 from viewer.session import SCOPE_SECONDS, Session, choices
 from viewer.snapshot import RESULTS_SHOWN, AxisView
 
 ROOT = Path(__file__).resolve().parent.parent
+
+
+CAMERA = {
+    "wxyz": [1.0, 0.0, 0.0, 0.0],
+    "position": [2.0, -2.0, 2.0],
+    "fov": 1.0,
+    "near": 0.01,
+    "far": 100.0,
+    "image_height": 600,
+    "image_width": 800,
+    "look_at": [0.0, 0.0, 0.0],
+    "up_direction": [0.0, 0.0, 1.0],
+}
+"""The camera a page reports when it opens (a ViewerCameraMessage's fields)."""
 
 
 class FakeClock:
@@ -450,7 +464,8 @@ def test_the_scope_recorder_holds_the_last_seconds_of_every_channel(
     names = [c.name for c in session.recorder.channels]
     assert values.shape == (len(names), t.size) and t.size > 100
     assert np.all(np.diff(t) > 0.0)
-    assert SCOPE_SECONDS - 0.5 < t[-1] - t[0] <= SCOPE_SECONDS + 1e-9
+    assert 10.5 < t[-1] - t[0] <= 11.0 + 1e-9  # all of it: the ring holds SCOPE_SECONDS
+    assert session.recorder.ring.length * np.median(np.diff(t)) >= SCOPE_SECONDS
     assert t[-1] <= session.snapshot.time
     volts = values[names.index("X command")]
     assert volts[-1] > 1.0  # jogging at 100 mm/s needs ~1 V
@@ -684,15 +699,15 @@ def test_the_scope_labels_carry_each_channel_unit(
     server: viser.ViserServer, shear: Session
 ) -> None:
     app = ViewerApp(shear, server)
+    scope = PageScope(server.gui, app.gate, shear, shear.snapshot, server.atomic)
     shear.advance(10)
-    app.frame()
-    assert app.scope_shown[0] == ("master position [m]",)  # the master has no drive
-    app._scope_traces[0].value = "knife following error"  # type: ignore[misc]
-    app._scope_traces[1].value = "knife DO1"  # type: ignore[misc]
+    scope.update()
+    assert scope.recording.headers() == ("master position [m]",)  # the master has no drive
+    scope._slots[0].value = "knife following error"  # type: ignore[misc]
+    scope._slots[1].value = "knife DO1"  # type: ignore[misc]
     shear.advance(10)
-    app._last_plot = -math.inf
-    app.frame()
-    assert app.scope_shown[0][:2] == ("knife following error [deg]", "knife DO1 [0/1]")
+    scope.update()
+    assert scope.recording.headers() == ("knife following error [mdeg]", "knife DO1 [0/1]")
 
 
 def test_an_encoder_only_axis_has_no_drive_buttons(
@@ -1203,47 +1218,40 @@ def test_a_demo_results_table_is_shown_escaped(server: viser.ViserServer, clock:
     assert session.snapshot.results[0] == columns  # kept after the demo ended
 
 
-def test_the_scope_shows_channels_on_one_time_base_triggers_and_exports_csv(
+def test_the_scope_offers_every_channel_and_triggers_on_an_axis_error(
     server: viser.ViserServer, session: Session, clock: FakeClock
 ) -> None:
     app = ViewerApp(session, server)
+    scope = PageScope(server.gui, app.gate, session, session.snapshot, server.atomic)
     names = [c.name for c in session.snapshot.channels]
     assert {"X position", "X set point", "X following error", "X command", "X LIM+"} <= set(names)
-    app._scope_traces[3].value = "X REF"  # type: ignore[misc]
     session.requests("X").set_power(True)
     run(session, clock, 0.5)
-    app.frame()
-    shown, t, values = app.scope_shown
-    assert shown == (
-        "X following error [mm]",
+    scope.update()
+    assert scope.recording.headers() == (
+        "X following error [µm]",
         "X command [V]",
         "X position [mm]",
-        "X REF [0/1]",
     )
-    assert values.shape == (4, t.size) and t.size > 50 and np.all(np.diff(t) > 0)
-    text = scope_csv(shown, t, values)
-    header, *lines = text.splitlines()
-    assert header == "t [s]," + ",".join(shown) and len(lines) == t.size
     # Trigger on the error of any axis: a limit switch forced on gives one.
-    app._scope_trigger.value = "on any axis error"  # type: ignore[union-attr,misc]
-    app._scope_armed_since = session.snapshot.time
+    scope._trigger.value = "on any axis error"  # type: ignore[misc]
+    scope._act(SINGLE)
     session.requests("X").move(Move("relative", 5.0, 100.0, 1000.0))
     session.inject("X", mcl.faults.SwitchStuck("lim_pos", True))
     for _ in range(60):
         run(session, clock, 0.05)
-        app._last_plot = -math.inf
-        app.frame()
-        if app._scope_paused:
+        scope.update()
+        if not scope.acquisition.running:
             break
-    assert "triggered at" in app.scope_status
-    shown, t, values = app.scope_shown
-    at = app._scope_trigger_at
-    assert at is not None and t[0] < at < t[-1]
-    frozen = t.copy()
+    assert "triggered at" in scope.status
+    window = scope.recording.window
+    t, values = session.recorder.series()
+    error = values[names.index("X error")]
+    assert window.trigger_at == t[np.flatnonzero(error > 0.5)[0]]
+    frozen = scope.recording
     run(session, clock, 0.5)
-    app._last_plot = -math.inf
-    app.frame()
-    assert np.array_equal(app.scope_shown[1], frozen)  # paused: the capture stays
+    scope.update()
+    assert scope.recording is frozen  # a single recording stays
 
 
 def test_set_position_without_moving_and_homing_on_an_index_pulse(
@@ -1295,18 +1303,7 @@ def test_over_the_websocket_control_hotkey_steps_and_value_checks(guarded: Viewe
             subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
         ) as connection:
             await asyncio.wait_for(connection.recv(), 10)
-            camera = {
-                "wxyz": [1.0, 0.0, 0.0, 0.0],
-                "position": [2.0, -2.0, 2.0],
-                "fov": 1.0,
-                "near": 0.01,
-                "far": 100.0,
-                "image_height": 600,
-                "image_width": 800,
-                "look_at": [0.0, 0.0, 0.0],
-                "up_direction": [0.0, 0.0, 1.0],
-            }
-            await connection.send(send("ViewerCameraMessage", **camera))  # viser: connected
+            await connection.send(send("ViewerCameraMessage", **CAMERA))  # viser: connected
             for _ in range(100):
                 if app.control_pages.pages:
                     break

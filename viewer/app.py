@@ -1,13 +1,14 @@
 """The browser viewer's GUI skeleton and its update loop, for a :class:`~viewer.session.Session`.
 
 :class:`ViewerApp` builds the control panel (operator, simulation and demo controls; per scene
-the axis panels of :mod:`viewer.axis_panel`, signals, results, :mod:`viewer.scope`, error
-history, :mod:`viewer.faults_panel`, :mod:`viewer.views`) and the 3-D scene
-(:class:`ModelScene`), and runs a loop in its own thread that, up to ``fps`` times per second,
-takes the session's latest :class:`~viewer.snapshot.Snapshot` and sends what changed: body poses,
-switch colours, the overlays and follow cameras, the panels (:mod:`viewer.panels`), the error
-history and the scope. GUI callbacks only call :class:`Session` methods (request flags and
-queued commands) and set the scope's and the views' choices; viser objects are modified by the
+the axis panels of :mod:`viewer.axis_panel`, signals, results, error history,
+:mod:`viewer.faults_panel`, :mod:`viewer.views`), each page's own panels (:mod:`viewer.page`:
+the overview and the scope) and the 3-D scene (:class:`ModelScene`), and runs a loop in its own
+thread that, up to ``fps`` times per second, takes the session's latest
+:class:`~viewer.snapshot.Snapshot` and sends what changed: body poses, switch colours, the
+overlays and follow cameras, the panels (:mod:`viewer.panels`), the error history and each
+page's overview and scope. GUI callbacks only call :class:`Session` methods (request flags and
+queued commands) and set the scopes' and the views' choices; viser objects are modified by the
 update thread (and the notifications of the callbacks).
 
 Everything machine-specific comes from the registry (``scenes.MACHINES``) and the scene: the
@@ -48,6 +49,7 @@ from viewer.legend import LAMP_REF as LAMP_REF
 from viewer.legend import SWITCHES
 from viewer.model_scene import ModelScene
 from viewer.overlays import ContactOverlay, SetPointGhost
+from viewer.page import Pages
 from viewer.panels import (
     NO_MODEL_NOTE,
     SPEEDS,
@@ -58,7 +60,6 @@ from viewer.panels import (
     speed_label,
     status_html,
 )
-from viewer.scope import Scope, Shown
 from viewer.security import BoundedLog, GuiGate, choice_of, harden
 from viewer.session import REPEAT_PAUSE, Session, choices
 from viewer.snapshot import Snapshot
@@ -74,7 +75,7 @@ T = TypeVar("T")
 
 
 class _Part(Generic[T]):
-    """An attribute of one of the app's parts (its scope, its views), read and written under a
+    """An attribute of one of the app's parts (its views), read and written under a
     name of the app."""
 
     def __init__(self, part: str, name: str) -> None:
@@ -123,12 +124,6 @@ class ViewerApp:
     """Length of the force arrows, a key of :data:`~viewer.overlays.FORCE_SCALES`."""
     follow = _Part[str]("views", "follow")
     """Body the pages' cameras follow (:data:`~viewer.views.FOLLOW_OFF`: none)."""
-    # the scope's state under the names it had on the app
-    _scope_traces = _Part[list[viser.GuiDropdownHandle[str]]]("scope", "traces")
-    _scope_trigger = _Part[viser.GuiDropdownHandle[str] | None]("scope", "trigger")
-    _scope_paused = _Part[bool]("scope", "paused")
-    _scope_armed_since = _Part[float]("scope", "armed_since")
-    _scope_trigger_at = _Part[float | None]("scope", "trigger_at")
 
     def __init__(
         self,
@@ -179,15 +174,18 @@ class ViewerApp:
         self._holds, self._holds_lock = self.operators.holds, self.operators.lock
         self.views = Views(server, self._draw)
         """Camera presets, follow cameras and 3-D overlays."""
-        self.scope = Scope(session, server, self._plot)
-        """The scope."""
 
         harden(server)
         self.gate = GuiGate(server, self.control.holds, self.operators.refused, log=log)
         """Checks every GUI value a page sends."""
         self._gui = SceneGui(self.gate)
+        self.pages = Pages(session, self.gate, self._plot)
+        """Each page's own panels (overview, scope)."""
+        session.on_step = self.pages.show_step
         server.on_client_connect(self.operators.connect)
         server.on_client_disconnect(self.operators.disconnect)
+        server.on_client_connect(self.pages.connect)
+        server.on_client_disconnect(self.pages.disconnect)
         _light(server, environment_map)
         self._build_static_gui()
         self._rebuild(session.snapshot)
@@ -219,16 +217,6 @@ class ViewerApp:
         return self.views.contacts
 
     @property
-    def scope_shown(self) -> Shown:
-        """What the scope shows: (trace names with units, t [s], values (traces × samples))."""
-        return self.scope.shown
-
-    @property
-    def scope_status(self) -> str:
-        """The scope's state line (running, paused, armed, triggered at …)."""
-        return self.scope.status
-
-    @property
     def _scene_inputs(self) -> list[Any]:
         return self._gui.inputs
 
@@ -241,8 +229,9 @@ class ViewerApp:
         self._redraw = True
 
     def _plot(self) -> None:
-        """Plot the scope at the next frame."""
+        """Update the pages' scopes at the next frame."""
         self._last_plot = -math.inf
+        self._redraw = True
 
     # ------------------------------------------------------------------------- operators
 
@@ -442,12 +431,12 @@ class ViewerApp:
                 self._results = self._add_panel("results", results_html(snapshot))
         steps = {n: p.step for n, p in self._axes.items() if p.step is not None}
         add_hotkeys(gui, self.session, self.operators, steps, generation)
-        self.scope.build(gui, snapshot)
         with gui.folder("Error history", order=6):
             self._events = self.server.gui.add_html(events_html(snapshot))
         build_faults(gui, self.session, snapshot)
         if snapshot.model is not None:
             self.views.build(gui, snapshot.model, self._model_scene)
+        self.pages.rebuild(snapshot)
 
     def _add_panel(self, name: str, content: str) -> viser.GuiHtmlHandle:
         """An HTML panel of the scene showing ``content``."""
@@ -561,9 +550,10 @@ class ViewerApp:
         if now - self._last_panel >= self._panel_period - slack:
             self._last_panel = now
             self._update_panels(snapshot)
+            self.pages.update_panels(snapshot)
         if now - self._last_plot >= self._plot_period - slack:
             self._last_plot = now
-            self.scope.update(snapshot)
+            self.pages.update_plots()
         self._last = snapshot
         self.frames += 1
         self.frame_costs.append(time.perf_counter() - start)

@@ -97,10 +97,12 @@ class PageControl:
         return [self.take, self.cancel, self.release, self.grant, self.refuse]
 
     def set(self, part: str, prop: str, value: Any) -> None:
-        """Set ``prop`` of the element ``part`` to ``value`` if it changed."""
-        if self.shown.get((part, prop)) != value:
+        """Set ``prop`` of the element ``part`` to ``value`` if it changed (not on an element
+        viser removed: the page is closing)."""
+        handle = getattr(self, part)
+        if self.shown.get((part, prop)) != value and not handle._impl.removed:
             self.shown[(part, prop)] = value
-            setattr(getattr(self, part), prop, value)
+            setattr(handle, prop, value)
 
 
 class ControlPages:

@@ -6,7 +6,8 @@ from __future__ import annotations
 import functools
 import math
 import threading
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
+from typing import Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -60,32 +61,87 @@ class Recorder:
         self.channels = tuple(channels)
         """The channels, in the order of :meth:`series`' rows."""
         self._readers = readers
-        self._length = max(int(length), 2)
-        self._t = np.zeros(self._length)
-        self._values = np.zeros((len(channels), self._length))
-        self._next = 0
-        self._count = 0
-        self._lock = threading.Lock()
+        self.ring = Ring(len(channels), length)
+        """The samples."""
 
     def record(self, t: float) -> None:
-        """Store one sample of every channel taken at simulated time ``t`` [s]."""
-        row = [read() for read in self._readers]
-        with self._lock:
-            k = self._next
-            self._t[k] = t
-            self._values[:, k] = row
-            self._next = (k + 1) % self._length
-            self._count = min(self._count + 1, self._length)
+        """Store one sample of every channel taken at simulated time ``t`` [s] (the simulation
+        thread calls it)."""
+        self.ring.append(t, [read() for read in self._readers])
 
     def series(self, since: float = -math.inf) -> tuple[npt.NDArray[np.float64], ...]:
         """Copies of the samples at or after ``since`` [s], oldest first: ``(t, values)`` with
         values of shape (channels, samples)."""
+        return self.ring.window(since)
+
+
+class Ring:
+    """Samples of some channels on one time base, the newest ``length`` kept (thread-safe).
+
+    Args:
+        channels: Values per sample.
+        length: Samples kept.
+    """
+
+    def __init__(self, channels: int, length: int) -> None:
+        self.length = max(int(length), 2)
+        """Samples kept."""
+        self._t = np.zeros(self.length)
+        self._values = np.zeros((channels, self.length))
+        self._next = 0
+        self._count = 0
+        self._lock = threading.Lock()
+
+    def append(self, t: float, row: Sequence[float]) -> None:
+        """Store the sample ``row`` (one value per channel) taken at time ``t`` [s]."""
         with self._lock:
-            n, k = self._count, self._next
-            order = np.arange(k - n, k) % self._length
+            k = self._next
+            self._t[k] = t
+            self._values[:, k] = row
+            self._next = (k + 1) % self.length
+            self._count = min(self._count + 1, self.length)
+
+    @property
+    def latest(self) -> float:
+        """Time [s] of the newest sample (-inf: none yet)."""
+        with self._lock:
+            return float(self._t[self._next - 1]) if self._count else -math.inf
+
+    @property
+    def oldest(self) -> float:
+        """Time [s] of the oldest sample kept (inf: none yet)."""
+        with self._lock:
+            if not self._count:
+                return math.inf
+            return float(self._t[(self._next - self._count) % self.length])
+
+    def window(
+        self, since: float = -math.inf, until: float = math.inf, rows: Sequence[int] | None = None
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Copies of the samples with ``since`` ≤ t ≤ ``until`` [s], oldest first: ``(t,
+        values)``, values of shape (rows, samples) (``rows``: channel indices, None: all)."""
+        with self._lock:
+            first = (self._next - self._count) % self.length
+            order = (first + self._span(first, since, until)) % self.length
             t = self._t[order]
-            keep = t >= since
-            return t[keep], self._values[:, order[keep]]
+            values = (
+                self._values[:, order]
+                if rows is None
+                else self._values[np.ix_(np.asarray(rows, dtype=np.intp), order)]
+            )
+        return t, values
+
+    def _span(self, first: int, since: float, until: float) -> npt.NDArray[np.intp]:
+        """Positions (from the oldest sample) of the samples in [since, until]."""
+        n = self._count
+        head = self._t[first : min(first + n, self.length)]
+        tail = self._t[: max(first + n - self.length, 0)]
+
+        def position(time: float, side: Literal["left", "right"]) -> int:
+            k = int(np.searchsorted(head, time, side))
+            return k if k < head.size else head.size + int(np.searchsorted(tail, time, side))
+
+        return np.arange(position(since, "left"), position(until, "right"), dtype=np.intp)
 
 
 def _attribute(owner: object, name: str) -> float:

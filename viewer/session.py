@@ -61,11 +61,11 @@ MAX_BATCH_WALL = 0.01
 """Wall time [s] after which the simulation thread interrupts a run of PLC cycles to apply
 commands and publish a snapshot."""
 
-HISTORY_SAMPLE = 0.004
+HISTORY_SAMPLE = 0.002
 """Sampling period [s] of simulated time of the scope channels (rounded to whole PLC cycles)."""
 
-SCOPE_SECONDS = 10.0
-"""Simulated seconds every scope channel keeps."""
+SCOPE_SECONDS = 60.0
+"""Simulated seconds every scope channel keeps (the longest recording the scope offers)."""
 
 EVENTS_KEPT = 200
 """Entries of the error history kept (oldest dropped)."""

@@ -13,10 +13,16 @@ from viewer.security import GuiGate, button_value, choice_of, number_in
 
 
 def gated_button(
-    gate: GuiGate, label: str, *, control: bool = True, **kwargs: Any
+    gate: GuiGate,
+    label: str,
+    *,
+    control: bool = True,
+    gui: viser.GuiApi | None = None,
+    **kwargs: Any,
 ) -> viser.GuiButtonHandle:
-    """A button the gate lets pages press (those in control unless ``control`` is False)."""
-    button = gate.server.gui.add_button(label, **kwargs)
+    """A button the gate lets pages press (those in control unless ``control`` is False), in
+    ``gui`` (default: the server's GUI, every page)."""
+    button = (gui or gate.server.gui).add_button(label, **kwargs)
     gate.allow(button, button_value, control)
     return button
 
@@ -33,11 +39,13 @@ class SceneGui:
     """The scene's hotkey commands."""
     folders: list[viser.GuiFolderHandle] = field(default_factory=list)
     """The scene's folders (removing one removes what is in it)."""
+    gui: viser.GuiApi | None = None
+    """Where the elements go: one page's ``client.gui`` (None: the server's GUI, every page)."""
 
     @property
     def api(self) -> viser.GuiApi:
-        """The server's GUI."""
-        return self.gate.server.gui
+        """The GUI the elements go to."""
+        return self.gui or self.gate.server.gui
 
     def folder(self, label: str, **kwargs: Any) -> viser.GuiFolderHandle:
         """A folder of the scene."""
@@ -47,7 +55,7 @@ class SceneGui:
 
     def button(self, label: str, *, control: bool = True, **kwargs: Any) -> viser.GuiButtonHandle:
         """A button of the scene (pressed by the page in control unless ``control`` is False)."""
-        button = gated_button(self.gate, label, control=control, **kwargs)
+        button = gated_button(self.gate, label, control=control, gui=self.gui, **kwargs)
         self.inputs.append(button)
         return button
 
@@ -66,10 +74,22 @@ class SceneGui:
         self.inputs.append(handle)
         return handle
 
-    def number(self, label: str, value: float, low: float, high: float, step: float) -> Any:
+    def number(
+        self,
+        label: str,
+        value: float,
+        low: float,
+        high: float,
+        step: float,
+        *,
+        control: bool = True,
+        **kwargs: Any,
+    ) -> Any:
         """A number box of the scene that accepts finite numbers in [low, high]."""
-        handle = self.api.add_number(label, initial_value=value, min=low, max=high, step=step)
-        self.gate.allow(handle, number_in(low, high))
+        handle = self.api.add_number(
+            label, initial_value=value, min=low, max=high, step=step, **kwargs
+        )
+        self.gate.allow(handle, number_in(low, high), control)
         self.inputs.append(handle)
         return handle
 

@@ -12,9 +12,10 @@ Prints JSON:
 - ``pacing``: simulated seconds per wall second of a bare session (no viewer) asked for 0.5×,
   3× and as fast as possible (``inf``), each over one wall second (the tests check the pacing
   on an injected clock; this is the real ratio);
-- ``overlays``: the same figures (``realtime_factor``, ``fps_achieved``, ``frame_update_us``,
-  ``browser_fps``) for a second window with the set-point ghost and the contact forces shown
-  and the cameras following the Z ram;
+- ``overlays``: the same figures (``realtime_factor``, ``fps_achieved``, ``panel_hz_achieved``,
+  ``frame_update_us``, ``browser_fps``, ``browser_panel_hz``) for a second window with every
+  view open: the set-point ghost and the contact forces shown, the cameras following the Z ram
+  and the page's scope recording eight channels;
 - ``click_to_motion_ms``: from the click on *Step+* (Playwright's mouse click in the page) to the
   first motion of the X joint in the physics (1 µm), ``hold_to_motion_ms`` for holding *Jog−*,
   and ``request_to_motion_ms`` from the server-side request alone (PLC and servo pipeline);
@@ -199,17 +200,29 @@ def _frame_costs(viewer: Viewer) -> dict[str, Any]:
 
 
 def _overlays(viewer: Viewer, page: Page | None, seconds: float) -> dict[str, Any]:
-    """Frame rate and cost with the ghost and contacts shown and the cameras following the ram
-    (the demo still running), over ``seconds``."""
+    """Frame rate, panel rate and cost with every view open (the demo still running), over
+    ``seconds``: the ghost and contacts shown, the cameras following the ram, and each page's
+    scope recording its first eight channels over twice ``seconds``."""
     session, app = viewer.session, viewer.app
     app.show_ghost = app.show_contacts = True
     app.follow = "gantry/ram"
+    channels = [c.name for c in session.recorder.channels if not c.digital][:8]
+    for open_page in app.pages.all():
+        if open_page.scope is not None:
+            open_page.scope.capture(channels, session.snapshot.time, 2.0 * seconds, pre=0.0)
     time.sleep(0.5)  # the ghost is built on the first frame
     app.frame_costs.clear()
-    frames0, sim0, wall0 = app.frames, session.snapshot.time, time.monotonic()
+    frames0, panels0 = app.frames, app.panel_updates
+    sim0, wall0 = session.snapshot.time, time.monotonic()
     browser_fps = _browser_fps(page, min(seconds, 3.0)) if page is not None else None
+    browser_panel_hz = _browser_panel_hz(page, min(seconds, 3.0)) if page is not None else None
     time.sleep(max(seconds - (time.monotonic() - wall0), 0.0))
-    frames, sim, wall = app.frames, session.snapshot.time, time.monotonic()
+    frames, panels, sim, wall = (
+        app.frames,
+        app.panel_updates,
+        session.snapshot.time,
+        time.monotonic(),
+    )
     costs = _frame_costs(viewer)
     app.show_ghost = app.show_contacts = False
     app.follow = "off"
@@ -217,8 +230,11 @@ def _overlays(viewer: Viewer, page: Page | None, seconds: float) -> dict[str, An
     return {
         "realtime_factor": round((sim - sim0) / elapsed, 4),
         "fps_achieved": round((frames - frames0) / elapsed, 2),
+        "panel_hz_achieved": round((panels - panels0) / elapsed, 2),
         "browser_fps": None if browser_fps is None else round(browser_fps, 1),
+        "browser_panel_hz": None if browser_panel_hz is None else round(browser_panel_hz, 1),
         "frame_update_us": costs,
+        "scope_channels": len(channels),
     }
 
 
