@@ -150,7 +150,11 @@ def main(argv: list[str] | None = None) -> int:
     run_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
     run_parser.add_argument("--program", help="an IEC 61131-3 Structured Text file to run")
     run_parser.add_argument(
-        "--map", action="append", default=[], metavar="NAME=AXIS", help="bind Pohon.Ax1=X"
+        "--map",
+        action="append",
+        default=[],
+        metavar="NAME=AXIS",
+        help="bind Pohon.Ax1=X (an axis) or Knife=S.DO0 (I/O)",
     )
     run_parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds")
     sub.add_parser("list", help="list the machines")
