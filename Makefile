@@ -52,6 +52,7 @@ bench: setup
 	$(PY) -m tests.benchmarks.press
 	$(PY) -m tests.benchmarks.viewer
 	$(PY) -m tests.benchmarks.trace
+	$(PY) -m tests.benchmarks.st
 
 clean:
 	-@$(PY) -m mcl.build --clean 2>/dev/null

@@ -6,6 +6,18 @@ calls mcl's function blocks, compiled with ``compile()`` (see docs/st.md).
 """
 
 from mcl.st.errors import PLCFault, STError
+from mcl.st.external import External
 from mcl.st.program import STProgram, compile_source, from_source, load
+from mcl.st.task import Task, declared_task
 
-__all__ = ["PLCFault", "STError", "STProgram", "compile_source", "from_source", "load"]
+__all__ = [
+    "External",
+    "PLCFault",
+    "STError",
+    "STProgram",
+    "Task",
+    "compile_source",
+    "declared_task",
+    "from_source",
+    "load",
+]

@@ -52,6 +52,9 @@ _PARAMS = {
 }
 """Parameter names of the standard functions with a fixed signature, in order."""
 
+_VARIADIC = ("MIN", "MAX", "CONCAT", "MUX")
+"""The standard functions of any number of inputs."""
+
 _CONVERSION = re.compile(r"^(?:([A-Z]+)_)?TO_([A-Z]+)$")
 
 
@@ -93,9 +96,14 @@ class Calls:
         if conversion and conversion.group(2) in ELEMENTARY:
             (arg,) = self._count(node, self.arguments(node, ("IN",)), 1)
             return self.convert(node, arg, ELEMENTARY[conversion.group(2)], conversion.group(1))
+        if upper == "SIM_TIME":  # the machine's simulated time [s], as Python reads scene.time
+            from mcl.st.expressions import E
+
+            self._count(node, self.arguments(node), 0)
+            return E("_now()", T.LREAL)
         if upper in _MATH:
             return self.math(node, upper)
-        if upper in ("MIN", "MAX", "CONCAT", "MUX"):
+        if upper in _VARIADIC:
             return self.variadic(node, upper)
         if upper in _PARAMS:
             from mcl.st.standard import standard
@@ -103,7 +111,7 @@ class Calls:
             return standard(self.x, node, upper, self.arguments(node, _PARAMS[upper]))
         if self.x.unit.block_named(name) is not None or self.x.scope.get(name) is not None:
             raise self.x.error(node, f"{name} is a function block", "a call as a statement")
-        known = [*self.x.unit.functions, *_MATH, *_PARAMS, "MIN", "MAX", "CONCAT", "MUX"]
+        known = [*self.x.unit.functions, *_MATH, *_PARAMS, *_VARIADIC, "SIM_TIME"]
         close = nearest(name, known)
         hint = f" (did you mean {', '.join(close)}?)" if close else ""
         raise self.x.error(node, f"unknown function {name!r}{hint}", "a declared function")

@@ -49,13 +49,15 @@ def python_name(name: str) -> str:
 def mcl_blocks() -> dict[str, BlockType]:
     """mcl's function blocks by upper-case name, with their in-outs, inputs and outputs."""
     blocks: dict[str, BlockType] = {}
-    for cls in reference.function_blocks():
+    classes = reference.function_blocks()
+    refs = {ref for cls in classes for ref in cls.REFS}  # a compiled block shows them all
+    for cls in classes:
         members: dict[str, Member] = {}
         for name, kind, _ in reference.inputs(cls):
             direction = "in_out" if name in cls.REFS else "input"
             members[name.upper()] = Member(_PYTHON_TYPES.get(kind, ANY), direction, name)
         for name, kind, _ in reference.outputs(cls):
-            if name.upper() not in members:
+            if name.upper() not in members and name not in refs and not name.isupper():
                 members[name.upper()] = Member(_PYTHON_TYPES.get(kind, ANY), "output", name)
         blocks[cls.__name__.upper()] = BlockType(cls.__name__, "mcl", members, cls.__name__)
     return blocks

@@ -164,12 +164,16 @@ def default(unit: Unit, t: Type) -> str:
             return f"_mcl.{t.python}()"
         if t.origin == "std":
             return f"_std.{t.python}(_clock)"
+        if t.origin == "ext":
+            return f"_ext[{t.name!r}]()"
         return f"{t.python}()"
     return "None"
 
 
 def initial(unit: Unit, target: str, t: Type, value: Any, scope: Scope | None = None) -> list[str]:
     """Lines giving ``target`` its initial value (``value`` the declaration's, or None)."""
+    if t is T.GROUP:
+        return [_group(unit, target, value, scope)]
     lines = [f"{target} = {default(unit, t)}"]
     if value is None:
         return lines
@@ -177,6 +181,8 @@ def initial(unit: Unit, target: str, t: Type, value: Any, scope: Scope | None = 
         if not isinstance(t, ArrayType):
             raise STErrorAt(unit, value, "an array initial value", f"a {t.name} value")
         return lines + _array_init(unit, target, t, value, scope)
+    if isinstance(value, tf.StructureInitialization) and isinstance(t, BlockType):
+        return lines + _block_init(unit, target, t, value, scope)
     if isinstance(value, tf.StructureInitialization):
         if not isinstance(t, StructType):
             raise STErrorAt(unit, value, "a structure initial value", f"a {t.name} value")
@@ -189,6 +195,47 @@ def initial(unit: Unit, target: str, t: Type, value: Any, scope: Scope | None = 
     x = Expressions(unit, scope or unit.globals)
     e = x.expr(value)
     return [f"{target} = {x.convert(e, t, value)}", *lines[1:]]
+
+
+def _block_init(
+    unit: Unit, target: str, t: BlockType, value: tf.StructureInitialization, scope: Scope | None
+) -> list[str]:
+    """A block instance's initial inputs: ``home : HomeAxis := (SetPosition := 120.0);``."""
+    lines: list[str] = []
+    x = Expressions(unit, scope or unit.globals)
+    for element in value.elements:
+        member = t.members.get(str(element.name).upper())
+        if member is None or member.direction != "input":
+            inputs = [m.python for m in t.members.values() if m.direction == "input"]
+            raise STErrorAt(
+                unit, element, f"{t.name} has no input {element.name!r}", ", ".join(inputs)
+            )
+        e = x.expr(element.value)
+        lines.append(f"{target}.{member.python} = {x.convert(e, member.type, element)}")
+    return lines
+
+
+def _group(unit: Unit, target: str, value: Any, scope: Scope | None) -> str:
+    """An AXES_GROUP_REF variable declares its group: ``g : AXES_GROUP_REF;`` or, with the
+    largest distance of a blended corner from the polyline [mm], ``g : AXES_GROUP_REF :=
+    (CornerTolerance := 0.02);`` (``mcl.AxesGroup``)."""
+    name = target.rpartition(".")[2]
+    options = ""
+    for element in getattr(value, "elements", None) or []:
+        if str(element.name).lower() != "cornertolerance":
+            raise STErrorAt(
+                unit, element, f"AXES_GROUP_REF has no {element.name}", "CornerTolerance"
+            )
+        tolerance = Expressions(unit, scope or unit.globals).expr(element.value)
+        numeric = isinstance(tolerance.type, Elementary) and tolerance.type.numeric
+        if not (tolerance.const and numeric and tolerance.value > 0):
+            raise STErrorAt(
+                unit, element, f"CornerTolerance {tolerance.code}", "a constant > 0 [mm]"
+            )
+        options = f", corner_tolerance={float(tolerance.value)!r}"
+    if value is not None and not hasattr(value, "elements"):
+        raise STErrorAt(unit, value, "a value for an AXES_GROUP_REF", "(CornerTolerance := 0.02)")
+    return f"{target} = _mcl.AxesGroup({name!r}{options})"
 
 
 def _array_init(

@@ -1,9 +1,10 @@
 """A call statement: a block invocation ``inst(In := x, InOut := v, Out => y)`` or a function
 called for its effect.
 
-An mcl block is called with keyword inputs (``inst(Execute=..., Axis=...)``), the standard and
-user blocks by setting their inputs and calling them; inputs left out keep their last value, and
-the ``=>`` outputs are copied after the call. An in-out of a user block is copied in before the
+A block is called by setting its inputs and calling it (as hand-written Python does:
+``move.Execute = start; move()``); inputs left out keep their last value, inputs that are the
+same every scan are set once (:mod:`mcl.st.hoist`), the ``=>`` outputs are copied after the
+call. An in-out of a user block is copied in before the
 call and back after it.
 """
 
@@ -54,16 +55,14 @@ def invoke(st: Statements, s: tf.FunctionCallStatement) -> None:
         if member.direction == "in_out" and block.origin == "user" and member.type.kind != "axis":
             in_outs.append((member, st.target(p.value)))
     ref = inst.code
-    if block.origin == "mcl":
-        st.out.emit(f"{ref}({', '.join(f'{m.python}={c}' for m, c in inputs)})")
-    else:
-        if len(inputs) + len(outputs) > 1 and not ref.isidentifier():
-            temp = st.temp()
-            st.out.emit(f"{temp} = {ref}")
-            ref = temp
-        for member, code in inputs:
-            st.out.emit(f"{ref}.{member.python} = {code}")
-        st.out.emit(f"{ref}()")
+    inputs = [(m, c) for m, c in inputs if (ref, m.python) not in st.hoisted]
+    if len(inputs) + len(outputs) > 1 and not ref.isidentifier():
+        temp = st.temp()
+        st.out.emit(f"{temp} = {ref}")
+        ref = temp
+    for member, code in inputs:
+        st.out.emit(f"{ref}.{member.python} = {code}")
+    st.out.emit(f"{ref}()")
     for member, target in [*outputs, *in_outs]:
         value = E(f"{ref}.{member.python}", member.type)
         st.out.emit(f"{target.code} = {x.convert(value, target.type, s)}")

@@ -1,5 +1,7 @@
 """A loaded ST program (:class:`STProgram`): call it once per PLC scan (``scene.run(prog)``);
 its variables read and write as attributes (``prog.Start = True``, ``prog.Head_X.Done``).
+Like a Python demo it reports ``done``, ``step`` and ``error`` from the program's variables of
+those names (a ``step`` of an enumeration by its value's name).
 
 A run-time fault (division by zero, an array index out of range) stops the program as a PLC
 stops: it is no longer scanned, every axis of the machine ramps down and is disabled
@@ -17,10 +19,13 @@ from typing import Any
 
 from mcl.st import functions as F  # noqa: N812
 from mcl.st.errors import STError, nearest
+from mcl.st.external import External
+from mcl.st.io import channels
 from mcl.st.parse import parse
 from mcl.st.scope import Unit, Var
+from mcl.st.task import ticks
 from mcl.st.translate import Module, translate
-from mcl.st.types import Elementary
+from mcl.st.types import Elementary, EnumType
 
 
 class STProgram:
@@ -30,9 +35,11 @@ class STProgram:
         module: the translated file.
         name: the PROGRAM (None: the file's first).
         axes: the machine's axes by name (``mcl.Axis``).
-        clock: the simulated time [s]; None: ``period`` per scan from 0.
-        period: the scan period [s] when there is no clock.
+        clock: the simulated time [s]; None: the task's interval per run from 0.
+        period: the PLC period it is called at [s] (the scene's); None: its TASK's INTERVAL
+            (or 10 ms without a TASK).
         filename: the ST file, for messages.
+        blocks: what makes an instance of each of the machine's own block types, by name.
     """
 
     def __init__(
@@ -41,37 +48,63 @@ class STProgram:
         name: str | None,
         axes: Mapping[str, Any],
         clock: Callable[[], float] | None,
-        period: float,
+        period: float | None,
         filename: str,
+        blocks: Mapping[str, Callable[[], Any]] | None = None,
     ) -> None:
         programs = {n.upper(): n for n in module.programs}
+        task = module.task
         if name is None:
-            name = next(iter(module.programs))
+            name = (
+                task.program if task is not None and task.program else next(iter(programs.values()))
+            )
         elif name.upper() not in programs:
             raise STError.at(filename, f"no PROGRAM {name!r}", ", ".join(module.programs))
         name = programs[name.upper()]
         own = self.__dict__
         own["name"], own["module"], own["filename"] = name, module, filename
-        own["error"], own["scans"], own["_axes"] = "", 0, dict(axes)
+        own["fault"], own["scans"], own["_axes"] = "", 0, dict(axes)
+        if period is None:
+            period = task.interval if task is not None else 0.01
+        own["every"] = ticks(task, period) if task is not None else 1
+        """The PLC scans per run of the program (its TASK's INTERVAL over the scene's period)."""
         own["_where"] = f"<st {filename}>"
         own["_vars"] = {
             k: v
             for k, v in {**module.globals, **module.programs[name]}.items()
             if "." in v.code or v.constant is not None
         }
-        clock = clock if clock is not None else (lambda: self.scans * period)
+        clock = clock if clock is not None else (lambda: self.scans * period * self.every)
         namespace: dict[str, Any] = {"__name__": f"st_{Path(filename).stem}"}
         exec(compile(module.source, own["_where"], "exec"), namespace)
         namespace["_axes"] = own["_axes"]
         namespace["_clock"] = lambda: round(clock() * 1000.0)
-        namespace["_g"] = namespace["_Globals"]()
+        namespace["_now"] = clock
+        namespace["_ext"] = dict(blocks or {})
         own["_namespace"] = namespace
-        own["_instance"] = namespace[_python(module, name)]()
+        self.restart()
+
+    def restart(self) -> None:
+        """A cold restart: every variable at its initial value, every block new, the fault
+        cleared; the program is scanned again (the axes as the stop left them: its MC_Power
+        and MC_Reset bring them back)."""
+        namespace = self._namespace
+        namespace["_g"] = namespace["_Globals"]()
+        own = self.__dict__
+        own["_instance"] = namespace[_python(self.module, self.name)]()
+        own["fault"], own["_calls"] = "", 0
 
     @property
     def stopped(self) -> bool:
         """A run-time fault stopped the program."""
-        return bool(self.error)
+        return bool(self.fault)
+
+    @property
+    def error(self) -> str:
+        """The run-time fault that stopped the program (``file:line: ...``), else the program's
+        own STRING ``error`` (if it declares one: why its sequence stopped), else empty."""
+        var = self._vars.get("error")
+        return self.fault or (str(self._read(var)) if var is not None else "")
 
     @property
     def done(self) -> bool:
@@ -84,12 +117,22 @@ class STProgram:
         """The program's ``step`` variable as text (if it declares one), else its name; the
         error once one stopped it."""
         var = self._vars.get("step")
-        return self.error or (str(self._read(var)) if var is not None else self.name)
+        if self.error or var is None:
+            return self.error or self.name
+        value = self._read(var)
+        if isinstance(var.type, EnumType):  # the value's name, as declared
+            return next((n for n, v in var.type.values.items() if v == value), str(value))
+        return str(value)
 
     def __call__(self) -> None:
-        """One PLC scan (nothing once a fault stopped the program)."""
-        if self.error:
+        """One PLC scan (nothing once a fault stopped the program); the program runs every
+        :attr:`every`-th scan (its TASK's INTERVAL)."""
+        if self.fault:
             return
+        if self.every > 1:
+            calls = self.__dict__["_calls"] = self._calls + 1
+            if (calls - 1) % self.every:
+                return
         try:
             self._instance()
         except Exception as fault:  # any fault stops the PLC, never a traceback
@@ -105,7 +148,7 @@ class STProgram:
             tb = tb.tb_next
         st_line = self.module.st_lines[line - 1] if 0 < line <= len(self.module.st_lines) else 0
         what = str(fault) if isinstance(fault, F.STFault) else f"{type(fault).__name__}: {fault}"
-        self.__dict__["error"] = f"{self.filename}:{st_line}: {what}; the program stopped"
+        self.__dict__["fault"] = f"{self.filename}:{st_line}: {what}; the program stopped"
         for axis in self._axes.values():
             axis.power(False)
 
@@ -176,8 +219,10 @@ def compile_source(
     filename: str = "program.st",
     axes: Mapping[str, Any] | None = None,
     mapping: Mapping[str, str] | None = None,
+    blocks: Mapping[str, External] | None = None,
 ) -> Module:
-    """Parse and translate an ST source; ``axes`` and ``mapping`` name what AXIS_REFs bind to.
+    """Parse and translate an ST source; ``axes`` and ``mapping`` name what AXIS_REFs bind to,
+    ``blocks`` the machine's own block types (:class:`mcl.st.External`).
 
     Raises:
         STError: a syntax or type error (``file:line:column: ...``), or a mapping onto an axis
@@ -185,13 +230,14 @@ def compile_source(
     """
     axes = dict(axes or {})
     for key, axis in (mapping or {}).items():
-        if axis not in axes:
+        if axis not in axes and not (axis.startswith("%") or "." in axis):
             raise STError.at(
                 filename,
                 f"the mapping {key} -> {axis!r} names no axis",
                 f"one of {', '.join(axes) or 'no axes'}",
             )
-    unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}))
+    unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}), channels=channels(axes))
+    unit.types.update({n.upper(): b.block_type(n) for n, b in (blocks or {}).items()})
     return translate(parse(source, filename), unit)
 
 
@@ -200,21 +246,26 @@ def load(
     machine: Any = None,
     mapping: Mapping[str, str] | None = None,
     program: str | None = None,
-    period: float = 0.01,
+    period: float | None = None,
+    blocks: Mapping[str, External] | None = None,
 ) -> STProgram:
     """Load the ST file ``path`` for ``machine`` (an :class:`mcl.Machine`, e.g. a scene, or
-    None): its axes bind AXIS_REFs by name or through ``mapping`` (``{"Pohon.Ax1": "X"}``),
-    its simulated time runs the timers.
+    None), with the machine's own block types ``blocks`` (:class:`mcl.st.External`): its axes
+    bind AXIS_REFs by name or through ``mapping`` (``{"Pohon.Ax1": "X"}``),
+    its I/O located variables (``AT %IX0.2``) or named I/O (``{"Knife": "S.DO0"}``, see
+    :mod:`mcl.st.io`), its simulated time runs the timers; a TASK's INTERVAL runs the program
+    every n-th scan of the machine's PLC period (``period`` without a machine).
 
     Raises:
-        STError: the file is missing, or has a syntax or type error.
+        STError: the file is missing, has a syntax or type error, an I/O address the machine
+            lacks, or a TASK INTERVAL that is no multiple of the PLC period.
     """
     file = Path(path)
     try:
         source = file.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
         raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
-    return from_source(source, machine, mapping, program, str(file), period)
+    return from_source(source, machine, mapping, program, str(file), period, blocks)
 
 
 def from_source(
@@ -223,10 +274,14 @@ def from_source(
     mapping: Mapping[str, str] | None = None,
     program: str | None = None,
     filename: str = "program.st",
-    period: float = 0.01,
+    period: float | None = None,
+    blocks: Mapping[str, External] | None = None,
 ) -> STProgram:
     """As :func:`load`, from the text of a source."""
     axes = dict(machine.axes) if machine is not None else {}
-    module = compile_source(source, filename, axes, mapping)
+    module = compile_source(source, filename, axes, mapping, blocks)
     clock = (lambda: machine.time) if machine is not None else None
-    return STProgram(module, program, axes, clock, period, filename)
+    runtime = getattr(machine, "runtime", None)
+    period = runtime.plc_period if runtime is not None else period
+    made = {n: b.make for n, b in (blocks or {}).items()}
+    return STProgram(module, program, axes, clock, period, filename, made)

@@ -10,6 +10,7 @@ from typing import Any
 
 from mcl.st.catalog import builtin_names, builtin_type, mcl_enums
 from mcl.st.errors import STError, nearest
+from mcl.st.io import Address, Channels, address, location_text
 from mcl.st.types import BlockType, EnumType, Type
 
 
@@ -88,6 +89,12 @@ class Unit:
     globals: Scope = field(default_factory=Scope)
     bound: dict[str, str] = field(default_factory=dict)
     """The axes the program uses: Python name in ``_g`` → axis name."""
+    channels: Channels = field(default_factory=dict)
+    """The I/O counts of each axis (:func:`mcl.st.io.channels`)."""
+    reads: list[str] = field(default_factory=list)
+    """Lines that read the located inputs of the globals when a scan begins."""
+    writes: list[str] = field(default_factory=list)
+    """Lines that write the located outputs of the globals when a scan ends."""
 
     def where(self, node: Any) -> str:
         """``file:line:column`` of a tree node or token."""
@@ -138,6 +145,28 @@ class Unit:
             target = next((a for a in self.axes if a.lower() == name.lower()), None)
         if target is None or target not in self.axes:
             return None
-        python = "ax_" + "".join(c if c.isalnum() else "_" for c in target)
-        self.bound[python] = target
+        return self.bind(target)
+
+    def bind(self, axis: str) -> str:
+        """The Python access code of axis ``axis`` (in ``_g``); records it in :attr:`bound`."""
+        python = "ax_" + "".join(c if c.isalnum() else "_" for c in axis)
+        self.bound[python] = axis
         return f"_g.{python}"
+
+    def io_point(self, name: str, location: Any, where: str) -> Address | None:
+        """The I/O point variable ``name`` is located at (``AT %IX0.2``, or the mapping names
+        an address for it), or None.
+
+        Raises:
+            STError: an address the machine lacks.
+        """
+        if location is not None:
+            text = location_text(location)
+        else:
+            text = next((a for k, a in self.mapping.items() if k.lower() == name.lower()), "")
+            if not (text.startswith("%") or "." in text):
+                return None
+        point, problem = address(text, self.channels)
+        if point is None:
+            raise STError.at(where, f"{name} AT {text}: {problem}", "an I/O point of the machine")
+        return point

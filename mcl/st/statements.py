@@ -36,6 +36,8 @@ class Statements:
         self.loops: list[str] = []
         """Per enclosing loop: the increment a CONTINUE must run first (FOR), else ``""``."""
         self.temps = 0
+        self.hoisted: dict[tuple[str, str], str] = {}
+        """Block inputs set once when the instance is made (:mod:`mcl.st.hoist`)."""
 
     def block(self, statements: Any) -> None:
         """A statement list (``pass`` when empty)."""

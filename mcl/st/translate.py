@@ -12,8 +12,10 @@ import blark.transform as tf
 from mcl.st.catalog import python_name
 from mcl.st.declarations import STErrorAt, constant_of, declare_type, initial, spec_type
 from mcl.st.expressions import Expressions
+from mcl.st.hoist import hoisted as hoisted_inputs
 from mcl.st.scope import Callable_, Scope, Unit, Var
 from mcl.st.statements import Emitter, Statements
+from mcl.st.task import Task, configurations, task_of
 from mcl.st.types import BlockType, Member, Type
 
 _SECTIONS = {
@@ -22,6 +24,7 @@ _SECTIONS = {
     tf.InputOutputDeclarations: "in_out",
     tf.TemporaryVariableDeclarations: "temp",
     tf.VariableDeclarations: "local",
+    tf.LocatedVariableDeclarations: "local",
     tf.FunctionVariableDeclarations: "local",
     tf.StaticDeclarations: "local",
 }
@@ -44,19 +47,25 @@ class Module:
     programs: dict[str, dict[str, Var]] = field(default_factory=dict)
     globals: dict[str, Var] = field(default_factory=dict)
     bound: dict[str, str] = field(default_factory=dict)
+    task: Task | None = None
+    """The cyclic task the configuration runs the program in (None: none declared)."""
 
 
-def _variables(block: Any) -> list[tuple[str, Any, Any]]:
-    """(name, type spec, initial value node) of every variable a declaration block declares."""
+def _variables(block: Any) -> list[tuple[str, Any, Any, Any]]:
+    """(name, type spec, initial value node, location node or None) of every variable a
+    declaration block declares."""
     found = []
     for item in block.items:
         init = getattr(item, "init", None)
         value = getattr(init, "value", None)
         if isinstance(init, tf.InitializedStructure):
             value = init.init
+        if isinstance(item, tf.LocatedVariableDeclaration):  # name AT %IX0.2 : BOOL
+            name = getattr(item.name, "name", item.name)
+            found.append((str(name), init, value, item.location))
         for v in getattr(item, "variables", []):
             name = getattr(getattr(v, "variable", v), "name", v)
-            found.append((str(name), init, value))
+            found.append((str(name), init, value, getattr(v, "location", None)))
     return found
 
 
@@ -74,6 +83,10 @@ class POU:
         self.temps: list[str] = []
         self.members: dict[str, Member] = {}
         self.inputs: list[tuple[str, Type, str]] = []
+        self.reads: list[str] = []
+        """Lines reading the located inputs when a scan begins (a PROGRAM's)."""
+        self.writes: list[str] = []
+        """Lines writing the located outputs when a scan ends."""
 
     def declare(self) -> None:
         """Scope, members and initial values from the declaration blocks."""
@@ -90,8 +103,9 @@ class POU:
             if section is None:
                 raise STErrorAt(self.unit, block, f"{type(block).__name__}", "a VAR section")
             constant = "CONSTANT" in str(getattr(block, "attrs", "") or "").upper()
-            for name, spec, value in _variables(block):
+            for name, spec, value, location in _variables(block):
                 self.variable(name, spec, value, section, constant, owner, block)
+                self.locate(name, location, block if location is None else location)
 
     def variable(
         self, name: str, spec: Any, value: Any, section: str, constant: bool, owner: str, at: Any
@@ -126,6 +140,27 @@ class POU:
             default = lines[0].split(" = ", 1)[1] if len(lines) == 1 else "None"
             self.inputs.append((name, t, default))
 
+    def locate(self, name: str, location: Any, at: Any) -> None:
+        """Bind variable ``name`` to the I/O point it is located at (or the mapping names)."""
+        var = self.scope.vars[name.lower()]
+        point = self.unit.io_point(name, location, self.unit.where(at))
+        if point is None:
+            return
+        problem = point.check_type(var.type)
+        if isinstance(self.node, tf.Program) and var.section == "local" and not problem:
+            io = point.code(self.unit.bind(point.axis))
+            if point.output:
+                self.writes.append(f"{io} = {var.code}")
+            else:
+                self.reads.append(f"{var.code} = {io}")
+            return
+        raise STErrorAt(
+            self.unit,
+            at,
+            f"{name} on {point.kind}{point.number} of axis {point.axis}",
+            problem or "a located variable in a PROGRAM's VAR or in VAR_GLOBAL",
+        )
+
     def signature(self) -> None:
         """Register the POU's type (a block) or signature (a function) in the unit."""
         if self.function:
@@ -154,19 +189,32 @@ class POU:
             out.emit("return _r")
             out.depth -= 1
         else:
+            hoisted = hoisted_inputs(x, self.node.body, lambda m, v, p: x.convert(v, m.type, p))
             out.emit(f"class {self.python}:")
             out.depth += 1
             out.emit("def __init__(self):")
             out.depth += 1
-            for line in self.init or ["pass"]:
+            for line in [*self.init, *(f"{i}.{m} = {c}" for (i, m), c in hoisted.items())]:
                 out.emit(line)
+            if not self.init:
+                out.emit("pass")
             out.depth -= 1
             out.emit("")
-            out.emit("def __call__(self):")
+            reads, writes = self.unit.reads + self.reads, self.unit.writes + self.writes
+            if isinstance(self.node, tf.Program) and (reads or writes):
+                out.emit("def __call__(self):")  # the process image around the scan
+                for line in [*reads, "self._scan()", *writes]:
+                    out.emit(f"    {line}")
+                out.emit("")
+                out.emit("def _scan(self):")
+            else:
+                out.emit("def __call__(self):")
             out.depth += 1
             for line in self.temps:
                 out.emit(line)
-            Statements(x, out).block(self.node.body)
+            statements = Statements(x, out)
+            statements.hoisted = hoisted
+            statements.block(self.node.body)
             out.depth -= 2
         out.emit("")
         out.emit("")
@@ -200,6 +248,7 @@ def _globals(unit: Unit, blocks: list[tf.GlobalVariableDeclarations], out: Emitt
                     unit.globals.add(Var(str(name), t, f"_g.{py}", "global", folded), where)
                     continue
                 unit.globals.add(Var(str(name), t, f"_g.{py}", "global"), where)
+                _locate_global(unit, str(name), t, item.spec.location, item)
                 if t.kind == "axis":
                     bound = unit.axis(str(name))
                     if bound is None:
@@ -227,6 +276,20 @@ def _globals(unit: Unit, blocks: list[tf.GlobalVariableDeclarations], out: Emitt
     out.emit("")
 
 
+def _locate_global(unit: Unit, name: str, t: Type, location: Any, at: Any) -> None:
+    """Bind global ``name`` to its I/O point (read and written around every program's scan)."""
+    point = unit.io_point(name, location, unit.where(at))
+    if point is None:
+        return
+    problem = point.check_type(t)
+    if problem:
+        raise STErrorAt(unit, at, f"{name} on {point.kind}{point.number} of {point.axis}", problem)
+    io = point.code(unit.bind(point.axis))
+    (unit.writes if point.output else unit.reads).append(
+        f"{io} = _g.{python_name(name)}" if point.output else f"_g.{python_name(name)} = {io}"
+    )
+
+
 def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     """The Python module of an ST file.
 
@@ -250,7 +313,13 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
             out.st_line = unit.line(item)
             for line in declare_type(unit, item):
                 out.emit(line)
+    configs = configurations(items)
     global_blocks = [i for i in items if isinstance(i, tf.GlobalVariableDeclarations)]
+    for config in configs:  # a configuration's and its resources' VAR_GLOBAL
+        for tree in [config, *config.find_data("resource_declaration")]:
+            global_blocks += [
+                c for c in tree.children if isinstance(c, tf.GlobalVariableDeclarations)
+            ]
     pous = [
         POU(unit, i) for i in items if isinstance(i, tf.Program | tf.FunctionBlock | tf.Function)
     ]
@@ -259,7 +328,8 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     known = [
         i
         for i in items
-        if not isinstance(
+        if i not in configs
+        and not isinstance(
             i,
             tf.DataTypeDeclaration
             | tf.GlobalVariableDeclarations
@@ -291,6 +361,7 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     lines = out.lines + body.lines
     source = "\n".join(("    " * depth + text) if text else "" for depth, text, _ in lines) + "\n"
     module = Module(source, [st for _, _, st in lines], bound=dict(unit.bound))
+    module.task = task_of(unit, items, [p.name for p in pous if isinstance(p.node, tf.Program)])
     module.globals = dict(unit.globals.vars)
     for pou in pous:
         if isinstance(pou.node, tf.Program):

@@ -27,11 +27,27 @@ def run(
     """Run the demo of machine ``name`` (or the ST program ``st_program``) from its demo start
     and print the report."""
     definition = scenes.definition(name)
-    scene = scenes.load(name, start=definition.demo_start, trace_every=0)
+    task = st_task(st_program) if st_program is not None else None
+    try:
+        scene = scenes.load(
+            name,
+            start=definition.demo_start,
+            trace_every=0,
+            **({"plc_period": task.interval} if task is not None else {}),
+        )
+    except ValueError as error:  # a TASK period the machine's servo cycle does not divide
+        if task is None:
+            raise
+        raise mcl.st.STError.at(task.where, f"TASK {task.name}: {error}", "") from None
     program: Any = (
         scenes.demo(scene)
         if st_program is None
-        else mcl.st.load(st_program, scene, mapping=dict(m.partition("=")[::2] for m in maps))
+        else mcl.st.load(
+            st_program,
+            scene,
+            mapping=dict(m.partition("=")[::2] for m in maps),
+            blocks=machine_blocks(scene),
+        )
     )
     log = EdgeLog(scene)
     log.watch(**getattr(program, "blocks", {}))
@@ -44,12 +60,44 @@ def run(
             steps.append(program.step)
             log.title(f"t={scene.time:6.3f} s  {program.step}")
 
-    scene.run(scan, until=lambda: program.done or bool(program.error), timeout=timeout)
+    if st_program is not None and "done" not in program.variables():
+        scene.run(scan, timeout=timeout)  # a program without ``done`` runs for the timeout
+    else:
+        scene.run(scan, until=lambda: program.done or bool(program.error), timeout=timeout)
     log.summary()
     if program.error:
         print(f"demo stopped: {program.error}", file=sys.stderr)
         return 1
     return 0
+
+
+def machine_blocks(scene: scenes.Scene) -> dict[str, mcl.st.External]:
+    """The machine's own ST block types: ``blocks(scene)`` of its package's ``st_blocks``
+    module (``scenes.machines.<name>.st_blocks``), if it has one."""
+    import importlib
+
+    name = f"scenes.machines.{scene.name}.st_blocks"
+    try:
+        module = importlib.import_module(name)
+    except ModuleNotFoundError as error:
+        if error.name not in (name, f"scenes.machines.{scene.name}"):
+            raise
+        return {}
+    blocks: dict[str, mcl.st.External] = module.blocks(scene)
+    return blocks
+
+
+def st_task(path: str) -> mcl.st.Task | None:
+    """The TASK an ST file declares (its INTERVAL is the PLC period of the scene built for it).
+
+    Raises:
+        STError: the file cannot be read, or has a syntax error.
+    """
+    try:
+        source = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise mcl.st.STError.at(path, f"cannot read it ({error})", "a UTF-8 ST file") from None
+    return mcl.st.declared_task(source, path)
 
 
 def sweep(
@@ -102,7 +150,11 @@ def main(argv: list[str] | None = None) -> int:
     run_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
     run_parser.add_argument("--program", help="an IEC 61131-3 Structured Text file to run")
     run_parser.add_argument(
-        "--map", action="append", default=[], metavar="NAME=AXIS", help="bind Pohon.Ax1=X"
+        "--map",
+        action="append",
+        default=[],
+        metavar="NAME=AXIS",
+        help="bind Pohon.Ax1=X (an axis) or Knife=S.DO0 (I/O)",
     )
     run_parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds")
     sub.add_parser("list", help="list the machines")

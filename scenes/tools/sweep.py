@@ -2,10 +2,11 @@
 local cores or a Dask cluster, collected into one table.
 
 A scenario is a plain function ``scenario(seed, **parameters) -> dict of metrics`` (importable,
-so the workers find it). Every row of the result carries its parameters, its metrics, its seed
-and the project version; the rows come back in the order of the sample whatever ran where, so a
-serial run and a cluster run give the same table. A scenario that raises is a failed row (its
-``error`` column says why); the others still run.
+so the workers find it), or an ST program on a machine, ``"gantry:move.st"`` (its variables the
+parameters, its VAR_OUTPUTs the metrics: :mod:`scenes.tools.st_sweep`). Every row of the result
+carries its parameters, its metrics, its seed and the project version; the rows come back in
+the order of the sample whatever ran where, so a serial run and a cluster run give the same table.
+A scenario that raises is a failed row (its ``error`` column says why); the others still run.
 
 .. code-block:: python
 
@@ -23,6 +24,7 @@ file is checked against the scenario's signature before anything runs; each mist
 
 from __future__ import annotations
 
+import functools
 import importlib
 import importlib.metadata
 import inspect
@@ -45,6 +47,7 @@ import numpy.typing as npt
 import pandas as pd
 
 from scenes.errors import UserError, located, suggest
+from scenes.tools.st_sweep import is_st_target
 
 VERSION = importlib.metadata.version("mcl-testbench")
 """The project version every row carries."""
@@ -76,6 +79,8 @@ def _resolve(target: object) -> tuple[Callable[..., Mapping[str, float]] | None,
     form = "'module:function', e.g. 'scenes.machines.flying_shear.scenarios:cut_length'"
     if not isinstance(target, str):
         return None, (f"{target!r} is not a string", form)
+    if is_st_target(target):  # an ST program: "machine:file.st"
+        return _st_scenario(target)
     module_name, _, name = target.partition(":")
     if not module_name or not name:
         return None, (f"{target!r} is not 'module:function'", form)
@@ -94,6 +99,21 @@ def _resolve(target: object) -> tuple[Callable[..., Mapping[str, float]] | None,
             f"one of {functions}{suggest(name, functions)}",
         )
     return function, ("", "")
+
+
+@functools.cache
+def _st_scenario(target: str) -> tuple[Callable[..., Mapping[str, float]] | None, tuple[str, str]]:
+    """The scenario of an ST program (:class:`scenes.tools.st_sweep.STScenario`), or None and
+    why not."""
+    import mcl.st
+    from scenes.tools.st_sweep import STScenario
+
+    try:
+        return STScenario(target), ("", "")
+    except KeyError as error:
+        return None, (str(error.args[0]), "'machine:file.st', e.g. 'gantry:examples/st/move.st'")
+    except mcl.st.STError as error:
+        return None, (str(error), "an ST program that loads on the machine")
 
 
 def _is_number(value: object) -> bool:

@@ -6,6 +6,11 @@ Fixtures:
   test fails, the trace of every scene it made is plotted (PNG and HTML) into the directory of
   ``--scene-plots`` (default ``scene-plots/``), named after the test.
 - ``scans``: a :class:`ScanLog` factory that records values once per PLC scan.
+- ``st_program``: a factory of IEC 61131-3 Structured Text programs for a scene,
+  ``st_program("move.st", gantry, mapping={"Pohon.Ax1": "X"})`` → :class:`mcl.st.STProgram`
+  (a relative path is found beside the test's file); its variables read and write as
+  attributes (``prog.step``, ``prog.Start = True``, ``prog.Head_X.Done``), ``gantry.run(prog)``
+  scans it. :func:`load_st` does the same outside a test.
 
 Helpers (plain functions, usable anywhere): :func:`run_until` (a program with a timeout in
 simulated time), :func:`home` (power and home axes with the machine's homing recipes),
@@ -46,6 +51,7 @@ from typing import Any
 import pytest
 
 import mcl
+import mcl.st
 import scenes
 from scenes.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
@@ -278,6 +284,39 @@ def scene(request: pytest.FixtureRequest) -> Iterator[Callable[..., Scene]]:
             if s.trace.samples:
                 suffix = f"_{k}" if len(made) > 1 else ""
                 plot(s.trace, folder / f"{stem}{suffix}", title=request.node.nodeid)
+
+
+def load_st(
+    scene: mcl.Machine,
+    path: str | Path,
+    mapping: dict[str, str] | None = None,
+    program: str | None = None,
+) -> mcl.st.STProgram:
+    """The ST program ``path`` loaded for ``scene`` (:func:`mcl.st.load`): AXIS_REFs bound by
+    name or ``mapping``, I/O by address, timers on the scene's time.
+
+    Raises:
+        STError: the file is missing or has an error (``file:line:column: ...``).
+    """
+    return mcl.st.load(path, scene, mapping=mapping, program=program)
+
+
+@pytest.fixture
+def st_program(request: pytest.FixtureRequest) -> Callable[..., mcl.st.STProgram]:
+    """A factory of ST programs: ``st_program(path, scene, mapping=None, program=None)``; a
+    relative ``path`` is found beside the test's file (see :func:`load_st`)."""
+    here = Path(request.path).parent
+
+    def make(
+        path: str | Path,
+        scene: mcl.Machine,
+        mapping: dict[str, str] | None = None,
+        program: str | None = None,
+    ) -> mcl.st.STProgram:
+        file = Path(path)
+        return load_st(scene, file if file.is_absolute() else here / file, mapping, program)
+
+    return make
 
 
 @pytest.fixture
