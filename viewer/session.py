@@ -28,6 +28,7 @@ from typing import Any
 
 import mcl
 import mcl.faults
+import mcl.st
 import scenes
 from scenes import DemoProgram, MachineDef
 from scenes.scene import Scene
@@ -46,7 +47,9 @@ from viewer.snapshot import (
     mujoco_of,
     results_of,
 )
+from viewer.st_programs import ProgramCatalog, ProgramSelection
 from viewer.step_test import StepListener
+from viewer.watch import WatchedProgram, WatchRow
 
 log = logging.getLogger(__name__)
 
@@ -98,6 +101,8 @@ class Session:
         overrides: Keyword overrides for ``scenes.load``; the trace is off unless given
             (``trace_every=0``), so a long session does not accumulate memory.
         snapshot_hz: Snapshots published per wall second at most.
+        programs: The ST programs the Program choice offers besides the Python demo
+            (default: the repository's ``examples/st/<machine>_demo.st``).
 
     Raises:
         KeyError: If the scene is unknown.
@@ -114,6 +119,7 @@ class Session:
         demo: DemoFactory | None = None,
         overrides: Mapping[str, Any] | None = None,
         snapshot_hz: float = 60.0,
+        programs: ProgramCatalog | None = None,
     ) -> None:
         self._clock = clock
         self._demo_factory = demo
@@ -149,6 +155,9 @@ class Session:
         self._repeat = False
         self._repeat_at: float | None = None
         self._demo_runs = 0
+        self.programs = ProgramSelection(programs or ProgramCatalog(), self.record_event)
+        """The Program choice: what Run demo runs (``programs.choose(label)``)."""
+        self._watch: tuple[WatchRow, ...] = ()
         self._install(scene, self._scene, self._operator)
 
     # ------------------------------------------------------------------------------ building
@@ -184,7 +193,8 @@ class Session:
         self._operator = operator
         self._axis_info = axis_info(definition, scene)
         self._model, self._data = mujoco_of(scene)
-        self._has_demo = self._demo_factory is not None or definition.demo is not None
+        self.programs.install(scene, self._demo_factory is not None or definition.demo is not None)
+        self._has_demo = bool(self.programs.choices)
         self._demo = None
         self._demo_step = self._demo_error = ""
         self._demo_done_seen = False
@@ -265,6 +275,29 @@ class Session:
     def record_event(self, source: str, text: str) -> None:
         """Add an entry to the error history (from any thread)."""
         self._events.append(Event(time.time(), self._scene.time, source, text))
+
+    @property
+    def watch(self) -> tuple[WatchRow, ...]:
+        """The watch table of the running ST program, as last published (empty: none runs)."""
+        return self._watch
+
+    def force(self, name: str, value: bool | float | None) -> bool:
+        """Force variable ``name`` of the running ST program to ``value`` (None: unforce it);
+        a refusal (no ST program runs, no such variable, a wrong value) is logged in the error
+        history. Whether it was done."""
+        demo = self._demo
+        try:
+            if not isinstance(demo, WatchedProgram):
+                raise ValueError("no ST program runs")
+            if value is None:
+                demo.unforce(name)
+            else:
+                demo.force(name, value)
+        except ValueError as exc:
+            self.record_event("watch", f"force of {name!r} refused: {exc}")
+            return False
+        self.record_event("watch", f"{name} unforced" if value is None else f"{name} forced")
+        return True
 
     def demo_available(self) -> bool:
         """Whether the current scene has a demo program."""
@@ -402,6 +435,7 @@ class Session:
             KeyError: If the scene is unknown.
         """
         scene, operator = self._build(name)
+        self.programs.prepare(scene)
         self._post(lambda: self._install(name, scene, operator))
 
     def start_demo(self) -> None:
@@ -434,7 +468,7 @@ class Session:
 
     def _begin_demo(self) -> None:
         """Make a fresh demo program and run it (simulation thread)."""
-        factory = self._demo_factory or scenes.demo
+        factory = self.programs.factory(self._demo_factory)
         self._demo_step = self._demo_error = ""
         self._demo_done_seen = False
         self._repeat_at = None
@@ -443,7 +477,9 @@ class Session:
         except Exception as exc:  # a bug in a user program must not kill the viewer
             log.exception("demo program of scene %r failed to start", self._scene_name)
             self._demo = None
-            self._demo_error = f"{type(exc).__name__}: {exc}"
+            text = f"{type(exc).__name__}: {exc}"
+            self._demo_error = str(exc) if isinstance(exc, mcl.st.STError) else text
+            self.record_event("demo", self._demo_error)
             return
         self._demo_runs += 1
         self._operator.release_power()
@@ -702,6 +738,7 @@ class Session:
             self._demo_step = str(demo.step)
             self._demo_done_seen = bool(demo.done)
             self._results = results_of(demo)
+        self._watch = demo.rows() if isinstance(demo, WatchedProgram) else ()
         operators, info = self._operator.axes, self._axis_info
         peak = self._peaks.peak
         views = {

@@ -1,0 +1,105 @@
+"""Structured Text in the viewer's session: the Program choice runs an ST program as the demo,
+its watch table shows the variables live, and a page forces them."""
+
+from pathlib import Path
+
+import pytest
+
+from scenes.tools.testing import home, physical_position
+from viewer.session import Session
+from viewer.snapshot import Event
+from viewer.st_programs import PYTHON_DEMO, ProgramCatalog
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "st"
+SCANS = 400
+"""PLC scans the demos run before they are compared."""
+
+
+def _rows(session: Session) -> dict[str, tuple[str, str, bool]]:
+    return {r.name: (r.type, r.value, r.forced) for r in session.watch}
+
+
+def _run_demo(label: str, scans: int) -> Session:
+    session = Session("gantry", paused=True)
+    assert session.programs.choose(label)
+    session.start_demo()  # published at once: the watch table of the fresh program
+    if scans:
+        session.advance(scans)
+    return session
+
+
+def test_the_gantry_st_demo_moves_the_joints_as_the_python_demo() -> None:
+    python, st = _run_demo(PYTHON_DEMO, SCANS), _run_demo("gantry_demo.st", SCANS)
+    assert "gantry_demo.st" in st.programs.labels and PYTHON_DEMO in st.programs.labels
+    moved = python.snapshot.qpos
+    start = Session("gantry", paused=True).snapshot.qpos
+    assert abs(moved - start).max() > 1e-3  # the demo has moved the machine
+    assert (st.snapshot.qpos == moved).all()
+    assert st.snapshot.demo.running and not st.snapshot.demo.error
+    assert python.watch == ()  # a Python demo has no watch table
+
+
+def test_the_watch_table_shows_the_step_changing() -> None:
+    session = _run_demo("gantry_demo.st", 0)
+    first = _rows(session)["step"]
+    assert first == ("GantryStep", "PowerOn", False)
+    assert _rows(session)["powerX.Status"][0] == "BOOL"
+    session.advance(SCANS)
+    assert _rows(session)["step"][1] not in ("", "PowerOn")
+    assert session.snapshot.demo.step == _rows(session)["step"][1]
+
+
+@pytest.fixture
+def manual() -> Session:
+    """The gantry with X homed, running examples/st/manual_move.st (Pohon.Ax1 mapped to X)."""
+    catalog = ProgramCatalog([EXAMPLES], mapping={"Pohon.Ax1": "X"})
+    session = Session("gantry", paused=True, programs=catalog)
+    home(session.scene, "X")
+    assert session.programs.choose("manual_move.st")
+    session.start_demo()
+    session.advance(10)
+    return session
+
+
+def test_forcing_start_moves_x_until_unforced(manual: Session) -> None:
+    x0 = physical_position(manual.scene, "X")
+    assert _rows(manual)["Start"] == ("BOOL", "FALSE", False)
+    assert manual.force("Start", True)
+    manual.advance(1)
+    assert _rows(manual)["Start"] == ("BOOL", "TRUE", True)
+    manual.advance(300)
+    assert physical_position(manual.scene, "X") > x0 + 1.0  # X moves towards 300 mm
+    assert _rows(manual)["Head_X.Busy"][1] == "TRUE"
+    assert manual.force("Start", None)
+    manual.advance(1)
+    assert _rows(manual)["Start"] == ("BOOL", "TRUE", False)  # unforced, keeps its value
+
+
+def test_a_wrong_force_is_refused_and_logged(manual: Session) -> None:
+    x0 = physical_position(manual.scene, "X")
+    assert not manual.force("Nope", True)
+    assert not manual.force("Head_X.Done", True)  # a block's output is the block's
+    assert not manual.force("ErrorID2", float("nan"))
+    manual.advance(5)
+    assert physical_position(manual.scene, "X") == pytest.approx(x0, abs=1e-3)  # X stays
+    assert _rows(manual)["Start"] == ("BOOL", "FALSE", False)
+    refused = [e.text for e in manual.snapshot.events if "refused" in e.text]
+    assert len(refused) == 3 and "'Nope'" in refused[0]
+
+
+def test_a_file_that_does_not_translate_is_listed_with_its_error_and_not_run(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "broken.st").write_text("PROGRAM p\nVAR x : NOSUCHTYPE; END_VAR\nEND_PROGRAM\n")
+    session = Session("gantry", paused=True, programs=ProgramCatalog([tmp_path]))
+    assert "broken.st" in session.programs.labels
+    assert not session.programs.choose("broken.st")
+    session.start_demo()
+    session.advance(2)
+    demo = session.snapshot.demo
+    assert not demo.running and "broken.st:2:" in demo.error and "NOSUCHTYPE" in demo.error
+    assert any("broken.st:2:" in e.text for e in demo_events(session))
+
+
+def demo_events(session: Session) -> list[Event]:
+    return [e for e in session.snapshot.events if e.source in ("demo", "program")]
