@@ -1,4 +1,5 @@
-"""Command line: ``python -m viewer [--scene NAME] [--host H] [--port P] [--speed S] [--no-demo]``.
+"""Command line: ``python -m viewer [--scene NAME] [--host H] [--port P] [--speed S] [--no-demo]
+[--programs DIR] [--map NAME=AXIS]``.
 
 Starts the browser viewer on a scene (the gantry with its demo program by default), prints the
 address to open (with the secret token of this start) and runs until Ctrl-C. Binds 127.0.0.1
@@ -14,10 +15,12 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
+from pathlib import Path
 from types import FrameType
 
 from viewer.server import DEFAULT_HOST, DEFAULT_PORT, PortInUseError, Viewer
-from viewer.session import choices
+from viewer.session import Session, choices
+from viewer.st_programs import ProgramCatalog
 
 EXIT_PORT_IN_USE = 2
 """Exit status when the port is taken or the address cannot be served (also argparse's status
@@ -71,6 +74,30 @@ def parse_port(text: str) -> int:
     return port
 
 
+def parse_directory(text: str) -> Path:
+    """A ``--programs`` value: a directory that exists.
+
+    Raises:
+        argparse.ArgumentTypeError: If it is no directory.
+    """
+    path = Path(text)
+    if not path.is_dir():
+        raise argparse.ArgumentTypeError(f"expected a directory of .st files, got {text!r}")
+    return path
+
+
+def parse_mapping(text: str) -> tuple[str, str]:
+    """A ``--map`` value: ``NAME=AXIS`` (``Pohon.Ax1=X``).
+
+    Raises:
+        argparse.ArgumentTypeError: If it is not of that form.
+    """
+    name, _, axis = text.partition("=")
+    if not (name.strip() and axis.strip()):
+        raise argparse.ArgumentTypeError(f"expected NAME=AXIS (e.g. Pohon.Ax1=X), got {text!r}")
+    return name.strip(), axis.strip()
+
+
 def parser() -> argparse.ArgumentParser:
     """The command line parser."""
     p = argparse.ArgumentParser(
@@ -118,6 +145,22 @@ def parser() -> argparse.ArgumentParser:
         metavar="NAME",
         help="a further host name the viewer may be reached under (e.g. a DNS name); repeatable",
     )
+    p.add_argument(
+        "--programs",
+        type=parse_directory,
+        action="append",
+        default=[],
+        metavar="DIR",
+        help="a directory whose *.st programs the Demo folder offers (read at start); repeatable",
+    )
+    p.add_argument(
+        "--map",
+        type=parse_mapping,
+        action="append",
+        default=[],
+        metavar="NAME=AXIS",
+        help="bind an ST program's AXIS_REF or I/O name to the machine's (Pohon.Ax1=X); repeatable",
+    )
     return p
 
 
@@ -147,9 +190,11 @@ def serve(args: argparse.Namespace) -> int:
     Returns:
         Exit status: 0 when stopped, 2 if the port is taken or the address cannot be served.
     """
+    programs = ProgramCatalog(args.programs, dict(args.map))
     try:
         viewer = Viewer(
             args.scene,
+            session=Session(args.scene, speed=args.speed, programs=programs),
             host=args.host,
             port=args.port,
             speed=args.speed,

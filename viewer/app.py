@@ -27,6 +27,7 @@ tunnel and upload requests are refused (:func:`~viewer.security.harden`). :class
 
 from __future__ import annotations
 
+import html
 import logging
 import math
 import threading
@@ -63,6 +64,7 @@ from viewer.panels import (
 from viewer.security import BoundedLog, GuiGate, choice_of, harden
 from viewer.session import REPEAT_PAUSE, Session, choices
 from viewer.snapshot import Snapshot
+from viewer.st_programs import ProgramChoice
 from viewer.views import OFF, ON, SWITCH_CHOICES, Views
 from viewer.widgets import SceneGui, gated_button
 
@@ -367,6 +369,16 @@ class ViewerApp:
         """The Demo folder: run and end the demo, repeat it, release its group, its step."""
         gui, session = self.server.gui, self.session
         with gui.add_folder("Demo", order=1):
+            labels = session.programs.labels or ("none",)
+            self._program = gui.add_dropdown(
+                "Program",
+                labels,
+                initial_value=labels[0],
+                hint="What Run demo runs: the machine's Python demo or an ST program for it",
+                order=-1,
+            )
+            self.gate.allow(self._program, choice_of(labels))
+            self._program_error = gui.add_html("", order=-0.5)
             # two buttons, not a toggle: a click a slow page sends late must not restart a demo
             self._demo_button = self._button("Run demo", icon=viser.Icon.PLAYER_PLAY, order=0)
             self._end_demo = self._button(
@@ -392,6 +404,14 @@ class ViewerApp:
             self._demo_step = gui.add_html("", order=2)
             self._demo_runs = gui.add_html("", order=3)
 
+        @self._program.on_update
+        def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
+            chosen = session.programs.chosen
+            if self._program.value in session.programs.labels and (
+                chosen is None or chosen.label != self._program.value
+            ):
+                session.programs.choose(self._program.value)
+
         @self._repeat.on_update
         def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
             if self._repeat.value in SWITCH_CHOICES:
@@ -406,12 +426,23 @@ class ViewerApp:
         self._end_demo.on_click(_call(session.end_demo))
         release.on_click(_call(session.release_groups))
 
+    def _show_programs(self) -> None:
+        """The Program choice of a new scene: its programs, the chosen one."""
+        programs = self.session.programs
+        labels = programs.labels or ("none",)
+        self.gate.allow(self._program, choice_of(labels))
+        if tuple(self._program.options) != labels:
+            self._program.options = labels
+        if programs.chosen is not None:
+            cast(Any, self._program).value = programs.chosen.label  # viser types it read-only
+
     # ------------------------------------------------------------------------- GUI: scene
 
     def _rebuild(self, snapshot: Snapshot) -> None:
         """(Re)build the 3-D scene and every panel of the scene for a new scene."""
         self._clear_scene()
         self._generation = snapshot.generation
+        self._show_programs()
         self._build_model(snapshot)
         gui = self._gui = SceneGui(self.gate)
         generation = snapshot.generation
@@ -583,6 +614,8 @@ class ViewerApp:
         if self._end_demo.disabled == demo.running:
             self._end_demo.disabled = not demo.running
         self._show("demo", self._demo_step, demo_html(snapshot))
+        chosen = self.session.programs.chosen
+        self._show("program", self._program_error, program_html(chosen))
         self._show("demo runs", self._demo_runs, demo_runs_html(demo.runs, demo.repeat))
         for name, panel in self._axes.items():
             panel.show(snapshot.axes[name])
@@ -593,6 +626,16 @@ class ViewerApp:
         if self._results is not None:
             self._show("results", self._results, results_html(snapshot))
         self._show("events", self._events, events_html(snapshot))
+
+
+def program_html(chosen: ProgramChoice | None) -> str:
+    """Why the chosen program cannot run (its translation error; empty: it can)."""
+    if chosen is None or not chosen.error:
+        return ""
+    return (
+        '<div style="font-size:0.85em;padding:0 0.75em;color:#c62828;overflow-wrap:anywhere">'
+        f"{html.escape(chosen.error)}</div>"
+    )
 
 
 def demo_runs_html(runs: int, repeat: bool) -> str:
