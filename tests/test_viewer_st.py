@@ -1,11 +1,16 @@
 """Structured Text in the viewer's session: the Program choice runs an ST program as the demo,
 its watch table shows the variables live, and a page forces them."""
 
+import asyncio
 from pathlib import Path
+from typing import Any, cast
 
 import pytest
 
 from scenes.tools.testing import home, physical_position
+from tests.helpers import run_coroutine
+from tests.test_viewer_control import _drain, _encode, _page, _press, _until
+from viewer.server import Viewer
 from viewer.session import Session
 from viewer.snapshot import Event
 from viewer.st_programs import PYTHON_DEMO, ProgramCatalog
@@ -103,3 +108,39 @@ def test_a_file_that_does_not_translate_is_listed_with_its_error_and_not_run(
 
 def demo_events(session: Session) -> list[Event]:
     return [e for e in session.snapshot.events if e.source in ("demo", "program")]
+
+
+def test_a_watcher_cannot_force_and_the_operator_can() -> None:
+    session = Session("gantry", programs=ProgramCatalog())
+    assert session.programs.choose("gantry_demo.st")
+    session.start_demo()
+    with Viewer("gantry", port=0, demo=False, session=session) as viewer:
+
+        async def scenario() -> None:
+            connection, client = await _page(viewer)
+            reader = asyncio.create_task(_drain(connection))
+            pages = viewer.app.pages
+            await _until(lambda: pages.get(client) is not None, 10.0, "the page's panels")
+            page = pages.get(client)
+            assert page is not None
+            watch = page.watch
+            await _until(lambda: "done" in watch.variable.options, 5.0, "the watch table")
+            cast(Any, watch.variable).value = "done"
+            press = {"value": True}
+            await connection.send(
+                _encode("GuiUpdateMessage", uuid=watch.force._impl.uuid, updates=press)
+            )
+            await asyncio.sleep(0.5)
+            assert not _rows(session)["done"][2]  # a watcher's Force is refused
+            await _press(viewer, connection, client, "take")
+            await _until(lambda: viewer.app.control.owner == client, 5.0, "control")
+            await connection.send(
+                _encode("GuiUpdateMessage", uuid=watch.force._impl.uuid, updates=press)
+            )
+            await _until(lambda: session.snapshot.demo.done, 5.0, "done forced TRUE")
+            assert _rows(session)["done"] == ("BOOL", "TRUE", True)
+            await connection.close()
+            await reader
+
+        run_coroutine(scenario())
+    assert any("take control first" in e.text for e in session.snapshot.events)

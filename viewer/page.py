@@ -14,6 +14,7 @@ from viewer.scope import PageScope
 from viewer.security import GuiGate
 from viewer.session import Session
 from viewer.snapshot import Snapshot
+from viewer.watch_panel import WatchPanel
 from viewer.widgets import gated_button
 
 COLUMN_WIDTH = 660
@@ -47,6 +48,9 @@ class Page:
         with self._panel.add_tab("Axes and scope", icon=viser.Icon.CHART_LINE):
             self._axes = gui.add_folder("All axes")
             self._scope = gui.add_folder("Scope")
+        with self._panel.add_tab("Watch", icon=viser.Icon.LIST_DETAILS):
+            self.watch = WatchPanel(gui, gate, session)
+            """The running ST program's variables, and forcing them."""
         self.overview: Overview | None = None
         self._reset_peaks: viser.GuiButtonHandle | None = None
         self.scope: PageScope | None = None
@@ -116,6 +120,7 @@ class Pages:
             page = self._pages.pop(client.client_id, None)
         if page is not None:
             page.clear()
+            page.watch.forget()
 
     def show_step(self, client_id: int, axis: str, start: float, length: float) -> None:
         """A step test started from page ``client_id``: that page's scope records the axis'
@@ -142,8 +147,10 @@ class Pages:
                 page.build(snapshot)
 
     def update_panels(self, snapshot: Snapshot) -> None:
-        """Every page's overview (the update thread, at the panel rate)."""
+        """Every page's overview and watch table (the update thread, at the panel rate)."""
+        rows = self.session.watch
         for page in self.all():
+            page.watch.update(rows)
             if page.overview is not None and page.generation == snapshot.generation:
                 page.overview.update(snapshot)
 

@@ -1,7 +1,7 @@
 """The watch table of a running ST program, as the online view of a PLC IDE shows it: the
 PROGRAM's variables (and the globals) with type and value, the outputs of its block instances
-(``Head_X.Done``), and forcing: a forced BOOL or number variable is written before every scan
-until it is unforced.
+(``Head_X.Done``), and forcing: a forced BOOL or number variable is written before (and after)
+every scan until it is unforced.
 
 :class:`WatchedProgram` is the demo program the session runs for an ST file; it is touched only
 in the simulation thread, which publishes its :class:`WatchRow` tuples for the pages.
@@ -86,11 +86,15 @@ class WatchedProgram:
         return self.program.error
 
     def __call__(self) -> None:
-        """One PLC scan: the forced variables written, then the program."""
-        program = self.program
-        for name, value in self._forced.items():  # the dict is replaced, never changed
+        """One PLC scan: the forced variables written, the program, and the forced variables
+        written again (as CODESYS forces: at the start and the end of the cycle, so that the
+        program's own writes never show outside it)."""
+        program, forced = self.program, self._forced  # the dict is replaced, never changed
+        for name, value in forced.items():
             setattr(program, name, value)
         program()
+        for name, value in forced.items():
+            setattr(program, name, value)
 
     def forceable(self) -> tuple[str, ...]:
         """The variables a page may force, in declaration order."""
