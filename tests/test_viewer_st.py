@@ -144,3 +144,18 @@ def test_a_watcher_cannot_force_and_the_operator_can() -> None:
 
         run_coroutine(scenario())
     assert any("take control first" in e.text for e in session.snapshot.events)
+
+
+def test_a_run_time_fault_stops_the_program_and_names_file_and_line(tmp_path: Path) -> None:
+    (tmp_path / "faulty.st").write_text(
+        "PROGRAM p\nVAR n : INT := 3; q : INT; END_VAR\nn := n - 1;\nq := 6 / n;\nEND_PROGRAM\n"
+    )
+    session = Session("gantry", paused=True, programs=ProgramCatalog([tmp_path]))
+    assert session.programs.choose("faulty.st")
+    session.start_demo()
+    session.advance(2)
+    assert _rows(session)["q"][1] == "6"  # two scans ran: 6 / 2, then 6 / 1
+    session.advance(3)
+    demo = session.snapshot.demo
+    assert not demo.running and demo.error.startswith(f"{tmp_path / 'faulty.st'}:4: ")
+    assert [e.text for e in demo_events(session)] == [demo.error]
