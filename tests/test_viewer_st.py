@@ -1,19 +1,27 @@
 """Structured Text in the viewer's session: the Program choice runs an ST program as the demo,
 its watch table shows the variables live, and a page forces them."""
 
+from __future__ import annotations
+
 import asyncio
 from pathlib import Path
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import pytest
 
 from scenes.tools.testing import home, physical_position
 from tests.helpers import run_coroutine
+from tests.test_viewer_browser import browser, take_control, wait_for
 from tests.test_viewer_control import _drain, _encode, _page, _press, _until
 from viewer.server import Viewer
 from viewer.session import Session
 from viewer.snapshot import Event
 from viewer.st_programs import PYTHON_DEMO, ProgramCatalog
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser
+
+__all__ = ["browser"]  # the browser fixture, shared with the viewer's browser tests
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "st"
 SCANS = 400
@@ -159,3 +167,30 @@ def test_a_run_time_fault_stops_the_program_and_names_file_and_line(tmp_path: Pa
     demo = session.snapshot.demo
     assert not demo.running and demo.error.startswith(f"{tmp_path / 'faulty.st'}:4: ")
     assert [e.text for e in demo_events(session)] == [demo.error]
+
+
+@pytest.mark.browser
+def test_a_page_runs_the_st_demo_and_watches_its_step(browser: Browser) -> None:
+    with Viewer("gantry", port=0, demo=False) as viewer:
+        context = browser.new_context(viewport={"width": 1280, "height": 1000})
+        try:
+            page = context.new_page()
+            page.goto(viewer.url)
+            page.get_by_role("button", name="Power", exact=True).wait_for(timeout=30_000)
+            take_control(page, viewer)
+            page.get_by_role("combobox", name="Program", exact=True).click()
+            page.get_by_role("option", name="gantry_demo.st", exact=True).click()
+            programs = viewer.session.programs
+            wait_for(
+                lambda: programs.chosen is not None and programs.chosen.path is not None,
+                10.0,
+                "the ST demo chosen",
+            )
+            page.get_by_role("button", name="Run demo", exact=True).click()
+            wait_for(lambda: viewer.session.snapshot.demo.running, 5.0, "the ST demo to run")
+            page.get_by_role("tab", name="Watch").click()
+            page.get_by_text("GantryStep").first.wait_for(timeout=5_000)
+            step = viewer.session.snapshot.demo.step
+            assert any(r.name == "step" and r.value == step for r in viewer.session.watch)
+        finally:
+            context.close()
