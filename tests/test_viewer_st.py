@@ -169,6 +169,15 @@ def test_a_run_time_fault_stops_the_program_and_names_file_and_line(tmp_path: Pa
     assert [e.text for e in demo_events(session)] == [demo.error]
 
 
+def test_another_machine_offers_its_own_st_demo() -> None:
+    session = Session("gantry", paused=True)
+    assert session.programs.choose("gantry_demo.st")
+    session.load("press")
+    assert session.programs.labels == (PYTHON_DEMO, "press_demo.st")
+    chosen = session.programs.chosen
+    assert chosen is not None and chosen.label == PYTHON_DEMO  # gantry_demo.st is not offered
+
+
 @pytest.mark.browser
 def test_a_page_runs_the_st_demo_and_watches_its_step(browser: Browser) -> None:
     with Viewer("gantry", port=0, demo=False) as viewer:
