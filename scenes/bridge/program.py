@@ -58,6 +58,8 @@ class AxisBridge:
         self.jog = mcl.GT_Jog()
         self.current: Command | None = None
         """The command last started by a rising edge (its outputs are the status)."""
+        self.command = 0
+        """The current command's control bit + 1 (0: none yet)."""
         self._last_word = 0
 
     def _param(self, name: str) -> float:
@@ -103,7 +105,7 @@ class AxisBridge:
         commands.append(("jog_neg", self.jog))
         for name, block in commands:
             if rising >> CONTROL_BITS.index(name) & 1:
-                self.current = block
+                self.current, self.command = block, CONTROL_BITS.index(name) + 1
         self._write_status()
 
     def _move_velocity(self, execute: bool, ramp: dict[str, float]) -> None:
@@ -161,6 +163,7 @@ class AxisBridge:
                 (p + "actual_velocity", axis.VEL),
                 (p + "following_error", axis.following_error),
                 (p + "volts", axis.volts),
+                (p + "command", self.command),
             ]
         )
 

@@ -96,6 +96,7 @@ AXIS_FIELDS = (
     FieldSpec("actual_velocity", 26, "f32", "r", "u/s", "actual velocity"),
     FieldSpec("following_error", 28, "f32", "r", "u", "following error"),
     FieldSpec("volts", 30, "f32", "r", "V", "drive command voltage"),
+    FieldSpec("command", 32, "u16", "r", "", "current command: its control bit + 1 (0: none)"),
 )
 """The block of every axis."""
 
@@ -230,7 +231,8 @@ class SignalTable:
         lines = [
             f"# Register map of {self.machine}",
             "",
-            "Holding registers, PDU addresses from 0; 32-bit values high word first.",
+            "Holding registers of unit id 1, PDU addresses from 0; u32 and f32 in two registers, "
+            "high word first; u: the axis' user unit (mm on a slide, deg on a hinge).",
             "",
             "| address | name | type | access | unit | description |",
             "|---:|---|---|---|---|---|",

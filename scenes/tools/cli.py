@@ -182,6 +182,7 @@ def main(argv: list[str] | None = None) -> int:
         metavar="NAME=VALUES",
         help="override a grid parameter: x=[1,2,3] or x=1,2,3",
     )
+    _bridge_parser(sub)
     args = parser.parse_args(argv)
     try:
         return _command(args)
@@ -203,12 +204,40 @@ def _command(args: argparse.Namespace) -> int:
     if args.command == "sweep":
         grid = [_listed(g) for g in args.grid]
         return sweep(args.file, args.workers, args.address, args.out, [*args.set, *grid])
+    if args.command == "bridge":
+        return _bridge(args)
     if args.command == "list":
         width = max(len(n) for n in scenes.MACHINES)
         for name in sorted(scenes.MACHINES):
             print(f"{name:<{width}}  {scenes.MACHINES[name].description}")
         return 0
     return run(args.name, args.timeout, args.program, args.map)
+
+
+def _bridge_parser(sub: Any) -> None:
+    """``bridge map NAME [--csv]`` and ``bridge modbus NAME [--host H] [--port P]``."""
+    bridge = sub.add_parser("bridge", help="an external PLC drives a machine (Modbus TCP)")
+    what = bridge.add_subparsers(dest="bridge", required=True)
+    map_parser = what.add_parser("map", help="print the machine's register map (Markdown)")
+    map_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+    map_parser.add_argument("--csv", action="store_true", help="print CSV instead")
+    modbus = what.add_parser("modbus", help="run the machine with its Modbus TCP server")
+    modbus.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+    modbus.add_argument("--host", default="127.0.0.1", help="loopback address to bind")
+    modbus.add_argument("--port", type=int, default=5020, help="TCP port")
+
+
+def _bridge(args: argparse.Namespace) -> int:
+    """Run a ``bridge`` command."""
+    if args.bridge == "map":
+        from scenes.bridge.table import SignalTable
+
+        table = SignalTable(scenes.definition(args.name))
+        print(table.csv() if args.csv else table.markdown())
+        return 0
+    from scenes.bridge.modbus import main as modbus
+
+    return modbus(args.name, args.host, args.port)
 
 
 def _listed(item: str) -> str:
