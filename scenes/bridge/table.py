@@ -24,7 +24,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
-from scenes.definition import MachineDef
+from scenes.definition import MachineDef, Signal
 
 Kind = Literal["u16", "u32", "f32"]
 Access = Literal["r", "rw"]
@@ -141,6 +141,15 @@ def decode(kind: Kind, registers: Sequence[int]) -> float:
     return float(struct.unpack(">f", struct.pack(">HH", registers[0], registers[1]))[0])
 
 
+def published_signals(machine: MachineDef) -> dict[str, Signal]:
+    """The signals a scene of the machine publishes by name: its own, then a cell's parts'
+    prefixed with the part's name (``press/force``)."""
+    signals = dict(machine.signals)
+    for part in machine.parts:
+        signals.update({f"{part.machine.name}/{n}": s for n, s in part.machine.signals.items()})
+    return signals
+
+
 def machine_fields(machine: MachineDef) -> list[Field]:
     """The fields of a machine, in address order."""
     fields = [
@@ -153,7 +162,7 @@ def machine_fields(machine: MachineDef) -> list[Field]:
             Field(f"{axis}.{f.name}", base + f.offset, f.kind, f.access, f.unit, f.description)
             for f in AXIS_FIELDS
         ]
-    for k, (name, signal) in enumerate(machine.signals.items()):
+    for k, (name, signal) in enumerate(published_signals(machine).items()):
         text = signal.label or name
         fields.append(Field(f"signal.{name}", SIGNAL_BASE + 2 * k, "f32", "r", signal.unit, text))
     return fields
@@ -174,7 +183,7 @@ class SignalTable:
         self.machine = machine.name
         self.fields = machine_fields(machine)
         self.axes = list(machine.scene_axes)
-        self.signals = list(machine.signals)
+        self.signals = list(published_signals(machine))
         self.by_name = {f.name: f for f in self.fields}
         self.size = max(f.address + f.width for f in self.fields)
         self._owner = {a: f for f in self.fields for a in range(f.address, f.address + f.width)}
