@@ -1,15 +1,18 @@
 """The Modbus TCP server in its own process, driven by a pymodbus client: the gantry's X axis
 powered, homed and moved to 300 mm (read back from the actual-position registers); refused
-requests answered with Modbus exceptions while the server stays up."""
+requests, 10 000 random ones and malformed frames answered with Modbus exceptions while the
+server and the machine stay up."""
 
 from __future__ import annotations
 
 import os
+import random
 import socket
 import subprocess
 import sys
 import time
 from collections.abc import Callable, Iterator
+from pathlib import Path
 
 import pytest
 from pymodbus.client import ModbusTcpClient
@@ -28,11 +31,19 @@ def free_port() -> int:
 
 
 @pytest.fixture
-def client() -> Iterator[ModbusTcpClient]:
-    port = free_port()
+def port() -> int:
+    return free_port()
+
+
+@pytest.fixture
+def client(port: int, tmp_path: Path) -> Iterator[ModbusTcpClient]:
     env = {**os.environ, "MCL_PURE_PYTHON": "1"}
     command = [sys.executable, "-m", "scenes", "bridge", "modbus", "gantry", "--port", str(port)]
-    server = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, text=True)
+    log = tmp_path / "stderr.txt"
+    with log.open("w") as stderr:
+        server = subprocess.Popen(
+            command, env=env, stdout=subprocess.PIPE, stderr=stderr, text=True
+        )
     try:
         assert server.stdout is not None
         assert "Modbus TCP on 127.0.0.1" in server.stdout.readline()
@@ -44,6 +55,7 @@ def client() -> Iterator[ModbusTcpClient]:
     finally:
         server.terminate()
         server.wait(10)
+    assert "Traceback" not in log.read_text()
 
 
 def address(name: str) -> int:
@@ -99,6 +111,16 @@ def test_power_home_and_move_to_300_mm(client: ModbusTcpClient) -> None:
     wait(lambda: finished(client, "move_absolute"), 15.0)
     assert read_float(client, "X.actual_position") == pytest.approx(300.0, abs=0.02)
     assert read_float(client, "sim.time") > 3.0
+    write_float(client, "X.position", 5000.0)  # beyond the software limit
+    control(client, "enable")
+    wait(lambda: not status(client, "done"), 2.0)
+    control(client, "enable", "move_absolute")
+    wait(lambda: status(client, "error"), 2.0)
+    assert client.read_holding_registers(address("X.error_id"), count=1).registers == [8]
+    assert read_float(client, "X.actual_position") == pytest.approx(300.0, abs=0.02)
+    control(client, "enable", "reset")
+    wait(lambda: finished(client, "reset"), 2.0)
+    assert not status(client, "error")
 
 
 def test_refused_requests_leave_the_server_up(client: ModbusTcpClient) -> None:
@@ -107,3 +129,38 @@ def test_refused_requests_leave_the_server_up(client: ModbusTcpClient) -> None:
     assert client.read_holding_registers(TABLE.size - 1, count=4).isError()
     assert client.read_coils(0, count=1).isError()
     assert not client.read_holding_registers(address("X.status"), count=1).isError()
+
+
+def fuzz_request(modbus: ModbusTcpClient, rng: random.Random) -> None:
+    """One random request: any register function, address, count and value."""
+    address, count = rng.randrange(0, TABLE.size + 50), rng.randrange(1, 126)
+    value = rng.randrange(0, 0x10000)
+    kind = rng.randrange(6)
+    if kind == 0:
+        modbus.read_holding_registers(address, count=count)
+    elif kind == 1:
+        modbus.read_input_registers(address, count=count)
+    elif kind == 2:
+        modbus.write_register(address, value)
+    elif kind == 3:
+        modbus.write_registers(address, [rng.randrange(0, 0x10000) for _ in range(count % 8 + 1)])
+    elif kind == 4:
+        modbus.read_coils(address, count=count)
+    else:
+        modbus.mask_write_register(
+            address=address, and_mask=value, or_mask=rng.randrange(0, 0x10000)
+        )
+
+
+def test_ten_thousand_random_requests_and_malformed_frames(
+    client: ModbusTcpClient, port: int
+) -> None:
+    rng = random.Random(23)
+    for _ in range(10_000):
+        fuzz_request(client, rng)
+    for frame in (b"\x00", b"\xff" * 300, b"\x00\x01\x00\x00\x00\x06\x01\x03\x00", b""):
+        with socket.create_connection(("127.0.0.1", port), timeout=2) as raw:
+            raw.sendall(frame)  # a malformed frame, then a half-open connection closed
+    before = read_float(client, "sim.time")
+    time.sleep(0.2)
+    assert read_float(client, "sim.time") > before  # the machine still runs
