@@ -6,7 +6,8 @@ register, a ``u32`` or ``f32`` two, high word first (big-endian word order, "ABC
 ``word_order="big"``). The layout is deterministic:
 
 =========================  ======================================================================
-0 …                        simulation: time [s] (f32), PLC cycle counter (u32)
+0 …                        simulation: time [s] (f32), PLC cycle counter (u32), mode, lockstep
+                           target cycle (u32)
 100 + 50·i …               axis ``i`` in the definition's order (:data:`AXIS_FIELDS`)
 1000 + 2·k                 published signal ``k`` in the definition's order (f32, read-only)
 =========================  ======================================================================
@@ -155,6 +156,8 @@ def machine_fields(machine: MachineDef) -> list[Field]:
     fields = [
         Field("sim.time", 0, "f32", "r", "s", "simulated time"),
         Field("sim.cycle", 2, "u32", "r", "", "PLC cycles run"),
+        Field("sim.mode", 4, "u16", "r", "", "0: free-running, 1: lockstep"),
+        Field("sim.target", 6, "u32", "rw", "", "lockstep: run until sim.cycle reaches it"),
     ]
     for i, axis in enumerate(machine.scene_axes):
         base = AXIS_BASE + AXIS_STRIDE * i
@@ -189,6 +192,8 @@ class SignalTable:
         self._owner = {a: f for f in self.fields for a in range(f.address, f.address + f.width)}
         self._registers = [0] * self.size
         self._lock = threading.Lock()
+        self.written = threading.Event()
+        """Set by every client write (a lockstep run waits on it)."""
 
     def get(self, name: str) -> float:
         """The value of field ``name``."""
@@ -234,6 +239,7 @@ class SignalTable:
             raise WriteRefused("a register holds 0…65535")
         with self._lock:
             self._registers[address : address + len(values)] = list(values)
+        self.written.set()
 
     def markdown(self) -> str:
         """The register map as a Markdown table."""

@@ -225,6 +225,8 @@ def _bridge_parser(sub: Any) -> None:
     modbus.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
     modbus.add_argument("--host", default="127.0.0.1", help="loopback address to bind")
     modbus.add_argument("--port", type=int, default=5020, help="TCP port")
+    modbus.add_argument("--speed", type=float, default=1.0, help="free-running: × real time")
+    modbus.add_argument("--lockstep", action="store_true", help="advance on sim.target only")
 
 
 def _bridge(args: argparse.Namespace) -> int:
@@ -237,7 +239,7 @@ def _bridge(args: argparse.Namespace) -> int:
         return 0
     from scenes.bridge.modbus import main as modbus
 
-    return modbus(args.name, args.host, args.port)
+    return modbus(args.name, args.host, args.port, None if args.lockstep else args.speed)
 
 
 def _listed(item: str) -> str:
