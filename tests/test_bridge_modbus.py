@@ -12,13 +12,15 @@ import subprocess
 import sys
 import time
 from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
 from pymodbus.client import ModbusTcpClient
 
 import scenes
-from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable
+from scenes.bridge.program import BridgeProgram
+from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable, decode, encode
 
 TABLE = SignalTable(scenes.definition("gantry"))
 FLOAT = ModbusTcpClient.DATATYPE.FLOAT32
@@ -35,27 +37,33 @@ def port() -> int:
     return free_port()
 
 
-@pytest.fixture
-def client(port: int, tmp_path: Path) -> Iterator[ModbusTcpClient]:
+@contextmanager
+def server(port: int, log: Path, *options: str) -> Iterator[ModbusTcpClient]:
+    """The gantry's Modbus server in its own process, and a client connected to it."""
     env = {**os.environ, "MCL_PURE_PYTHON": "1"}
     command = [sys.executable, "-m", "scenes", "bridge", "modbus", "gantry", "--port", str(port)]
-    log = tmp_path / "stderr.txt"
     with log.open("w") as stderr:
-        server = subprocess.Popen(
-            command, env=env, stdout=subprocess.PIPE, stderr=stderr, text=True
+        process = subprocess.Popen(
+            [*command, *options], env=env, stdout=subprocess.PIPE, stderr=stderr, text=True
         )
     try:
-        assert server.stdout is not None
-        assert "Modbus TCP on 127.0.0.1" in server.stdout.readline()
+        assert process.stdout is not None
+        assert "Modbus TCP on 127.0.0.1" in process.stdout.readline()
         modbus = ModbusTcpClient("127.0.0.1", port=port)
         assert modbus.connect()
         yield modbus
         modbus.close()
-        assert server.poll() is None  # still up after every request of the test
+        assert process.poll() is None  # still up after every request of the test
     finally:
-        server.terminate()
-        server.wait(10)
+        process.terminate()
+        process.wait(10)
     assert "Traceback" not in log.read_text()
+
+
+@pytest.fixture
+def client(port: int, tmp_path: Path) -> Iterator[ModbusTcpClient]:
+    with server(port, tmp_path / "stderr.txt") as modbus:
+        yield modbus
 
 
 def address(name: str) -> int:
@@ -164,3 +172,68 @@ def test_ten_thousand_random_requests_and_malformed_frames(
     before = read_float(client, "sim.time")
     time.sleep(0.2)
     assert read_float(client, "sim.time") > before  # the machine still runs
+
+
+SCENARIO: tuple[tuple[int, dict[str, float]], ...] = (
+    (50, {"X.control": 1}),
+    (2000, {"X.control": 1 | 1 << CONTROL_BITS.index("home")}),
+    (10, {"X.control": 1, "X.position": 300.0, "X.velocity": 200.0}),
+    (10, {"X.acceleration": 1000.0, "X.deceleration": 1000.0}),
+    *[(40, {"X.control": 1 | 1 << CONTROL_BITS.index("move_absolute")})] * 30,
+)
+"""Lockstep scenario: (PLC cycles to run, fields written before) — power, home, move to 300."""
+
+WATCHED = ("X.actual_position", "X.following_error", "X.status", "sim.cycle")
+
+
+def in_process_trace() -> list[list[int]]:
+    """The registers of :data:`WATCHED` after every step of the scenario, run in-process."""
+    scene = scenes.load("gantry", trace_every=0)
+    table = SignalTable(scenes.definition("gantry"))
+    program = BridgeProgram(scene, table, scenes.homing(scene))
+    trace = []
+    for cycles, writes in SCENARIO:
+        table.update(writes.items())
+        scene.run(program, timeout=cycles * scene.runtime.plc_period)
+        trace.append([r for name in WATCHED for r in registers(table, name)])
+    return trace
+
+
+def registers(table: SignalTable, name: str) -> list[int]:
+    f = table.by_name[name]
+    return table.read(f.address, f.width)
+
+
+def test_lockstep_equals_in_process_bit_for_bit(port: int, tmp_path: Path) -> None:
+    reference = in_process_trace()
+    rng = random.Random(5)
+    trace: list[list[int]] = []
+    target = 0
+    with server(port, tmp_path / "stderr.txt", "--lockstep") as modbus:
+        for cycles, writes in SCENARIO:
+            for name, value in writes.items():
+                f = TABLE.by_name[name]
+                assert not modbus.write_registers(f.address, encode(f.kind, value)).isError()
+                time.sleep(rng.uniform(0.0, 0.003))  # whatever the network timing
+            target += cycles
+            assert not modbus.write_registers(
+                address("sim.target"), encode("u32", target)
+            ).isError()
+            wait(acknowledged(modbus, target), 10.0)
+            trace.append([r for n in WATCHED for r in read(modbus, n)])
+    assert trace == reference
+    assert decode("f32", reference[-1][:2]) == pytest.approx(300.0, abs=0.02)
+
+
+def read(modbus: ModbusTcpClient, name: str) -> list[int]:
+    f = TABLE.by_name[name]
+    return list(modbus.read_holding_registers(f.address, count=f.width).registers)
+
+
+def acknowledged(modbus: ModbusTcpClient, target: int) -> Callable[[], bool]:
+    """The lockstep server has run up to PLC cycle ``target``."""
+    return lambda: read_u32(modbus, "sim.cycle") == target
+
+
+def read_u32(modbus: ModbusTcpClient, name: str) -> int:
+    return int(decode("u32", read(modbus, name)))
