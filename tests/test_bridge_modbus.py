@@ -131,6 +131,14 @@ def test_power_home_and_move_to_300_mm(client: ModbusTcpClient) -> None:
     assert not status(client, "error")
 
 
+def test_the_example_client_homes_and_moves_the_gantry(client: ModbusTcpClient, port: int) -> None:
+    example = Path(__file__).parents[1] / "examples" / "bridge_modbus_client.py"
+    command = [sys.executable, str(example), "--port", str(port)]
+    result = subprocess.run(command, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert abs(float(result.stdout.split()[2]) - 300.0) < 0.02  # "X at 300.001 mm"
+
+
 def test_refused_requests_leave_the_server_up(client: ModbusTcpClient) -> None:
     assert client.write_register(address("X.status"), 1).isError()  # read-only
     assert client.write_register(TABLE.size + 5, 1).isError()  # outside the table

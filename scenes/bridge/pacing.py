@@ -16,6 +16,9 @@ log = logging.getLogger(__name__)
 CHUNK = 0.01
 """Simulated time a free run runs between two looks at the wall clock [s] (whole PLC cycles)."""
 
+MAX_LAG = 0.1
+"""A free run that falls further behind the wall clock [s] gives the time up."""
+
 IDLE_WAIT = 0.05
 """Longest wait of a lockstep run for a client write [s] (then it looks whether to stop)."""
 
@@ -82,6 +85,8 @@ class PacedRun(Run):
             ahead = (scene.time - start_sim) / self.speed - (self._clock() - start_wall)
             if ahead > 0:
                 self._stop.wait(ahead)
+            elif ahead < -MAX_LAG:  # fell behind: go on from now, no burst to catch up
+                start_wall, start_sim = self._clock(), scene.time
 
 
 class LockstepRun(Run):

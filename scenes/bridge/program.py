@@ -22,12 +22,15 @@ command, the one last started.
 
 from __future__ import annotations
 
+import logging
 from typing import Any
 
 import mcl
 from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable
 from scenes.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
+
+log = logging.getLogger(__name__)
 
 Command = Any
 """A command block (MC_MoveAbsolute, HomeAxis, …): Done, Busy, Error, ErrorID; maybe Active,
@@ -39,7 +42,7 @@ class AxisBridge:
 
     Args:
         axis: the axis.
-        recipe: its homing recipe (None: the home bit does nothing).
+        recipe: its homing recipe (None: the home bit is refused and logged).
         table: the signal table.
     """
 
@@ -97,6 +100,8 @@ class AxisBridge:
         if self.home is not None:
             self.home(Execute=bits["home"])
             commands.append(("home", self.home))
+        elif rising >> CONTROL_BITS.index("home") & 1:
+            log.warning("%s: home refused: the axis has no homing recipe", axis.name)
         for name, block in (("stop", self.stop), ("halt", self.halt)):
             self._ramp_down(block, bits[name], ramp["Deceleration"], ramp["Jerk"])
             commands.append((name, block))
