@@ -89,3 +89,29 @@ def test_client_writes_are_checked(rig: tuple[Scene, SignalTable, BridgeProgram]
         table.read(table.size - 1, 2)
     assert decode("f32", encode("f32", 300.0)) == 300.0
     assert encode("f32", 1.0) == [0x3F80, 0x0000]  # high word first
+
+
+def test_jog_velocity_and_stop(rig: tuple[Scene, SignalTable, BridgeProgram]) -> None:
+    scene, table, program = rig
+    table.update([("X.velocity", 50.0), ("X.acceleration", 1000.0), ("X.deceleration", 1000.0)])
+    command(table, "X", bit("enable"))
+    scene.run(program, until=lambda: status(table, "X", "power"), timeout=1.0)
+    start = scene.joint_position("X")
+    command(table, "X", bit("enable") | bit("jog_pos"))
+    scene.run(program, timeout=0.5)
+    command(table, "X", bit("enable"))
+    scene.run(program, timeout=0.3)
+    jogged = scene.joint_position("X")
+    assert 0.015 < jogged - start < 0.03  # about 50 mm/s for 0.5 s
+    table.set("X.velocity", -50.0)  # MC_MoveVelocity: the sign is the direction
+    command(table, "X", bit("enable") | bit("move_velocity"))
+    scene.run(program, timeout=0.5)
+    assert scene.joint_position("X") < jogged - 0.015
+    command(table, "X", bit("enable") | bit("stop"))
+    scene.run(program, until=lambda: status(table, "X", "done"), timeout=1.0)
+    assert table.get("X.command") == CONTROL_BITS.index("stop") + 1
+    assert table.get("X.state") == mcl.AxisState.Stopping  # until Stop's Execute drops
+    command(table, "X", bit("enable"))
+    scene.run(program, timeout=0.05)
+    assert table.get("X.state") == mcl.AxisState.StandStill
+    assert abs(table.get("X.actual_velocity")) < 1.0
