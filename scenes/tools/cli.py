@@ -1,7 +1,9 @@
 """Command line: ``python -m scenes list`` lists the machines; ``python -m scenes run NAME`` runs
 a machine's demo program headless and prints every FB edge, the positions and states;
 ``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
-``python -m scenes sweep FILE.toml`` runs a parameter sweep (see :mod:`scenes.tools.sweep`).
+``python -m scenes sweep FILE.toml`` runs a parameter sweep (see :mod:`scenes.tools.sweep`);
+``python -m scenes bridge map NAME`` prints a machine's register map and ``python -m scenes bridge
+modbus NAME`` runs it with its Modbus TCP server (docs/bridge.md).
 
 A mistake in a file or a value given here is one line on standard error, ``file:line: key: what
 is wrong; expected ...``, and the exit status 2."""
