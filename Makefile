@@ -53,6 +53,7 @@ bench: setup
 	$(PY) -m tests.benchmarks.viewer
 	$(PY) -m tests.benchmarks.trace
 	$(PY) -m tests.benchmarks.st
+	$(PY) -m tests.benchmarks.bridge
 
 clean:
 	-@$(PY) -m mcl.build --clean 2>/dev/null

@@ -1,7 +1,9 @@
 """Command line: ``python -m scenes list`` lists the machines; ``python -m scenes run NAME`` runs
 a machine's demo program headless and prints every FB edge, the positions and states;
 ``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
-``python -m scenes sweep FILE.toml`` runs a parameter sweep (see :mod:`scenes.tools.sweep`).
+``python -m scenes sweep FILE.toml`` runs a parameter sweep (see :mod:`scenes.tools.sweep`);
+``python -m scenes bridge map NAME`` prints a machine's register map and ``python -m scenes bridge
+modbus NAME`` runs it with its Modbus TCP server (docs/bridge.md).
 
 A mistake in a file or a value given here is one line on standard error, ``file:line: key: what
 is wrong; expected ...``, and the exit status 2."""
@@ -182,6 +184,7 @@ def main(argv: list[str] | None = None) -> int:
         metavar="NAME=VALUES",
         help="override a grid parameter: x=[1,2,3] or x=1,2,3",
     )
+    _bridge_parser(sub)
     args = parser.parse_args(argv)
     try:
         return _command(args)
@@ -203,12 +206,42 @@ def _command(args: argparse.Namespace) -> int:
     if args.command == "sweep":
         grid = [_listed(g) for g in args.grid]
         return sweep(args.file, args.workers, args.address, args.out, [*args.set, *grid])
+    if args.command == "bridge":
+        return _bridge(args)
     if args.command == "list":
         width = max(len(n) for n in scenes.MACHINES)
         for name in sorted(scenes.MACHINES):
             print(f"{name:<{width}}  {scenes.MACHINES[name].description}")
         return 0
     return run(args.name, args.timeout, args.program, args.map)
+
+
+def _bridge_parser(sub: Any) -> None:
+    """``bridge map NAME [--csv]`` and ``bridge modbus NAME [--host H] [--port P]``."""
+    bridge = sub.add_parser("bridge", help="an external PLC drives a machine (Modbus TCP)")
+    what = bridge.add_subparsers(dest="bridge", required=True)
+    map_parser = what.add_parser("map", help="print the machine's register map (Markdown)")
+    map_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+    map_parser.add_argument("--csv", action="store_true", help="print CSV instead")
+    modbus = what.add_parser("modbus", help="run the machine with its Modbus TCP server")
+    modbus.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+    modbus.add_argument("--host", default="127.0.0.1", help="loopback address to bind")
+    modbus.add_argument("--port", type=int, default=5020, help="TCP port")
+    modbus.add_argument("--speed", type=float, default=1.0, help="free-running: × real time")
+    modbus.add_argument("--lockstep", action="store_true", help="advance on sim.target only")
+
+
+def _bridge(args: argparse.Namespace) -> int:
+    """Run a ``bridge`` command."""
+    if args.bridge == "map":
+        from scenes.bridge.table import SignalTable
+
+        table = SignalTable(scenes.definition(args.name))
+        print(table.csv() if args.csv else table.markdown())
+        return 0
+    from scenes.bridge.modbus import main as modbus
+
+    return modbus(args.name, args.host, args.port, None if args.lockstep else args.speed)
 
 
 def _listed(item: str) -> str:

@@ -1,0 +1,1 @@
+"""The bridge: an external PLC drives a machine through its signal table (Modbus TCP)."""

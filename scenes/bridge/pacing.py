@@ -1,0 +1,110 @@
+"""How the bridge's simulation advances, in its own thread: free-running, paced to the wall clock
+at a speed (:class:`PacedRun`), or in lockstep with the client (:class:`LockstepRun`)."""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable
+
+from scenes.bridge.program import BridgeProgram
+from scenes.bridge.table import SignalTable
+
+log = logging.getLogger(__name__)
+
+CHUNK = 0.01
+"""Simulated time a free run runs between two looks at the wall clock [s] (whole PLC cycles)."""
+
+MAX_LAG = 0.1
+"""A free run that falls further behind the wall clock [s] gives the time up."""
+
+IDLE_WAIT = 0.05
+"""Longest wait of a lockstep run for a client write [s] (then it looks whether to stop)."""
+
+
+class Run:
+    """The simulation thread of ``program``'s scene (a daemon); subclasses advance it."""
+
+    def __init__(self, program: BridgeProgram) -> None:
+        self.program = program
+        self.scene = program.scene
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._guarded, name="bridge-sim", daemon=True)
+        self.error = ""
+        """Why the simulation stopped on its own (empty: it runs or was stopped)."""
+
+    def start(self) -> None:
+        """Start the thread."""
+        self._thread.start()
+
+    def stop(self, timeout: float = 2.0) -> None:
+        """Stop the thread and wait for it [s]."""
+        self._stop.set()
+        if self._thread.is_alive():
+            self._thread.join(timeout)
+
+    def _guarded(self) -> None:
+        try:
+            self._run()
+        except Exception as error:  # the thread reports and ends; the server stays up
+            self.error = f"{type(error).__name__}: {error}"
+            log.exception("simulation stopped")
+
+    def _run(self) -> None:
+        raise NotImplementedError
+
+
+class PacedRun(Run):
+    """Free-running at ``speed`` × real time.
+
+    Args:
+        program: the bridge program (its scene is run).
+        speed: simulated seconds per wall second (> 0).
+        clock: monotonic wall clock [s].
+    """
+
+    def __init__(
+        self,
+        program: BridgeProgram,
+        speed: float = 1.0,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        if not speed > 0.0:
+            raise ValueError(f"speed must be > 0, got {speed}")
+        super().__init__(program)
+        self.speed = speed
+        self._clock = clock
+        plc = self.scene.runtime.plc_period
+        self.chunk = max(1, round(CHUNK / plc)) * plc
+
+    def _run(self) -> None:
+        scene, start_wall, start_sim = self.scene, self._clock(), self.scene.time
+        while not self._stop.is_set():
+            scene.run(self.program, timeout=self.chunk)
+            ahead = (scene.time - start_sim) / self.speed - (self._clock() - start_wall)
+            if ahead > 0:
+                self._stop.wait(ahead)
+            elif ahead < -MAX_LAG:  # fell behind: go on from now, no burst to catch up
+                start_wall, start_sim = self._clock(), scene.time
+
+
+class LockstepRun(Run):
+    """Lockstep: the scene stands until the client writes ``sim.target``, then runs whole PLC
+    cycles until ``sim.cycle`` equals it (the acknowledgement). What the client wrote before is
+    seen by the first of these scans, whatever the network timing."""
+
+    def __init__(self, program: BridgeProgram) -> None:
+        super().__init__(program)
+        program.table.set("sim.mode", 1)
+
+    def _run(self) -> None:
+        table: SignalTable = self.program.table
+        plc = self.scene.runtime.plc_period
+        while not self._stop.is_set():
+            table.written.clear()
+            due = int(table.get("sim.target")) - self.program.cycles
+            if due > 0:
+                self.scene.run(self.program, timeout=due * plc)
+            else:
+                table.written.wait(IDLE_WAIT)
