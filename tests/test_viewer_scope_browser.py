@@ -111,9 +111,10 @@ def test_the_peak_following_error_of_a_400_mm_s_move_with_the_a_to_peak_cursor(
     page.get_by_role("button", name="A to peak", exact=True).click()
     peak = recording.values[0][np.argmax(np.abs(recording.values[0]))]
     wait_for(lambda: scope.cursors["A"] != 0.0, 10.0, "the cursor to move")
+    header = f"A = {scope.cursors['A']:.4f} s"  # the read-out of the new cursor, not the old
+    wait_for(lambda: page.get_by_text(header).count() > 0, 15.0, "the read-out at A")
     cell = page.locator("td", has_text="X following error [µm]").first
     value = cell.locator("xpath=following-sibling::td[2]")
-    wait_for(lambda: value.inner_text() not in ("", "0"), 15.0, "the read-out")
     assert abs(float(value.inner_text()) - peak) < 1.0  # µm
     t, values = viewer.session.recorder.series()
     names = [c.name for c in viewer.session.recorder.channels]

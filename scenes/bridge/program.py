@@ -6,14 +6,23 @@ Every command goes through an mcl block, with its rules and ErrorIDs (docs/refer
 ==============  ====================================================================
 enable          ``MC_Power`` Enable (a level; axes with a drive only)
 reset           ``MC_Reset`` Execute
-move_absolute   ``MC_MoveAbsolute`` Execute (position, velocity, acceleration, …)
+move_absolute   ``MC_MoveAbsolute`` Execute (position, velocity, acceleration, …, buffer_mode)
 move_relative   ``MC_MoveRelative`` Execute (distance, …)
+move_additive   ``MC_MoveAdditive`` Execute (distance, …)
 move_velocity   ``MC_MoveVelocity`` Execute (velocity; its sign gives the direction)
 home            the machine's homing recipe (``scenes.procedures.HomeAxis``) Execute
 stop            ``MC_Stop`` Execute (deceleration; 0: the block's default)
 halt            ``MC_Halt`` Execute (deceleration; 0: the block's default)
 jog_pos/neg     ``GT_Jog`` JogPos / JogNeg (levels; |velocity| as JogVelo)
+gear_in         ``MC_GearIn`` Execute (master, ratio_numerator, ratio_denominator, ramps)
+gear_in_pos     ``MC_GearInPos`` Execute (… master/slave_sync_position, master_start_distance,
+                velocity, zeroing)
+gear_out        ``MC_GearOut`` Execute
+outputs         ``MC_WriteDigitalOutput`` for each output bit that differs from the output
 ==============  ====================================================================
+
+A command the axis cannot take (home without a recipe, gearing on an axis without gearing
+fields) is refused: the status shows Error with ErrorID EParam (5).
 
 An Execute bit is passed as the block's Execute every scan: its rising edge starts the command,
 the block's outputs follow the PLCopen rules. The status word shows the outputs of the current
@@ -23,9 +32,12 @@ command, the one last started.
 from __future__ import annotations
 
 import logging
+import math
+from dataclasses import dataclass
 from typing import Any
 
 import mcl
+from mcl.errors import ErrorID
 from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable
 from scenes.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
@@ -37,40 +49,84 @@ Command = Any
 CommandAborted."""
 
 
+@dataclass
+class Refusal:
+    """A command the bridge refuses before any block (the outputs of a block that failed)."""
+
+    ErrorID: int
+    Error: bool = True
+
+
+def _int(value: float) -> int:
+    """An INT input from a register value (0 for a value that is not finite)."""
+    return round(value) if math.isfinite(value) and abs(value) < 2**31 else 0
+
+
 class AxisBridge:
     """The blocks of one axis and the scan that drives them from its table block.
 
     Args:
         axis: the axis.
-        recipe: its homing recipe (None: the home bit is refused and logged).
+        recipe: its homing recipe (None: the home bit is refused with EParam).
         table: the signal table.
+        axes: every axis of the table, in its order (the masters of gearing).
     """
 
-    def __init__(self, axis: mcl.Axis, recipe: Recipe | None, table: SignalTable) -> None:
+    def __init__(
+        self, axis: mcl.Axis, recipe: Recipe | None, table: SignalTable, axes: list[mcl.Axis]
+    ) -> None:
         self.axis = axis
+        self.name = axis.name
         self.table = table
+        self.axes = axes
         self.prefix = f"{axis.name}."
+        self.fields = {
+            f.name[len(self.prefix) :] for f in table.fields if f.name.startswith(self.prefix)
+        }
         self.power = mcl.MC_Power()
         self.reset = mcl.MC_Reset()
         self.move_absolute = mcl.MC_MoveAbsolute()
         self.move_relative = mcl.MC_MoveRelative()
+        self.move_additive = mcl.MC_MoveAdditive()
         self.move_velocity = mcl.MC_MoveVelocity()
         self.home = HomeAxis(axis, recipe) if recipe is not None else None
         self.stop = mcl.MC_Stop()
         self.halt = mcl.MC_Halt()
         self.jog = mcl.GT_Jog()
+        self.gear_in = mcl.MC_GearIn()
+        self.gear_in_pos = mcl.MC_GearInPos()
+        self.gear_out = mcl.MC_GearOut()
+        self.outputs = [mcl.MC_WriteDigitalOutput() for _ in axis.io.outputs]
         self.current: Command | None = None
         """The command last started by a rising edge (its outputs are the status)."""
         self.command = 0
         """The current command's control bit + 1 (0: none yet)."""
         self._last_word = 0
+        self._held = -1
+        self._pending = -1
+        self._serial = -1
 
     def _param(self, name: str) -> float:
-        return self.table.get(self.prefix + name)
+        return self.table.get(self.prefix + name) if name in self.fields else 0.0
+
+    def _word(self) -> int:
+        """This scan's control word: the client's and the request held (one scan low first
+        when the same command is requested again)."""
+        word = self.table.take_control(self.name)
+        bit, serial = self.table.requested(self.name)
+        if serial != self._serial:
+            self._serial = serial
+            if bit == self._held:
+                self._held, self._pending = -1, bit
+            else:
+                self._held = bit
+        elif self._pending >= 0:
+            self._held, self._pending = self._pending, -1
+        return word | (1 << self._held if self._held >= 0 else 0)
 
     def __call__(self) -> None:
         """One PLC scan: control word → blocks → status."""
-        word = int(self.table.get(self.prefix + "control"))
+        word = self._word()
         bits = {name: bool(word >> i & 1) for i, name in enumerate(CONTROL_BITS)}
         rising = word & ~self._last_word
         self._last_word = word
@@ -83,46 +139,86 @@ class AxisBridge:
         }
         if axis.has_drive:
             self.power(Axis=axis, Enable=bits["enable"])
-        commands: list[tuple[str, Command]] = [("reset", self.reset)]
         self.reset(Axis=axis, Execute=bits["reset"])
-        self.move_absolute(
-            Axis=axis, Execute=bits["move_absolute"], Position=self._param("position"), **ramp
-        )
-        self.move_relative(
-            Axis=axis, Execute=bits["move_relative"], Distance=self._param("distance"), **ramp
-        )
-        self._move_velocity(bits["move_velocity"], ramp)
-        commands += [
-            ("move_absolute", self.move_absolute),
-            ("move_relative", self.move_relative),
-            ("move_velocity", self.move_velocity),
-        ]
+        commands: list[tuple[str, Command]] = [("reset", self.reset)]
+        commands += self._moves(bits, ramp)
         if self.home is not None:
             self.home(Execute=bits["home"])
             commands.append(("home", self.home))
-        elif rising >> CONTROL_BITS.index("home") & 1:
-            log.warning("%s: home refused: the axis has no homing recipe", axis.name)
         for name, block in (("stop", self.stop), ("halt", self.halt)):
             self._ramp_down(block, bits[name], ramp["Deceleration"], ramp["Jerk"])
             commands.append((name, block))
         self._jog(bits["jog_pos"], bits["jog_neg"], ramp["Velocity"])
-        commands.append(("jog_pos", self.jog))
-        commands.append(("jog_neg", self.jog))
-        for name, block in commands:
-            if rising >> CONTROL_BITS.index(name) & 1:
-                self.current, self.command = block, CONTROL_BITS.index(name) + 1
+        commands += [("jog_pos", self.jog), ("jog_neg", self.jog)]
+        if "master" in self.fields:
+            commands += self._gearing(bits, ramp)
+        self._write_outputs()
+        started = dict(commands)
+        for i, name in enumerate(CONTROL_BITS):
+            if rising >> i & 1 and name != "enable":
+                self.current, self.command = started.get(name), i + 1
+                if self.current is None:
+                    self.current = Refusal(ErrorID.EParam)
+                    log.warning(
+                        "%s: %s refused: the axis has no %s", axis.name, name, _MISSING[name]
+                    )
         self._write_status()
 
-    def _move_velocity(self, execute: bool, ramp: dict[str, float]) -> None:
-        """MC_MoveVelocity: the velocity's sign is the direction."""
+    def _moves(self, bits: dict[str, bool], ramp: dict[str, float]) -> list[tuple[str, Command]]:
+        """MC_MoveAbsolute, MC_MoveRelative, MC_MoveAdditive and MC_MoveVelocity."""
+        axis, mode = self.axis, _int(self._param("buffer_mode"))
+        moves = {**ramp, "BufferMode": mode}
+        self.move_absolute(
+            Axis=axis, Execute=bits["move_absolute"], Position=self._param("position"), **moves
+        )
+        distance = self._param("distance")
+        self.move_relative(Axis=axis, Execute=bits["move_relative"], Distance=distance, **moves)
+        self.move_additive(Axis=axis, Execute=bits["move_additive"], Distance=distance, **moves)
         velocity = ramp["Velocity"]
         direction = mcl.MC_Direction.MC_Negative if velocity < 0 else mcl.MC_Direction.MC_Positive
         self.move_velocity(
-            Axis=self.axis,
-            Execute=execute,
-            **{**ramp, "Velocity": abs(velocity)},
+            Axis=axis,
+            Execute=bits["move_velocity"],
+            **{**moves, "Velocity": abs(velocity)},
             Direction=direction,
         )
+        return [
+            ("move_absolute", self.move_absolute),
+            ("move_relative", self.move_relative),
+            ("move_additive", self.move_additive),
+            ("move_velocity", self.move_velocity),
+        ]
+
+    def _gearing(self, bits: dict[str, bool], ramp: dict[str, float]) -> list[tuple[str, Command]]:
+        """MC_GearIn, MC_GearInPos and MC_GearOut; a master number outside the table gives
+        the blocks the slave itself as master (EParam)."""
+        number = _int(self._param("master"))
+        master = self.axes[number] if 0 <= number < len(self.axes) else self.axis
+        gear = {
+            "Master": master,
+            "Slave": self.axis,
+            "RatioNumerator": _int(self._param("ratio_numerator")),
+            "RatioDenominator": _int(self._param("ratio_denominator")),
+            "Acceleration": ramp["Acceleration"],
+            "Deceleration": ramp["Deceleration"],
+            "Jerk": ramp["Jerk"],
+        }
+        self.gear_in(Execute=bits["gear_in"], **gear)
+        self.gear_in_pos(
+            Execute=bits["gear_in_pos"],
+            MasterSyncPosition=self._param("master_sync_position"),
+            SlaveSyncPosition=self._param("slave_sync_position"),
+            MasterStartDistance=self._param("master_start_distance"),
+            Velocity=ramp["Velocity"],
+            Zeroing=_int(self._param("zeroing")),
+            **gear,
+        )
+        self.gear_out(Slave=self.axis, Execute=bits["gear_out"])
+        return [
+            ("gear_in", self.gear_in),
+            ("gear_in_pos", self.gear_in_pos),
+            ("gear_out", self.gear_out),
+        ]
 
     def _ramp_down(
         self, block: mcl.MC_Stop | mcl.MC_Halt, execute: bool, deceleration: float, jerk: float
@@ -142,6 +238,20 @@ class AxisBridge:
                 JogVelo=abs(velocity),
             )
 
+    def _write_outputs(self) -> None:
+        """MC_WriteDigitalOutput for every output whose bit differs from the output."""
+        if not self.outputs:
+            return
+        wanted = _int(self._param("outputs"))
+        for k, block in enumerate(self.outputs):
+            value = bool(wanted >> k & 1)
+            block(
+                Axis=self.axis,
+                Execute=value != self.axis.io.outputs[k],
+                OutputNumber=k,
+                Value=value,
+            )
+
     def _write_status(self) -> None:
         axis, current, io = self.axis, self.current, self.axis.io
         flags = {
@@ -155,22 +265,43 @@ class AxisBridge:
             "ref": bool(io.ref),
             "lim_pos": bool(io.lim_pos),
             "power": bool(self.power.Status),
+            "index": bool(io.index),
+            "in_velocity": bool(getattr(current, "InVelocity", False)),
+            "in_gear": bool(getattr(current, "InGear", False)),
+            "in_sync": bool(getattr(current, "InSync", False)),
+            "start_sync": bool(getattr(current, "StartSync", False)),
         }
         status = sum(1 << i for i, name in enumerate(STATUS_BITS) if flags[name])
+        inputs = sum(1 << i for i, on in enumerate(axis.DI) if on)
         p = self.prefix
-        self.table.update(
-            [
-                (p + "status", status),
-                (p + "state", int(axis.state)),
-                (p + "error_id", int(getattr(current, "ErrorID", 0))),
-                (p + "axis_error_id", axis.AxErrorID),
-                (p + "actual_position", axis.POS),
-                (p + "actual_velocity", axis.VEL),
-                (p + "following_error", axis.following_error),
-                (p + "volts", axis.volts),
-                (p + "command", self.command),
-            ]
-        )
+        values = [
+            (p + "status", status),
+            (p + "state", int(axis.state)),
+            (p + "error_id", int(getattr(current, "ErrorID", 0))),
+            (p + "axis_error_id", axis.AxErrorID),
+            (p + "actual_position", axis.POS),
+            (p + "actual_velocity", axis.VEL),
+            (p + "following_error", axis.following_error),
+            (p + "volts", axis.volts),
+            (p + "command", self.command),
+            (p + "inputs", inputs),
+        ]
+        analog = axis.AI
+        values += [
+            (f"{p}analog_{k}", analog[k])
+            for k in range(len(analog))
+            if f"analog_{k}" in self.fields
+        ]
+        self.table.update(values)
+
+
+_MISSING = {
+    "home": "homing recipe",
+    "gear_in": "gearing",
+    "gear_in_pos": "gearing",
+    "gear_out": "gearing",
+}
+"""What an axis lacks when it refuses a command bit."""
 
 
 class BridgeProgram:
@@ -186,7 +317,8 @@ class BridgeProgram:
     def __init__(self, scene: Scene, table: SignalTable, homing: dict[str, Recipe]) -> None:
         self.scene = scene
         self.table = table
-        self.axes = [AxisBridge(scene.axes[a], homing.get(a), table) for a in table.axes]
+        axes = [scene.axes[a] for a in table.axes]
+        self.axes = [AxisBridge(axis, homing.get(axis.name), table, axes) for axis in axes]
         self.cycles = 0
 
     def __call__(self) -> None:

@@ -21,11 +21,11 @@ from __future__ import annotations
 import math
 import struct
 import threading
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
-from scenes.definition import MachineDef, Signal
+from scenes.definition import AxisDef, MachineDef, Signal
 
 Kind = Literal["u16", "u32", "f32"]
 Access = Literal["r", "rw"]
@@ -48,9 +48,20 @@ CONTROL_BITS = (
     "halt",
     "jog_pos",
     "jog_neg",
+    "move_additive",
+    "gear_in",
+    "gear_in_pos",
+    "gear_out",
 )
 """Bits of an axis' control word, bit 0 first. ``enable`` and the jogs are levels; the others
-are Execute inputs (a rising edge starts the command; keep the bit set until Done)."""
+are Execute inputs (a rising edge starts the command; keep the bit set until Done). A bit set and
+cleared again between two scans still gives the command its rising edge (held for one scan)."""
+
+LEVELS = ("enable", "jog_pos", "jog_neg")
+"""Control bits that are levels, not Execute inputs."""
+
+GEAR_BITS = ("gear_in", "gear_in_pos", "gear_out")
+"""Control bits of the gearing commands (axes that can be a slave: a drive, another axis)."""
 
 STATUS_BITS = (
     "done",
@@ -63,10 +74,16 @@ STATUS_BITS = (
     "ref",
     "lim_pos",
     "power",
+    "index",
+    "in_velocity",
+    "in_gear",
+    "in_sync",
+    "start_sync",
 )
 """Bits of an axis' status word, bit 0 first: Done … CommandAborted of the current command
 (the one last started by a rising edge), homed (the axis has a reference), the switches LIM−,
-REF and LIM+, and MC_Power's Status."""
+REF and LIM+, MC_Power's Status, the encoder's index pulse, and InVelocity (MC_MoveVelocity),
+InGear (MC_GearIn), InSync and StartSync (MC_GearInPos) of the current command."""
 
 
 @dataclass(frozen=True)
@@ -84,11 +101,12 @@ class FieldSpec:
 AXIS_FIELDS = (
     FieldSpec("control", 0, "u16", "rw", "bits", "control word: " + ", ".join(CONTROL_BITS)),
     FieldSpec("position", 2, "f32", "rw", "u", "MC_MoveAbsolute Position"),
-    FieldSpec("distance", 4, "f32", "rw", "u", "MC_MoveRelative Distance"),
+    FieldSpec("distance", 4, "f32", "rw", "u", "MC_MoveRelative / MC_MoveAdditive Distance"),
     FieldSpec("velocity", 6, "f32", "rw", "u/s", "Velocity of moves and jogs"),
     FieldSpec("acceleration", 8, "f32", "rw", "u/s²", "Acceleration"),
     FieldSpec("deceleration", 10, "f32", "rw", "u/s²", "Deceleration (also of Stop, Halt)"),
     FieldSpec("jerk", 12, "f32", "rw", "u/s³", "Jerk (0: trapezoidal)"),
+    FieldSpec("buffer_mode", 14, "u16", "rw", "", "BufferMode of moves (mcl.MC_BufferMode)"),
     FieldSpec("status", 20, "u16", "r", "bits", "status word: " + ", ".join(STATUS_BITS)),
     FieldSpec("state", 21, "u16", "r", "", "PLCopen state number (mcl.AxisState)"),
     FieldSpec("error_id", 22, "u16", "r", "", "ErrorID of the current command"),
@@ -98,8 +116,43 @@ AXIS_FIELDS = (
     FieldSpec("following_error", 28, "f32", "r", "u", "following error"),
     FieldSpec("volts", 30, "f32", "r", "V", "drive command voltage"),
     FieldSpec("command", 32, "u16", "r", "", "current command: its control bit + 1 (0: none)"),
+    FieldSpec("inputs", 33, "u16", "r", "bits", "digital inputs: LIM+, LIM−, REF, TP, further"),
 )
 """The block of every axis."""
+
+GEAR_FIELDS = (
+    FieldSpec("master", 15, "u16", "rw", "", "gearing: the master's axis number in this table"),
+    FieldSpec("ratio_numerator", 16, "f32", "rw", "", "gearing: RatioNumerator (an INT)"),
+    FieldSpec("ratio_denominator", 18, "f32", "rw", "", "gearing: RatioDenominator (an INT)"),
+    FieldSpec("master_sync_position", 34, "f32", "rw", "u", "MC_GearInPos MasterSyncPosition"),
+    FieldSpec("slave_sync_position", 36, "f32", "rw", "u", "MC_GearInPos SlaveSyncPosition"),
+    FieldSpec("master_start_distance", 38, "f32", "rw", "u", "MC_GearInPos MasterStartDistance"),
+    FieldSpec("zeroing", 48, "u16", "rw", "", "MC_GearInPos Zeroing (0 none, 1 length, 2 mark)"),
+)
+"""The gearing fields of an axis that can be a slave."""
+
+OUTPUTS = FieldSpec("outputs", 1, "u16", "rw", "bits", "digital outputs, bit k = output k")
+"""The digital outputs of an axis that has some (MC_WriteDigitalOutput on every change)."""
+
+ANALOG_OFFSET = 40
+"""Offset of the first analog input of an axis (f32 each, at most :data:`MAX_ANALOG`)."""
+MAX_ANALOG = 4
+
+
+def axis_specs(axis: AxisDef, can_gear: bool) -> list[FieldSpec]:
+    """The fields of an axis' block: every axis' own, gearing where it can be a slave, its
+    digital outputs and analog inputs where it has them; in offset order."""
+    specs = list(AXIS_FIELDS)
+    if can_gear:
+        specs += GEAR_FIELDS
+    if axis.digital_outputs:
+        specs.append(OUTPUTS)
+    specs += [
+        FieldSpec(f"analog_{k}", ANALOG_OFFSET + 2 * k, "f32", "r", "V", f"analog input {name}")
+        for k, name in enumerate(axis.analog[:MAX_ANALOG])
+    ]
+    return sorted(specs, key=lambda spec: spec.offset)
+
 
 WIDTH = {"u16": 1, "u32": 2, "f32": 2}
 """Registers per kind."""
@@ -159,11 +212,13 @@ def machine_fields(machine: MachineDef) -> list[Field]:
         Field("sim.mode", 4, "u16", "r", "", "0: free-running, 1: lockstep"),
         Field("sim.target", 6, "u32", "rw", "", "lockstep: run until sim.cycle reaches it"),
     ]
-    for i, axis in enumerate(machine.scene_axes):
+    axes = machine.scene_axes
+    for i, (axis, spec) in enumerate(axes.items()):
         base = AXIS_BASE + AXIS_STRIDE * i
+        can_gear = spec.drive != "encoder" and len(axes) > 1
         fields += [
             Field(f"{axis}.{f.name}", base + f.offset, f.kind, f.access, f.unit, f.description)
-            for f in AXIS_FIELDS
+            for f in axis_specs(spec, can_gear)
         ]
     for k, (name, signal) in enumerate(published_signals(machine).items()):
         text = signal.label or name
@@ -192,6 +247,9 @@ class SignalTable:
         self._owner = {a: f for f in self.fields for a in range(f.address, f.address + f.width)}
         self._registers = [0] * self.size
         self._lock = threading.Lock()
+        self._control = {self.by_name[f"{a}.control"].address: a for a in self.axes}
+        self._rose = dict.fromkeys(self.axes, 0)
+        self._requests: dict[str, tuple[int, int]] = dict.fromkeys(self.axes, (0, -1))
         self.written = threading.Event()
         """Set by every client write (a lockstep run waits on it)."""
 
@@ -238,8 +296,66 @@ class SignalTable:
         if any(not 0 <= v <= 0xFFFF for v in values):
             raise WriteRefused("a register holds 0…65535")
         with self._lock:
+            for a, value in zip(range(address, address + len(values)), values, strict=True):
+                axis = self._control.get(a)
+                if axis is not None:
+                    self._rose[axis] |= value & ~self._registers[a]
             self._registers[address : address + len(values)] = list(values)
         self.written.set()
+
+    def take_control(self, axis: str) -> int:
+        """The control word of ``axis`` for this scan: the bits set now and those that rose
+        since the last scan (a pulse shorter than a scan still gives its rising edge)."""
+        address = self.by_name[f"{axis}.control"].address
+        with self._lock:
+            word = self._registers[address] | self._rose[axis]
+            self._rose[axis] = 0
+        return word
+
+    def set_bit(self, axis: str, bit: str, on: bool) -> None:
+        """Set or clear control bit ``bit`` (of :data:`CONTROL_BITS`) of ``axis``, as a client
+        writes it.
+
+        Raises:
+            WriteRefused: an unknown axis or bit.
+        """
+        if axis not in self._rose or bit not in CONTROL_BITS:
+            raise WriteRefused(f"no control bit {axis}.{bit}")
+        address = self.by_name[f"{axis}.control"].address
+        mask = 1 << CONTROL_BITS.index(bit)
+        with self._lock:
+            word = self._registers[address]
+            self._registers[address] = word | mask if on else word & ~mask
+            self._rose[axis] |= self._registers[address] & ~word
+        self.written.set()
+
+    def request(self, axis: str, command: str, params: Mapping[str, float] | None = None) -> None:
+        """Issue Execute command ``command`` of ``axis`` as a method call does: ``params``
+        (field name → value) are set at once; the program raises the command's Execute at its
+        next scan and holds it until the axis' next request, so that its Done, Error and the
+        like stay visible; the same command requested again gets a fresh rising edge.
+
+        Raises:
+            WriteRefused: an unknown axis, a level or unknown command, a field that is not a
+                writable parameter of the axis (nothing is set).
+        """
+        if axis not in self._requests or command not in CONTROL_BITS or command in LEVELS:
+            raise WriteRefused(f"no command {axis}.{command}")
+        fields = {}
+        for name, value in (params or {}).items():
+            f = self.by_name.get(f"{axis}.{name}")
+            if f is None or f.access != "rw" or name == "control":
+                raise WriteRefused(f"{axis} has no parameter {name!r}")
+            fields[f.name] = value
+        self.update(fields.items())
+        with self._lock:
+            self._requests[axis] = (CONTROL_BITS.index(command), self._requests[axis][1] + 1)
+        self.written.set()
+
+    def requested(self, axis: str) -> tuple[int, int]:
+        """The last request of ``axis``: its control bit and a serial number (-1: none yet)."""
+        with self._lock:
+            return self._requests[axis]
 
     def markdown(self) -> str:
         """The register map as a Markdown table."""
