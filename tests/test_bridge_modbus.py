@@ -201,7 +201,7 @@ def in_process_trace() -> list[list[int]]:
     """The registers of :data:`WATCHED` after every step of the scenario, run in-process."""
     scene = scenes.load("gantry", trace_every=0)
     table = SignalTable(scenes.definition("gantry"))
-    program = BridgeProgram(scene, table, scenes.homing(scene))
+    program = BridgeProgram(scene, [table], scenes.homing(scene))
     trace = []
     for cycles, writes in SCENARIO:
         table.update(writes.items())

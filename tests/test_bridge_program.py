@@ -28,7 +28,7 @@ def status(table: SignalTable, axis: str, name: str) -> bool:
 def rig() -> tuple[Scene, SignalTable, BridgeProgram]:
     scene = scenes.load("gantry", start=PARK, trace_every=0)
     table = SignalTable(scenes.definition("gantry"))
-    return scene, table, BridgeProgram(scene, table, scenes.homing(scene))
+    return scene, table, BridgeProgram(scene, [table], scenes.homing(scene))
 
 
 def command(table: SignalTable, axis: str, word: int) -> None:

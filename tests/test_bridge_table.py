@@ -30,7 +30,7 @@ def test_published_signals_are_in_the_table(machine: str) -> None:
     scene = scenes.load(machine, trace_every=0)
     table = SignalTable(scenes.definition(machine))
     assert sorted(table.signals) == sorted(scene.signals)  # a cell's parts' too: press/force
-    program = BridgeProgram(scene, table, scenes.homing(scene))
+    program = BridgeProgram(scene, [table], scenes.homing(scene))
     scene.run(program, timeout=0.1)
     program()  # one more scan at this instant: the table holds the values of now
     for name in table.signals:
@@ -40,7 +40,7 @@ def test_published_signals_are_in_the_table(machine: str) -> None:
 def test_a_nan_velocity_is_refused_by_the_block() -> None:
     scene = scenes.load("gantry", start={"X": 0.2}, trace_every=0)
     table = SignalTable(scenes.definition("gantry"))
-    program = BridgeProgram(scene, table, scenes.homing(scene))
+    program = BridgeProgram(scene, [table], scenes.homing(scene))
     table.write(table.by_name["X.control"].address, [1])
     scene.run(program, timeout=0.2)
     before = scene.joint_position("X")

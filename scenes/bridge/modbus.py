@@ -1,10 +1,17 @@
-"""The Modbus TCP server of the bridge (pymodbus 3.15): a machine's signal table as holding
-registers of unit id :data:`UNIT_ID`, its simulation running in its own thread: free at a
-speed (1×: real time) or in lockstep with the client (:mod:`scenes.bridge.pacing`).
+"""The Modbus TCP server of the bridge (pymodbus 3.15): each machine's signal table as holding
+registers of its unit id (a cell: one per part, 1, 2, …), the simulation running in its own
+thread: free at a speed (1×: real time) or in lockstep with the client
+(:mod:`scenes.bridge.pacing`).
 
 Function codes 3 and 4 read the table, 6, 16, 22 and 23 write its command fields; a read
 outside the table or a write to a read-only or unmapped register gets the exception
-ILLEGAL_ADDRESS, coil and discrete-input codes ILLEGAL_FUNCTION. The server binds loopback only.
+ILLEGAL_ADDRESS, coil and discrete-input codes ILLEGAL_FUNCTION. In lockstep, the answer to a
+write of ``sim.target`` comes when the scene has run to it (at most :data:`ACK_TIMEOUT`): one
+request per PLC cycle (FC 23 also reads the status back in it).
+
+The server binds loopback. Modbus has no security of its own: another address needs
+``allow`` (the client addresses accepted; every other connection is closed at once) and prints
+a warning.
 """
 
 from __future__ import annotations
@@ -12,30 +19,33 @@ from __future__ import annotations
 import asyncio
 import ipaddress
 import logging
-import math
 import signal
+from collections.abc import Sequence
 
 from pymodbus.constants import ExcCodes
 from pymodbus.server import ModbusTcpServer
+from pymodbus.server.requesthandler import ServerRequestHandler
 from pymodbus.simulator import DataType, SimData, SimDevice
 
-import scenes
-from scenes.bridge.pacing import LockstepRun, PacedRun
-from scenes.bridge.program import BridgeProgram
+from scenes.bridge.machine import Bridge, check_speed
+from scenes.bridge.pacing import LockstepRun
 from scenes.bridge.table import SignalTable, WriteRefused
 
 log = logging.getLogger(__name__)
-
-UNIT_ID = 1
-"""The Modbus unit id of the machine."""
 
 REGISTER_CODES = (3, 4, 6, 16, 22, 23)
 """Function codes on registers: read, write single and multiple, mask write, read/write (a
 write is read back after it is done)."""
 
+ACK_TIMEOUT = 2.0
+"""Longest wall time [s] the answer to a lockstep target waits for the scene to get there (a
+client then reads ``sim.cycle`` until it does)."""
 
-def device(table: SignalTable, unit_id: int = UNIT_ID) -> SimDevice:
-    """A pymodbus device whose registers are the table's (synchronised on every request)."""
+
+def device(table: SignalTable, lockstep: LockstepRun | None = None) -> SimDevice:
+    """A pymodbus device whose registers are the table's (synchronised on every request);
+    with ``lockstep``, a write of the target is answered when the scene is there."""
+    target = table.by_name["sim.target"]
 
     async def action(
         function_code: int,
@@ -50,6 +60,9 @@ def device(table: SignalTable, unit_id: int = UNIT_ID) -> SimDevice:
                 return ExcCodes.ILLEGAL_FUNCTION
             if values is not None:
                 table.write(address, [int(v) for v in values])
+                if lockstep is not None and address <= target.address < address + len(values):
+                    cycle = int(table.get("sim.target"))
+                    await asyncio.to_thread(lockstep.wait, cycle, ACK_TIMEOUT)
             else:
                 offset = address - start_address
                 registers[offset : offset + count] = table.read(address, count)
@@ -59,56 +72,120 @@ def device(table: SignalTable, unit_id: int = UNIT_ID) -> SimDevice:
         return None
 
     data = SimData(address=0, count=table.size, values=0, datatype=DataType.REGISTERS)
-    return SimDevice(id=unit_id, simdata=[data], action=action)
+    return SimDevice(id=table.unit_id, simdata=[data], action=action)
 
 
-def check_host(host: str) -> None:
-    """Refuse an address beyond loopback (Modbus has no security of its own).
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` is a loopback address (or ``localhost``)."""
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return host == "localhost"
+
+
+def check_host(host: str, allow: Sequence[str] = ()) -> None:
+    """Refuse an address beyond loopback without an allow-list of client addresses.
 
     Raises:
-        ValueError: not a loopback address.
+        ValueError: says what is wrong and what would be right.
     """
-    try:
-        loopback = ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        loopback = host == "localhost"
-    if not loopback:
-        raise ValueError(f"the Modbus server binds loopback only, got {host!r}")
+    if not is_loopback(host) and not allow:
+        raise ValueError(
+            f"the Modbus server binds loopback only, got {host!r}: Modbus has no security of "
+            "its own; to serve another address, name the PLC's address with --allow ADDRESS"
+        )
+    for address in allow:
+        try:
+            ipaddress.ip_address(address)
+        except ValueError:
+            raise ValueError(f"--allow takes IP addresses, got {address!r}") from None
+
+
+class Server(ModbusTcpServer):
+    """A Modbus TCP server that closes every connection from an address not allowed.
+
+    Args:
+        devices: the devices (one per unit id).
+        address: (host, port) to bind.
+        allow: client addresses accepted besides loopback ones.
+    """
+
+    def __init__(
+        self, devices: list[SimDevice], address: tuple[str, int], allow: Sequence[str] = ()
+    ) -> None:
+        super().__init__(devices, address=address)
+        self.allowed = frozenset(str(ipaddress.ip_address(a)) for a in allow)
+
+    def callback_new_connection(self) -> ServerRequestHandler:
+        """A handler that checks its peer first."""
+        return _Guarded(self, self.trace_packet, self.trace_pdu, self.trace_connect)
+
+
+class _Guarded(ServerRequestHandler):
+    """The request handler of a connection: closed at once when its peer is not allowed."""
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        peer = transport.get_extra_info("peername")
+        host = str(peer[0]) if peer else ""
+        allowed = self.server.allowed
+        if not (is_loopback(host) or host in allowed):
+            log.warning("refused a Modbus connection from %s (not in --allow)", host or "?")
+            transport.close()
+            return
+        super().connection_made(transport)
+
+
+def server_of(
+    bridge: Bridge, host: str = "127.0.0.1", port: int = 5020, allow: Sequence[str] = ()
+) -> Server:
+    """The Modbus server of ``bridge``'s tables.
+
+    Raises:
+        ValueError: a host beyond loopback without ``allow``.
+    """
+    check_host(host, allow)
+    lockstep = bridge.run if isinstance(bridge.run, LockstepRun) else None
+    return Server([device(t, lockstep) for t in bridge.tables], (host, port), allow)
 
 
 async def serve(
-    machine: str, host: str = "127.0.0.1", port: int = 5020, speed: float | None = 1.0
+    machine: str,
+    host: str = "127.0.0.1",
+    port: int = 5020,
+    speed: float | None = 1.0,
+    allow: Sequence[str] = (),
 ) -> None:
     """Build the scene of ``machine``, run it (free at ``speed`` × real time; None: lockstep)
-    and serve its table until SIGTERM/SIGINT."""
-    check_host(host)
-    definition = scenes.definition(machine)
-    scene = scenes.load(machine, trace_every=0)
-    table = SignalTable(definition)
-    program = BridgeProgram(scene, table, scenes.homing(scene))
-    run = LockstepRun(program) if speed is None else PacedRun(program, speed)
-    server = ModbusTcpServer([device(table)], address=(host, port))
+    and serve its tables until SIGTERM/SIGINT."""
+    bridge = Bridge(machine, speed)
+    server = server_of(bridge, host, port, allow)
     loop = asyncio.get_running_loop()
     for number in (signal.SIGTERM, signal.SIGINT):
         loop.add_signal_handler(number, lambda: asyncio.ensure_future(server.shutdown()))
-    run.start()
+    bridge.start()
     try:
         await server.serve_forever(background=True)  # listening once this returns
-        mode = "lockstep" if speed is None else f"free-running at {speed:g}x"
-        print(f"{machine}: Modbus TCP on {host}:{port}, unit id {UNIT_ID}, {mode}", flush=True)
+        units = ", ".join(f"{t.unit_id} {t.machine}" for t in bridge.tables)
+        print(f"{machine}: Modbus TCP on {host}:{port}, unit id {units}, {bridge.mode}", flush=True)
+        if not is_loopback(host):
+            print(
+                f"warning: Modbus has no security: serving {host} to {', '.join(allow)}",
+                flush=True,
+            )
         await server.serving
     finally:
-        run.stop()
+        bridge.stop()
 
 
-def main(machine: str, host: str, port: int, speed: float | None = 1.0) -> int:
+def main(
+    machine: str, host: str, port: int, speed: float | None = 1.0, allow: Sequence[str] = ()
+) -> int:
     """The ``bridge modbus`` command: serve until stopped; 2 for a refused host or speed."""
     try:
-        check_host(host)
-        if speed is not None and not (math.isfinite(speed) and speed > 0.0):
-            raise ValueError(f"speed must be a finite number > 0, got {speed}")
+        check_host(host, allow)
+        check_speed(speed)
     except ValueError as error:
         print(error)
         return 2
-    asyncio.run(serve(machine, host, port, speed))
+    asyncio.run(serve(machine, host, port, speed, allow))
     return 0

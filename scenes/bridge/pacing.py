@@ -9,7 +9,6 @@ import time
 from collections.abc import Callable
 
 from scenes.bridge.program import BridgeProgram
-from scenes.bridge.table import SignalTable
 
 log = logging.getLogger(__name__)
 
@@ -91,20 +90,37 @@ class PacedRun(Run):
 
 class LockstepRun(Run):
     """Lockstep: the scene stands until the client writes ``sim.target``, then runs whole PLC
-    cycles until ``sim.cycle`` equals it (the acknowledgement). What the client wrote before is
-    seen by the first of these scans, whatever the network timing."""
+    cycles until ``sim.cycle`` equals it (the acknowledgement; a server may hold its answer to
+    the write until then, :meth:`wait`). What the client wrote before is seen by the first of
+    these scans, whatever the network timing."""
 
     def __init__(self, program: BridgeProgram) -> None:
         super().__init__(program)
-        program.table.set("sim.mode", 1)
+        self.written = threading.Event()
+        """Set by every client write to any table (the run waits on it)."""
+        for table in program.tables:
+            table.set("sim.mode", 1)
+            table.written = self.written
+        self._reached = threading.Condition()
+
+    def wait(self, cycle: int, timeout: float) -> bool:
+        """Wait until the scene has run ``cycle`` PLC cycles (or the run stops) [timeout: wall
+        s]; whether it has."""
+        with self._reached:
+            return self._reached.wait_for(
+                lambda: self.program.cycles >= cycle or self._stop.is_set(), timeout
+            )
 
     def _run(self) -> None:
-        table: SignalTable = self.program.table
         plc = self.scene.runtime.plc_period
         while not self._stop.is_set():
-            table.written.clear()
-            due = int(table.get("sim.target")) - self.program.cycles
+            self.written.clear()
+            due = self.program.target - self.program.cycles
             if due > 0:
                 self.scene.run(self.program, timeout=due * plc)
+                with self._reached:
+                    self._reached.notify_all()
             else:
-                table.written.wait(IDLE_WAIT)
+                self.written.wait(IDLE_WAIT)
+        with self._reached:
+            self._reached.notify_all()

@@ -34,6 +34,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
+from collections.abc import Sequence
 from typing import Any
 
 import mcl
@@ -305,29 +306,39 @@ _MISSING = {
 
 
 class BridgeProgram:
-    """The bridge's PLC program for a scene: one :class:`AxisBridge` per axis, then the
-    simulation fields and the published signals. Call it once per PLC scan.
+    """The bridge's PLC program for a scene: one :class:`AxisBridge` per axis of each table,
+    then the simulation fields and the published signals. Call it once per PLC scan.
 
     Args:
         scene: the running scene.
-        table: its signal table.
+        tables: its signal tables (a cell: one per part).
         homing: the homing recipes by axis name.
     """
 
-    def __init__(self, scene: Scene, table: SignalTable, homing: dict[str, Recipe]) -> None:
+    def __init__(
+        self, scene: Scene, tables: Sequence[SignalTable], homing: dict[str, Recipe]
+    ) -> None:
         self.scene = scene
-        self.table = table
-        axes = [scene.axes[a] for a in table.axes]
-        self.axes = [AxisBridge(axis, homing.get(axis.name), table, axes) for axis in axes]
+        self.tables = list(tables)
+        self.axes = []
+        for table in self.tables:
+            axes = [scene.axes[a] for a in table.axes]
+            self.axes += [AxisBridge(axis, homing.get(axis.name), table, axes) for axis in axes]
         self.cycles = 0
+
+    @property
+    def target(self) -> int:
+        """The lockstep target cycle: the largest any table was given."""
+        return max(int(table.get("sim.target")) for table in self.tables)
 
     def __call__(self) -> None:
         """One PLC scan."""
         for axis in self.axes:
             axis()
         self.cycles += 1
-        table, scene = self.table, self.scene
-        table.set("sim.time", scene.time)
-        table.set("sim.cycle", self.cycles)
-        for name in table.signals:
-            table.set(f"signal.{name}", scene.signal(name))
+        scene = self.scene
+        for table in self.tables:
+            table.set("sim.time", scene.time)
+            table.set("sim.cycle", self.cycles)
+            for name in table.signals:
+                table.set(f"signal.{name}", scene.signal(name))

@@ -204,15 +204,16 @@ def published_signals(machine: MachineDef) -> dict[str, Signal]:
     return signals
 
 
-def machine_fields(machine: MachineDef) -> list[Field]:
-    """The fields of a machine, in address order."""
+def machine_fields(machine: MachineDef, prefix: str = "") -> list[Field]:
+    """The fields of a machine, in address order; ``prefix`` before its axes' and signals'
+    names (a part of a cell: ``press/``)."""
     fields = [
         Field("sim.time", 0, "f32", "r", "s", "simulated time"),
         Field("sim.cycle", 2, "u32", "r", "", "PLC cycles run"),
         Field("sim.mode", 4, "u16", "r", "", "0: free-running, 1: lockstep"),
         Field("sim.target", 6, "u32", "rw", "", "lockstep: run until sim.cycle reaches it"),
     ]
-    axes = machine.scene_axes
+    axes = {prefix + a: spec for a, spec in machine.scene_axes.items()}
     for i, (axis, spec) in enumerate(axes.items()):
         base = AXIS_BASE + AXIS_STRIDE * i
         can_gear = spec.drive != "encoder" and len(axes) > 1
@@ -222,7 +223,9 @@ def machine_fields(machine: MachineDef) -> list[Field]:
         ]
     for k, (name, signal) in enumerate(published_signals(machine).items()):
         text = signal.label or name
-        fields.append(Field(f"signal.{name}", SIGNAL_BASE + 2 * k, "f32", "r", signal.unit, text))
+        fields.append(
+            Field(f"signal.{prefix}{name}", SIGNAL_BASE + 2 * k, "f32", "r", signal.unit, text)
+        )
     return fields
 
 
@@ -235,13 +238,16 @@ class SignalTable:
 
     Args:
         machine: its definition; gives the axes and the published signals.
+        prefix: before the axes' and signals' names (a part of a cell: ``press/``).
+        unit_id: the machine's Modbus unit id.
     """
 
-    def __init__(self, machine: MachineDef) -> None:
+    def __init__(self, machine: MachineDef, prefix: str = "", unit_id: int = 1) -> None:
         self.machine = machine.name
-        self.fields = machine_fields(machine)
-        self.axes = list(machine.scene_axes)
-        self.signals = list(published_signals(machine))
+        self.unit_id = unit_id
+        self.fields = machine_fields(machine, prefix)
+        self.axes = [prefix + a for a in machine.scene_axes]
+        self.signals = [prefix + s for s in published_signals(machine)]
         self.by_name = {f.name: f for f in self.fields}
         self.size = max(f.address + f.width for f in self.fields)
         self._owner = {a: f for f in self.fields for a in range(f.address, f.address + f.width)}
@@ -362,7 +368,7 @@ class SignalTable:
         lines = [
             f"# Register map of {self.machine}",
             "",
-            "Holding registers of unit id 1, PDU addresses from 0; u32 and f32 in two registers, "
+            f"Holding registers of unit id {self.unit_id}, PDU addresses from 0; u32 and f32 in two registers, "
             "high word first; u: the axis' user unit (mm on a slide, deg on a hinge).",
             "",
             "| address | name | type | access | unit | description |",
@@ -382,3 +388,15 @@ class SignalTable:
             for f in self.fields
         ]
         return "\n".join(rows)
+
+
+def tables_of(machine: MachineDef) -> list[SignalTable]:
+    """The signal tables of a scene of ``machine``: one, or a cell's one per part (unit ids
+    1, 2, … in the cell's order; each with the simulation fields, the lockstep target being
+    the largest any of them was given)."""
+    if not machine.parts:
+        return [SignalTable(machine)]
+    return [
+        SignalTable(part.machine, f"{part.machine.name}/", unit)
+        for unit, part in enumerate(machine.parts, start=1)
+    ]

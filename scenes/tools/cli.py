@@ -229,19 +229,27 @@ def _bridge_parser(sub: Any) -> None:
     modbus.add_argument("--port", type=int, default=5020, help="TCP port")
     modbus.add_argument("--speed", type=float, default=1.0, help="free-running: × real time")
     modbus.add_argument("--lockstep", action="store_true", help="advance on sim.target only")
+    modbus.add_argument(
+        "--allow",
+        action="append",
+        default=[],
+        metavar="ADDRESS",
+        help="a PLC's IP address accepted when --host is beyond loopback (repeat for more)",
+    )
 
 
 def _bridge(args: argparse.Namespace) -> int:
     """Run a ``bridge`` command."""
     if args.bridge == "map":
-        from scenes.bridge.table import SignalTable
+        from scenes.bridge.table import tables_of
 
-        table = SignalTable(scenes.definition(args.name))
-        print(table.csv() if args.csv else table.markdown())
+        tables = tables_of(scenes.definition(args.name))
+        print("\n\n".join(t.csv() if args.csv else t.markdown() for t in tables))
         return 0
     from scenes.bridge.modbus import main as modbus
 
-    return modbus(args.name, args.host, args.port, None if args.lockstep else args.speed)
+    speed = None if args.lockstep else args.speed
+    return modbus(args.name, args.host, args.port, speed, args.allow)
 
 
 def _listed(item: str) -> str:
