@@ -368,8 +368,9 @@ class SignalTable:
         lines = [
             f"# Register map of {self.machine}",
             "",
-            f"Holding registers of unit id {self.unit_id}, PDU addresses from 0; u32 and f32 in two registers, "
-            "high word first; u: the axis' user unit (mm on a slide, deg on a hinge).",
+            f"Holding registers of unit id {self.unit_id}, PDU addresses from 0; u32 and f32 in "
+            "two registers, high word first; u: the axis' user unit (mm on a slide, deg on a "
+            "hinge).",
             "",
             "| address | name | type | access | unit | description |",
             "|---:|---|---|---|---|---|",
