@@ -5,7 +5,8 @@ thread: free at a speed (1×: real time) or in lockstep with the client
 
 Function codes 3 and 4 read the table, 6, 16, 22 and 23 write its command fields; a read
 outside the table or a write to a read-only or unmapped register gets the exception
-ILLEGAL_ADDRESS, coil and discrete-input codes ILLEGAL_FUNCTION. In lockstep, the answer to a
+ILLEGAL_ADDRESS, coil and discrete-input codes ILLEGAL_FUNCTION, a write while an operator of the
+viewer is in control (``sim.control`` 0) DEVICE_BUSY. In lockstep, the answer to a
 write of ``sim.target`` comes when the scene has run to it (at most :data:`ACK_TIMEOUT`): one
 request per PLC cycle (FC 23 also reads the status back in it).
 
@@ -29,7 +30,7 @@ from pymodbus.simulator import DataType, SimData, SimDevice
 
 from scenes.bridge.machine import Bridge, check_speed
 from scenes.bridge.pacing import LockstepRun
-from scenes.bridge.table import SignalTable, WriteRefused
+from scenes.bridge.table import NotInControl, SignalTable, WriteRefused
 
 log = logging.getLogger(__name__)
 
@@ -66,6 +67,9 @@ def device(table: SignalTable, lockstep: LockstepRun | None = None) -> SimDevice
             else:
                 offset = address - start_address
                 registers[offset : offset + count] = table.read(address, count)
+        except NotInControl as refused:
+            log.warning("refused: function %d at %d: %s", function_code, address, refused)
+            return ExcCodes.DEVICE_BUSY
         except WriteRefused as refused:
             log.warning("refused: function %d at %d: %s", function_code, address, refused)
             return ExcCodes.ILLEGAL_ADDRESS

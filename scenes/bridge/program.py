@@ -165,6 +165,12 @@ class AxisBridge:
                     )
         self._write_status()
 
+    def observe(self) -> None:
+        """A scan while the PLC is not in control: the blocks are not called, the status is
+        written; the control word's edges are taken so that none fires later."""
+        self._last_word = self._word()
+        self._write_status()
+
     def _moves(self, bits: dict[str, bool], ramp: dict[str, float]) -> list[tuple[str, Command]]:
         """MC_MoveAbsolute, MC_MoveRelative, MC_MoveAdditive and MC_MoveVelocity."""
         axis, mode = self.axis, _int(self._param("buffer_mode"))
@@ -332,9 +338,13 @@ class BridgeProgram:
         return max(int(table.get("sim.target")) for table in self.tables)
 
     def __call__(self) -> None:
-        """One PLC scan."""
+        """One PLC scan (the axes of a table whose PLC is not in control are left alone, their
+        status still written)."""
         for axis in self.axes:
-            axis()
+            if axis.table.in_control:
+                axis()
+            else:
+                axis.observe()
         self.cycles += 1
         scene = self.scene
         for table in self.tables:

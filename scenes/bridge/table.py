@@ -212,6 +212,7 @@ def machine_fields(machine: MachineDef, prefix: str = "") -> list[Field]:
         Field("sim.cycle", 2, "u32", "r", "", "PLC cycles run"),
         Field("sim.mode", 4, "u16", "r", "", "0: free-running, 1: lockstep"),
         Field("sim.target", 6, "u32", "rw", "", "lockstep: run until sim.cycle reaches it"),
+        Field("sim.control", 8, "u16", "r", "", "1: the PLC is in control, 0: it is refused"),
     ]
     axes = {prefix + a: spec for a, spec in machine.scene_axes.items()}
     for i, (axis, spec) in enumerate(axes.items()):
@@ -231,6 +232,10 @@ def machine_fields(machine: MachineDef, prefix: str = "") -> list[Field]:
 
 class WriteRefused(ValueError):
     """A write the table refuses (an address that is not a writable field)."""
+
+
+class NotInControl(WriteRefused):
+    """A write refused because the PLC is not in control (an operator of the viewer is)."""
 
 
 class SignalTable:
@@ -258,6 +263,7 @@ class SignalTable:
         self._requests: dict[str, tuple[int, int]] = dict.fromkeys(self.axes, (0, -1))
         self.written = threading.Event()
         """Set by every client write (a lockstep run waits on it)."""
+        self.set("sim.control", 1)
 
     def get(self, name: str) -> float:
         """The value of field ``name``."""
@@ -289,12 +295,28 @@ class SignalTable:
         with self._lock:
             return self._registers[address : address + count]
 
+    @property
+    def in_control(self) -> bool:
+        """Whether the PLC may command (``sim.control``); while not, its writes and requests
+        are refused with :class:`NotInControl` and the program leaves the axes alone."""
+        return self.get("sim.control") == 1
+
+    @in_control.setter
+    def in_control(self, on: bool) -> None:
+        self.set("sim.control", 1 if on else 0)
+
+    def _check_control(self) -> None:
+        if not self.in_control:
+            raise NotInControl("the PLC is not in control: an operator of the viewer is")
+
     def write(self, address: int, values: Sequence[int]) -> None:
         """Write registers from a client: every one must belong to a writable field.
 
         Raises:
             WriteRefused: an address outside every writable field (nothing is written).
+            NotInControl: the PLC is not in control.
         """
+        self._check_control()
         for a in range(address, address + len(values)):
             f = self._owner.get(a)
             if f is None or f.access != "rw":
@@ -323,10 +345,11 @@ class SignalTable:
         writes it.
 
         Raises:
-            WriteRefused: an unknown axis or bit.
+            WriteRefused: an unknown axis or bit; NotInControl: the PLC is not in control.
         """
         if axis not in self._rose or bit not in CONTROL_BITS:
             raise WriteRefused(f"no control bit {axis}.{bit}")
+        self._check_control()
         address = self.by_name[f"{axis}.control"].address
         mask = 1 << CONTROL_BITS.index(bit)
         with self._lock:
@@ -343,10 +366,12 @@ class SignalTable:
 
         Raises:
             WriteRefused: an unknown axis, a level or unknown command, a field that is not a
-                writable parameter of the axis (nothing is set).
+                writable parameter of the axis (nothing is set); NotInControl: the PLC is not
+                in control.
         """
         if axis not in self._requests or command not in CONTROL_BITS or command in LEVELS:
             raise WriteRefused(f"no command {axis}.{command}")
+        self._check_control()
         fields = {}
         for name, value in (params or {}).items():
             f = self.by_name.get(f"{axis}.{name}")
