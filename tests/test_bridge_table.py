@@ -20,7 +20,7 @@ def test_map_of_the_gantry(capsys: pytest.CaptureFixture[str]) -> None:
     table = SignalTable(scenes.definition("gantry"))
     assert len(rows) == 1 + len(table.fields)
     assert any(r.startswith("100,X.control,u16,rw") for r in rows)
-    assert any(r.startswith("224,Z.actual_position,f32,r") for r in rows)
+    assert any(r.startswith("324,Z.actual_position,f32,r") for r in rows)
     assert cli.main(["bridge", "map", "gantry"]) == 0
     assert "| 124 | X.actual_position | f32 | r |" in capsys.readouterr().out
 

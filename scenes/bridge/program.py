@@ -18,6 +18,7 @@ gear_in         ``MC_GearIn`` Execute (master, ratio_numerator, ratio_denominato
 gear_in_pos     ``MC_GearInPos`` Execute (… master/slave_sync_position, master_start_distance,
                 velocity, zeroing)
 gear_out        ``MC_GearOut`` Execute
+force_control   ``MC_ForceControl`` Execute (force, force_ramp, gain, …, velocity, acceleration)
 outputs         ``MC_WriteDigitalOutput`` for each output bit that differs from the output
 ==============  ====================================================================
 
@@ -98,6 +99,7 @@ class AxisBridge:
         self.gear_in_pos = mcl.MC_GearInPos()
         self.gear_out = mcl.MC_GearOut()
         self.outputs = [mcl.MC_WriteDigitalOutput() for _ in axis.io.outputs]
+        self.force_control = mcl.MC_ForceControl()
         self.current: Command | None = None
         """The command last started by a rising edge (its outputs are the status)."""
         self.command = 0
@@ -153,6 +155,9 @@ class AxisBridge:
         commands += [("jog_pos", self.jog), ("jog_neg", self.jog)]
         if "master" in self.fields:
             commands += self._gearing(bits, ramp)
+        if "force" in self.fields:
+            self._force_control(bits["force_control"], ramp)
+            commands.append(("force_control", self.force_control))
         self._write_outputs()
         started = dict(commands)
         for i, name in enumerate(CONTROL_BITS):
@@ -227,6 +232,25 @@ class AxisBridge:
             ("gear_out", self.gear_out),
         ]
 
+    def _force_control(self, execute: bool, ramp: dict[str, float]) -> None:
+        """MC_ForceControl (velocity, acceleration and buffer mode of the move fields)."""
+        self.force_control(
+            Axis=self.axis,
+            Execute=execute,
+            Force=self._param("force"),
+            ForceRamp=self._param("force_ramp"),
+            Velocity=ramp["Velocity"],
+            Acceleration=ramp["Acceleration"],
+            Gain=self._param("gain"),
+            InputNumber=_int(self._param("input_number")),
+            Scale=self._param("scale"),
+            InputNumber2=_int(self._param("input_number2")),
+            Scale2=self._param("scale2"),
+            Offset=self._param("offset"),
+            Tolerance=self._param("tolerance"),
+            BufferMode=_int(self._param("buffer_mode")),
+        )
+
     def _ramp_down(
         self, block: mcl.MC_Stop | mcl.MC_Halt, execute: bool, deceleration: float, jerk: float
     ) -> None:
@@ -277,6 +301,7 @@ class AxisBridge:
             "in_gear": bool(getattr(current, "InGear", False)),
             "in_sync": bool(getattr(current, "InSync", False)),
             "start_sync": bool(getattr(current, "StartSync", False)),
+            "in_force": bool(getattr(current, "InForce", False)),
         }
         status = sum(1 << i for i, name in enumerate(STATUS_BITS) if flags[name])
         inputs = sum(1 << i for i, on in enumerate(axis.DI) if on)
@@ -293,6 +318,8 @@ class AxisBridge:
             (p + "command", self.command),
             (p + "inputs", inputs),
         ]
+        if "force" in self.fields:
+            values.append((p + "actual_force", self.force_control.ActualForce))
         analog = axis.AI
         values += [
             (f"{p}analog_{k}", analog[k])
@@ -307,6 +334,7 @@ _MISSING = {
     "gear_in": "gearing",
     "gear_in_pos": "gearing",
     "gear_out": "gearing",
+    "force_control": "analog inputs",
 }
 """What an axis lacks when it refuses a command bit."""
 

@@ -1,14 +1,14 @@
 """The signal table of a machine: every value an external PLC reads or writes, at a fixed
 Modbus register address, generated from the machine's definition.
 
-Addresses are 16-bit holding registers, counted from 0 (the PDU address). A ``u16`` takes one
-register, a ``u32`` or ``f32`` two, high word first (big-endian word order, "ABCD"; pymodbus:
-``word_order="big"``). The layout is deterministic:
+Addresses are 16-bit holding registers, counted from 0 (the PDU address). A ``u16`` or ``i16``
+(two's complement) takes one register, a ``u32`` or ``f32`` two, high word first (big-endian
+word order, "ABCD"; pymodbus: ``word_order="big"``). The layout is deterministic:
 
 =========================  ======================================================================
 0 …                        simulation: time [s] (f32), PLC cycle counter (u32), mode, lockstep
                            target cycle (u32)
-100 + 50·i …               axis ``i`` in the definition's order (:data:`AXIS_FIELDS`)
+100 + 100·i …              axis ``i`` in the definition's order (:data:`AXIS_FIELDS`)
 1000 + 2·k                 published signal ``k`` in the definition's order (f32, read-only)
 =========================  ======================================================================
 
@@ -27,12 +27,12 @@ from typing import Literal
 
 from scenes.definition import AxisDef, MachineDef, Signal
 
-Kind = Literal["u16", "u32", "f32"]
+Kind = Literal["u16", "i16", "u32", "f32"]
 Access = Literal["r", "rw"]
 
 AXIS_BASE = 100
 """Address of the first axis' control word."""
-AXIS_STRIDE = 50
+AXIS_STRIDE = 100
 """Registers between two axes."""
 SIGNAL_BASE = 1000
 """Address of the first published signal."""
@@ -52,6 +52,7 @@ CONTROL_BITS = (
     "gear_in",
     "gear_in_pos",
     "gear_out",
+    "force_control",
 )
 """Bits of an axis' control word, bit 0 first. ``enable`` and the jogs are levels; the others
 are Execute inputs (a rising edge starts the command; keep the bit set until Done). A bit set and
@@ -79,11 +80,13 @@ STATUS_BITS = (
     "in_gear",
     "in_sync",
     "start_sync",
+    "in_force",
 )
 """Bits of an axis' status word, bit 0 first: Done … CommandAborted of the current command
 (the one last started by a rising edge), homed (the axis has a reference), the switches LIM−,
 REF and LIM+, MC_Power's Status, the encoder's index pulse, and InVelocity (MC_MoveVelocity),
-InGear (MC_GearIn), InSync and StartSync (MC_GearInPos) of the current command."""
+InGear (MC_GearIn), InSync and StartSync (MC_GearInPos), InForce (MC_ForceControl) of the current
+command."""
 
 
 @dataclass(frozen=True)
@@ -131,6 +134,21 @@ GEAR_FIELDS = (
 )
 """The gearing fields of an axis that can be a slave."""
 
+FORCE_FIELDS = (
+    FieldSpec("force", 50, "f32", "rw", "F", "MC_ForceControl Force (F: the force unit)"),
+    FieldSpec("force_ramp", 52, "f32", "rw", "F/s", "MC_ForceControl ForceRamp (0: at once)"),
+    FieldSpec("gain", 54, "f32", "rw", "u/s/F", "MC_ForceControl Gain (admittance)"),
+    FieldSpec("tolerance", 56, "f32", "rw", "F", "MC_ForceControl Tolerance (InForce window)"),
+    FieldSpec("scale", 58, "f32", "rw", "F/V", "MC_ForceControl Scale of InputNumber"),
+    FieldSpec("scale2", 60, "f32", "rw", "F/V", "MC_ForceControl Scale2 of InputNumber2"),
+    FieldSpec("offset", 62, "f32", "rw", "F", "MC_ForceControl Offset"),
+    FieldSpec("input_number", 64, "i16", "rw", "", "MC_ForceControl InputNumber"),
+    FieldSpec("input_number2", 65, "i16", "rw", "", "MC_ForceControl InputNumber2 (−1: none)"),
+    FieldSpec("actual_force", 66, "f32", "r", "F", "MC_ForceControl ActualForce"),
+)
+"""The force-control fields of an axis with analog inputs (velocity and acceleration are the
+move's fields)."""
+
 OUTPUTS = FieldSpec("outputs", 1, "u16", "rw", "bits", "digital outputs, bit k = output k")
 """The digital outputs of an axis that has some (MC_WriteDigitalOutput on every change)."""
 
@@ -147,6 +165,8 @@ def axis_specs(axis: AxisDef, can_gear: bool) -> list[FieldSpec]:
         specs += GEAR_FIELDS
     if axis.digital_outputs:
         specs.append(OUTPUTS)
+    if axis.analog:
+        specs += FORCE_FIELDS
     specs += [
         FieldSpec(f"analog_{k}", ANALOG_OFFSET + 2 * k, "f32", "r", "V", f"analog input {name}")
         for k, name in enumerate(axis.analog[:MAX_ANALOG])
@@ -154,7 +174,7 @@ def axis_specs(axis: AxisDef, can_gear: bool) -> list[FieldSpec]:
     return sorted(specs, key=lambda spec: spec.offset)
 
 
-WIDTH = {"u16": 1, "u32": 2, "f32": 2}
+WIDTH = {"u16": 1, "i16": 1, "u32": 2, "f32": 2}
 """Registers per kind."""
 
 
@@ -177,7 +197,7 @@ class Field:
 
 def encode(kind: Kind, value: float) -> list[int]:
     """The registers of a value (high word first)."""
-    if kind == "u16":
+    if kind in ("u16", "i16"):
         return [int(value) & 0xFFFF]
     if kind == "u32":
         v = int(value) & 0xFFFFFFFF
@@ -190,6 +210,8 @@ def decode(kind: Kind, registers: Sequence[int]) -> float:
     """The value of registers (high word first)."""
     if kind == "u16":
         return float(registers[0])
+    if kind == "i16":
+        return float(registers[0] - (registers[0] >> 15 << 16))
     if kind == "u32":
         return float(registers[0] << 16 | registers[1])
     return float(struct.unpack(">f", struct.pack(">HH", registers[0], registers[1]))[0])
@@ -274,7 +296,7 @@ class SignalTable:
     def set(self, name: str, value: float) -> None:
         """Set field ``name`` (the PLC side: any access)."""
         f = self.by_name[name]
-        if f.kind != "f32" and not (math.isfinite(value) and value >= 0):
+        if f.kind != "f32" and not (math.isfinite(value) and (value >= 0 or f.kind == "i16")):
             value = 0
         with self._lock:
             self._registers[f.address : f.address + f.width] = encode(f.kind, value)
