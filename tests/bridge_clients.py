@@ -1,0 +1,259 @@
+"""A PLC's view of the bridge for the tests: the same calls (write a field, read one, run PLC
+cycles) in-process on a machine's signal table, or over Modbus TCP to a lockstep server in its own
+process; and the scenarios the machines' acceptance runs through either."""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+from pymodbus.client import ModbusTcpClient
+
+import scenes
+from scenes.bridge.program import BridgeProgram
+from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable, decode, encode
+
+Condition = Callable[[], bool]
+
+
+def bits(*names: str) -> int:
+    """A control word with the bits ``names`` set."""
+    return sum(1 << CONTROL_BITS.index(name) for name in names)
+
+
+class Plc:
+    """The calls of a PLC on a machine's table; subclasses say how they reach it."""
+
+    table: SignalTable
+    plc_period: float
+
+    def write(self, name: str, value: float) -> None:
+        """Write field ``name`` as a client does (raw registers)."""
+        raise NotImplementedError
+
+    def read(self, name: str) -> float:
+        """Read field ``name``."""
+        raise NotImplementedError
+
+    def run(self, seconds: float) -> None:
+        """Let the scene run ``seconds`` of PLC cycles."""
+        raise NotImplementedError
+
+    def status(self, axis: str, name: str) -> bool:
+        """Status bit ``name`` of ``axis``."""
+        return bool(int(self.read(f"{axis}.status")) >> STATUS_BITS.index(name) & 1)
+
+    def until(self, condition: Condition, timeout: float, what: str, step: float = 0.01) -> float:
+        """Run in ``step`` s until ``condition`` (at least one step: the status of a command
+        just written comes with the next scan); the simulated time it took [s].
+
+        Raises:
+            AssertionError: not within ``timeout`` simulated seconds.
+        """
+        waited = 0.0
+        while True:
+            self.run(step)
+            waited += step
+            if condition():
+                return waited
+            assert waited < timeout, f"{what}: not within {timeout} s"
+
+    def write_all(self, values: dict[str, float]) -> None:
+        """Write several fields."""
+        for name, value in values.items():
+            self.write(name, value)
+
+    def power_and_home(self, axes: tuple[str, ...], homed: str) -> None:
+        """Enable ``axes``, then home ``homed`` with its recipe; leaves the enable bits set."""
+        for axis in axes:
+            self.write(f"{axis}.control", bits("enable"))
+        self.until(lambda: all(self.status(a, "power") for a in axes), 2.0, "power")
+        self.write(f"{homed}.control", bits("enable", "home"))
+        self.until(lambda: self.status(homed, "done"), 60.0, "homing", 0.05)
+        assert self.status(homed, "homed")
+        self.write(f"{homed}.control", bits("enable"))
+
+
+class InProcess(Plc):
+    """The table of a scene of ``machine`` in this process."""
+
+    def __init__(self, machine: str) -> None:
+        self.scene = scenes.load(machine, trace_every=0)
+        self.table = SignalTable(scenes.definition(machine))
+        self.program = BridgeProgram(self.scene, [self.table], scenes.homing(self.scene))
+        self.plc_period = self.scene.runtime.plc_period
+
+    def write(self, name: str, value: float) -> None:
+        f = self.table.by_name[name]
+        self.table.write(f.address, encode(f.kind, value))
+
+    def read(self, name: str) -> float:
+        return self.table.get(name)
+
+    def run(self, seconds: float) -> None:
+        self.scene.run(self.program, timeout=round(seconds / self.plc_period) * self.plc_period)
+
+
+class ModbusLockstep(Plc):
+    """A Modbus client of a lockstep server of ``machine``: each run writes the target and is
+    answered when the scene is there."""
+
+    def __init__(self, machine: str, client: ModbusTcpClient) -> None:
+        self.table = SignalTable(scenes.definition(machine))
+        self.client = client
+        self.plc_period = scenes.definition(machine).plc_period
+        self.target = 0
+
+    def write(self, name: str, value: float) -> None:
+        f = self.table.by_name[name]
+        reply = self.client.write_registers(f.address, encode(f.kind, value))
+        assert not reply.isError(), f"write {name}: {reply}"
+
+    def read(self, name: str) -> float:
+        f = self.table.by_name[name]
+        reply = self.client.read_holding_registers(f.address, count=f.width)
+        assert not reply.isError(), f"read {name}: {reply}"
+        return decode(f.kind, reply.registers)
+
+    def run(self, seconds: float) -> None:
+        self.target += round(seconds / self.plc_period)
+        self.write("sim.target", self.target)
+        assert int(self.read("sim.cycle")) == self.target  # answered when the scene is there
+
+
+def free_port() -> int:
+    """A free TCP port on loopback."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@contextmanager
+def modbus_server(machine: str, log: Path, *options: str) -> Iterator[ModbusTcpClient]:
+    """The Modbus server of ``machine`` in its own process, and a client connected to it."""
+    port = free_port()
+    env = {**os.environ, "MCL_PURE_PYTHON": os.environ.get("MCL_PURE_PYTHON", "")}
+    command = [sys.executable, "-m", "scenes", "bridge", "modbus", machine, "--port", str(port)]
+    with log.open("w") as stderr:
+        process = subprocess.Popen(
+            [*command, *options], env=env, stdout=subprocess.PIPE, stderr=stderr, text=True
+        )
+    try:
+        assert process.stdout is not None
+        assert "Modbus TCP on 127.0.0.1" in process.stdout.readline()
+        modbus = ModbusTcpClient("127.0.0.1", port=port, timeout=10)
+        assert modbus.connect()
+        yield modbus
+        modbus.close()
+        assert process.poll() is None
+    finally:
+        process.terminate()
+        process.wait(10)
+    assert "Traceback" not in log.read_text()
+
+
+SHEAR_SPEED = 1000.0
+"""Strip speed of the shear scenario [mm/s] (60 m/min)."""
+SHEAR_LENGTH = 1500.0
+"""Cut length of the shear scenario [mm]."""
+PARK = 100.0
+"""Carriage park position [mm]."""
+
+
+def shear_cuts(plc: Plc, cuts: int) -> list[float]:
+    """The flying shear cuts to length through the table: the line at speed, the carriage
+    geared in with MC_GearInPos (Zeroing 1) to the measuring wheel, the knife down through
+    digital output 0 at InSync, then back to park; each piece measured from the physics
+    (``signal.last_piece``, read to 0.1 mm as a length gauge would) corrects the wheel's scale
+    for the next cut; the pieces' lengths [mm]."""
+    approach = 150.0
+    plc.power_and_home(("L", "S"), "S")
+    plc.write_all({"S.position": PARK, "S.velocity": 1000.0})
+    plc.write_all({"S.acceleration": 5000.0, "S.deceleration": 5000.0})
+    plc.write_all({"L.velocity": SHEAR_SPEED, "L.acceleration": 1000.0})
+    plc.write_all({"L.deceleration": 1000.0, "L.jerk": 5000.0})
+    plc.write("S.control", bits("enable", "move_absolute"))
+    plc.write("L.control", bits("enable", "move_velocity"))
+    plc.until(lambda: plc.status("S", "done") and plc.status("L", "in_velocity"), 10.0, "start")
+    gear = {
+        "S.master": plc.table.axes.index("W"),
+        "S.ratio_numerator": 1000,
+        "S.ratio_denominator": 1000,
+        "S.slave_sync_position": PARK + approach,
+        "S.master_start_distance": 2.0 * approach,
+        "S.velocity": 3000.0,
+        "S.acceleration": 10000.0,
+        "S.deceleration": 10000.0,
+        "S.zeroing": 1,
+    }
+    plc.write_all(gear)
+    pieces: list[float] = []
+    scale = 1.0  # the wheel's: master travel per strip travel, learned from the pieces
+    for cut in range(cuts + 1):
+        first = plc.read("W.actual_position") + 2.0 * approach + 200.0
+        plc.write("S.master_sync_position", first if cut == 0 else SHEAR_LENGTH * scale)
+        plc.write("S.ratio_denominator", round(1000 * scale))  # the carriage at strip speed
+        plc.write("S.control", bits("enable", "gear_in_pos"))
+        plc.until(lambda: plc.status("S", "in_sync"), 5.0, f"cut {cut}: InSync")
+        before = plc.read("signal.last_piece")
+        plc.write("S.outputs", 1)  # the knife down
+        plc.run(0.08)
+        plc.write("S.outputs", 0)
+        plc.run(0.06)
+        plc.write("S.position", PARK)  # back at the gearing's velocity and ramps
+        plc.write("S.control", bits("enable", "move_absolute"))
+        plc.until(lambda: plc.status("S", "done"), 5.0, f"cut {cut}: back to park")
+        if cut:
+            piece = plc.read("signal.last_piece")
+            assert piece != before, f"cut {cut}: no new piece"
+            pieces.append(piece)
+            scale = SHEAR_LENGTH * scale / round(piece, 1)  # a gauge of 0.1 mm
+    return pieces
+
+
+PRESS_FORCE = 75.0
+"""Force the press holds [kN]."""
+
+
+def press_holds(plc: Plc, seconds: float) -> list[float]:
+    """The press homes, approaches the part and holds :data:`PRESS_FORCE` with MC_ForceControl
+    on its two pressure transducers through the table; the load cell's force (from the physics,
+    ``signal.force``) every 10 ms of the last ``seconds`` of the hold [kN]."""
+    from scenes.machines.press import demo
+    from scenes.machines.press.devices import CylinderDevice
+
+    cylinder = scenes.load("press", trace_every=0).device("cylinder", CylinderDevice)
+    inputs = demo.force_inputs(cylinder.hydraulics.cylinder)
+    plc.power_and_home(("R",), "R")
+    plc.write_all({"R.position": demo.PART - 5.0, "R.velocity": 250.0})
+    plc.write_all({"R.acceleration": 3000.0, "R.deceleration": 3000.0})
+    plc.write("R.control", bits("enable", "move_absolute"))
+    plc.until(lambda: plc.status("R", "done"), 5.0, "approach")
+    plc.write_all(
+        {
+            "R.force": PRESS_FORCE,
+            "R.force_ramp": 200.0,
+            "R.velocity": 20.0,
+            "R.gain": demo.FORCE_GAIN,
+            "R.tolerance": 0.5,
+            "R.input_number": inputs["InputNumber"],
+            "R.scale": inputs["Scale"],
+            "R.input_number2": inputs["InputNumber2"],
+            "R.scale2": inputs["Scale2"],
+            "R.offset": inputs["Offset"],
+        }
+    )
+    plc.write("R.control", bits("enable", "force_control"))
+    plc.until(lambda: plc.status("R", "in_force"), 3.0, "in force")
+    plc.run(0.2)
+    forces = []
+    for _ in range(round(seconds / 0.01)):
+        plc.run(0.01)
+        assert plc.status("R", "active") and not plc.status("R", "error")
+        forces.append(plc.read("signal.force"))
+    return forces
