@@ -248,3 +248,47 @@ def acknowledged(modbus: ModbusTcpClient, target: int) -> Callable[[], bool]:
 
 def read_u32(modbus: ModbusTcpClient, name: str) -> int:
     return int(decode("u32", read(modbus, name)))
+
+
+def own_address() -> str | None:
+    """This machine's address beyond loopback (None: it has none)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        try:
+            s.connect(("198.51.100.1", 9))  # no packet is sent: the route gives the address
+            host = str(s.getsockname()[0])
+        except OSError:
+            return None
+    return None if host.startswith("127.") else host
+
+
+def test_beyond_loopback_only_the_allowed_addresses_are_served(tmp_path: Path) -> None:
+    host = own_address()
+    if host is None:
+        pytest.skip("this machine has no address beyond loopback")
+    port = free_port()
+    log = tmp_path / "stderr.txt"
+    command = [sys.executable, "-m", "scenes", "bridge", "modbus", "gantry", "--port", str(port)]
+    options = ["--host", host, "--allow", "198.51.100.7"]
+    env = {**os.environ, "MCL_PURE_PYTHON": "1"}
+    with log.open("w") as stderr:
+        process = subprocess.Popen(
+            [*command, *options], env=env, stdout=subprocess.PIPE, stderr=stderr, text=True
+        )
+    try:
+        assert process.stdout is not None
+        assert f"Modbus TCP on {host}" in process.stdout.readline()
+        assert "warning: Modbus has no security" in process.stdout.readline()
+        stranger = ModbusTcpClient(host, port=port, timeout=1, retries=0)
+        stranger.connect()
+        reply_ok = False
+        try:
+            reply_ok = not stranger.read_holding_registers(0, count=2).isError()
+        except Exception:  # the connection is closed at once: no answer
+            reply_ok = False
+        stranger.close()
+        assert not reply_ok
+        assert process.poll() is None
+    finally:
+        process.terminate()
+        process.wait(10)
+    assert "refused a Modbus connection from" in log.read_text()
