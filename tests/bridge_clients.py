@@ -80,12 +80,14 @@ class Plc:
 
 
 class InProcess(Plc):
-    """The table of a scene of ``machine`` in this process."""
+    """The table of a scene of ``machine`` in this process, published after each run of scans
+    as a lockstep server publishes it."""
 
     def __init__(self, machine: str) -> None:
         self.scene = scenes.load(machine, trace_every=0)
         self.table = SignalTable(scenes.definition(machine))
-        self.program = BridgeProgram(self.scene, [self.table], scenes.homing(self.scene))
+        homing = scenes.homing(self.scene)
+        self.program = BridgeProgram(self.scene, [self.table], homing, publish_every_scan=False)
         self.plc_period = self.scene.runtime.plc_period
 
     def write(self, name: str, value: float) -> None:
@@ -93,10 +95,12 @@ class InProcess(Plc):
         self.table.write(f.address, encode(f.kind, value))
 
     def read(self, name: str) -> float:
-        return self.table.get(name)
+        f = self.table.by_name[name]
+        return decode(f.kind, self.table.read(f.address, f.width))  # as a client reads it
 
     def run(self, seconds: float) -> None:
         self.scene.run(self.program, timeout=round(seconds / self.plc_period) * self.plc_period)
+        self.program.publish()
 
 
 class ModbusLockstep(Plc):

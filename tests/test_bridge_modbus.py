@@ -198,14 +198,18 @@ WATCHED = ("X.actual_position", "X.following_error", "X.status", "sim.cycle")
 
 
 def in_process_trace() -> list[list[int]]:
-    """The registers of :data:`WATCHED` after every step of the scenario, run in-process."""
+    """The registers of :data:`WATCHED` after every step of the scenario, run in-process and
+    published after each step as a lockstep server publishes them."""
     scene = scenes.load("gantry", trace_every=0)
     table = SignalTable(scenes.definition("gantry"))
-    program = BridgeProgram(scene, [table], scenes.homing(scene))
+    program = BridgeProgram(scene, [table], scenes.homing(scene), publish_every_scan=False)
     trace = []
     for cycles, writes in SCENARIO:
-        table.update(writes.items())
+        for name, value in writes.items():
+            f = table.by_name[name]
+            table.write(f.address, encode(f.kind, value))
         scene.run(program, timeout=cycles * scene.runtime.plc_period)
+        program.publish()
         trace.append([r for name in WATCHED for r in registers(table, name)])
     return trace
 

@@ -29,6 +29,7 @@ class Run:
         self.program = program
         self.scene = program.scene
         self._stop = threading.Event()
+        program.publish_every_scan = False  # the run publishes after each run of scans
         self._thread = threading.Thread(target=self._guarded, name="bridge-sim", daemon=True)
         self.error = ""
         """Why the simulation stopped on its own (empty: it runs or was stopped)."""
@@ -81,6 +82,7 @@ class PacedRun(Run):
         scene, start_wall, start_sim = self.scene, self._clock(), self.scene.time
         while not self._stop.is_set():
             scene.run(self.program, timeout=self.chunk)
+            self.program.publish()
             ahead = (scene.time - start_sim) / self.speed - (self._clock() - start_wall)
             if ahead > 0:
                 self._stop.wait(ahead)
@@ -102,13 +104,15 @@ class LockstepRun(Run):
             table.set("sim.mode", 1)
             table.written = self.written
         self._reached = threading.Condition()
+        self._published = program.cycles
+        """The cycle whose status the tables show (a client reads it once :meth:`wait` says so)."""
 
     def wait(self, cycle: int, timeout: float) -> bool:
         """Wait until the scene has run ``cycle`` PLC cycles (or the run stops) [timeout: wall
         s]; whether it has."""
         with self._reached:
             return self._reached.wait_for(
-                lambda: self.program.cycles >= cycle or self._stop.is_set(), timeout
+                lambda: self._published >= cycle or self._stop.is_set(), timeout
             )
 
     def _run(self) -> None:
@@ -118,7 +122,9 @@ class LockstepRun(Run):
             due = self.program.target - self.program.cycles
             if due > 0:
                 self.scene.run(self.program, timeout=due * plc)
+                self.program.publish()
                 with self._reached:
+                    self._published = self.program.cycles
                     self._reached.notify_all()
             else:
                 self.written.wait(IDLE_WAIT)

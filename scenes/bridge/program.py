@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -108,6 +108,7 @@ class AxisBridge:
         self._held = -1
         self._pending = -1
         self._serial = -1
+        self._calls = self._commands()
 
     def _param(self, name: str) -> float:
         return self.table.get(self.prefix + name) if name in self.fields else 0.0
@@ -127,120 +128,138 @@ class AxisBridge:
             self._held, self._pending = self._pending, -1
         return word | (1 << self._held if self._held >= 0 else 0)
 
+    def _commands(self) -> dict[str, tuple[Command, Callable[[bool], None]]]:
+        """The Execute commands the axis can take, by control bit: the block (its outputs are
+        the status) and the call that passes it this scan's Execute."""
+        commands: dict[str, tuple[Command, Callable[[bool], None]]] = {
+            "reset": (self.reset, lambda x: self.reset(Axis=self.axis, Execute=x)),
+            "move_absolute": (self.move_absolute, self._move_absolute),
+            "move_relative": (self.move_relative, self._move_relative),
+            "move_additive": (self.move_additive, self._move_additive),
+            "move_velocity": (self.move_velocity, self._move_velocity),
+            "stop": (self.stop, lambda x: self._ramp_down(self.stop, x)),
+            "halt": (self.halt, lambda x: self._ramp_down(self.halt, x)),
+        }
+        home = self.home
+        if home is not None:
+            commands["home"] = (home, lambda x: home(Execute=x))
+        if "master" in self.fields:
+            commands["gear_in"] = (self.gear_in, self._gear_in)
+            commands["gear_in_pos"] = (self.gear_in_pos, self._gear_in_pos)
+            commands["gear_out"] = (
+                self.gear_out,
+                lambda x: self.gear_out(Slave=self.axis, Execute=x),
+            )
+        if "force" in self.fields:
+            commands["force_control"] = (self.force_control, self._force_control)
+        return commands
+
     def __call__(self) -> None:
-        """One PLC scan: control word → blocks → status."""
+        """One PLC scan: control word → blocks. A block is called while its Execute is set,
+        in the scan it falls, and while it is busy or shows an output; an idle one is not."""
         word = self._word()
-        bits = {name: bool(word >> i & 1) for i, name in enumerate(CONTROL_BITS)}
-        rising = word & ~self._last_word
-        self._last_word = word
+        last, self._last_word = self._last_word, word
+        rising = word & ~last
         axis = self.axis
-        ramp = {
+        if axis.has_drive:
+            self.power(Axis=axis, Enable=bool(word & 1))
+        for name, (block, call) in self._calls.items():
+            mask = _MASK[name]
+            if word & mask or last & mask or _showing(block):
+                call(bool(word & mask))
+        self._jog(bool(word & _MASK["jog_pos"]), bool(word & _MASK["jog_neg"]))
+        self._write_outputs()
+        if rising & ~1:
+            self._started(rising)
+
+    def _started(self, rising: int) -> None:
+        """The commands whose bits rose: the last is the current one; a bit the axis has no
+        command for is refused with EParam."""
+        for i, name in enumerate(CONTROL_BITS):
+            if rising >> i & 1 and name != "enable":
+                self.command = i + 1
+                if name in ("jog_pos", "jog_neg"):
+                    self.current = self.jog
+                elif name in self._calls:
+                    self.current = self._calls[name][0]
+                else:
+                    self.current = Refusal(ErrorID.EParam)
+                    log.warning(
+                        "%s: %s refused: the axis has no %s", self.name, name, _MISSING[name]
+                    )
+
+    def observe(self) -> None:
+        """A scan while the PLC is not in control: the blocks are not called; the control
+        word's edges are taken so that none fires later."""
+        self._last_word = self._word()
+
+    def _ramp(self) -> dict[str, float]:
+        return {
             "Velocity": self._param("velocity"),
             "Acceleration": self._param("acceleration"),
             "Deceleration": self._param("deceleration"),
             "Jerk": self._param("jerk"),
+            "BufferMode": _int(self._param("buffer_mode")),
         }
-        if axis.has_drive:
-            self.power(Axis=axis, Enable=bits["enable"])
-        self.reset(Axis=axis, Execute=bits["reset"])
-        commands: list[tuple[str, Command]] = [("reset", self.reset)]
-        commands += self._moves(bits, ramp)
-        if self.home is not None:
-            self.home(Execute=bits["home"])
-            commands.append(("home", self.home))
-        for name, block in (("stop", self.stop), ("halt", self.halt)):
-            self._ramp_down(block, bits[name], ramp["Deceleration"], ramp["Jerk"])
-            commands.append((name, block))
-        self._jog(bits["jog_pos"], bits["jog_neg"], ramp["Velocity"])
-        commands += [("jog_pos", self.jog), ("jog_neg", self.jog)]
-        if "master" in self.fields:
-            commands += self._gearing(bits, ramp)
-        if "force" in self.fields:
-            self._force_control(bits["force_control"], ramp)
-            commands.append(("force_control", self.force_control))
-        self._write_outputs()
-        started = dict(commands)
-        for i, name in enumerate(CONTROL_BITS):
-            if rising >> i & 1 and name != "enable":
-                self.current, self.command = started.get(name), i + 1
-                if self.current is None:
-                    self.current = Refusal(ErrorID.EParam)
-                    log.warning(
-                        "%s: %s refused: the axis has no %s", axis.name, name, _MISSING[name]
-                    )
-        self._write_status()
 
-    def observe(self) -> None:
-        """A scan while the PLC is not in control: the blocks are not called, the status is
-        written; the control word's edges are taken so that none fires later."""
-        self._last_word = self._word()
-        self._write_status()
+    def _move_absolute(self, execute: bool) -> None:
+        position = self._param("position")
+        self.move_absolute(Axis=self.axis, Execute=execute, Position=position, **self._ramp())
 
-    def _moves(self, bits: dict[str, bool], ramp: dict[str, float]) -> list[tuple[str, Command]]:
-        """MC_MoveAbsolute, MC_MoveRelative, MC_MoveAdditive and MC_MoveVelocity."""
-        axis, mode = self.axis, _int(self._param("buffer_mode"))
-        moves = {**ramp, "BufferMode": mode}
-        self.move_absolute(
-            Axis=axis, Execute=bits["move_absolute"], Position=self._param("position"), **moves
-        )
+    def _move_relative(self, execute: bool) -> None:
         distance = self._param("distance")
-        self.move_relative(Axis=axis, Execute=bits["move_relative"], Distance=distance, **moves)
-        self.move_additive(Axis=axis, Execute=bits["move_additive"], Distance=distance, **moves)
+        self.move_relative(Axis=self.axis, Execute=execute, Distance=distance, **self._ramp())
+
+    def _move_additive(self, execute: bool) -> None:
+        distance = self._param("distance")
+        self.move_additive(Axis=self.axis, Execute=execute, Distance=distance, **self._ramp())
+
+    def _move_velocity(self, execute: bool) -> None:
+        """MC_MoveVelocity: the velocity's sign is the direction."""
+        ramp = self._ramp()
         velocity = ramp["Velocity"]
         direction = mcl.MC_Direction.MC_Negative if velocity < 0 else mcl.MC_Direction.MC_Positive
-        self.move_velocity(
-            Axis=axis,
-            Execute=bits["move_velocity"],
-            **{**moves, "Velocity": abs(velocity)},
-            Direction=direction,
-        )
-        return [
-            ("move_absolute", self.move_absolute),
-            ("move_relative", self.move_relative),
-            ("move_additive", self.move_additive),
-            ("move_velocity", self.move_velocity),
-        ]
+        ramp["Velocity"] = abs(velocity)
+        self.move_velocity(Axis=self.axis, Execute=execute, Direction=direction, **ramp)
 
-    def _gearing(self, bits: dict[str, bool], ramp: dict[str, float]) -> list[tuple[str, Command]]:
-        """MC_GearIn, MC_GearInPos and MC_GearOut; a master number outside the table gives
-        the blocks the slave itself as master (EParam)."""
+    def _gear(self) -> dict[str, Any]:
+        """The in-outs and inputs MC_GearIn and MC_GearInPos share; a master number outside
+        the table gives the blocks the slave itself as master (EParam)."""
         number = _int(self._param("master"))
         master = self.axes[number] if 0 <= number < len(self.axes) else self.axis
-        gear = {
+        return {
             "Master": master,
             "Slave": self.axis,
             "RatioNumerator": _int(self._param("ratio_numerator")),
             "RatioDenominator": _int(self._param("ratio_denominator")),
-            "Acceleration": ramp["Acceleration"],
-            "Deceleration": ramp["Deceleration"],
-            "Jerk": ramp["Jerk"],
+            "Acceleration": self._param("acceleration"),
+            "Deceleration": self._param("deceleration"),
+            "Jerk": self._param("jerk"),
         }
-        self.gear_in(Execute=bits["gear_in"], **gear)
+
+    def _gear_in(self, execute: bool) -> None:
+        self.gear_in(Execute=execute, **self._gear())
+
+    def _gear_in_pos(self, execute: bool) -> None:
         self.gear_in_pos(
-            Execute=bits["gear_in_pos"],
+            Execute=execute,
             MasterSyncPosition=self._param("master_sync_position"),
             SlaveSyncPosition=self._param("slave_sync_position"),
             MasterStartDistance=self._param("master_start_distance"),
-            Velocity=ramp["Velocity"],
+            Velocity=self._param("velocity"),
             Zeroing=_int(self._param("zeroing")),
-            **gear,
+            **self._gear(),
         )
-        self.gear_out(Slave=self.axis, Execute=bits["gear_out"])
-        return [
-            ("gear_in", self.gear_in),
-            ("gear_in_pos", self.gear_in_pos),
-            ("gear_out", self.gear_out),
-        ]
 
-    def _force_control(self, execute: bool, ramp: dict[str, float]) -> None:
+    def _force_control(self, execute: bool) -> None:
         """MC_ForceControl (velocity, acceleration and buffer mode of the move fields)."""
         self.force_control(
             Axis=self.axis,
             Execute=execute,
             Force=self._param("force"),
             ForceRamp=self._param("force_ramp"),
-            Velocity=ramp["Velocity"],
-            Acceleration=ramp["Acceleration"],
+            Velocity=self._param("velocity"),
+            Acceleration=self._param("acceleration"),
             Gain=self._param("gain"),
             InputNumber=_int(self._param("input_number")),
             Scale=self._param("scale"),
@@ -251,22 +270,21 @@ class AxisBridge:
             BufferMode=_int(self._param("buffer_mode")),
         )
 
-    def _ramp_down(
-        self, block: mcl.MC_Stop | mcl.MC_Halt, execute: bool, deceleration: float, jerk: float
-    ) -> None:
+    def _ramp_down(self, block: mcl.MC_Stop | mcl.MC_Halt, execute: bool) -> None:
         """MC_Stop or MC_Halt; a deceleration of 0 keeps the block's default."""
+        deceleration = self._param("deceleration")
         ramp = {"Deceleration": deceleration} if deceleration else {}
-        block(Axis=self.axis, Execute=execute, Jerk=jerk, **ramp)
+        block(Axis=self.axis, Execute=execute, Jerk=self._param("jerk"), **ramp)
 
-    def _jog(self, jog_pos: bool, jog_neg: bool, velocity: float) -> None:
-        """GT_Jog while a jog bit is set (and once more when it drops)."""
+    def _jog(self, jog_pos: bool, jog_neg: bool) -> None:
+        """GT_Jog while a jog bit is set (and once more when it drops); |velocity| as JogVelo."""
         if jog_pos or jog_neg or self.jog.Enable:
             self.jog(
                 Axis=self.axis,
                 Enable=jog_pos or jog_neg,
                 JogPos=jog_pos,
                 JogNeg=jog_neg,
-                JogVelo=abs(velocity),
+                JogVelo=abs(self._param("velocity")),
             )
 
     def _write_outputs(self) -> None:
@@ -283,7 +301,8 @@ class AxisBridge:
                 Value=value,
             )
 
-    def _write_status(self) -> None:
+    def publish(self) -> None:
+        """Write the axis' status and actual values into the table."""
         axis, current, io = self.axis, self.current, self.axis.io
         flags = {
             "done": bool(getattr(current, "Done", False)),
@@ -329,6 +348,15 @@ class AxisBridge:
         self.table.update(values)
 
 
+_MASK = {name: 1 << i for i, name in enumerate(CONTROL_BITS)}
+"""Each control bit's mask."""
+
+
+def _showing(block: Command) -> bool:
+    """Whether a block is busy or shows an output (so it must see the next scan)."""
+    return bool(block.Busy or block.Done or block.Error or getattr(block, "CommandAborted", False))
+
+
 _MISSING = {
     "home": "homing recipe",
     "gear_in": "gearing",
@@ -340,17 +368,24 @@ _MISSING = {
 
 
 class BridgeProgram:
-    """The bridge's PLC program for a scene: one :class:`AxisBridge` per axis of each table,
-    then the simulation fields and the published signals. Call it once per PLC scan.
+    """The bridge's PLC program for a scene: one :class:`AxisBridge` per axis of each table.
+    Call it once per PLC scan; :meth:`publish` writes the status, the simulation fields and
+    the published signals into the tables — every scan, or (``publish_every_scan`` False) when
+    the runner calls it, at the end of each run of scans.
 
     Args:
         scene: the running scene.
         tables: its signal tables (a cell: one per part).
         homing: the homing recipes by axis name.
+        publish_every_scan: publish after each scan.
     """
 
     def __init__(
-        self, scene: Scene, tables: Sequence[SignalTable], homing: dict[str, Recipe]
+        self,
+        scene: Scene,
+        tables: Sequence[SignalTable],
+        homing: dict[str, Recipe],
+        publish_every_scan: bool = True,
     ) -> None:
         self.scene = scene
         self.tables = list(tables)
@@ -359,6 +394,8 @@ class BridgeProgram:
             axes = [scene.axes[a] for a in table.axes]
             self.axes += [AxisBridge(axis, homing.get(axis.name), table, axes) for axis in axes]
         self.cycles = 0
+        self.publish_every_scan = publish_every_scan
+        self.publish()
 
     @property
     def target(self) -> int:
@@ -366,17 +403,26 @@ class BridgeProgram:
         return max(int(table.get("sim.target")) for table in self.tables)
 
     def __call__(self) -> None:
-        """One PLC scan (the axes of a table whose PLC is not in control are left alone, their
-        status still written)."""
+        """One PLC scan (the axes of a table whose PLC is not in control are left alone)."""
         for axis in self.axes:
             if axis.table.in_control:
                 axis()
             else:
                 axis.observe()
         self.cycles += 1
+        if self.publish_every_scan:
+            self.publish()
+
+    def publish(self) -> None:
+        """Write every axis' status, the simulation fields and the signals into the tables."""
+        for axis in self.axes:
+            axis.publish()
         scene = self.scene
         for table in self.tables:
-            table.set("sim.time", scene.time)
-            table.set("sim.cycle", self.cycles)
-            for name in table.signals:
-                table.set(f"signal.{name}", scene.signal(name))
+            table.update(
+                [
+                    ("sim.time", scene.time),
+                    ("sim.cycle", self.cycles),
+                    *((f"signal.{name}", scene.signal(name)) for name in table.signals),
+                ]
+            )

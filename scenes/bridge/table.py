@@ -252,6 +252,17 @@ def machine_fields(machine: MachineDef, prefix: str = "") -> list[Field]:
     return fields
 
 
+def _integer(kind: Kind, value: float) -> float:
+    """What an integer register of ``kind`` holds for ``value`` (0: not finite, or negative
+    where unsigned)."""
+    if not math.isfinite(value) or (value < 0 and kind != "i16"):
+        return 0.0
+    if kind == "u32":
+        return float(int(value) & 0xFFFFFFFF)
+    word = int(value) & 0xFFFF
+    return float(word - (word >> 15 << 16)) if kind == "i16" else float(word)
+
+
 class WriteRefused(ValueError):
     """A write the table refuses (an address that is not a writable field)."""
 
@@ -278,9 +289,10 @@ class SignalTable:
         self.by_name = {f.name: f for f in self.fields}
         self.size = max(f.address + f.width for f in self.fields)
         self._owner = {a: f for f in self.fields for a in range(f.address, f.address + f.width)}
-        self._registers = [0] * self.size
+        self._values = dict.fromkeys(self.by_name, 0.0)
+        """Every field's value: the truth; registers are encoded from it when a client reads
+        and decoded into it when one writes (the scan's side never packs a register)."""
         self._lock = threading.Lock()
-        self._control = {self.by_name[f"{a}.control"].address: a for a in self.axes}
         self._rose = dict.fromkeys(self.axes, 0)
         self._requests: dict[str, tuple[int, int]] = dict.fromkeys(self.axes, (0, -1))
         self.written = threading.Event()
@@ -289,22 +301,19 @@ class SignalTable:
 
     def get(self, name: str) -> float:
         """The value of field ``name``."""
-        f = self.by_name[name]
-        with self._lock:
-            return decode(f.kind, self._registers[f.address : f.address + f.width])
+        return self._values[name]
 
     def set(self, name: str, value: float) -> None:
-        """Set field ``name`` (the PLC side: any access)."""
-        f = self.by_name[name]
-        if f.kind != "f32" and not (math.isfinite(value) and (value >= 0 or f.kind == "i16")):
-            value = 0
-        with self._lock:
-            self._registers[f.address : f.address + f.width] = encode(f.kind, value)
+        """Set field ``name`` (the PLC side: any access); an integer field takes what its
+        register holds (0 for a value that is not finite, or negative where unsigned)."""
+        kind = self.by_name[name].kind
+        self._values[name] = value if kind == "f32" else _integer(kind, value)
 
     def update(self, values: Iterable[tuple[str, float]]) -> None:
         """Set several fields."""
-        for name, value in values:
-            self.set(name, value)
+        with self._lock:
+            for name, value in values:
+                self.set(name, value)
 
     def read(self, address: int, count: int) -> list[int]:
         """``count`` registers from ``address`` (unmapped ones read 0).
@@ -315,7 +324,23 @@ class SignalTable:
         if address < 0 or count < 1 or address + count > self.size:
             raise WriteRefused(f"registers {address}…{address + count - 1} lie outside the table")
         with self._lock:
-            return self._registers[address : address + count]
+            return self._registers(address, count)
+
+    def _registers(self, address: int, count: int) -> list[int]:
+        """The register image of ``address`` … ``address + count − 1`` (lock held)."""
+        image = [0] * count
+        a = address
+        while a < address + count:
+            f = self._owner.get(a)
+            if f is None:
+                a += 1
+                continue
+            words = encode(f.kind, self._values[f.name])
+            for k, word in enumerate(words):
+                if address <= f.address + k < address + count:
+                    image[f.address + k - address] = word
+            a = f.address + f.width
+        return image
 
     @property
     def in_control(self) -> bool:
@@ -345,20 +370,29 @@ class SignalTable:
                 raise WriteRefused(f"register {a} is not writable")
         if any(not 0 <= v <= 0xFFFF for v in values):
             raise WriteRefused("a register holds 0…65535")
+        end = address + len(values)
         with self._lock:
-            for a, value in zip(range(address, address + len(values)), values, strict=True):
-                axis = self._control.get(a)
-                if axis is not None:
-                    self._rose[axis] |= value & ~self._registers[a]
-            self._registers[address : address + len(values)] = list(values)
+            a = address
+            while a < end:
+                f = self._owner[a]
+                lo = f.address
+                image = self._registers(lo, f.width)
+                for k in range(f.width):
+                    if address <= lo + k < end:
+                        image[k] = values[lo + k - address]
+                value = decode(f.kind, image)
+                if f.name.endswith(".control"):
+                    axis = f.name[: -len(".control")]
+                    self._rose[axis] |= int(value) & ~int(self._values[f.name])
+                self._values[f.name] = value
+                a = lo + f.width
         self.written.set()
 
     def take_control(self, axis: str) -> int:
         """The control word of ``axis`` for this scan: the bits set now and those that rose
         since the last scan (a pulse shorter than a scan still gives its rising edge)."""
-        address = self.by_name[f"{axis}.control"].address
         with self._lock:
-            word = self._registers[address] | self._rose[axis]
+            word = int(self._values[f"{axis}.control"]) | self._rose[axis]
             self._rose[axis] = 0
         return word
 
@@ -372,12 +406,12 @@ class SignalTable:
         if axis not in self._rose or bit not in CONTROL_BITS:
             raise WriteRefused(f"no control bit {axis}.{bit}")
         self._check_control()
-        address = self.by_name[f"{axis}.control"].address
-        mask = 1 << CONTROL_BITS.index(bit)
+        name, mask = f"{axis}.control", 1 << CONTROL_BITS.index(bit)
         with self._lock:
-            word = self._registers[address]
-            self._registers[address] = word | mask if on else word & ~mask
-            self._rose[axis] |= self._registers[address] & ~word
+            word = int(self._values[name])
+            new = word | mask if on else word & ~mask
+            self._values[name] = float(new)
+            self._rose[axis] |= new & ~word
         self.written.set()
 
     def request(self, axis: str, command: str, params: Mapping[str, float] | None = None) -> None:
