@@ -36,11 +36,11 @@ typecheck: setup
 
 # the whole suite in the active mode, then again in pure Python when the active one is compiled
 pytest: setup
-	$(PY) -m pytest -n auto --dist loadfile
+	$(PY) -m pytest -n auto --dist loadgroup
 	@if $(PY) -c "import mcl, sys; sys.exit(not mcl.COMPILED)"; then \
 		echo "== the same suite in pure Python (the browser tests drive the page, which is the same"; \
 		echo "   in both modes: they ran above)"; \
-		MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto --dist loadfile -m "not browser"; fi
+		MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto --dist loadgroup -m "not browser"; fi
 
 test: lint typecheck pytest
 

@@ -35,3 +35,17 @@ def server() -> Iterator[viser.ViserServer]:
         yield srv
     finally:
         srv.stop()
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under ``--dist loadgroup`` (make test): each module is one unit of work, as with
+    ``loadfile``, except that the browser tests form one unit, run first: one headless Chromium
+    at a time, so two pages rendering on a 2-core machine never starve each other."""
+    if config.getoption("dist", "no") != "loadgroup":
+        return
+    for item in items:
+        browser = item.get_closest_marker("browser") is not None
+        group = "browser" if browser else item.nodeid.split("::", 1)[0]
+        item.add_marker(pytest.mark.xdist_group(group))
+    items.sort(key=lambda item: item.get_closest_marker("browser") is None)  # stable

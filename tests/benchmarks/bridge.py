@@ -4,8 +4,9 @@ Starts ``python -m scenes bridge modbus gantry`` free-running at 1× and measure
 requests each, the median and p99 latency of reading X's status block (14 registers) and of
 writing its control word; then starts it in lockstep and runs the gantry demo from a PLC with a
 10 ms cycle (5 scans of the gantry's 2 ms; :func:`gantry_demo`): one read/write request per cycle
-writes the target and is answered with X's status when the scene is there, two more read Y and Z;
-the real-time factor of the whole demo, against the gantry's bare physics (MuJoCo with its
+writes the target and is answered with X's status when the scene is there, one more reads Y's
+and Z's status words (one request of 101 registers); the real-time factor of the whole demo,
+against the gantry's bare physics (MuJoCo with its
 devices, a servo period per call) over the same simulated time in this process. Prints JSON
 (the server in the mode of this process: MCL_PURE_PYTHON passes on).
 
@@ -76,7 +77,8 @@ STATUS_WORDS = 14
 class LockstepPlc:
     """A PLC on the gantry's lockstep server with a 10 ms cycle: each cycle one read/write
     request (FC 23) writes the target and reads X's status block (answered when the scene is
-    there), Y's and Z's status blocks read, command words written when they change."""
+    there), Y's and Z's status words read in one request, command words written when they
+    change."""
 
     def __init__(self, client: ModbusTcpClient) -> None:
         self.client = client
@@ -106,9 +108,9 @@ class LockstepPlc:
             values=encode("u32", self.target),
         )
         self.status["X"] = reply.registers[0]
-        for axis in ("Y", "Z"):
-            address = TABLE.by_name[f"{axis}.status"].address
-            self.status[axis] = self.client.read_holding_registers(address, count=1).registers[0]
+        y, z = (TABLE.by_name[f"{axis}.status"].address for axis in ("Y", "Z"))
+        block = self.client.read_holding_registers(y, count=z - y + 1).registers
+        self.status["Y"], self.status["Z"] = block[0], block[z - y]
 
     def bit(self, axis: str, name: str) -> bool:
         """Status bit ``name`` of ``axis`` as of the last cycle."""
