@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from types import FrameType
 
+from viewer.external_plc import ExternalPlc
 from viewer.server import DEFAULT_HOST, DEFAULT_PORT, PortInUseError, Viewer
 from viewer.session import Session, choices
 from viewer.st_programs import ProgramCatalog
@@ -161,6 +162,27 @@ def parser() -> argparse.ArgumentParser:
         metavar="NAME=AXIS",
         help="bind an ST program's AXIS_REF or I/O name to the machine's (Pohon.Ax1=X); repeatable",
     )
+    p.add_argument(
+        "--modbus",
+        type=parse_port,
+        metavar="PORT",
+        help="serve the machine to an external PLC over Modbus TCP on PORT (the bridge's register "
+        "map, `python -m scenes bridge map SCENE`); it is in control while its Program entry runs",
+    )
+    p.add_argument(
+        "--modbus-host",
+        default=DEFAULT_HOST,
+        metavar="HOST",
+        help=f"interface of the Modbus server (default {DEFAULT_HOST}; beyond loopback it needs "
+        "--modbus-allow)",
+    )
+    p.add_argument(
+        "--modbus-allow",
+        action="append",
+        default=[],
+        metavar="ADDR",
+        help="a PLC's IP address the Modbus server accepts beyond loopback; repeatable",
+    )
     return p
 
 
@@ -190,11 +212,19 @@ def serve(args: argparse.Namespace) -> int:
     Returns:
         Exit status: 0 when stopped, 2 if the port is taken or the address cannot be served.
     """
-    programs = ProgramCatalog(args.programs, dict(args.map))
+    try:
+        plc = external_plc(args)
+    except (ValueError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_PORT_IN_USE
+    programs = ProgramCatalog(args.programs, dict(args.map), external=plc)
+    session = Session(args.scene, speed=args.speed, programs=programs)
+    if plc is not None:
+        session.programs.choose(plc.label)  # Run demo (and the start) hands it the machine
     try:
         viewer = Viewer(
             args.scene,
-            session=Session(args.scene, speed=args.speed, programs=programs),
+            session=session,
             host=args.host,
             port=args.port,
             speed=args.speed,
@@ -204,12 +234,15 @@ def serve(args: argparse.Namespace) -> int:
             allowed_hosts=args.allow_host,
         )
     except ValueError as exc:  # --no-token beyond loopback
+        _close(plc)
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_PORT_IN_USE
     except PortInUseError as exc:
+        _close(plc)
         print(f"error: {exc.strerror}", file=sys.stderr)
         return EXIT_PORT_IN_USE
     except OSError as exc:  # unknown host, another machine's address, privileged port
+        _close(plc)
         print(f"error: cannot serve on {args.host}:{args.port}: {exc}", file=sys.stderr)
         return EXIT_PORT_IN_USE
     done = threading.Event()
@@ -221,6 +254,9 @@ def serve(args: argparse.Namespace) -> int:
     previous = signal.signal(signal.SIGTERM, on_terminate) if in_main_thread else None
     try:
         print(f"viewer: {args.scene} at {viewer.url}  (Ctrl-C to stop)", flush=True)
+        if plc is not None:
+            units = ", ".join(f"{t.unit_id} {t.machine}" for t in plc.tables)
+            print(f"viewer: {plc.label}, unit id {units}", flush=True)
         if viewer.exposed:
             print(viewer.warning(), file=sys.stderr, flush=True)
         if not args.no_demo and not viewer.session.demo_available():
@@ -234,7 +270,25 @@ def serve(args: argparse.Namespace) -> int:
             signal.signal(signal.SIGTERM, previous)
         print("viewer: stopping", flush=True)
         viewer.close()
+        _close(plc)
     return 0
+
+
+def external_plc(args: argparse.Namespace) -> ExternalPlc | None:
+    """The external PLC's Modbus server that ``args`` ask for (None: no ``--modbus``).
+
+    Raises:
+        ValueError: a host beyond loopback without ``--modbus-allow``, or a bad address.
+        OSError: the port cannot be served.
+    """
+    if args.modbus is None:
+        return None
+    return ExternalPlc(args.scene, args.modbus_host, args.modbus, args.modbus_allow)
+
+
+def _close(plc: ExternalPlc | None) -> None:
+    if plc is not None:
+        plc.close()
 
 
 if __name__ == "__main__":

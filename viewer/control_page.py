@@ -11,6 +11,7 @@ page in control).
 
 from __future__ import annotations
 
+import html
 import threading
 import time
 from dataclasses import dataclass, field
@@ -44,11 +45,16 @@ def lifesign_html(sign: Lifesign | None) -> str:
 
 
 def control_html(
-    client_id: int, control: Control, sign: Lifesign | None, now: float | None = None
+    client_id: int,
+    control: Control,
+    sign: Lifesign | None,
+    now: float | None = None,
+    plc: str = "",
 ) -> str:
     """The control line of the page ``client_id``: in control (with the lifesign ``sign`` of
     its link) or watching whom; its waiting request with the time left (``now``: monotonic
-    wall clock [s], default the current)."""
+    wall clock [s], default the current); first, the external PLC ``plc`` that commands the
+    machine (empty: none does)."""
     now = time.monotonic() if now is None else now
     owner, request = control.owner, control.request
     since = f"since {utc(control.since)[:8]} UTC"
@@ -62,6 +68,11 @@ def control_html(
     if request is not None and request.requester == client_id:
         left = max(REQUEST_TIMEOUT - (now - request.since), 0.0)
         text += f"<br>Your request waits for operator #{request.owner} ({left:.0f} s left)."
+    if plc:
+        text = (
+            f'<span style="color:#1565c0"><b>The {html.escape(plc)} commands the machine</b>'
+            "</span> — STOP all, a Power button or End demo takes it back.<br>" + text
+        )
     return _BOX.format(text)
 
 
@@ -177,7 +188,8 @@ class ControlPages:
         asking = request is not None and request.requester == client_id
         asked = in_control and request is not None
         sign = lifesign(self.operators.server, client_id) if in_control else None
-        page.set("line", "content", control_html(client_id, control, sign))
+        plc = self.operators.session.plc_in_control
+        page.set("line", "content", control_html(client_id, control, sign, plc=plc))
         page.set("take", "label", "Take control" if owner is None else "Request control")
         page.set("take", "visible", not in_control and not asking)
         page.set("cancel", "visible", asking)

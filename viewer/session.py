@@ -157,6 +157,8 @@ class Session:
         self._demo_runs = 0
         self.programs = ProgramSelection(programs or ProgramCatalog(), self.record_event)
         """The Program choice: what Run demo runs (``programs.choose(label)``)."""
+        self._plc = self.programs.catalog.external
+        """The external PLC the viewer serves (None: none), scanned every PLC cycle."""
         self._watch: tuple[WatchRow, ...] = ()
         self._install(scene, self._scene, self._operator)
 
@@ -191,6 +193,8 @@ class Session:
         self._definition = definition
         self._scene = scene
         self._operator = operator
+        if self._plc is not None:
+            self._plc.install(scene)
         self._axis_info = axis_info(definition, scene)
         self._model, self._data = mujoco_of(scene)
         self.programs.install(scene, self._demo_factory is not None or definition.demo is not None)
@@ -298,6 +302,12 @@ class Session:
             return False
         self.record_event("watch", f"{name} unforced" if value is None else f"{name} forced")
         return True
+
+    @property
+    def plc_in_control(self) -> str:
+        """The external PLC while it commands the machine (its label; empty: none does)."""
+        plc = self._plc
+        return plc.label if plc is not None and plc.commanding else ""
 
     def demo_available(self) -> bool:
         """Whether the current scene has a demo program."""
@@ -587,6 +597,8 @@ class Session:
                 self._repeat_at = self._scene.time + REPEAT_PAUSE
         elif demo is not None and self._repeat_at is not None:
             self._scan_repeat()
+        if self._plc is not None:
+            self._plc.scan(self._demo)
         self._operator()
         self._peaks.sample()
         errors = self._axis_errors

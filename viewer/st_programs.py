@@ -3,7 +3,9 @@ Structured Text program found for it, ``examples/st/<machine>_demo.st`` of the r
 each ``*.st`` of the directories the viewer is started with (``--programs DIR``, read once at
 start). A file that fails to translate for the machine is listed with its error, never run.
 
-Programs are chosen from this fixed list only: a page can neither type nor upload one.
+An external PLC the viewer serves (``--modbus PORT``, :mod:`viewer.external_plc`) is the last
+entry for its machine. Programs are chosen from this fixed list only: a page can neither type
+nor upload one.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from mcl.st.translate import Module
 from scenes import DemoProgram
 from scenes.scene import Scene
 from scenes.tools.cli import machine_blocks
+from viewer.external_plc import ExternalPlc
 from viewer.watch import WatchedProgram
 
 PYTHON_DEMO = "demo (Python)"
@@ -34,13 +37,15 @@ class ProgramChoice:
 
     Attributes:
         label: as the dropdown shows it.
-        path: the ST file (None: the machine's Python demo).
+        path: the ST file (None: the machine's Python demo or the external PLC).
         error: why the file cannot run on this machine (its translation error), else empty.
+        external: the external PLC (commanding through its Modbus server).
     """
 
     label: str
     path: Path | None = None
     error: str = ""
+    external: bool = False
 
 
 class ProgramCatalog:
@@ -51,6 +56,7 @@ class ProgramCatalog:
         mapping: AXIS_REF and I/O names onto the machine's (``{"Pohon.Ax1": "X"}``); an entry
             naming an axis a machine lacks is left out for that machine.
         examples: the repository's ST examples.
+        external: the external PLC the viewer serves (offered for its machine).
     """
 
     def __init__(
@@ -58,8 +64,10 @@ class ProgramCatalog:
         directories: Iterable[Path | str] = (),
         mapping: Mapping[str, str] | None = None,
         examples: Path = EXAMPLES,
+        external: ExternalPlc | None = None,
     ) -> None:
         self._examples = examples
+        self.external = external
         self._found = tuple(
             sorted(p for d in directories for p in Path(d).glob("*.st") if p.is_file())
         )
@@ -80,6 +88,8 @@ class ProgramCatalog:
             translated = self._modules.get((scene.name, path))
             error = translated if isinstance(translated, str) else ""
             offered.append(ProgramChoice(label, path, error))
+        if self.external is not None and self.external.serves(scene):
+            offered.append(ProgramChoice(self.external.label, external=True))
         return tuple(offered)
 
     def mapping_for(self, scene: Scene) -> dict[str, str]:
@@ -115,6 +125,8 @@ class ProgramCatalog:
 
         The factory raises :class:`mcl.st.STError` for a file that does not translate."""
         path = choice.path
+        if choice.external and self.external is not None:
+            return self.external.program
         if path is None:
             return python or scenes.demo
 

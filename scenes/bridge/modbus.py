@@ -87,8 +87,9 @@ def is_loopback(host: str) -> bool:
         return host == "localhost"
 
 
-def check_host(host: str, allow: Sequence[str] = ()) -> None:
-    """Refuse an address beyond loopback without an allow-list of client addresses.
+def check_host(host: str, allow: Sequence[str] = (), flag: str = "--allow") -> None:
+    """Refuse an address beyond loopback without an allow-list of client addresses (given
+    with the command-line option ``flag``).
 
     Raises:
         ValueError: says what is wrong and what would be right.
@@ -96,13 +97,13 @@ def check_host(host: str, allow: Sequence[str] = ()) -> None:
     if not is_loopback(host) and not allow:
         raise ValueError(
             f"the Modbus server binds loopback only, got {host!r}: Modbus has no security of "
-            "its own; to serve another address, name the PLC's address with --allow ADDRESS"
+            f"its own; to serve another address, name the PLC's address with {flag} ADDRESS"
         )
     for address in allow:
         try:
             ipaddress.ip_address(address)
         except ValueError:
-            raise ValueError(f"--allow takes IP addresses, got {address!r}") from None
+            raise ValueError(f"{flag} takes IP addresses, got {address!r}") from None
 
 
 class Server(ModbusTcpServer):
