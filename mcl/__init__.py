@@ -23,11 +23,19 @@ from mcl.administrative import (
     MC_ReadAxisError,
     MC_ReadStatus,
     MC_Reset,
+    MC_SetPosition,
 )
 from mcl.axis import Axis, AxisConfig, AxisSnapshot
 from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
-from mcl.enums import AxisState, GroupState, MC_BufferMode, MC_Direction, MC_SwitchMode
+from mcl.enums import (
+    AxisState,
+    GroupState,
+    MC_BufferMode,
+    MC_Direction,
+    MC_ExecutionMode,
+    MC_SwitchMode,
+)
 from mcl.errors import ErrorID, StateError, error_text
 from mcl.force import MC_ForceControl
 from mcl.gearing import MC_GearIn, MC_GearInPos, MC_GearOut
@@ -104,6 +112,7 @@ __all__ = [
     "MC_AddAxisToGroup",
     "MC_BufferMode",
     "MC_Direction",
+    "MC_ExecutionMode",
     "MC_FinishHoming",
     "MC_ForceControl",
     "MC_GearIn",
@@ -132,6 +141,7 @@ __all__ = [
     "MC_ReadStatus",
     "MC_Reset",
     "MC_SetOverride",
+    "MC_SetPosition",
     "MC_StepAbsSwitch",
     "MC_StepBlock",
     "MC_StepDirect",

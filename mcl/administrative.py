@@ -6,8 +6,8 @@ import dataclasses
 import math
 from typing import Any, ClassVar
 
-from mcl.command import Status
-from mcl.enums import AxisState
+from mcl.command import CoordinateShift, Status
+from mcl.enums import AxisState, MC_ExecutionMode
 from mcl.errors import ErrorID, error_text
 from mcl.fb import EnableFB, ExecuteFB, non_negative, number, positive
 from mcl.servo import ServoConstants, dac_code_volts
@@ -189,6 +189,91 @@ class MC_ReadActualPosition(EnableFB):
 
     def _disable(self) -> None:
         self.Position = 0.0
+
+
+class MC_SetPosition(ExecuteFB):
+    """Shifts the coordinate system of the axis without moving it (PLCopen Part 1 v2.0,
+    MC_SetPosition; announced in the MotionControlLib, Tab. 2.2): actual position and set point
+    move by the same distance, the following error stays.
+
+    Inputs (sampled on the rising edge of Execute): ``Position`` [u], the new actual position,
+    or with ``Relative`` TRUE the distance added to the coordinate; ``ExecutionMode``
+    (``MC_ExecutionMode``): ``mcImmediately`` applies it in the scan of the edge, ``mcQueued``
+    queues it behind the motion commands given before it as if it were Buffered: it is applied
+    when the command before it signals its output (``Done``; ``InVelocity`` of MC_MoveVelocity,
+    which then goes on), so commands given after it are in the new coordinate. ``mcDelayed``
+    is not defined for this block (``EParam``). ``Done`` once the coordinate has its new value
+    (in the scan of the edge for mcImmediately or an idle axis), ``Busy`` while queued.
+
+    On a moving axis the command that runs goes on physically undisturbed: its path and target
+    move with the coordinate (PLCopen: the commanded position is kept and is now expressed in
+    the shifted coordinate system), and so do the targets of the commands queued behind it. The
+    software limits keep their values in the new coordinate system; a shift that would put the
+    axis or such a target beyond an active limit (with Ref) is refused with ``Ecil`` 8. The
+    block does not set Ref (use MC_FinishHoming for that). A modulo axis shows the new
+    position wrapped into its period.
+
+    Allowed in Disabled (an encoder-only axis too), StandStill and the motion states. PLCopen
+    lets every block be called in ErrorStop and Stopping but executes none there but MC_Reset
+    (Note 1 of the state diagram, the same in the MotionControlLib): ``Eerrstop`` 11 /
+    ``EAxStop`` 6. Refused in Homing (``Ehome`` 9: the homing procedure sets the coordinate) and
+    on a group member (1000: the group's path is laid out in its members' coordinates).
+    ``Position`` not finite or an unknown ExecutionMode: ``EParam``; a refused call leaves the
+    axis as it was. ``CommandAborted`` (beyond PLCopen, mcQueued only): an Aborting command, a
+    stop or power-off ended the queue before the shift was applied (an axis error: ``Error``
+    with the axis' code); the coordinate is then unchanged.
+    """
+
+    INPUTS: ClassVar[tuple[str, ...]] = ("Position", "Relative", "ExecutionMode")
+    Position: float = 0.0
+    Relative: bool = False
+    ExecutionMode: int = MC_ExecutionMode.mcImmediately
+
+    def __init__(self, **inputs: Any) -> None:
+        self.CommandAborted = False
+        self._shift: CoordinateShift | None = None
+        super().__init__(**inputs)
+
+    def _begin(self) -> int:
+        axis = self.axis
+        self._shift = None
+        error = axis.check_coordinate()
+        if error:
+            return error
+        position = number(self.Position)
+        mode = self.ExecutionMode
+        if not math.isfinite(position) or mode not in (
+            MC_ExecutionMode.mcImmediately,
+            MC_ExecutionMode.mcQueued,
+        ):
+            return ErrorID.EParam
+        relative = bool(self.Relative)
+        if mode == MC_ExecutionMode.mcImmediately:
+            return axis.shift_coordinate(position if relative else position - axis.actual)
+        shift = CoordinateShift(position, relative)
+        axis.submit_shift(shift)
+        if shift.status == Status.Error:
+            return shift.error_id
+        self._shift = shift
+        return 0
+
+    def _poll(self) -> Status | None:
+        shift = self._shift
+        if shift is None:
+            return Status.Done
+        return None if shift.busy else shift.status
+
+    def _error_of_poll(self) -> int:
+        return self._shift.error_id if self._shift is not None else 0
+
+    def _withdraw(self) -> None:
+        shift = self._shift
+        if shift is not None and shift.status == Status.Queued:
+            self.axis.cancel(shift)
+        self._shift = None
+
+    def _show_more(self, visible: bool, final: Status | None) -> None:
+        self.CommandAborted = visible and final == Status.Aborted
 
 
 class GT_Analog(ExecuteFB):

@@ -15,7 +15,17 @@ from mcl import axis_state
 from mcl.axis_config import AxisConfig
 from mcl.axis_state import AxisSnapshot
 from mcl.channel import AxisChannel
-from mcl.command import Command, Halt, Hold, MoveTo, MoveVelocity, Status, Stop, blend_velocity
+from mcl.command import (
+    Command,
+    CoordinateShift,
+    Halt,
+    Hold,
+    MoveTo,
+    MoveVelocity,
+    Status,
+    Stop,
+    blend_velocity,
+)
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
 from mcl.errors import ErrorID
 from mcl.servo import Regulator, ServoConstants
@@ -257,11 +267,15 @@ class Axis:
 
     # ------------------------------------------------------------------ positions
     def last_target(self) -> float:
-        """Where the commanded motion ends: the last queued/active target, else the model [u]."""
-        for cmd in reversed((self.active, *self.queue)):
-            if cmd is not None and cmd.target is not None:
-                return cmd.target
-        return self.sp_pos
+        """Where the commanded motion ends: the last queued/active target, else the model [u];
+        in the coordinate a queued MC_SetPosition (mcQueued) will have set by then."""
+        end = self.sp_pos
+        for cmd in (self.active, *self.queue):
+            if isinstance(cmd, CoordinateShift):
+                end = cmd.moved(end)
+            elif cmd is not None and cmd.target is not None:
+                end = cmd.target
+        return end
 
     def modulo_target(self, position: float, direction: int, start: float) -> float:
         """Continuous model target for an absolute position on a modulo axis.
@@ -294,6 +308,93 @@ class Axis:
         self.POS = self._wrap(self.actual)
         if self.active is not None:
             self.active.rebase(delta)
+
+    # ------------------------------------------------------------------ coordinate (MC_SetPosition)
+    def check_coordinate(self) -> int:
+        """Error code that forbids MC_SetPosition now (0 = none): ErrorStop (``Eerrstop``),
+        Stopping (``EAxStop``), a group member (1000: the group's path is laid out in its
+        members' coordinates), Homing (``Ehome``: the homing procedure sets the coordinate).
+        Disabled, StandStill and the motion states allow it; an encoder-only axis too."""
+        state = self.state
+        if state == AxisState.ErrorStop:
+            return ErrorID.Eerrstop
+        if state == AxisState.Stopping:
+            return ErrorID.EAxStop
+        if self.group is not None:
+            return ErrorID.EGroupMember
+        if state == AxisState.Homing:
+            return ErrorID.Ehome
+        return 0
+
+    def shift_coordinate(self, delta: float, queued: bool = True) -> int:
+        """MC_SetPosition: move the coordinate system by ``delta`` [u] at once, without motion.
+
+        Actual position, model (set point), the running command's path and target and the
+        queued commands' targets move by ``delta`` together (up to a queued absolute
+        MC_SetPosition, whose successors are already in its coordinate): every command handed
+        to the axis goes on physically as before. The software limits keep their values: they
+        are positions of the new coordinate system. ``Ecil`` (nothing changed) when the axis or
+        a target of its commands would then lie beyond an active software limit (with Ref).
+        ``queued`` False: the queued commands are in the new coordinate already (a queued
+        MC_SetPosition applied when the command before it signals) and stay as they are.
+        """
+        error = self._shift_beyond_limits(delta, queued)
+        if error:
+            return error
+        self.rebase(delta)
+        for cmd in self.queue if queued else ():
+            if isinstance(cmd, CoordinateShift) and not cmd.relative:
+                break
+            cmd.rebase(delta)
+        self.captured += delta
+        window = self._probe_window
+        if window is not None:
+            self._probe_window = (window[0] + delta, window[1] + delta)
+        return 0
+
+    def _shift_beyond_limits(self, delta: float, queued: bool) -> int:
+        """``Ecil`` when a shift by ``delta`` puts the actual position or the target of a
+        command it moves (the active one; the queued ones if ``queued``) beyond an active
+        software limit (only with Ref), else 0."""
+        c = self.constants
+        if c is None or not self.Ref or not c.sw_limits_active or self.config.modulo:
+            return 0
+        positions = [self.actual]
+        for cmd in (self.active, *self.queue) if queued else (self.active,):
+            if isinstance(cmd, CoordinateShift) and not cmd.relative:
+                break
+            if cmd is not None and cmd.target is not None:
+                positions.append(cmd.target)
+        for position in positions:
+            if not c.LimNeg <= position + delta <= c.LimPos:
+                return ErrorID.Ecil
+        return 0
+
+    def submit_shift(self, shift: CoordinateShift) -> None:
+        """MC_SetPosition in mcQueued: apply ``shift`` now when no command is active or
+        queued, else queue it like a Buffered command (refused with ``EParam`` behind a command
+        that takes no successor, MC_GearIn). Its status tells the result: Done once applied,
+        Error (``Ecil``, nothing changed) when it would put the axis beyond a software limit,
+        Aborted when an Aborting command or an error ends the queue first."""
+        if self.active is None and not self.queue:
+            self._apply_shift(shift)
+            return
+        last = self.queue[-1] if self.queue else self.active
+        if last is not None and not last.accepts_buffered:
+            shift.status, shift.error_id = Status.Error, ErrorID.EParam
+            return
+        shift.status = Status.Queued
+        self.queue.append(shift)
+
+    def _apply_shift(self, shift: CoordinateShift) -> float:
+        """Apply a queued shift; the distance the coordinate moved [u] (0 when refused)."""
+        delta = shift.delta(self.actual)
+        error = self.shift_coordinate(delta, queued=False)
+        if error:
+            shift.status, shift.error_id = Status.Error, error
+            return 0.0
+        shift.status = Status.Done
+        return delta
 
     # ------------------------------------------------------------------ commands
     def submit(self, cmd: Command) -> None:
@@ -710,7 +811,19 @@ class Axis:
         self, cmd: Command, t: float, p: float, v: float, a: float, factor: float | None = None
     ) -> tuple[float, float, float]:
         """``cmd`` reached its activating signal: report it and start the successor (if any).
-        ``factor``: the override's applied factor where ``cmd`` is overridden (None: it is not)."""
+        ``factor``: the override's applied factor where ``cmd`` is overridden (None: it is not).
+
+        Queued coordinate shifts (MC_SetPosition mcQueued) at the head of the queue are applied
+        first; when nothing else is queued behind them, ``cmd`` goes on (a velocity motion) or
+        ends as it would without them."""
+        queue = self.queue
+        if queue and isinstance(queue[0], CoordinateShift):
+            while queue and isinstance(queue[0], CoordinateShift):
+                head = queue.popleft()
+                assert isinstance(head, CoordinateShift)
+                p += self._apply_shift(head)
+            if not queue and not cmd.finished():
+                return p, v, a
         te, pe, ve, ae = cmd.handover_state(t - cmd.t0, p, v, a)
         t_end = cmd.t0 + te
         cmd.status = Status.Done if cmd.finished() else Status.Aborted

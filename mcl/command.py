@@ -213,6 +213,36 @@ class Hold(Command):
         self.position += delta
 
 
+class CoordinateShift(Command):
+    """MC_SetPosition in ExecutionMode mcQueued: a shift of the axis coordinate that waits in the
+    axis queue like a Buffered command and is applied when the command before it signals its
+    output (``Done``, ``InVelocity``, ...); it moves nothing, the command before it goes on when
+    nothing else is queued (see :meth:`mcl.axis.Axis.submit_shift`).
+
+    Args:
+        position: the new actual position [u], or the distance to add (``relative``).
+        relative: ``position`` is a distance added to the coordinate.
+    """
+
+    def __init__(self, position: float, relative: bool) -> None:
+        super().__init__(MC_BufferMode.Buffered)
+        self.position = position
+        self.relative = relative
+
+    def delta(self, actual: float) -> float:
+        """How far the coordinate moves when applied at the actual position ``actual`` [u]."""
+        return self.position if self.relative else self.position - actual
+
+    def moved(self, end: float) -> float:
+        """Where a motion that ends at ``end`` [u] (before the shift) ends in the shifted
+        coordinate: the actual position is then about the model's (the loop's residual error
+        aside)."""
+        return end + self.position if self.relative else self.position
+
+    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        raise AssertionError("a coordinate shift is applied by the axis, never started")
+
+
 class BlockRelease:
     """How the drive lets go of a mechanical block it has run into (MC_StepBlock, the
     TorqueLimit of GT_MoveAbsBlock): it stops pushing at once and then holds the axis just clear

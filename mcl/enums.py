@@ -38,6 +38,15 @@ class MC_SwitchMode(IntEnum):
     MC_EdgeSwitchNegative = 5
 
 
+class MC_ExecutionMode(IntEnum):
+    """When an administrative command takes effect (PLCopen Part 1 v2.0, MC_EXECUTION_MODE):
+    at once, or queued behind the motion commands given before it (as if Buffered)."""
+
+    mcImmediately = 0
+    mcDelayed = 1
+    mcQueued = 2
+
+
 class AxisState(IntEnum):
     """The eight states of a single axis (MotionControlLib Fig. 2.1)."""
 

@@ -130,8 +130,8 @@ is refused with `Econst` 12 before GT_SetConstant, `Epower` 10 in Disabled, `Eer
 ErrorStop, `EAxStop` 6 in Stopping, 1000 on a group member and `Ehome` 9 in Homing (except the
 homing steps, MC_Halt and MC_Stop). MC_MoveAbsolute and GT_MoveAbsBlock need `Ref` (`Ehome` 9);
 without `Ref` the SW limits are not checked. The reading blocks, GT_SetConstant, GT_SInfo,
-MC_SetOverride and GT_Analog (Disabled only) do not change the state; an override of 0 holds a
-moving axis on its path in its motion state.
+MC_SetOverride, MC_SetPosition and GT_Analog (Disabled only) do not change the state; an
+override of 0 holds a moving axis on its path in its motion state.
 
 ## Axes groups
 An axes group (`mcl.AxesGroup`, the AXES_GROUP_REF) holds up to three axes in the order they were
@@ -260,8 +260,12 @@ ENUM_MEANING: dict[str, str] = {
     "MC_EdgeOff": "falling edge of the switch (a rising edge reverses the search)",
     "MC_EdgeSwitchPositive": "MC_EdgeOn when searching positive, MC_EdgeOff when negative",
     "MC_EdgeSwitchNegative": "MC_EdgeOff when searching positive, MC_EdgeOn when negative",
+    "mcImmediately": "takes effect at once",
+    "mcDelayed": "at the end of the running motion (not accepted by this library's blocks)",
+    "mcQueued": "queued behind the motion commands given before it, as if Buffered",
 }
-"""Meaning of the BufferMode, Direction and SwitchMode values (hand-written, optional)."""
+"""Meaning of the BufferMode, Direction, SwitchMode and ExecutionMode values (hand-written,
+optional)."""
 
 # ------------------------------------------------------------------------ docstring cleaning
 
@@ -580,7 +584,7 @@ def generate() -> str:
     lines += render_enum("AxisState", mcl.AxisState, STATE_MEANING)
     lines += render_enum("GroupState", mcl.GroupState, STATE_MEANING)
     lines += ["## Enumerations", ""]
-    for enum_cls in (mcl.MC_BufferMode, mcl.MC_Direction, mcl.MC_SwitchMode):
+    for enum_cls in (mcl.MC_BufferMode, mcl.MC_Direction, mcl.MC_SwitchMode, mcl.MC_ExecutionMode):
         lines += render_enum(enum_cls.__name__, enum_cls, ENUM_MEANING)
     lines += render_errors()
     while lines and not lines[-1]:

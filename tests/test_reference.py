@@ -94,6 +94,7 @@ def test_states_and_enums_appear_with_their_values(generated):
         mcl.MC_BufferMode,
         mcl.MC_Direction,
         mcl.MC_SwitchMode,
+        mcl.MC_ExecutionMode,
     ):
         assert f"\n### {enum_cls.__name__}\n" in generated
         for member in enum_cls:
