@@ -17,38 +17,19 @@ import pytest
 from pymodbus.client import ModbusTcpClient
 from pymodbus.constants import ExcCodes
 
-import scenes
-from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable
-from tests.test_bridge_modbus import free_port
+from scenes.bridge.table import CONTROL_BITS, STATUS_BITS
+from tests.test_bridge_modbus import address, free_port, read_float, write_float
 from viewer.control import Control
 from viewer.control_page import control_html
 from viewer.external_plc import ExternalPlc
 from viewer.session import Session
 from viewer.st_programs import ProgramCatalog
 
-TABLE = SignalTable(scenes.definition("gantry"))
-FLOAT = ModbusTcpClient.DATATYPE.FLOAT32
-
-
-def address(name: str) -> int:
-    return TABLE.by_name[name].address
-
 
 def read_u16(modbus: ModbusTcpClient, name: str) -> int:
     reply = modbus.read_holding_registers(address(name), count=1)
     assert not reply.isError()
     return int(reply.registers[0])
-
-
-def read_float(modbus: ModbusTcpClient, name: str) -> float:
-    reply = modbus.read_holding_registers(address(name), count=2)
-    assert not reply.isError()
-    return float(modbus.convert_from_registers(reply.registers, FLOAT, word_order="big"))  # type: ignore[arg-type]
-
-
-def write_float(modbus: ModbusTcpClient, name: str, value: float) -> None:
-    registers = modbus.convert_to_registers(value, FLOAT, word_order="big")
-    assert not modbus.write_registers(address(name), registers).isError()
 
 
 def write_control(modbus: ModbusTcpClient, *bits: str) -> int:
