@@ -81,6 +81,12 @@ from mcl.motion import (
     MC_Stop,
 )
 from mcl.override import MC_SetOverride
+from mcl.parameters import (
+    MC_ReadBoolParameter,
+    MC_ReadParameter,
+    MC_WriteBoolParameter,
+    MC_WriteParameter,
+)
 from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
@@ -136,8 +142,10 @@ __all__ = [
     "MC_ReadActualPosition",
     "MC_ReadAnalogInput",
     "MC_ReadAxisError",
+    "MC_ReadBoolParameter",
     "MC_ReadDigitalInput",
     "MC_ReadDigitalOutput",
+    "MC_ReadParameter",
     "MC_ReadStatus",
     "MC_Reset",
     "MC_SetOverride",
@@ -151,7 +159,9 @@ __all__ = [
     "MC_SwitchMode",
     "MC_TouchProbe",
     "MC_UngroupAllAxes",
+    "MC_WriteBoolParameter",
     "MC_WriteDigitalOutput",
+    "MC_WriteParameter",
     "Machine",
     "MachineState",
     "Marks",

@@ -251,7 +251,7 @@ class MC_SetPosition(ExecuteFB):
         if mode == MC_ExecutionMode.mcImmediately:
             return axis.shift_coordinate(position if relative else position - axis.actual)
         shift = CoordinateShift(position, relative)
-        axis.submit_shift(shift)
+        axis.submit_deferred(shift)
         if shift.status == Status.Error:
             return shift.error_id
         self._shift = shift
