@@ -277,13 +277,13 @@ class MC_SetPosition(ExecuteFB):
 
 
 class GT_SWLim(ExecuteFB):
-    """Sets the software limits at run time and switches each on or off (announced in the
-    MotionControlLib, Tab. 2.2, without a description: the inputs are this library's; PLCopen
-    Part 1 v2.0 has no such block, its parameters 2–5 SWLimitPos, SWLimitNeg, EnableLimitPos and
-    EnableLimitNeg of MC_WriteParameter / MC_WriteBoolParameter do the same).
+    """Sets the software limits at run time and switches each on or off (MotionControlLib
+    Tab. 2.2 announces the block without a description; PLCopen Part 1 v2.0 has none, its
+    parameters 2–5 of MC_WriteParameter and MC_WriteBoolParameter do the same).
 
-    Inputs (sampled on the rising edge of Execute): ``LimPos``, ``LimNeg`` [u], the limits;
-    ``EnableLimitPos``, ``EnableLimitNeg``: the limit is supervised. ``Done`` in the scan of
+    The inputs are this library's, as the manual names the block only. Inputs (sampled on
+    the rising edge of Execute): ``LimPos``, ``LimNeg`` [u], the limits; ``EnableLimitPos``,
+    ``EnableLimitNeg``: the limit is supervised. ``Done`` in the scan of
     the edge; the limits act from the next servo cycle, as those of GT_SetConstant (with Ref, on
     a linear axis: targets beyond are refused with ``Ecil`` 8, the model crossing a limit
     outward stops the axis with ERRSWP 2006 / ERRSWN 2007). A later GT_SetConstant sets the

@@ -2,8 +2,9 @@
 MC_WriteBoolParameter (PLCopen Part 1 v2.0; announced in the MotionControlLib, Tab. 2.2).
 
 A parameter is chosen by its number: the PLCopen numbers 1–16 and, in the vendor range, the
-servo constants of GT_SetConstant as 1000 + their place in its inputs (1001 Kp … 1014
-Deadband); the table below lists them.
+axis error as 1000 (the MotionControlLib notes at MC_ReadAxisError that MC_ReadParameter
+reads the same AxisErrorID) and the servo constants of GT_SetConstant as 1000 + their place in
+its inputs (1001 Kp … 1014 Deadband); the table below lists them.
 
 A write takes effect as PLCopen describes: the software limits and the following-error
 supervision from the next servo cycle; MaxVelocityAppl, MaxAccelerationAppl,
@@ -59,6 +60,7 @@ PARAMETERS: Final[tuple[tuple[int, str, bool, bool, str], ...]] = (
     (14, "MaxDecelerationSystem", False, False, "machine data max_deceleration [u/s²]"),
     (15, "MaxDecelerationAppl", False, True, "deceleration limit of commanded motion [u/s²]"),
     (16, "MaxJerk", False, True, "jerk limit of commanded motion [u/s³], >= 0 (0: none)"),
+    (VENDOR, "AxisErrorID", False, False, "the axis error AxErrorID, as MC_ReadAxisError"),
     *(
         (VENDOR + i, name, False, True, "servo constant, checked as by GT_SetConstant")
         for i, name in enumerate(CONSTANTS, start=1)
@@ -112,6 +114,8 @@ def read_real(axis: Axis, number: int) -> tuple[int, float]:
         return 0, min(p.max_deceleration_appl, config.max_deceleration)
     if number == 16:
         return 0, p.max_jerk
+    if number == VENDOR:
+        return 0, float(axis.AxErrorID)
     name = _constant(number)
     if number not in (8, 9) and not name:
         return ErrorID.ENoParameter, 0.0
