@@ -18,6 +18,7 @@ from mcl.administrative import (
     GT_AxStatusString,
     GT_SetConstant,
     GT_SInfo,
+    GT_SWLim,
     MC_Power,
     MC_ReadActualPosition,
     MC_ReadAxisError,
@@ -81,6 +82,12 @@ from mcl.motion import (
     MC_Stop,
 )
 from mcl.override import MC_SetOverride
+from mcl.parameters import (
+    MC_ReadBoolParameter,
+    MC_ReadParameter,
+    MC_WriteBoolParameter,
+    MC_WriteParameter,
+)
 from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
@@ -106,6 +113,7 @@ __all__ = [
     "GT_Jog",
     "GT_MoveAbsBlock",
     "GT_SInfo",
+    "GT_SWLim",
     "GT_SetConstant",
     "GroupState",
     "MC_AbortTrigger",
@@ -136,8 +144,10 @@ __all__ = [
     "MC_ReadActualPosition",
     "MC_ReadAnalogInput",
     "MC_ReadAxisError",
+    "MC_ReadBoolParameter",
     "MC_ReadDigitalInput",
     "MC_ReadDigitalOutput",
+    "MC_ReadParameter",
     "MC_ReadStatus",
     "MC_Reset",
     "MC_SetOverride",
@@ -151,7 +161,9 @@ __all__ = [
     "MC_SwitchMode",
     "MC_TouchProbe",
     "MC_UngroupAllAxes",
+    "MC_WriteBoolParameter",
     "MC_WriteDigitalOutput",
+    "MC_WriteParameter",
     "Machine",
     "MachineState",
     "Marks",

@@ -251,7 +251,7 @@ class MC_SetPosition(ExecuteFB):
         if mode == MC_ExecutionMode.mcImmediately:
             return axis.shift_coordinate(position if relative else position - axis.actual)
         shift = CoordinateShift(position, relative)
-        axis.submit_shift(shift)
+        axis.submit_deferred(shift)
         if shift.status == Status.Error:
             return shift.error_id
         self._shift = shift
@@ -274,6 +274,46 @@ class MC_SetPosition(ExecuteFB):
 
     def _show_more(self, visible: bool, final: Status | None) -> None:
         self.CommandAborted = visible and final == Status.Aborted
+
+
+class GT_SWLim(ExecuteFB):
+    """Sets the software limits at run time and switches each on or off (MotionControlLib
+    Tab. 2.2 announces the block without a description; PLCopen Part 1 v2.0 has none, its
+    parameters 2–5 of MC_WriteParameter and MC_WriteBoolParameter do the same).
+
+    The inputs are this library's, as the manual names the block only. Inputs (sampled on
+    the rising edge of Execute): ``LimPos``, ``LimNeg`` [u], the limits; ``EnableLimitPos``,
+    ``EnableLimitNeg``: the limit is supervised. ``Done`` in the scan of
+    the edge; the limits act from the next servo cycle, as those of GT_SetConstant (with Ref, on
+    a linear axis: targets beyond are refused with ``Ecil`` 8, the model crossing a limit
+    outward stops the axis with ERRSWP 2006 / ERRSWN 2007). A later GT_SetConstant sets the
+    limits anew from its own LimPos/LimNeg. Allowed in every axis state (it is no motion
+    command); needs the constants of GT_SetConstant (``Econst`` 12).
+
+    A new limit that the axis already stands beyond, or that the running or a queued move's
+    target lies beyond, is refused: ``Ecil`` 8 and nothing changes, the move goes on to its
+    target (rather than the module's software-limit stop halting it halfway with an axis
+    error; a refused call leaves the axis as it was, as every parameter error does). Motion
+    without a target (MC_MoveVelocity, GT_Jog, a geared slave) heading for the new limit is
+    stopped there by the supervision, ERRSWP / ERRSWN on the maximum ramp, as by a limit set
+    before it started. Not finite values, or both limits on with LimPos <= LimNeg:
+    ``EParam``. On a modulo axis the limits are stored but never act.
+    """
+
+    INPUTS: ClassVar[tuple[str, ...]] = ("LimPos", "LimNeg", "EnableLimitPos", "EnableLimitNeg")
+    LimPos: float = 0.0
+    LimNeg: float = 0.0
+    EnableLimitPos: bool = True
+    EnableLimitNeg: bool = True
+
+    def _begin(self) -> int:
+        axis = self.axis
+        if axis.constants is None:
+            return ErrorID.Econst
+        pos, neg = number(self.LimPos), number(self.LimNeg)
+        if not (math.isfinite(pos) and math.isfinite(neg)):
+            return ErrorID.EParam
+        return axis.set_sw_limits(pos, neg, bool(self.EnableLimitPos), bool(self.EnableLimitNeg))
 
 
 class GT_Analog(ExecuteFB):

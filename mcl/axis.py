@@ -12,12 +12,13 @@ from collections import deque
 from typing import TYPE_CHECKING
 
 from mcl import axis_state
-from mcl.axis_config import AxisConfig
+from mcl.axis_config import AxisConfig, AxisParameters
 from mcl.axis_state import AxisSnapshot
 from mcl.channel import AxisChannel
 from mcl.command import (
     Command,
     CoordinateShift,
+    Deferred,
     Halt,
     Hold,
     MoveTo,
@@ -77,6 +78,8 @@ class Axis:
         """GT_SInfo selection of OPT1n and OPT2n."""
 
         self.constants: ServoConstants | None = None
+        self.parameters = AxisParameters.of(config)
+        """What MC_WriteParameter, MC_WriteBoolParameter and GT_SWLim change at run time."""
         self._sw_limits = False
         self.regulator: Regulator | None = None
         self.speed_mode = 0
@@ -186,10 +189,17 @@ class Axis:
         return position % m if m else position
 
     # ------------------------------------------------------------------ configuration
-    def set_constants(self, constants: ServoConstants) -> None:
-        """Write the servo constants (GT_SetConstant); the regulator restarts from zero."""
+    def set_constants(self, constants: ServoConstants, sw_limits: bool = True) -> None:
+        """Write the servo constants (GT_SetConstant); the regulator restarts from zero.
+        ``sw_limits``: take the software limits from LimPos/LimNeg, both switched on when
+        LimPos > LimNeg, else both off (False: keep the axis' limits, e.g. MC_WriteParameter
+        of one constant)."""
         self.constants = constants
-        self._sw_limits = constants.sw_limits_active and not self.config.modulo
+        if sw_limits:
+            p = self.parameters
+            p.sw_limit_pos, p.sw_limit_neg = constants.LimPos, constants.LimNeg
+            p.sw_enable_pos = p.sw_enable_neg = constants.sw_limits_active
+        self.update_sw_limits()
         previous = self.regulator
         self.regulator = Regulator(constants, self.servo_period)
         if previous is not None:
@@ -197,23 +207,85 @@ class Axis:
         tau = constants.Filter * 1e-3
         self._vel_alpha = self.servo_period / (self.servo_period + tau)
 
+    def update_sw_limits(self) -> None:
+        """The parameters' software limits changed: whether the servo cycle supervises any."""
+        p = self.parameters
+        self._sw_limits = (p.sw_enable_pos or p.sw_enable_neg) and not self.config.modulo
+
+    def set_sw_limits(self, pos: float, neg: float, enable_pos: bool, enable_neg: bool) -> int:
+        """Set the software limits at run time (GT_SWLim, MC_WriteParameter 2–5): supervised
+        from the next servo cycle. Values must be finite.
+
+        Refused, nothing changed: ``EParam`` when both limits are on and ``pos`` <= ``neg``;
+        ``Ecil`` when (with Ref, on a linear axis) a limit that is on would lie behind the axis
+        (its set point, or its actual position by more than the following-error budget
+        MaxPositionLag) or before the target of the running or a queued command, so a move that
+        would cross the new limit is never stopped by it halfway. A velocity motion (no
+        target) heading for a new limit is stopped there by the supervision (ERRSWP / ERRSWN on
+        the maximum ramp), as by a limit set before it started.
+        """
+        if enable_pos and enable_neg and pos <= neg:
+            return ErrorID.EParam
+        if self.Ref and not self.config.modulo and (enable_pos or enable_neg):
+            high = pos if enable_pos else math.inf
+            low = neg if enable_neg else -math.inf
+            margin = 0.5 * self.config.resolution
+            budget = self.parameters.max_position_lag
+            if not low - margin <= self.sp_pos <= high + margin:
+                return ErrorID.Ecil
+            if not low - budget <= self.actual <= high + budget:
+                return ErrorID.Ecil
+            end = self.sp_pos
+            for cmd in (self.active, *self.queue):
+                if isinstance(cmd, Deferred):
+                    end = cmd.moved(end)
+                elif cmd is not None and cmd.target is not None:
+                    end = cmd.target
+                else:
+                    continue
+                if not low <= end <= high:
+                    return ErrorID.Ecil
+        p = self.parameters
+        p.sw_limit_pos, p.sw_limit_neg = pos, neg
+        p.sw_enable_pos, p.sw_enable_neg = enable_pos, enable_neg
+        self.update_sw_limits()
+        return 0
+
+    def sw_limit_range(self) -> tuple[float, float]:
+        """The positions allowed by the software limits now: (negative, positive) [u];
+        ±inf for a limit that is off, and both while the axis has no Ref or is modulo."""
+        p = self.parameters
+        if not self.Ref or not self._sw_limits:
+            return -math.inf, math.inf
+        return (
+            p.sw_limit_neg if p.sw_enable_neg else -math.inf,
+            p.sw_limit_pos if p.sw_enable_pos else math.inf,
+        )
+
+    def max_velocity(self) -> float:
+        """The velocity commanded motion may reach: Vmax, or MaxVelocityAppl below it [u/s]."""
+        assert self.constants is not None
+        return min(self.constants.Vmax, self.parameters.max_velocity_appl)
+
     def limits(
         self, velocity: float, acceleration: float, deceleration: float, jerk: float
     ) -> Limits:
         """Motion limits from FB inputs: 0 means the axis default, values above the maxima are
-        clamped (docs/reference.md, Units). Inputs must be validated (finite, velocity > 0,
-        others >= 0)."""
+        clamped (docs/reference.md, Units): Vmax and MaxVelocityAppl, MaxAccelerationAppl,
+        MaxDecelerationAppl, MaxJerk (the application maxima of :attr:`parameters`, at most the
+        machine data's). Inputs must be validated (finite, velocity > 0, others >= 0)."""
         c = self.config
-        assert self.constants is not None
+        p = self.parameters
         acc = acceleration if acceleration > 0.0 else c.acceleration
         dec = deceleration if deceleration > 0.0 else c.deceleration
         j = jerk if jerk > 0.0 else c.jerk
-        if c.max_jerk > 0.0:
-            j = min(j, c.max_jerk) if j > 0.0 else c.max_jerk
+        max_jerk = p.max_jerk
+        if max_jerk > 0.0:
+            j = min(j, max_jerk) if j > 0.0 else max_jerk
         return Limits(
-            velocity=min(velocity, self.constants.Vmax),
-            acceleration=min(acc, c.max_acceleration),
-            deceleration=min(dec, c.max_deceleration),
+            velocity=min(velocity, self.max_velocity()),
+            acceleration=min(acc, c.max_acceleration, p.max_acceleration_appl),
+            deceleration=min(dec, c.max_deceleration, p.max_deceleration_appl),
             jerk=j if j > 0.0 else math.inf,
         )
 
@@ -250,16 +322,10 @@ class Axis:
 
     def check_target(self, target: float) -> int:
         """``Ecil`` 8 when the target lies beyond an active software limit (only with Ref)."""
-        c = self.constants
-        if (
-            c is not None
-            and self.Ref
-            and c.sw_limits_active
-            and not self.config.modulo
-            and not c.LimNeg <= target <= c.LimPos
-        ):
-            return ErrorID.Ecil
-        return 0
+        if not self._sw_limits or not self.Ref:
+            return 0
+        low, high = self.sw_limit_range()
+        return 0 if low <= target <= high else ErrorID.Ecil
 
     def velocity_too_low(self, velocity: float) -> bool:
         """Below 1 % of the axis reference velocity Vmax (→ EParam)."""
@@ -271,7 +337,7 @@ class Axis:
         in the coordinate a queued MC_SetPosition (mcQueued) will have set by then."""
         end = self.sp_pos
         for cmd in (self.active, *self.queue):
-            if isinstance(cmd, CoordinateShift):
+            if isinstance(cmd, Deferred):
                 end = cmd.moved(end)
             elif cmd is not None and cmd.target is not None:
                 end = cmd.target
@@ -356,8 +422,8 @@ class Axis:
         """``Ecil`` when a shift by ``delta`` puts the actual position or the target of a
         command it moves (the active one; the queued ones if ``queued``) beyond an active
         software limit (only with Ref), else 0."""
-        c = self.constants
-        if c is None or not self.Ref or not c.sw_limits_active or self.config.modulo:
+        low, high = self.sw_limit_range()
+        if low == -math.inf and high == math.inf:
             return 0
         positions = [self.actual]
         for cmd in (self.active, *self.queue) if queued else (self.active,):
@@ -366,35 +432,26 @@ class Axis:
             if cmd is not None and cmd.target is not None:
                 positions.append(cmd.target)
         for position in positions:
-            if not c.LimNeg <= position + delta <= c.LimPos:
+            if not low <= position + delta <= high:
                 return ErrorID.Ecil
         return 0
 
-    def submit_shift(self, shift: CoordinateShift) -> None:
-        """MC_SetPosition in mcQueued: apply ``shift`` now when no command is active or
-        queued, else queue it like a Buffered command (refused with ``EParam`` behind a command
-        that takes no successor, MC_GearIn). Its status tells the result: Done once applied,
-        Error (``Ecil``, nothing changed) when it would put the axis beyond a software limit,
-        Aborted when an Aborting command or an error ends the queue first."""
+    def submit_deferred(self, cmd: Deferred) -> None:
+        """An administrative command in mcQueued (MC_SetPosition, MC_WriteParameter): apply it
+        now when no command is active or queued, else queue it like a Buffered command
+        (refused with ``EParam`` behind a command that takes no successor, MC_GearIn). Its
+        status tells the result: Done once applied, Error when refused then (nothing changed),
+        Aborted when an Aborting command, a stop or power-off ends the queue first (an axis
+        error: Error with its code)."""
         if self.active is None and not self.queue:
-            self._apply_shift(shift)
+            cmd.apply(self)
             return
         last = self.queue[-1] if self.queue else self.active
         if last is not None and not last.accepts_buffered:
-            shift.status, shift.error_id = Status.Error, ErrorID.EParam
+            cmd.status, cmd.error_id = Status.Error, ErrorID.EParam
             return
-        shift.status = Status.Queued
-        self.queue.append(shift)
-
-    def _apply_shift(self, shift: CoordinateShift) -> float:
-        """Apply a queued shift; the distance the coordinate moved [u] (0 when refused)."""
-        delta = shift.delta(self.actual)
-        error = self.shift_coordinate(delta, queued=False)
-        if error:
-            shift.status, shift.error_id = Status.Error, error
-            return 0.0
-        shift.status = Status.Done
-        return delta
+        cmd.status = Status.Queued
+        self.queue.append(cmd)
 
     # ------------------------------------------------------------------ commands
     def submit(self, cmd: Command) -> None:
@@ -789,7 +846,7 @@ class Axis:
             lim_pos
             or lim_neg
             or self._lim_prev
-            or abs(e) > config.dev_max
+            or abs(e) > self.parameters.max_position_lag
             or (self._sw_limits and self.Ref)
             or not io.encoder_ok
         ):
@@ -813,15 +870,15 @@ class Axis:
         """``cmd`` reached its activating signal: report it and start the successor (if any).
         ``factor``: the override's applied factor where ``cmd`` is overridden (None: it is not).
 
-        Queued coordinate shifts (MC_SetPosition mcQueued) at the head of the queue are applied
-        first; when nothing else is queued behind them, ``cmd`` goes on (a velocity motion) or
-        ends as it would without them."""
+        Queued administrative commands (mcQueued) at the head of the queue are applied first;
+        when nothing else is queued behind them, ``cmd`` goes on (a velocity motion) or ends as
+        it would without them."""
         queue = self.queue
-        if queue and isinstance(queue[0], CoordinateShift):
-            while queue and isinstance(queue[0], CoordinateShift):
+        if queue and isinstance(queue[0], Deferred):
+            while queue and isinstance(queue[0], Deferred):
                 head = queue.popleft()
-                assert isinstance(head, CoordinateShift)
-                p += self._apply_shift(head)
+                assert isinstance(head, Deferred)
+                p += head.apply(self)
             if not queue and not cmd.finished():
                 return p, v, a
         te, pe, ve, ae = cmd.handover_state(t - cmd.t0, p, v, a)
@@ -888,7 +945,9 @@ class Axis:
         self._lim_prev = (lim_pos, lim_neg) if lim_pos or lim_neg else ()
         if self.state == AxisState.ErrorStop:
             return
-        if not self.io.encoder_ok or (abs(e) > self.config.dev_max and not self.speed_mode):
+        p = self.parameters
+        lag = p.lag_monitoring and abs(e) > p.max_position_lag and not self.speed_mode
+        if not self.io.encoder_ok or lag:
             self.fault(ErrorID.ERRPOS, open_loop=True)
             return
         active = self.active
@@ -900,14 +959,14 @@ class Axis:
             if lim_neg and (v < 0.0 or not prev_neg):
                 self.fault(ErrorID.ERRLIN)
                 return
-        c = self.constants
-        if self.Ref and c is not None and c.sw_limits_active and not self.config.modulo:
+        if self.Ref and self._sw_limits:
             # the model must not pass a limit moving outward (half a count: rounding of the
             # profile); the actual position may lag or overshoot the model by the
             # following-error budget DevMax (beyond it only where that is not supervised)
-            p, config = self.sp_pos, self.config
-            margin = 0.5 * config.resolution
-            if v > 0.0 and (p > c.LimPos + margin or actual > c.LimPos + config.dev_max):
+            low, high = self.sw_limit_range()
+            model, budget = self.sp_pos, p.max_position_lag
+            margin = 0.5 * self.config.resolution
+            if v > 0.0 and (model > high + margin or actual > high + budget):
                 self.fault(ErrorID.ERRSWP)
-            elif v < 0.0 and (p < c.LimNeg - margin or actual < c.LimNeg - config.dev_max):
+            elif v < 0.0 and (model < low - margin or actual < low - budget):
                 self.fault(ErrorID.ERRSWN)

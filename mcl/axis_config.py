@@ -3,6 +3,7 @@ constants of GT_SetConstant. Positions in user units u (mm or degrees), times in
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from mcl.errors import check_finite
@@ -62,3 +63,46 @@ class AxisConfig:
         )
         check_finite(self, positive, True)
         check_finite(self, ("jerk", "max_jerk", "modulo", "quick_stop_time", "release_time"), False)
+
+
+@dataclass(slots=True)
+class AxisParameters:
+    """The axis parameters a program may change at run time (MC_WriteParameter,
+    MC_WriteBoolParameter, GT_SWLim; PLCopen Part 1 v2.0 parameter numbers in brackets).
+    GT_SetConstant sets the software limits from its LimPos/LimNeg; the rest starts from the
+    machine data (:class:`AxisConfig`).
+
+    Attributes:
+        sw_limit_pos: positive software limit SWLimitPos (2) [u].
+        sw_limit_neg: negative software limit SWLimitNeg (3) [u].
+        sw_enable_pos: EnableLimitPos (4): the positive limit is supervised (with Ref).
+        sw_enable_neg: EnableLimitNeg (5): the negative limit is supervised (with Ref).
+        lag_monitoring: EnablePosLagMonitoring (6): the following error is supervised.
+        max_position_lag: MaxPositionLag (7), DevMax: the following-error limit [u].
+        max_velocity_appl: MaxVelocityAppl (9): a limit of the commanded velocity below the
+            system's Vmax [u/s] (inf: Vmax).
+        max_acceleration_appl: MaxAccelerationAppl (13) [u/s²].
+        max_deceleration_appl: MaxDecelerationAppl (15) [u/s²].
+        max_jerk: MaxJerk (16) of commanded motion [u/s³]; 0 = unlimited.
+    """
+
+    sw_limit_pos: float = 0.0
+    sw_limit_neg: float = 0.0
+    sw_enable_pos: bool = False
+    sw_enable_neg: bool = False
+    lag_monitoring: bool = True
+    max_position_lag: float = 2.0
+    max_velocity_appl: float = math.inf
+    max_acceleration_appl: float = 20000.0
+    max_deceleration_appl: float = 20000.0
+    max_jerk: float = 0.0
+
+    @classmethod
+    def of(cls, config: AxisConfig) -> AxisParameters:
+        """The parameters at power-up: from the machine data, no software limits."""
+        return cls(
+            max_position_lag=config.dev_max,
+            max_acceleration_appl=config.max_acceleration,
+            max_deceleration_appl=config.max_deceleration,
+            max_jerk=config.max_jerk,
+        )

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
-from mcl.axis_config import AxisConfig
+from mcl.axis_config import AxisConfig, AxisParameters
 from mcl.channel import ChannelSnapshot
 from mcl.command import Hold, Status
 from mcl.enums import AxisState
@@ -64,6 +64,9 @@ class AxisSnapshot:
     lim_prev: tuple[bool, ...]
     override: float = 1.0
     """The velocity factor MC_SetOverride wrote (1.0 = 100 %)."""
+    parameters: AxisParameters | None = None
+    """The run-time parameters (software limits, application maxima, following-error
+    supervision; None: those of the machine data and the constants)."""
 
 
 _AT_REST = (AxisState.Disabled, AxisState.StandStill, AxisState.ErrorStop)
@@ -133,6 +136,7 @@ def take(axis: Axis) -> AxisSnapshot:
         pos_prev=axis._pos_prev,
         lim_prev=axis._lim_prev,
         override=axis.override_factor,
+        parameters=replace(axis.parameters),
     )
 
 
@@ -214,6 +218,10 @@ def restore(axis: Axis, snapshot: AxisSnapshot) -> None:
     axis._lim_prev = s.lim_prev
     axis._time_scale = None
     axis.set_override(s.override)
+    axis.parameters = (
+        replace(s.parameters) if s.parameters is not None else _parameters(axis, s.constants)
+    )
+    axis.update_sw_limits()
     axis.queue.clear()
     axis.active = None
     if s.hold is not None:
@@ -221,3 +229,13 @@ def restore(axis: Axis, snapshot: AxisSnapshot) -> None:
         hold.t0 = s.hold[1]
         hold.status = Status.Active
         axis.active = hold
+
+
+def _parameters(axis: Axis, constants: ServoConstants | None) -> AxisParameters:
+    """The run-time parameters of a snapshot that holds none: from the machine data, the
+    software limits from the constants."""
+    parameters = AxisParameters.of(axis.config)
+    if constants is not None:
+        parameters.sw_limit_pos, parameters.sw_limit_neg = constants.LimPos, constants.LimNeg
+        parameters.sw_enable_pos = parameters.sw_enable_neg = constants.sw_limits_active
+    return parameters

@@ -213,11 +213,31 @@ class Hold(Command):
         self.position += delta
 
 
-class CoordinateShift(Command):
-    """MC_SetPosition in ExecutionMode mcQueued: a shift of the axis coordinate that waits in the
-    axis queue like a Buffered command and is applied when the command before it signals its
-    output (``Done``, ``InVelocity``, ...); it moves nothing, the command before it goes on when
-    nothing else is queued (see :meth:`mcl.axis.Axis.submit_shift`).
+class Deferred(Command):
+    """An administrative command in ExecutionMode mcQueued (MC_SetPosition, MC_WriteParameter):
+    it waits in the axis queue like a Buffered command and is applied when the command before it
+    signals its output (``Done``, ``InVelocity``, ...); it moves nothing, and the command
+    before it goes on when nothing else is queued (see :meth:`mcl.axis.Axis.submit_deferred`).
+    """
+
+    def __init__(self) -> None:
+        super().__init__(MC_BufferMode.Buffered)
+
+    def apply(self, axis: Axis) -> float:
+        """Take effect now: set ``status`` (Done, or Error with ``error_id``, nothing changed);
+        return how far the axis coordinate moved [u]."""
+        raise NotImplementedError
+
+    def moved(self, end: float) -> float:
+        """Where a motion that ends at ``end`` [u] before this command ends after it."""
+        return end
+
+    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        raise AssertionError("a deferred command is applied by the axis, never started")
+
+
+class CoordinateShift(Deferred):
+    """MC_SetPosition in mcQueued: a shift of the axis coordinate, applied in the queue.
 
     Args:
         position: the new actual position [u], or the distance to add (``relative``).
@@ -225,7 +245,7 @@ class CoordinateShift(Command):
     """
 
     def __init__(self, position: float, relative: bool) -> None:
-        super().__init__(MC_BufferMode.Buffered)
+        super().__init__()
         self.position = position
         self.relative = relative
 
@@ -233,14 +253,18 @@ class CoordinateShift(Command):
         """How far the coordinate moves when applied at the actual position ``actual`` [u]."""
         return self.position if self.relative else self.position - actual
 
-    def moved(self, end: float) -> float:
-        """Where a motion that ends at ``end`` [u] (before the shift) ends in the shifted
-        coordinate: the actual position is then about the model's (the loop's residual error
-        aside)."""
-        return end + self.position if self.relative else self.position
+    def apply(self, axis: Axis) -> float:
+        delta = self.delta(axis.actual)
+        error = axis.shift_coordinate(delta, queued=False)
+        if error:
+            self.status, self.error_id = Status.Error, error
+            return 0.0
+        self.status = Status.Done
+        return delta
 
-    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
-        raise AssertionError("a coordinate shift is applied by the axis, never started")
+    def moved(self, end: float) -> float:
+        """The actual position is then about the model's (the loop's residual error aside)."""
+        return end + self.position if self.relative else self.position
 
 
 class BlockRelease:

@@ -43,6 +43,12 @@ class ErrorID(IntEnum):
     """Beyond the Teco library (gearing): the master is in ErrorStop or its encoder failed."""
     ENotGeared = 18
     """Beyond the Teco library (MC_GearOut): the slave is not geared to a master."""
+    ENoParameter = 19
+    """Beyond the Teco library (MC_ReadParameter, MC_WriteParameter and their BOOL forms): no
+    parameter of this number and type (a BOOL parameter read or written as REAL, or the other
+    way round)."""
+    EReadOnly = 20
+    """Beyond the Teco library (MC_WriteParameter): the parameter can only be read."""
     EGroupMember = 1000
     EGroupFull = 1001
     ENotGroupMember = 1003
@@ -79,6 +85,8 @@ _TEXTS: dict[int, tuple[str, str]] = {
     16: ("master reversed during synchronisation", "master osa couvla během synchronizace"),
     17: ("master axis error", "chyba master osy"),
     18: ("slave is not geared", "slave osa není ve vazbě na master"),
+    19: ("no parameter of this number and type", "parametr tohoto čísla a typu neexistuje"),
+    20: ("parameter is read-only", "parametr je jen pro čtení"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

@@ -441,7 +441,7 @@ class MC_StepBlock(_HomingFB):
             return checked
         limits, sign, supervision = checked
         dev_ref = supervision.torque
-        if not 0.0 < dev_ref < self.axis.config.dev_max:
+        if not 0.0 < dev_ref < self.axis.parameters.max_position_lag:
             return ErrorID.EParam
         supervision.torque = 0.0  # TorqueLimit is the detection threshold here, not an error
         return BlockSearch(mode, limits, sign, supervision, dev_ref)

@@ -36,6 +36,7 @@ DOC_PATH = Path(__file__).resolve().parent.parent / "docs" / "reference.md"
 
 CHAPTER_ORDER = (
     "administrative",
+    "parameters",
     "motion",
     "override",
     "homing",
@@ -532,6 +533,17 @@ def render_enum(
     return [*lines, ""]
 
 
+def render_table(table: Any) -> list[str]:
+    """A module's ``REFERENCE_TABLE`` (header, rows of texts) as a Markdown table; none: no
+    lines. It follows the module's text (e.g. the parameter numbers of :mod:`mcl.parameters`)."""
+    if table is None:
+        return []
+    header, rows = table
+    lines = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
+    lines += ["| " + " | ".join(_cell(_markdown(cell)) for cell in row) + " |" for row in rows]
+    return [*lines, ""]
+
+
 def render_errors() -> list[str]:
     """The error-code table."""
     lines = [
@@ -578,6 +590,7 @@ def generate() -> str:
         for text in (public_text(p) for p in paragraphs(module)[1:]):
             if text:
                 lines += [*_wrap(text), ""]
+        lines += render_table(getattr(module, "REFERENCE_TABLE", None))
         for cls in blocks:
             lines += render_block(cls)
     lines += ["## States", ""]

@@ -867,6 +867,12 @@ NO_AXIS_CALLS: list[tuple[type[Any], dict[str, Any]]] = [
     (mcl.GT_AxErrStringEN, {"Enable": False}),
     (mcl.GT_Jog, {"Enable": False}),
     (mcl.GT_EStop, {"Enable": False}),
+    (mcl.MC_SetPosition, {"Execute": True, "Position": 5.0}),
+    (mcl.MC_ReadParameter, {"Enable": True, "ParameterNumber": 1}),
+    (mcl.MC_ReadBoolParameter, {"Enable": False}),
+    (mcl.MC_WriteParameter, {"Execute": True, "ParameterNumber": 9, "Value": 100.0}),
+    (mcl.MC_WriteBoolParameter, {"Execute": False}),
+    (mcl.GT_SWLim, {"Execute": True, "LimPos": 10.0, "LimNeg": -10.0}),
 ]
 
 

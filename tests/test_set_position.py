@@ -417,3 +417,40 @@ def test_error_stop_stopping_homing_and_group_member_refuse(machine, X):
     sp2 = mcl.MC_SetPosition(Axis=Y, Position=5.0)
     sp2(Execute=True)
     assert sp2.ErrorID == ErrorID.EGroupMember and Y.offset == 0.0
+
+
+# ----------------------------------------------------------------------------- the gantry
+
+
+def test_gantry_move_is_physically_undisturbed_by_a_coordinate_shift():
+    """On the MuJoCo gantry, judged by the X joint: a move with MC_SetPosition (Relative
+    +500 mm) in the middle follows the same joint trajectory as without it, and ends at the
+    target moved with the coordinate."""
+    from scenes.machines import gantry
+
+    def run(shift: bool) -> tuple[list[float], mcl.Axis, float]:
+        scene = gantry.build(start={"X": 0.3, "Y": 0.3, "Z": -0.1}, trace_every=0)
+        X = scene.axes["X"]
+        power, move = mcl.MC_Power(Axis=X), mcl.MC_MoveRelative(Axis=X)
+        sp = mcl.MC_SetPosition(Axis=X, Position=500.0, Relative=True)
+        joint: list[float] = []
+        scans = [0]
+        start = X.POS
+
+        def program() -> None:
+            power(Enable=True)
+            move(Execute=power.Status, Distance=200.0, Velocity=400.0, Acceleration=4000.0)
+            sp(Execute=shift and scans[0] >= 150)
+            scans[0] += 1
+            joint.append(scene.joint_position("X"))
+
+        scene.run(program, until=lambda: move.Done, timeout=5.0)
+        return joint, X, start
+
+    reference, _, _ = run(False)
+    shifted, X, start = run(True)
+    assert len(shifted) == len(reference)
+    worst = max(abs(a - b) for a, b in zip(shifted, reference, strict=True))
+    assert worst < 1e-9, f"joint trajectories differ by {worst * 1000.0} mm"
+    assert pytest.approx(X.offset) == 500.0
+    assert pytest.approx(start + 200.0 + 500.0, abs=POS_TOL) == X.POS

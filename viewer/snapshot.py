@@ -334,15 +334,16 @@ def axis_view(
 
 
 def sw_limits_reached(axis: mcl.Axis) -> tuple[bool, bool]:
-    """Whether the negative and the positive software limit is reached: active (``LimPos`` >
-    ``LimNeg``, linear axis), the axis referenced and its set point at or beyond the limit
-    (half a count: rounding), or the limit tripped (ERRSWN 2007, ERRSWP 2006)."""
-    code, c = axis.AxErrorID, axis.constants
+    """Whether the negative and the positive software limit is reached: switched on (by
+    GT_SetConstant with ``LimPos`` > ``LimNeg``, GT_SWLim or MC_WriteBoolParameter; linear
+    axis), the axis referenced and its set point at or beyond the limit (half a count:
+    rounding), or the limit tripped (ERRSWN 2007, ERRSWP 2006)."""
+    code = axis.AxErrorID
     negative, positive = code == mcl.ErrorID.ERRSWN, code == mcl.ErrorID.ERRSWP
-    if c is not None and c.sw_limits_active and axis.Ref and not axis.config.modulo:
-        margin = 0.5 * axis.config.resolution
-        negative = negative or axis.sp_pos <= c.LimNeg + margin
-        positive = positive or axis.sp_pos >= c.LimPos - margin
+    low, high = axis.sw_limit_range()
+    margin = 0.5 * axis.config.resolution
+    negative = negative or axis.sp_pos <= low + margin
+    positive = positive or axis.sp_pos >= high - margin
     return negative, positive
 
 
