@@ -68,11 +68,24 @@ from mcl.motion import (
     MC_Halt,
     MC_MoveAbsolute,
     MC_MoveAdditive,
+    MC_MoveContinuousAbsolute,
+    MC_MoveContinuousRelative,
     MC_MoveRelative,
     MC_MoveVelocity,
     MC_Stop,
 )
 from mcl.override import MC_SetOverride
+from mcl.profiles import (
+    MC_TA,
+    MC_TA_REF,
+    MC_TP,
+    MC_TP_REF,
+    MC_TV,
+    MC_TV_REF,
+    MC_AccelerationProfile,
+    MC_PositionProfile,
+    MC_VelocityProfile,
+)
 from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
@@ -80,6 +93,12 @@ from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
 
 __all__ = [
     "IDEAL_SENSORS",
+    "MC_TA",
+    "MC_TA_REF",
+    "MC_TP",
+    "MC_TP_REF",
+    "MC_TV",
+    "MC_TV_REF",
     "AxesGroup",
     "Axis",
     "AxisChannel",
@@ -101,6 +120,7 @@ __all__ = [
     "GT_SetConstant",
     "GroupState",
     "MC_AbortTrigger",
+    "MC_AccelerationProfile",
     "MC_AddAxisToGroup",
     "MC_BufferMode",
     "MC_Direction",
@@ -119,10 +139,13 @@ __all__ = [
     "MC_Halt",
     "MC_MoveAbsolute",
     "MC_MoveAdditive",
+    "MC_MoveContinuousAbsolute",
+    "MC_MoveContinuousRelative",
     "MC_MoveLinearAbsolute",
     "MC_MoveLinearRelative",
     "MC_MoveRelative",
     "MC_MoveVelocity",
+    "MC_PositionProfile",
     "MC_Power",
     "MC_ReadActualPosition",
     "MC_ReadAnalogInput",
@@ -141,6 +164,7 @@ __all__ = [
     "MC_SwitchMode",
     "MC_TouchProbe",
     "MC_UngroupAllAxes",
+    "MC_VelocityProfile",
     "MC_WriteDigitalOutput",
     "Machine",
     "MachineState",

@@ -344,6 +344,31 @@ def _ramp_then_arrive(
     return approach.then(of_trajectories([(0.0, ramp, approach_target)]))
 
 
+def pass_at(
+    p0: float, v0: float, a0: float, target: float, limits: Limits, v_end: float
+) -> Profile:
+    """Motion that passes ``target`` with exactly ``v_end`` [u/s] and then goes on at it (the
+    profile never ends: it continues at ``v_end``).
+
+    Unlike :func:`blend_to` the end velocity is a must, not a wish: where the axis is too fast
+    or too close to arrive with it, it goes past the target, turns and arrives again; a
+    ``v_end`` against the direction of the target likewise. ``|v_end|`` above
+    ``limits.velocity`` is reached just before the target (the axis cruises at its velocity,
+    then speeds up), or, where the distance is too short for that, the motion may use
+    ``|v_end|`` as its velocity throughout.
+
+    Raises:
+        PlanningError: non-finite or inconsistent inputs.
+    """
+    if abs(v_end) <= limits.velocity:
+        return move_to(p0, v0, a0, target, limits, v_end)
+    profile = _ramp_then_arrive(p0, v0, a0, target, limits, v_end)
+    if profile is not None:
+        return profile
+    faster = Limits(abs(v_end), limits.acceleration, limits.deceleration, limits.jerk)
+    return move_to(p0, v0, a0, target, faster, v_end)
+
+
 def blend_to(
     p0: float, v0: float, a0: float, target: float, limits: Limits, v_end: float
 ) -> Profile:
