@@ -363,6 +363,7 @@ def test_a_buffered_move_after_a_velocity_profile_starts_at_done_from_its_last_v
 
     run_until(machine, scan, lambda: move.Done)
     assert fb.Done and not fb.CommandAborted
+    assert isinstance(move._cmd, mcl.command.Command)
     handover = move._cmd.t0
     assert handover == pytest.approx(start_time(fb) + 0.4)
     assert at(samples, handover)[2] == pytest.approx(-50.0)
