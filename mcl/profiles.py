@@ -8,6 +8,8 @@ example types of its vendor-specific MC_TP_REF, MC_TV_REF and MC_TA_REF:
 IsAbsolute=False)``, ``mcl.MC_TV_REF(MC_TV_Array=[mcl.MC_TV(DeltaTime, Velocity), ...])``,
 ``mcl.MC_TA_REF(MC_TA_Array=[mcl.MC_TA(DeltaTime, Acceleration), ...])``; a point may also be a
 ``(DeltaTime, value)`` pair, ``NumberOfPairs`` None uses the whole array (at most 256 points).
+An ST program passes a STRUCT of its own with the same fields (``DeltaTime`` an LREAL in
+seconds, ``NumberOfPairs`` set).
 Point 0 is implicit: the axis' model state where the profile takes over (its position,
 velocity and acceleration), so the profile starts without a jump. The block reads the table on
 the rising edge of ``Execute`` (a later change of the table does not touch the running profile).
@@ -39,6 +41,10 @@ from mcl.trajectory import Limits, PlanningError, Profile, Segment
 
 if TYPE_CHECKING:
     from mcl.axis import Axis
+
+TableRef = Any
+"""The type of a table input: an :class:`MC_TP_REF`, :class:`MC_TV_REF` or :class:`MC_TA_REF`,
+or any object with the same fields (an ST STRUCT)."""
 
 MAX_PAIRS: Final = 256
 """The most points a profile table may use (a longer one → EParam)."""
@@ -423,7 +429,7 @@ class MC_PositionProfile(_ProfileFB):
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("TimePosition", "PositionScale", "Offset")
-    TimePosition: Any = None
+    TimePosition: TableRef = None
     PositionScale: float = 1.0
     Offset: float = 0.0
 
@@ -450,7 +456,7 @@ class MC_VelocityProfile(_ProfileFB):
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("TimeVelocity", "VelocityScale", "Offset")
-    TimeVelocity: Any = None
+    TimeVelocity: TableRef = None
     VelocityScale: float = 1.0
     Offset: float = 0.0
     KIND: ClassVar[int] = VELOCITY
@@ -474,7 +480,7 @@ class MC_AccelerationProfile(_ProfileFB):
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("TimeAcceleration", "AccelerationScale", "Offset")
-    TimeAcceleration: Any = None
+    TimeAcceleration: TableRef = None
     AccelerationScale: float = 1.0
     Offset: float = 0.0
     KIND: ClassVar[int] = ACCELERATION

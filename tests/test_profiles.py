@@ -570,3 +570,31 @@ def test_profiles_are_refused_by_an_axis_that_is_not_ready(fb_type):
     fb = fb_type(Axis=X, **{name: tables[name]})
     fb(Execute=True)
     assert fb.Error and fb.ErrorID == mcl.ErrorID.EAxStop
+
+
+def test_an_st_program_passes_a_struct_of_its_own_as_the_table():
+    """PLCopen's example types declared in ST; a velocity profile, then a buffered continuous
+    move that starts at its Done."""
+    import mcl.st
+
+    machine, X = fresh_axis()
+    source = """
+    TYPE MC_TV : STRUCT DeltaTime : LREAL; Velocity : LREAL; END_STRUCT; END_TYPE
+    TYPE MC_TV_REF : STRUCT
+        NumberOfPairs : INT; MC_TV_Array : ARRAY[1..3] OF MC_TV;
+    END_STRUCT; END_TYPE
+    PROGRAM main
+    VAR tv : MC_TV_REF; prof : MC_VelocityProfile; cont : MC_MoveContinuousRelative;
+        done : BOOL; reached : BOOL; END_VAR
+    tv.NumberOfPairs := 2;
+    tv.MC_TV_Array[1].DeltaTime := 0.1; tv.MC_TV_Array[1].Velocity := 50.0;
+    tv.MC_TV_Array[2].DeltaTime := 0.1; tv.MC_TV_Array[2].Velocity := 0.0;
+    prof(Axis := X, Execute := TRUE, TimeVelocity := tv, Done => done);
+    cont(Axis := X, Execute := done, Distance := 10.0, Velocity := 100.0, EndVelocity := 20.0,
+         InEndVelocity => reached);
+    END_PROGRAM
+    """
+    prog = mcl.st.from_source(source, machine)
+    machine.run(prog, until=lambda: prog.error or prog.reached, timeout=2.0)
+    assert not prog.error
+    assert X.sp_vel == pytest.approx(20.0) and X.sp_pos == pytest.approx(15.0, abs=0.1)
