@@ -598,3 +598,18 @@ def test_an_st_program_passes_a_struct_of_its_own_as_the_table():
     machine.run(prog, until=lambda: prog.error or prog.reached, timeout=2.0)
     assert not prog.error
     assert X.sp_vel == pytest.approx(20.0) and X.sp_pos == pytest.approx(15.0, abs=0.1)
+
+
+def test_on_a_modulo_axis_absolute_positions_count_from_the_period_the_axis_is_in():
+    params = mcl.SimAxisParams(stop_neg=-1e6, stop_pos=1e6, lim_neg=-1e6, lim_pos=1e6)
+    machine = mcl.SimMachine({"R": params}, config=mcl.AxisConfig(modulo=360.0))
+    R = machine.axes["R"]
+    configure(R)
+    power_on(machine, R)
+    turn = mcl.MC_MoveRelative(Axis=R, Distance=400.0, Velocity=300.0)  # into the next period
+    run_until(machine, lambda: turn(Execute=True), lambda: turn.Done)
+    table = mcl.MC_TP_REF([(0.5, 90.0)], IsAbsolute=True)
+    fb = mcl.MC_PositionProfile(Axis=R, TimePosition=table)
+    run_until(machine, lambda: fb(Execute=True), lambda: fb.Done)
+    assert R.sp_pos == pytest.approx(360.0 + 90.0)  # 40° → 90° forward, not a turn back
+    assert abs(R.POS - 90.0) <= 0.05
