@@ -77,6 +77,8 @@ from mcl.motion import (
     MC_Halt,
     MC_MoveAbsolute,
     MC_MoveAdditive,
+    MC_MoveContinuousAbsolute,
+    MC_MoveContinuousRelative,
     MC_MoveRelative,
     MC_MoveVelocity,
     MC_Stop,
@@ -88,6 +90,17 @@ from mcl.parameters import (
     MC_WriteBoolParameter,
     MC_WriteParameter,
 )
+from mcl.profiles import (
+    MC_TA,
+    MC_TA_REF,
+    MC_TP,
+    MC_TP_REF,
+    MC_TV,
+    MC_TV_REF,
+    MC_AccelerationProfile,
+    MC_PositionProfile,
+    MC_VelocityProfile,
+)
 from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
@@ -95,6 +108,12 @@ from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
 
 __all__ = [
     "IDEAL_SENSORS",
+    "MC_TA",
+    "MC_TA_REF",
+    "MC_TP",
+    "MC_TP_REF",
+    "MC_TV",
+    "MC_TV_REF",
     "AxesGroup",
     "Axis",
     "AxisChannel",
@@ -117,6 +136,7 @@ __all__ = [
     "GT_SetConstant",
     "GroupState",
     "MC_AbortTrigger",
+    "MC_AccelerationProfile",
     "MC_AddAxisToGroup",
     "MC_BufferMode",
     "MC_Direction",
@@ -136,10 +156,13 @@ __all__ = [
     "MC_Halt",
     "MC_MoveAbsolute",
     "MC_MoveAdditive",
+    "MC_MoveContinuousAbsolute",
+    "MC_MoveContinuousRelative",
     "MC_MoveLinearAbsolute",
     "MC_MoveLinearRelative",
     "MC_MoveRelative",
     "MC_MoveVelocity",
+    "MC_PositionProfile",
     "MC_Power",
     "MC_ReadActualPosition",
     "MC_ReadAnalogInput",
@@ -161,6 +184,7 @@ __all__ = [
     "MC_SwitchMode",
     "MC_TouchProbe",
     "MC_UngroupAllAxes",
+    "MC_VelocityProfile",
     "MC_WriteBoolParameter",
     "MC_WriteDigitalOutput",
     "MC_WriteParameter",

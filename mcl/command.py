@@ -155,6 +155,30 @@ class MoveTo(ProfileCommand):
             self.profile = trajectory.blend_to(p, v, a, self.target, self.limits, v_end)
 
 
+class MoveContinuous(MoveTo):
+    """Move to an absolute model target that passes it with ``end_velocity`` and goes on at it
+    (MC_MoveContinuousAbsolute/Relative); never ends by itself, ``signal`` = InEndVelocity.
+
+    ContinuousMotion from the start (PLCopen: it will not stop by itself). Its end velocity is
+    its own: a blending successor does not change it (not blendable as the first of two)."""
+
+    state = AxisState.ContinuousMotion
+    blendable = False
+
+    def __init__(
+        self, buffer_mode: MC_BufferMode, limits: Limits, target: float, end_velocity: float
+    ) -> None:
+        super().__init__(buffer_mode, limits, target)
+        self.end_velocity = end_velocity
+
+    def plan(self, p: float, v: float, a: float, v_end: float) -> None:
+        assert self.target is not None
+        self.profile = trajectory.pass_at(p, v, a, self.target, self.limits, self.end_velocity)
+
+    def finished(self) -> bool:
+        return False
+
+
 class MoveVelocity(ProfileCommand):
     """Never-ending motion at a velocity; ``signal`` = InVelocity."""
 

@@ -25,7 +25,7 @@ from typing import Any, ClassVar, Final, Protocol
 from mypy_extensions import mypyc_attr
 
 from mcl.axis import Axis as AxisRef
-from mcl.command import Status
+from mcl.command import Command, Status
 from mcl.enums import MC_BufferMode
 from mcl.errors import ErrorID
 from mcl.group import AxesGroup as GroupRef
@@ -353,6 +353,7 @@ class MotionFB(ExecuteFB):
         self.Active = False
         self.CommandAborted = False
         self._cmd: Ticket | None = None
+        self._reached_shown = False
         super().__init__(**inputs)
 
     @property
@@ -361,6 +362,7 @@ class MotionFB(ExecuteFB):
         return self.CommandAborted
 
     def _begin(self) -> int:
+        self._reached_shown = False
         try:
             mode = MC_BufferMode(self.BufferMode)
         except ValueError:
@@ -406,6 +408,21 @@ class MotionFB(ExecuteFB):
         cmd = self._cmd
         self.Active = self._running and cmd is not None and cmd.status == Status.Active
         self.CommandAborted = visible and final == Status.Aborted
+
+    def _reached(self) -> bool:
+        """The activating output of a never-ending command (InVelocity, InEndVelocity) as this
+        scan shows it: TRUE while this instance's command is active and has reached its signal;
+        reset by the falling edge of Execute, but shown for one scan when reached after it."""
+        cmd = self._cmd
+        reached = (
+            self._running
+            and isinstance(cmd, Command)
+            and cmd.status == Status.Active
+            and cmd.signal
+        )
+        show = reached and (bool(self.Execute) or not self._reached_shown)
+        self._reached_shown = self._reached_shown or show
+        return show
 
 
 @mypyc_attr(allow_interpreted_subclasses=True)

@@ -6,7 +6,16 @@ import math
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from mcl import trajectory
-from mcl.command import BlockRelease, Command, Halt, MoveTo, MoveVelocity, Status, Stop
+from mcl.command import (
+    BlockRelease,
+    Command,
+    Halt,
+    MoveContinuous,
+    MoveTo,
+    MoveVelocity,
+    Status,
+    Stop,
+)
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
 from mcl.errors import ErrorID
 from mcl.fb import FunctionBlock, MotionFB, non_negative, number, positive
@@ -56,6 +65,32 @@ def stop_limits(axis: Axis, deceleration: Any, jerk: Any) -> Limits | int:
     return axis.limits(axis.constants.Vmax, d, d, j)
 
 
+def absolute_target(axis: Axis, position: Any, direction: Any, mode: MC_BufferMode) -> float | None:
+    """The model target of an absolute move to ``position`` [u] (None: not a valid input); on
+    a modulo axis the way ``direction`` (an ``MC_Direction``) says from where the move starts."""
+    target = number(position)
+    if not math.isfinite(target):
+        return None
+    if not axis.config.modulo:
+        return target
+    way = number(direction)
+    if way not in (1.0, 2.0, 3.0, 4.0):
+        return None
+    return axis.modulo_target(target, int(way), axis.start_position(mode))
+
+
+def relative_target(axis: Axis, distance: Any, mode: MC_BufferMode) -> float | None:
+    """The model target of a move by ``distance`` [u] (None: not a valid input): from the
+    actual position when it aborts or the axis has no command, else from the end of the
+    preceding motion."""
+    length = number(distance)
+    if not math.isfinite(length):
+        return None
+    if mode == MC_BufferMode.Aborting or axis.active is None:
+        return axis.actual + length
+    return axis.start_position(mode) + length
+
+
 class _MoveFB(MotionFB):
     """Common inputs of the moves: Velocity, Acceleration, Deceleration, Jerk."""
 
@@ -101,16 +136,7 @@ class MC_MoveAbsolute(_MoveFB):
     NEEDS_REF: ClassVar[bool] = True
 
     def _target(self, mode: MC_BufferMode) -> float | None:
-        position = number(self.Position)
-        if not math.isfinite(position):
-            return None
-        axis = self.axis
-        if not axis.config.modulo:
-            return position
-        direction = number(self.Direction)
-        if direction not in (1.0, 2.0, 3.0, 4.0):
-            return None
-        return axis.modulo_target(position, int(direction), axis.start_position(mode))
+        return absolute_target(self.axis, self.Position, self.Direction, mode)
 
 
 class MoveToBlock(MoveTo):
@@ -215,13 +241,7 @@ class MC_MoveRelative(_MoveFB):
     Distance: float = 0.0
 
     def _target(self, mode: MC_BufferMode) -> float | None:
-        distance = number(self.Distance)
-        if not math.isfinite(distance):
-            return None
-        axis = self.axis
-        if mode == MC_BufferMode.Aborting or axis.active is None:
-            return axis.actual + distance
-        return axis.start_position(mode) + distance
+        return relative_target(self.axis, self.Distance, mode)
 
 
 class MC_MoveAdditive(_MoveFB):
@@ -270,7 +290,6 @@ class MC_MoveVelocity(MotionFB):
     def __init__(self, **inputs: Any) -> None:
         super().__init__(**inputs)
         self.InVelocity = False
-        self._in_velocity_shown = False
 
     def _command(self, mode: MC_BufferMode) -> Command | int:
         axis = self.axis
@@ -285,22 +304,78 @@ class MC_MoveVelocity(MotionFB):
         sign = 1.0 if direction == MC_Direction.MC_Positive else -1.0
         return MoveVelocity(mode, limits, sign * limits.velocity)
 
-    def _command_started(self) -> None:
-        self._in_velocity_shown = False
+    def _show_more(self, visible: bool, final: Status | None) -> None:
+        super()._show_more(visible, final)
+        self.InVelocity = self._reached()
+
+
+class _MoveContinuousFB(_MoveFB):
+    """A move that passes its target with ``EndVelocity`` and goes on at it (PLCopen Part 1
+    v2.0 sections 3.11, 3.12): ``InEndVelocity`` instead of Done."""
+
+    INPUTS: ClassVar[tuple[str, ...]] = ("EndVelocity",)
+    EndVelocity: float = 0.0
+
+    def __init__(self, **inputs: Any) -> None:
+        super().__init__(**inputs)
+        self.InEndVelocity = False
+
+    def _make(self, mode: MC_BufferMode, limits: Limits, target: float) -> Command | int:
+        end = number(self.EndVelocity)
+        if not math.isfinite(end):
+            return ErrorID.EParam
+        vmax = self.axis.constants.Vmax if self.axis.constants is not None else abs(end)
+        return MoveContinuous(mode, limits, target, math.copysign(min(abs(end), vmax), end))
 
     def _show_more(self, visible: bool, final: Status | None) -> None:
         super()._show_more(visible, final)
-        cmd = self._cmd
-        reached = (
-            self._running
-            and isinstance(cmd, MoveVelocity)
-            and cmd.status == Status.Active
-            and cmd.signal
-        )
-        # reset by the falling edge, but shown for one scan if reached after it
-        show = reached and (bool(self.Execute) or not self._in_velocity_shown)
-        self._in_velocity_shown = self._in_velocity_shown or show
-        self.InVelocity = show
+        self.InEndVelocity = self._reached()
+
+
+class MC_MoveContinuousAbsolute(_MoveContinuousFB):
+    """Move to ``Position`` [u], pass it with ``EndVelocity`` [u/s] and go on at that velocity
+    (PLCopen Part 1 v2.0 section 3.11, beyond the Teco library: one of its announced
+    blocks); needs Ref.
+
+    ``EndVelocity`` is signed: its sign is the direction the axis passes the target in (against
+    the way to the target, the axis goes past, turns and comes back through it). The axis is in
+    ContinuousMotion from the start, as PLCopen says (it will not stop by itself): at the
+    target ``InEndVelocity`` rises and the axis runs on at ``EndVelocity`` until another command
+    takes over (the block then reports CommandAborted); ``Done`` never rises. ``EndVelocity``
+    0 stops at the target and holds it, still in ContinuousMotion. ``|EndVelocity|`` may exceed
+    ``Velocity`` (the axis speeds up just before the target) and is clamped to Vmax. Only the
+    target is checked against the SW limits; beyond it the supervision stops the axis at a
+    limit, as for MC_MoveVelocity. All buffer modes: it takes over like MC_MoveAbsolute, and a
+    Buffered or blending successor starts at ``InEndVelocity``, from the end velocity (its own
+    end velocity is not changed by a blending successor). ``Direction`` as for MC_MoveAbsolute
+    (modulo axes only). PLCopen's ``ContinuousUpdate`` is not implemented.
+    """
+
+    INPUTS: ClassVar[tuple[str, ...]] = ("Position", "Direction")
+    Position: float = 0.0
+    Direction: int = MC_Direction.MC_Shortest
+    NEEDS_REF: ClassVar[bool] = True
+
+    def _target(self, mode: MC_BufferMode) -> float | None:
+        return absolute_target(self.axis, self.Position, self.Direction, mode)
+
+
+class MC_MoveContinuousRelative(_MoveContinuousFB):
+    """Move by ``Distance`` [u], pass the end with ``EndVelocity`` [u/s] and go on at that
+    velocity (PLCopen Part 1 v2.0 section 3.12, beyond the Teco library: one of its announced
+    blocks).
+
+    The distance counts as for MC_MoveRelative (from the actual position at the edge, from the
+    end of the preceding motion when buffered); no Ref needed. Otherwise as
+    MC_MoveContinuousAbsolute: ``InEndVelocity`` at the end point, ContinuousMotion, all buffer
+    modes.
+    """
+
+    INPUTS: ClassVar[tuple[str, ...]] = ("Distance",)
+    Distance: float = 0.0
+
+    def _target(self, mode: MC_BufferMode) -> float | None:
+        return relative_target(self.axis, self.Distance, mode)
 
 
 class MC_Halt(MotionFB):
@@ -487,6 +562,8 @@ __all__ = [
     "MC_Halt",
     "MC_MoveAbsolute",
     "MC_MoveAdditive",
+    "MC_MoveContinuousAbsolute",
+    "MC_MoveContinuousRelative",
     "MC_MoveRelative",
     "MC_MoveVelocity",
     "MC_Stop",

@@ -38,6 +38,7 @@ CHAPTER_ORDER = (
     "administrative",
     "parameters",
     "motion",
+    "profiles",
     "override",
     "homing",
     "gearing",
@@ -203,8 +204,14 @@ AXIS_TRANSITIONS: tuple[tuple[str, str, str], ...] = (
     ),
     (
         "StandStill, motion states",
-        "MC_MoveVelocity, GT_Jog",
-        "ContinuousMotion",
+        "MC_PositionProfile",
+        "DiscreteMotion; StandStill at the table's last point when nothing is queued",
+    ),
+    (
+        "StandStill, motion states",
+        "MC_MoveVelocity, GT_Jog, MC_MoveContinuousAbsolute, MC_MoveContinuousRelative, "
+        "MC_VelocityProfile, MC_AccelerationProfile",
+        "ContinuousMotion, until another command takes over",
     ),
     (
         "StandStill, motion states",
@@ -228,8 +235,9 @@ STATE_MEANING: dict[str, str] = {
     "Disabled": "position loop open, drive off",
     "StandStill": "powered, at rest, no motion command",
     "Homing": "a homing step is running, or a coarse step has ended",
-    "DiscreteMotion": "a move to a target, or MC_Halt",
-    "ContinuousMotion": "MC_MoveVelocity or GT_Jog",
+    "DiscreteMotion": "a move to a target, a position profile, or MC_Halt",
+    "ContinuousMotion": "MC_MoveVelocity, GT_Jog, a continuous move, a velocity or "
+    "acceleration profile",
     "SynchronizedMotion": "geared to a master (MC_GearIn, MC_GearInPos), or a group command",
     "Stopping": "MC_Stop, or the ramp before the loop opens at power-off",
     "ErrorStop": "an axis error; stopped; left with MC_Reset",

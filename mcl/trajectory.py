@@ -62,35 +62,38 @@ def _segments(t0: float, traj: Any, offset: float) -> list[Segment]:
 class Profile:
     """A planned motion: position, velocity and acceleration as functions of time.
 
-    Made of one or more ruckig trajectories laid end to end, evaluated as phases of constant
-    jerk (the same integration as ruckig's); past its duration the profile continues at its final
-    velocity (used for blending and velocity moves).
+    Made of phases of constant jerk (:data:`Segment`; the same integration as ruckig's): the
+    phases of one or more ruckig trajectories laid end to end (:func:`of_trajectories`), or the
+    pieces of a table (:mod:`mcl.profiles`). Past its duration the profile continues at its
+    final velocity (used for blending and velocity moves).
+
+    Args:
+        segments: the phases in time order, the first starting at 0; the last one never ends.
+        duration: when the last phase starts [s].
     """
 
-    __slots__ = ("_pieces", "_segments", "duration", "end_position", "end_velocity")
+    __slots__ = ("_segments", "duration", "end_position", "end_velocity")
 
-    def __init__(self, pieces: list[tuple[float, Any, float]]) -> None:
-        """Args: pieces: ``(start time [s], ruckig.Trajectory, position offset [u])`` in order."""
-        self._pieces = pieces
-        segments: list[Segment] = []
-        for t0, traj, offset in pieces:
-            if segments:
-                segments.pop()  # the previous piece's open end
-            segments += _segments(t0, traj, offset)
+    def __init__(self, segments: list[Segment], duration: float) -> None:
         self._segments = segments
-        t0, last, offset = pieces[-1]
-        self.duration: float = t0 + last.duration
+        self.duration: float = duration
         self.end_position: float = segments[-1][1]
         self.end_velocity: float = segments[-1][2]
 
+    @property
+    def segments(self) -> list[Segment]:
+        """The phases of constant jerk, in time order (the last one never ends)."""
+        return self._segments
+
     def shifted(self, delta: float) -> Profile:
         """The same motion in a coordinate system moved by ``delta`` [u]."""
-        return Profile([(t0, traj, offset + delta) for t0, traj, offset in self._pieces])
+        return Profile([(t, p + delta, v, a, j) for t, p, v, a, j in self._segments], self.duration)
 
     def then(self, other: Profile) -> Profile:
         """This profile followed by ``other`` (which starts where this one ends)."""
         offset = self.duration
-        return Profile(self._pieces + [(t0 + offset, traj, p) for t0, traj, p in other._pieces])
+        later = [(t + offset, p, v, a, j) for t, p, v, a, j in other._segments]
+        return Profile(self._segments[:-1] + later, offset + other.duration)
 
     def at(self, t: float) -> tuple[float, float, float]:
         """Position [u], velocity [u/s] and acceleration [u/s²] at ``t`` seconds after the start."""
@@ -105,6 +108,21 @@ class Profile:
             v + dt * (a + dt * j / 2.0),
             a + dt * j,
         )
+
+
+def of_trajectories(pieces: list[tuple[float, Any, float]]) -> Profile:
+    """The profile of ruckig trajectories laid end to end.
+
+    Args:
+        pieces: ``(start time [s], ruckig.Trajectory, position offset [u])`` in order.
+    """
+    segments: list[Segment] = []
+    for t0, traj, offset in pieces:
+        if segments:
+            segments.pop()  # the previous piece's open end
+        segments += _segments(t0, traj, offset)
+    t0, last, _ = pieces[-1]
+    return Profile(segments, t0 + last.duration)
 
 
 class _Planner(threading.local):
@@ -201,7 +219,7 @@ def move_to(
     traj = _plan(
         ruckig.ControlInterface.Position, p0, v0, a0, target, v_end, vmax, up, down, limits.jerk
     )
-    return Profile([(0.0, traj, 0.0)])
+    return of_trajectories([(0.0, traj, 0.0)])
 
 
 def velocity_to(p0: float, v0: float, a0: float, v_target: float, limits: Limits) -> Profile:
@@ -229,12 +247,12 @@ def velocity_to(p0: float, v0: float, a0: float, v_target: float, limits: Limits
             acc,
             limits.jerk,
         )
-        return Profile([(0.0, brake, 0.0), (brake.duration, rise, p1)])
+        return of_trajectories([(0.0, brake, 0.0), (brake.duration, rise, p1)])
     rate = acc if abs(v_target) > abs(v0) else dec
     traj = _plan(
         ruckig.ControlInterface.Velocity, p0, v0, a0, 0.0, v_target, vmax, rate, rate, limits.jerk
     )
-    return Profile([(0.0, traj, 0.0)])
+    return of_trajectories([(0.0, traj, 0.0)])
 
 
 _sync_planner = _Planner()
@@ -272,7 +290,7 @@ def sync_to(
         inp.max_acceleration, inp.min_acceleration = [dec], [-acc]
     inp.max_jerk = [limits.jerk]
     inp.minimum_duration = duration
-    return Profile([(0.0, _solve(calculate, inp), 0.0)])
+    return of_trajectories([(0.0, _solve(calculate, inp), 0.0)])
 
 
 def stop(p0: float, v0: float, a0: float, deceleration: float, jerk: float) -> Profile:
@@ -323,7 +341,32 @@ def _ramp_then_arrive(
         return None
     if not _monotonic(approach, p0, approach_target):
         return None
-    return approach.then(Profile([(0.0, ramp, approach_target)]))
+    return approach.then(of_trajectories([(0.0, ramp, approach_target)]))
+
+
+def pass_at(
+    p0: float, v0: float, a0: float, target: float, limits: Limits, v_end: float
+) -> Profile:
+    """Motion that passes ``target`` with exactly ``v_end`` [u/s] and then goes on at it (the
+    profile never ends: it continues at ``v_end``).
+
+    Unlike :func:`blend_to` the end velocity is a must, not a wish: where the axis is too fast
+    or too close to arrive with it, it goes past the target, turns and arrives again; a
+    ``v_end`` against the direction of the target likewise. ``|v_end|`` above
+    ``limits.velocity`` is reached just before the target (the axis cruises at its velocity,
+    then speeds up), or, where the distance is too short for that, the motion may use
+    ``|v_end|`` as its velocity throughout.
+
+    Raises:
+        PlanningError: non-finite or inconsistent inputs.
+    """
+    if abs(v_end) <= limits.velocity:
+        return move_to(p0, v0, a0, target, limits, v_end)
+    profile = _ramp_then_arrive(p0, v0, a0, target, limits, v_end)
+    if profile is not None:
+        return profile
+    faster = Limits(abs(v_end), limits.acceleration, limits.deceleration, limits.jerk)
+    return move_to(p0, v0, a0, target, faster, v_end)
 
 
 def blend_to(

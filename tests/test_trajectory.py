@@ -332,8 +332,11 @@ def test_invalid_limits_raise_planning_error_in_velocity_to_and_blend_to():
 
 
 def test_profiles_evaluate_like_ruckig_between_phase_boundaries():
-    """The profile's own constant-jerk evaluation agrees with ruckig's ``at_time``."""
+    """The profile's own constant-jerk evaluation agrees with ruckig's ``at_time``: one
+    trajectory (its brake pre-profile included) or two laid end to end, shifted by an offset."""
     import random
+
+    import ruckig
 
     from mcl import trajectory
 
@@ -341,25 +344,27 @@ def test_profiles_evaluate_like_ruckig_between_phase_boundaries():
     worst = 0.0
     for k in range(400):
         jerk = rng.choice([math.inf, rng.uniform(1e3, 1e6)])
-        limits = Limits(
-            rng.uniform(10, 1000), rng.uniform(100, 20000), rng.uniform(100, 20000), jerk
-        )
+        vmax, up, down = rng.uniform(10, 1000), rng.uniform(100, 20000), rng.uniform(100, 20000)
         p0, v0 = rng.uniform(-100, 100), rng.uniform(-2000, 2000)
         a0 = rng.uniform(-1000, 1000) if jerk != math.inf else 0.0
+        interface = ruckig.ControlInterface.Position if k % 2 else ruckig.ControlInterface.Velocity
+        target, v_end = rng.uniform(-500, 500), rng.uniform(-vmax, vmax) if k % 4 < 2 else 0.0
         try:
-            if k % 2:
-                profile = trajectory.move_to(p0, v0, a0, rng.uniform(-500, 500), limits)
-            else:
-                profile = trajectory.velocity_to(p0, v0, a0, rng.uniform(-1000, 1000), limits)
+            first = trajectory._plan(interface, p0, v0, a0, target, v_end, vmax, up, down, jerk)
+            second = trajectory._plan(interface, 0.0, v_end, 0.0, target, 0.0, vmax, up, down, jerk)
         except trajectory.PlanningError:
             continue
-        for _ in range(20):
-            t = rng.uniform(0.0, profile.duration * 1.2)
-            start, traj, offset = max(
-                (piece for piece in profile._pieces if piece[0] <= t), key=lambda x: x[0]
-            )
-            (p,), (v,), (a,) = traj.at_time(t - start)
-            mine = profile.at(t)
-            for x, y in zip(mine, (p + offset, v, a), strict=True):
-                worst = max(worst, abs(x - y) / max(1.0, abs(y)))
+        offset, p1 = rng.uniform(-50.0, 50.0), first.at_time(first.duration)[0][0]
+        pieces = [(0.0, first, offset), (first.duration, second, p1 + offset)]
+        for count in (1, 2):
+            profile = trajectory.of_trajectories(pieces[:count])
+            for _ in range(20):
+                t = rng.uniform(0.0, profile.duration * 1.2)
+                start, traj, shift = max(
+                    (piece for piece in pieces[:count] if piece[0] <= t), key=lambda x: x[0]
+                )
+                (p,), (v,), (a,) = traj.at_time(t - start)
+                mine = profile.at(t)
+                for x, y in zip(mine, (p + shift, v, a), strict=True):
+                    worst = max(worst, abs(x - y) / max(1.0, abs(y)))
     assert worst < 1e-9

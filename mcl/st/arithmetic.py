@@ -116,6 +116,8 @@ def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
             return f"_f.clone({e.code})"
     elif isinstance(to, T.EnumType) and isinstance(src, T.EnumType) and to.name == src.name:
         return e.code
+    elif to is T.ANY_STRUCT and src.kind == "struct":
+        return e.code  # a profile table: the block reads it on its rising edge
     elif to.kind == "struct" and src.name == to.name:
         return f"_f.clone({e.code})"
     elif to.kind in ("int",) and src.kind == "enum":

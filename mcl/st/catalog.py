@@ -12,6 +12,7 @@ import mcl
 from mcl import reference
 from mcl.st.blocks import STANDARD
 from mcl.st.types import (
+    ANY_STRUCT,
     AXIS,
     BOOL,
     DINT,
@@ -37,6 +38,7 @@ _PYTHON_TYPES: dict[str, Type] = {
     "Axis": AXIS,
     "AxesGroup": GROUP,
     "Sequence[float]": SEQUENCE,
+    "TableRef": ANY_STRUCT,
 }
 
 

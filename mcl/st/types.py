@@ -168,6 +168,8 @@ AXIS = RefType("AXIS_REF", "axis")
 GROUP = RefType("AXES_GROUP_REF", "group")
 SEQUENCE = ArrayType("ARRAY OF LREAL", LREAL, ((0, -1),))
 """A group block's per-member values (any length)."""
+ANY_STRUCT = StructType("ANY STRUCT")
+"""A profile block's table: any STRUCT, passed as it is (the block reads its fields by name)."""
 
 
 def mask(t: Elementary) -> int:
