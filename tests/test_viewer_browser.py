@@ -119,8 +119,16 @@ def page(browser: Browser, viewer: Viewer) -> Iterator[Page]:
 
 def take_control(page: Page, viewer: Viewer) -> int:
     """Press Take control and wait until the app names this page's client as the operator."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+    button = page.get_by_role("button", name="Take control", exact=True)
+    try:
+        button.click(timeout=15_000)
+    except PlaywrightTimeout:  # the page's first websocket dropped while loading: reload it
+        page.reload()
+        page.get_by_role("button", name="Power", exact=True).wait_for(timeout=30_000)
+        button.click(timeout=15_000)
     before = set(viewer.server.get_clients())
-    page.get_by_role("button", name="Take control", exact=True).click()
     wait_for(lambda: viewer.app.control.owner is not None, 5.0, "control to be taken")
     owner = viewer.app.control.owner
     assert owner is not None and owner in before

@@ -190,11 +190,15 @@ def test_a_page_runs_the_st_demo_and_watches_its_step(browser: Browser) -> None:
             page.get_by_role("combobox", name="Program", exact=True).click()
             page.get_by_role("option", name="gantry_demo.st", exact=True).click()
             programs = viewer.session.programs
+            # the first translation of a file takes seconds (blark's Earley parser); the page
+            # says so meanwhile
+            page.get_by_text("Translating gantry_demo.st").first.wait_for(timeout=10_000)
             wait_for(
                 lambda: programs.chosen is not None and programs.chosen.path is not None,
-                10.0,
+                120.0,
                 "the ST demo chosen",
             )
+            page.get_by_text("Translating gantry_demo.st").wait_for(state="hidden", timeout=10_000)
             page.get_by_role("button", name="Run demo", exact=True).click()
             wait_for(lambda: viewer.session.snapshot.demo.running, 5.0, "the ST demo to run")
             page.get_by_role("tab", name="Watch").click()

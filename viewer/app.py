@@ -614,8 +614,10 @@ class ViewerApp:
         if self._end_demo.disabled == demo.running:
             self._end_demo.disabled = not demo.running
         self._show("demo", self._demo_step, demo_html(snapshot))
-        chosen = self.session.programs.chosen
-        self._show("program", self._program_error, program_html(chosen))
+        programs = self.session.programs
+        self._show(
+            "program", self._program_error, program_html(programs.chosen, programs.translating)
+        )
         self._show("demo runs", self._demo_runs, demo_runs_html(demo.runs, demo.repeat))
         for name, panel in self._axes.items():
             panel.show(snapshot.axes[name])
@@ -628,8 +630,14 @@ class ViewerApp:
         self._show("events", self._events, events_html(snapshot))
 
 
-def program_html(chosen: ProgramChoice | None) -> str:
-    """Why the chosen program cannot run (its translation error; empty: it can)."""
+def program_html(chosen: ProgramChoice | None, translating: str = "") -> str:
+    """The file being translated, or why the chosen program cannot run (its translation
+    error); empty when it can."""
+    if translating:
+        return (
+            '<div style="font-size:0.85em;padding:0 0.75em">'
+            f"Translating {html.escape(translating)} …</div>"
+        )
     if chosen is None or not chosen.error:
         return ""
     return (

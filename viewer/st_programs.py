@@ -160,6 +160,8 @@ class ProgramSelection:
         """What the dropdown offers (the Python demo first, if the machine has one)."""
         self.chosen: ProgramChoice | None = None
         """The program Run demo runs (None: the machine has none)."""
+        self.translating = ""
+        """The file being translated now (empty: none); a first translation takes seconds."""
 
     @property
     def labels(self) -> tuple[str, ...]:
@@ -189,7 +191,11 @@ class ProgramSelection:
         if choice is None or scene is None:
             raise ValueError(f"no program {label!r}; offered: {', '.join(self.labels)}")
         if choice.path is not None and not choice.error:
-            error = self.catalog.translate(scene, choice.path)
+            self.translating = label
+            try:
+                error = self.catalog.translate(scene, choice.path)
+            finally:
+                self.translating = ""
             if error:
                 choice = ProgramChoice(choice.label, choice.path, error)
                 self.choices = tuple(choice if c.label == label else c for c in self.choices)
