@@ -60,6 +60,8 @@ from mcl.homing import (
     MC_StepBlock,
     MC_StepDirect,
     MC_StepLimitSwitch,
+    MC_StepRefFlyingRefPulse,
+    MC_StepRefFlyingSwitch,
     MC_StepRefPulse,
 )
 from mcl.inputs_outputs import (
@@ -179,6 +181,8 @@ __all__ = [
     "MC_StepBlock",
     "MC_StepDirect",
     "MC_StepLimitSwitch",
+    "MC_StepRefFlyingRefPulse",
+    "MC_StepRefFlyingSwitch",
     "MC_StepRefPulse",
     "MC_Stop",
     "MC_SwitchMode",

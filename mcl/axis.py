@@ -34,6 +34,7 @@ from mcl.time_scale import TimeScale
 from mcl.trajectory import Limits, PlanningError
 
 if TYPE_CHECKING:
+    from mcl.homing import FlyingReference
     from mcl.module import Module
 
 __all__ = ["Axis", "AxisConfig", "AxisSnapshot"]
@@ -117,6 +118,8 @@ class Axis:
         self._probe_armed = False
         self._probe_seq = 0
         self._probe_window: tuple[float, float] | None = None
+        self.flying: FlyingReference | None = None
+        """The armed flying reference (MC_StepRefFlying*), watched every servo cycle."""
 
         self.active: Command | None = None
         self.queue: deque[Command] = deque()
@@ -763,6 +766,23 @@ class Axis:
         self.POS = actual % config.modulo if config.modulo else actual
         if self._probe_armed and io.tp_seq != self._probe_seq:
             self._probe_latched()
+        flying = self.flying
+        if flying is not None and flying.watch(self, t):
+            self.flying = None
+
+    # ------------------------------------------------------------------ flying reference
+    def arm_flying(self, job: FlyingReference) -> None:
+        """Arm a flying reference (MC_StepRefFlyingSwitch / MC_StepRefFlyingRefPulse); one
+        waiting already ends Aborted."""
+        self.disarm_flying(self.flying)
+        job.arm(self)
+        self.flying = job
+
+    def disarm_flying(self, job: FlyingReference | None) -> None:
+        """Withdraw ``job`` if it is the one armed (it ends Aborted)."""
+        if job is not None and job is self.flying:
+            job.end(Status.Aborted)
+            self.flying = None
 
     # ------------------------------------------------------------------ touch probe
     def arm_probe(self, window: tuple[float, float] | None = None) -> int:

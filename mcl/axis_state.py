@@ -162,9 +162,10 @@ def restore(axis: Axis, snapshot: AxisSnapshot) -> None:
     come back exactly, so the same program gives the same motion as after the snapshot.
     Whatever the PLC program had on the axis is let go, as after a power cycle of the
     program: running and queued commands end Aborted (their blocks show CommandAborted), a
-    waiting touch probe is cancelled, GT_EStop holds are released and an axes group the
-    axis belongs to is taken apart. A program built afterwards finds the axis as saved
-    (a powered axis stays powered until its MC_Power is called with Enable FALSE).
+    waiting touch probe and a waiting flying reference are cancelled, GT_EStop holds are
+    released and an axes group the axis belongs to is taken apart. A program built afterwards
+    finds the axis as saved (a powered axis stays powered until its MC_Power is called with
+    Enable FALSE).
 
     Raises:
         StateError: the snapshot is of another axis (nothing is changed then).
@@ -187,6 +188,7 @@ def restore(axis: Axis, snapshot: AxisSnapshot) -> None:
     axis._probe_window = None
     axis.probe_position = s.probe_position
     axis._probe_seq = s.channel.tp_seq
+    axis.disarm_flying(axis.flying)  # a waiting flying reference sees CommandAborted
     axis.io.restore(s.channel)
     if s.constants is not None:
         axis.set_constants(replace(s.constants))
