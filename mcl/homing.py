@@ -628,6 +628,7 @@ class _FlyingFB(ExecuteFB):
     DistanceLimit: float = 0.0
 
     def __init__(self, **inputs: Any) -> None:
+        self.Active = False
         self.CommandAborted = False
         self.RecordedPosition = 0.0
         self._job: FlyingReference | None = None
@@ -674,6 +675,7 @@ class _FlyingFB(ExecuteFB):
         self._job = None
 
     def _show_more(self, visible: bool, final: Status | None) -> None:
+        self.Active = self._running  # armed: nothing is buffered, Active = Busy
         self.CommandAborted = visible and final == Status.Aborted
 
 
@@ -697,7 +699,8 @@ class MC_StepRefFlyingSwitch(_FlyingFB):
     (0.2 mm at 200 mm/s, 1 ms); a reference that must agree to the count uses the index pulse
     (MC_StepRefFlyingRefPulse). The correction and ``Ref`` are set in that servo cycle;
     ``Done`` (with ``RecordedPosition``, the coordinate the edge had before the correction)
-    from the next scan, while Execute is TRUE or for one scan. ``Busy`` while waiting.
+    from the next scan, while Execute is TRUE or for one scan. ``Busy`` (and ``Active``, the
+    block is armed) while waiting.
 
     On a standing axis (StandStill) the block is armed all the same and waits for the edge: the
     motion may be started after it (arming first is the safe order: no edge is missed), or the

@@ -104,7 +104,7 @@ move(Axis=X, Execute=True, Position=100.0, Velocity=200.0)   # in every scan
   `Error` and `CommandAborted`. `Error` is TRUE exactly when `ErrorID` is not 0.
 - `Busy` rises with the `Execute` edge and falls when `Done`, `CommandAborted` or `Error` rises.
   `Active` is TRUE while the instance's command controls the axis (a buffered command is `Busy`
-  but not yet `Active`).
+  but not yet `Active`; a flying reference, which commands no motion: while it is armed).
 - `Done`, `InVelocity`, `Error`, `ErrorID` and `CommandAborted` stay while `Execute` is TRUE and
   are reset by its falling edge. If `Execute` fell before the command ended, the final output is
   shown for exactly one call.
@@ -132,8 +132,10 @@ is refused with `Econst` 12 before GT_SetConstant, `Epower` 10 in Disabled, `Eer
 ErrorStop, `EAxStop` 6 in Stopping, 1000 on a group member and `Ehome` 9 in Homing (except the
 homing steps, MC_Halt and MC_Stop). MC_MoveAbsolute and GT_MoveAbsBlock need `Ref` (`Ehome` 9);
 without `Ref` the SW limits are not checked. The reading blocks, GT_SetConstant, GT_SInfo,
-MC_SetOverride, MC_SetPosition and GT_Analog (Disabled only) do not change the state; an
-override of 0 holds a moving axis on its path in its motion state.
+MC_SetOverride, MC_SetPosition, the flying references (MC_StepRefFlyingSwitch,
+MC_StepRefFlyingRefPulse: they set the coordinate and `Ref` at an edge while another command moves
+the axis) and GT_Analog (Disabled only) do not change the state; an override of 0 holds a moving
+axis on its path in its motion state.
 
 ## Axes groups
 An axes group (`mcl.AxesGroup`, the AXES_GROUP_REF) holds up to three axes in the order they were

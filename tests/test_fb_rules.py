@@ -14,7 +14,7 @@ from typing import Any
 import pytest
 
 import mcl
-from mcl.fb import MotionFB, input_names
+from mcl.fb import ExecuteFB, input_names
 from tests.helpers import (
     POS_TOL,
     assert_at,
@@ -574,7 +574,7 @@ def test_rule8_aborting_command_aborts_the_buffered_queue_too(machine, X):
 # ------------------------------------------- rule 9: a parameter error leaves the axis alone
 Trace = list[tuple[Any, ...]]
 
-BAD_PARAMETERS: list[tuple[str, type[MotionFB], dict[str, Any], int]] = [
+BAD_PARAMETERS: list[tuple[str, type[ExecuteFB], dict[str, Any], int]] = [
     ("velocity zero", mcl.MC_MoveAbsolute, {"Position": 50.0, "Velocity": 0.0}, 5),
     ("velocity negative", mcl.MC_MoveAbsolute, {"Position": 50.0, "Velocity": -100.0}, 5),
     ("velocity NaN", mcl.MC_MoveAbsolute, {"Position": 50.0, "Velocity": math.nan}, 5),
@@ -680,10 +680,18 @@ BAD_PARAMETERS: list[tuple[str, type[MotionFB], dict[str, Any], int]] = [
     ("halt deceleration negative", mcl.MC_Halt, {"Deceleration": -1.0}, 5),
     ("stop deceleration NaN", mcl.MC_Stop, {"Deceleration": math.nan}, 5),
     ("stop jerk negative", mcl.MC_Stop, {"Jerk": -5.0}, 5),
+    ("flying switch position NaN", mcl.MC_StepRefFlyingSwitch, {"Position": math.nan}, 5),
+    (
+        "flying switch level mode",
+        mcl.MC_StepRefFlyingSwitch,
+        {"SwitchMode": mcl.MC_SwitchMode.MC_On},
+        5,
+    ),
+    ("flying ref pulse time limit negative", mcl.MC_StepRefFlyingRefPulse, {"TimeLimit": -1.0}, 5),
 ]
 
 
-def _move_trace(intruder: tuple[type[MotionFB], dict[str, Any]] | None) -> tuple[Trace, Any]:
+def _move_trace(intruder: tuple[type[ExecuteFB], dict[str, Any]] | None) -> tuple[Trace, Any]:
     """A MoveAbsolute 0 → 200 mm (SW limits −300..400); ``intruder`` is started at 0.12 s and
     kept TRUE. Returns the per-scan trace of the axis and the first move's outputs, and the
     intruding block."""
@@ -904,6 +912,8 @@ NO_AXIS_CALLS: list[tuple[type[Any], dict[str, Any]]] = [
     (mcl.GT_Jog, {"Enable": False}),
     (mcl.GT_EStop, {"Enable": False}),
     (mcl.MC_SetPosition, {"Execute": True, "Position": 5.0}),
+    (mcl.MC_StepRefFlyingSwitch, {"Execute": True, "Position": 5.0}),
+    (mcl.MC_StepRefFlyingRefPulse, {"Execute": False}),
     (mcl.MC_ReadParameter, {"Enable": True, "ParameterNumber": 1}),
     (mcl.MC_ReadBoolParameter, {"Enable": False}),
     (mcl.MC_WriteParameter, {"Execute": True, "ParameterNumber": 9, "Value": 100.0}),
