@@ -23,6 +23,7 @@ import mcl
 from mcl import AxisState, ErrorID, MC_Direction, MC_SwitchMode
 from scenes.machines import gantry
 from scenes.scene import Scene
+from tests.helpers import scan
 from tests.test_gantry_homing import home_ref_index, origin
 from tests.test_homing_sim import COUNT, LAYOUT, coordinate_of, homing_axis, x_of
 
@@ -136,7 +137,7 @@ def test_done_shows_for_one_scan_when_execute_fell_while_waiting() -> None:
 
     _, out, _ = moving(machine, X, fb, arm=arm, until=lambda: X.Ref, Position=0.0)
     assert out.seen[0] == (True, False, False, False)
-    machine.run(lambda: (fb(Axis=X, Execute=False), out()), timeout=0.05)
+    machine.run(scan(lambda: fb(Axis=X, Execute=False), out), timeout=0.05)
     assert out.seen.count((False, True, False, False)) == 1
     assert out.seen[-1] == (False, False, False, False)
 
@@ -241,7 +242,7 @@ def test_parameter_errors_leave_the_moving_axis_alone(fb_type: type[Any], bad: d
     fb(Axis=X, Execute=True, **bad)
     assert fb.Error and fb.ErrorID == ErrorID.EParam and not fb.Busy
     # on over indexes and the REF switch (at 0.2537 m)
-    machine.run(lambda: (move(Axis=X), fb(Axis=X)), timeout=0.3)
+    machine.run(scan(lambda: move(Axis=X), lambda: fb(Axis=X)), timeout=0.3)
     assert X.offset == 0.0 and not X.Ref and move.Busy and not move.CommandAborted
     assert X.state == AxisState.ContinuousMotion and X.flying is None
 
@@ -324,9 +325,11 @@ def test_a_stop_while_waiting_aborts_and_an_axis_error_ends_with_its_code() -> N
     fb = mcl.MC_StepRefFlyingSwitch()
     machine.run(lambda: fb(Axis=X, Execute=True), timeout=0.01)
     stop = mcl.MC_Stop()
-    machine.run(lambda: (stop(Axis=X, Execute=True), fb(Axis=X)), timeout=0.02)
+    machine.run(scan(lambda: stop(Axis=X, Execute=True), lambda: fb(Axis=X)), timeout=0.02)
     assert fb.CommandAborted and not fb.Busy and not fb.Error
-    machine.run(lambda: (stop(Axis=X, Execute=False), fb(Axis=X, Execute=False)), timeout=0.02)
+    machine.run(
+        scan(lambda: stop(Axis=X, Execute=False), lambda: fb(Axis=X, Execute=False)), timeout=0.02
+    )
     fb(Axis=X, Execute=True)
     assert fb.Busy
     X.fault(ErrorID.ERRPOS)
@@ -341,7 +344,7 @@ def test_a_second_flying_reference_aborts_the_first_a_restart_reports_nothing() 
     first, second = mcl.MC_StepRefFlyingSwitch(), mcl.MC_StepRefFlyingRefPulse()
     first(Axis=X, Execute=True)
     second(Axis=X, Execute=True)
-    machine.run(lambda: (first(Axis=X), second(Axis=X)), timeout=0.01)
+    machine.run(scan(lambda: first(Axis=X), lambda: second(Axis=X)), timeout=0.01)
     assert first.CommandAborted and second.Busy
     second(Axis=X, Execute=False)
     second(Axis=X, Execute=True)
