@@ -609,7 +609,7 @@ class FlyingReference:
             return None
         mode = self.mode
         if mode in (MC_SwitchMode.MC_EdgeSwitchPositive, MC_SwitchMode.MC_EdgeSwitchNegative):
-            direction = travel if travel else axis.sp_vel
+            direction = float(travel) if travel else axis.sp_vel
             if direction == 0:
                 return None  # no way of telling which side of the switch this edge is
             positive = (direction > 0) == (mode == MC_SwitchMode.MC_EdgeSwitchPositive)

@@ -353,6 +353,19 @@ def test_a_second_flying_reference_aborts_the_first_a_restart_reports_nothing() 
     assert second.Busy and not second.CommandAborted and X.flying is not None
 
 
+def test_restoring_a_snapshot_cancels_a_waiting_flying_reference() -> None:
+    """Axis.restore lets go of what the program had on the axis: a waiting flying reference
+    shows CommandAborted, as a waiting touch probe does."""
+    _, X = homing_axis()
+    snapshot = X.snapshot()
+    fb = mcl.MC_StepRefFlyingRefPulse()
+    fb(Axis=X, Execute=True)
+    assert fb.Busy and fb.Active
+    X.restore(snapshot)
+    fb(Axis=X)
+    assert fb.CommandAborted and not fb.Busy and not fb.Active and X.flying is None
+
+
 # ---------------------------------------------------------------------- the gantry (MuJoCo)
 PARK = {"X": 0.3, "Y": 0.3, "Z": -0.1}
 REF_EDGE = 0.11
@@ -471,3 +484,35 @@ def test_gantry_flying_switch_latches_within_a_servo_cycle_of_travel(start: floa
     edge = row[3] + (REF_EDGE - row[1]) * 1000.0  # the REF edge's coordinate then
     print(f"\nstart {start}: REF edge at {edge:.4f} mm (Position 110), {edge - 110.0:+.4f} mm")
     assert -(V * SERVO + 0.011) <= edge - 110.0 <= 0.001
+
+
+ST_SOURCE = """PROGRAM flying
+VAR
+  power : MC_Power;
+  move : MC_MoveRelative;
+  switch : MC_StepRefFlyingSwitch;
+  pulse : MC_StepRefFlyingRefPulse;
+  armed : BOOL;
+END_VAR
+power(Enable := TRUE, Axis := X);
+move(Execute := power.Status, Distance := 200.0, Velocity := 200.0, Axis := X);
+switch(Execute := power.Status, SwitchMode := MC_EdgeOff, Position := 110.0, Axis := X);
+armed := armed OR switch.Done;
+pulse(Execute := armed, Position := 120.0, Axis := X);
+END_PROGRAM
+"""
+
+
+def test_the_flying_reference_from_structured_text_on_the_gantry() -> None:
+    """The same REF + index reference on the fly from an ST program: the origin lies at the
+    index mark (within two counts of the real sensors), X moved on to its 200 mm."""
+    import mcl.st
+
+    scene = gantry.build(start={**PARK, "X": 0.05}, trace_every=0)
+    prog = mcl.st.from_source(ST_SOURCE, scene, filename="flying.st")
+    scene.run(prog, until=lambda: bool(prog.move.Done or prog.move.Error), timeout=3.0)
+    scene.run(prog, timeout=0.3)
+    X = scene.axes["X"]
+    assert prog.switch.Done and prog.pulse.Done and X.Ref and X.state == AxisState.StandStill
+    assert abs(origin(scene, "X", 120.0) - INDEX) <= 2e-6 + 1e-9
+    assert scene.joint_position("X") == pytest.approx(0.25, abs=1e-5)
