@@ -579,11 +579,12 @@ class FlyingReference:
         edge = self._index_edge(axis) if self.mode is None else self._switch_edge(axis, travel)
         if edge is not None:
             shift = self.position - edge
+            referenced, axis.Ref = axis.Ref, True  # the limits as they act once referenced
             error = axis.shift_coordinate(shift)
             if error:
+                axis.Ref = referenced
                 self.end(Status.Error, error)
                 return True
-            axis.Ref = True
             self.latched, self.shift = edge, shift
             self.end(Status.Done)
             return True
@@ -710,13 +711,15 @@ class MC_StepRefFlyingSwitch(_FlyingFB):
     axis. MC_On / MC_Off (a level is no point on the axis), an unknown SwitchMode, a Position
     that is not finite or a negative/not finite limit: ``EParam``; a refused call leaves the
     axis as it was. A shift that puts the axis or the running command's target beyond an
-    active software limit (with Ref) ends it with ``Ecil`` 8, the coordinate unchanged.
+    active software limit (as the limits act once Ref is set) ends it at the edge with ``Ecil``
+    8: the coordinate and Ref stay as they were, the motion goes on.
 
     Exceeding TimeLimit or DistanceLimit before the edge: ``Error`` ``ETime`` 1 /
     ``EDistance`` 2 on the block only; the motion, which the block does not own, goes on
     unchanged (the program decides whether to stop). While waiting, an axis error ends it with
     ``Error`` and the axis' code; a stop, power-off, a homing step, joining a group or another
-    flying reference armed on the axis end it with ``CommandAborted``.
+    flying reference armed on the axis end it with ``CommandAborted``; a new motion command
+    (MC_Halt too) does not: the block stays armed.
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("SwitchMode",)

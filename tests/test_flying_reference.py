@@ -23,7 +23,7 @@ import mcl
 from mcl import AxisState, ErrorID, MC_Direction, MC_SwitchMode
 from scenes.machines import gantry
 from scenes.scene import Scene
-from tests.helpers import scan
+from tests.helpers import make_machine, scan
 from tests.test_gantry_homing import home_ref_index, origin
 from tests.test_homing_sim import COUNT, LAYOUT, coordinate_of, homing_axis, x_of
 
@@ -351,6 +351,23 @@ def test_a_second_flying_reference_aborts_the_first_a_restart_reports_nothing() 
     assert second.Busy and not second.CommandAborted
     machine.run(lambda: second(Axis=X), timeout=0.01)
     assert second.Busy and not second.CommandAborted and X.flying is not None
+
+
+def test_a_shift_beyond_an_active_software_limit_is_refused_at_the_edge() -> None:
+    """SW limits ±100 mm: an index that would get −500 puts the axis beyond LimNeg once Ref is
+    set: Ecil 8 at the edge; the coordinate and Ref stay, the motion goes on."""
+    machine = make_machine(
+        {"X": mcl.SimAxisParams(**LAYOUT)}, referenced=False, LimPos=100.0, LimNeg=-100.0
+    )
+    X = machine.axes["X"]
+    fb = mcl.MC_StepRefFlyingRefPulse()
+    move, _, _ = moving(machine, X, fb, Position=-500.0)
+    assert fb.Error and fb.ErrorID == ErrorID.Ecil
+    assert X.offset == 0.0 and not X.Ref and X.AxErrorID == 0
+    assert move.Busy and X.state == AxisState.ContinuousMotion
+    ok = mcl.MC_StepRefFlyingRefPulse()
+    moving(machine, X, ok, Position=-50.0)  # a new MC_MoveVelocity takes over
+    assert ok.Done and X.Ref and X.AxErrorID == 0
 
 
 def test_restoring_a_snapshot_cancels_a_waiting_flying_reference() -> None:
