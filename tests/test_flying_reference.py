@@ -356,8 +356,9 @@ def test_a_second_flying_reference_aborts_the_first_a_restart_reports_nothing() 
 def test_a_shift_beyond_an_active_software_limit_is_refused_at_the_edge() -> None:
     """SW limits ±100 mm: an index that would get −500 puts the axis beyond LimNeg once Ref is
     set: Ecil 8 at the edge; the coordinate and Ref stay, the motion goes on."""
+    layout: dict[str, Any] = dict(LAYOUT)
     machine = make_machine(
-        {"X": mcl.SimAxisParams(**LAYOUT)}, referenced=False, LimPos=100.0, LimNeg=-100.0
+        {"X": mcl.SimAxisParams(**layout)}, referenced=False, LimPos=100.0, LimNeg=-100.0
     )
     X = machine.axes["X"]
     fb = mcl.MC_StepRefFlyingRefPulse()
