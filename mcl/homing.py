@@ -703,20 +703,23 @@ class MC_StepRefFlyingSwitch(_FlyingFB):
     from the next scan, while Execute is TRUE or for one scan. ``Busy`` (and ``Active``, the
     block is armed) while waiting.
 
-    On a standing axis (StandStill) the block is armed all the same and waits for the edge: the
-    motion may be started after it (arming first is the safe order: no edge is missed), or the
-    axis may be moved by the machine. Refused as a motion command is: ErrorStop ``Eerrstop`` 11,
-    Stopping ``EAxStop`` 6, Disabled ``Epower`` 10, constants missing ``Econst`` 12, a group
-    member 1000, Homing ``Ehome`` 9 (the homing procedure sets the coordinate), an encoder-only
-    axis. MC_On / MC_Off (a level is no point on the axis), an unknown SwitchMode, a Position
-    that is not finite or a negative/not finite limit: ``EParam``; a refused call leaves the
-    axis as it was. A shift that puts the axis or the running command's target beyond an
-    active software limit (as the limits act once Ref is set) ends it at the edge with ``Ecil``
-    8: the coordinate and Ref stay as they were, the motion goes on.
+    On a standing axis (StandStill) the block is armed all the same and waits for the edge
+    rather than being refused: flying referencing needs motion, but the motion may be started
+    after the block (arming first is the safe order: no edge is missed while the program waits
+    for the motion to run), or the axis may be moved by the machine. Refused as a motion command
+    is: ErrorStop ``Eerrstop`` 11, Stopping ``EAxStop`` 6, Disabled ``Epower`` 10, constants
+    missing ``Econst`` 12, a group member 1000, Homing ``Ehome`` 9 (the homing procedure sets
+    the coordinate), an encoder-only axis ``ENoDrive`` 14. MC_On / MC_Off (a level is no point
+    on the axis), an unknown SwitchMode, a Position that is not finite or a negative/not finite
+    limit: ``EParam``; a refused call leaves the axis as it was. A shift that puts the axis or
+    the running command's target beyond an active software limit (as the limits act once Ref
+    is set) ends it at the edge with ``Ecil`` 8: the coordinate and Ref stay as they were, the
+    motion goes on.
 
     Exceeding TimeLimit or DistanceLimit before the edge: ``Error`` ``ETime`` 1 /
     ``EDistance`` 2 on the block only; the motion, which the block does not own, goes on
-    unchanged (the program decides whether to stop). While waiting, an axis error ends it with
+    unchanged (the program decides whether to stop; the searching steps, which own their
+    motion, stop the axis with these errors instead). While waiting, an axis error ends it with
     ``Error`` and the axis' code; a stop, power-off, a homing step, joining a group or another
     flying reference armed on the axis end it with ``CommandAborted``; a new motion command
     (MC_Halt too) does not: the block stays armed.
