@@ -384,6 +384,36 @@ def test_restoring_a_snapshot_cancels_a_waiting_flying_reference() -> None:
     assert fb.CommandAborted and not fb.Busy and not fb.Active and X.flying is None
 
 
+def _geared(flying: bool) -> tuple[list[float], mcl.MC_StepRefFlyingRefPulse]:
+    """Master X at 200 mm/s, slave Y geared 1:1 (MC_GearIn); with ``flying`` the master is
+    referenced on the fly (Position 1000 mm at its next index). The slave's physical positions
+    [m] per servo cycle."""
+    machine = make_machine("XY", referenced=False)
+    M, S = machine.axes["X"], machine.axes["Y"]
+    move, gear = mcl.MC_MoveVelocity(), mcl.MC_GearIn()
+    fb = mcl.MC_StepRefFlyingRefPulse()
+    slave: list[float] = []
+    machine.runtime.observers.append(lambda t: slave.append(machine.sims["Y"].x))
+
+    def program() -> None:
+        move(Axis=M, Execute=True, Velocity=V, Acceleration=5000.0)
+        gear(Master=M, Slave=S, Execute=True, RatioNumerator=1, RatioDenominator=1)
+        fb(Axis=M, Execute=flying and gear.InGear, Position=1000.0)
+
+    machine.run(program, timeout=0.5)
+    return slave, fb
+
+
+def test_a_geared_slave_follows_its_master_through_the_masters_flying_reference() -> None:
+    """The gearing follows the master's coordinate shifts: the slave's physical path is the
+    same with and without the master's flying reference."""
+    plain, _ = _geared(False)
+    fly, fb = _geared(True)
+    assert fb.Done and fb.Axis is not None and fb.Axis.Ref
+    assert len(plain) == len(fly)
+    assert max(abs(a - b) for a, b in zip(plain, fly, strict=True)) <= 1e-12
+
+
 # ---------------------------------------------------------------------- the gantry (MuJoCo)
 PARK = {"X": 0.3, "Y": 0.3, "Z": -0.1}
 REF_EDGE = 0.11
