@@ -179,7 +179,10 @@ def test_another_machine_offers_its_own_st_demo() -> None:
 
 
 @pytest.mark.browser
-def test_a_page_runs_the_st_demo_and_watches_its_step(browser: Browser) -> None:
+def test_a_page_runs_the_st_demo_and_watches_its_step(
+    browser: Browser, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("MCL_ST_CACHE", str(tmp_path / "st-cache"))  # a first translation
     with Viewer("gantry", port=0, demo=False) as viewer:
         context = browser.new_context(viewport={"width": 1280, "height": 1000})
         try:

@@ -14,12 +14,14 @@ import dataclasses
 import importlib.resources
 import re
 from functools import cache
+from pathlib import Path
 from typing import Any
 
 import blark.transform as tf
 import lark
 from blark import util
 
+from mcl.st import tree_cache
 from mcl.st.errors import STError
 
 _TERM = "expression_term: unary_expression ( MULTIPLY_OPERATOR unary_expression )*"
@@ -89,11 +91,23 @@ def _extended(grammar: str) -> str:
 
 
 def parse(source: str, filename: str) -> tf.SourceCode:
-    """The typed tree of ``source``.
+    """The typed tree of ``source`` (parsed once: kept on disk by :mod:`mcl.st.tree_cache`).
 
     Raises:
         STError: a syntax error, ``filename:line:column: ...; expected ...``.
     """
+    name = tree_cache.key(source, filename, _parser_identity())
+    tree: tf.SourceCode = tree_cache.cached(name, lambda: _parse(source, filename))
+    return tree
+
+
+@cache
+def _parser_identity() -> bytes:
+    """What changes when the grammar or the transformer does: this module's own code."""
+    return Path(__file__).read_bytes()
+
+
+def _parse(source: str, filename: str) -> tf.SourceCode:
     comments, cleaned = util.find_and_clean_comments(source)
     try:
         tree = parser().parse(cleaned, start="iec_source")

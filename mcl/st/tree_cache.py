@@ -1,0 +1,70 @@
+"""Parsed ST trees kept on disk, so a file parses once (blark's Earley parser takes seconds for
+a program of a few hundred lines; loading the kept tree takes milliseconds).
+
+A tree is kept under ``$MCL_ST_CACHE`` (default ``$XDG_CACHE_HOME/mcl/st``, else
+``~/.cache/mcl/st``; ``MCL_ST_CACHE=`` switches the cache off), in a file named by the SHA-256 of
+the source, its file name and the parser (blark's and lark's versions, this package's grammar
+and transformer), like Python's own ``__pycache__``: the directory is the user's, created
+private (0700). A file that does not load is parsed again and replaced.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import pickle
+import tempfile
+from collections.abc import Callable
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+
+def directory() -> Path | None:
+    """Where trees are kept (None: the cache is off)."""
+    configured = os.environ.get("MCL_ST_CACHE")
+    if configured is not None:
+        return Path(configured).expanduser() if configured.strip() else None
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "mcl" / "st"
+
+
+def key(source: str, filename: str, parser: bytes) -> str:
+    """The name of the kept tree of ``source`` (from ``filename``) parsed by ``parser`` (bytes
+    that change when the grammar or the transformer does)."""
+    digest = hashlib.sha256()
+    for part in (
+        metadata.version("blark").encode(),
+        metadata.version("lark").encode(),
+        parser,
+        filename.encode(),
+        source.encode(),
+    ):
+        digest.update(len(part).to_bytes(8, "little") + part)
+    return digest.hexdigest()
+
+
+def cached(name: str, make: Callable[[], Any]) -> Any:
+    """The tree kept as ``name``, or ``make()`` (kept for the next time; an exception of
+    ``make`` passes through and nothing is kept)."""
+    folder = directory()
+    if folder is None:
+        return make()
+    path = folder / f"{name}.pickle"
+    try:
+        with path.open("rb") as file:
+            return pickle.load(file)
+    except Exception:  # missing, truncated, or from another Python: parse again
+        pass
+    tree = make()
+    temporary: str | None = None
+    try:
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=folder, suffix=".tmp")
+        with os.fdopen(handle, "wb") as file:
+            pickle.dump(tree, file, protocol=pickle.HIGHEST_PROTOCOL)
+        os.replace(temporary, path)
+    except (OSError, pickle.PicklingError):  # a read-only or full disk: not kept
+        if temporary is not None:
+            Path(temporary).unlink(missing_ok=True)
+    return tree
