@@ -621,10 +621,10 @@ class FlyingReference:
 
 
 class _FlyingFB(ExecuteFB):
-    """Common part of the flying reference blocks: Position, TimeLimit, DistanceLimit."""
+    """Common part of the flying reference blocks: SetPosition, TimeLimit, DistanceLimit."""
 
-    INPUTS: ClassVar[tuple[str, ...]] = ("Position", "TimeLimit", "DistanceLimit")
-    Position: float = 0.0
+    INPUTS: ClassVar[tuple[str, ...]] = ("SetPosition", "TimeLimit", "DistanceLimit")
+    SetPosition: float = 0.0
     TimeLimit: float = 0.0
     DistanceLimit: float = 0.0
 
@@ -646,7 +646,7 @@ class _FlyingFB(ExecuteFB):
         if error:
             return error
         position, time, distance = (
-            number(x) for x in (self.Position, self.TimeLimit, self.DistanceLimit)
+            number(x) for x in (self.SetPosition, self.TimeLimit, self.DistanceLimit)
         )
         if not (math.isfinite(position) and non_negative(time) and non_negative(distance)):
             return ErrorID.EParam
@@ -683,14 +683,14 @@ class _FlyingFB(ExecuteFB):
 class MC_StepRefFlyingSwitch(_FlyingFB):
     """Flying reference on the REF switch (PLCopen Part 5 v2.0; announced in the
     MotionControlLib, Tab. 2.2): while another command moves the axis, the coordinate is set so
-    that the REF edge has the coordinate ``Position`` [u]. The block commands no motion and
+    that the REF edge has the coordinate ``SetPosition`` [u]. The block commands no motion and
     aborts none: the running command goes on physically undisturbed, its path and target move
     with the coordinate (as with MC_SetPosition), the axis state does not change.
 
     Inputs (sampled on the rising edge of Execute): ``SwitchMode``, the edge: MC_EdgeOn,
     MC_EdgeOff, or MC_EdgeSwitchPositive / MC_EdgeSwitchNegative (the edge met travelling in
     the positive / negative direction: on or off by the direction of travel at the edge);
-    ``Position`` [u]; ``TimeLimit`` [s] and ``DistanceLimit`` [u] of travel (encoder counts
+    ``SetPosition`` [u]; ``TimeLimit`` [s] and ``DistanceLimit`` [u] of travel (encoder counts
     from the arming), 0 = off. The Direction of PLCopen's searching steps does not apply: the
     running motion decides it. BufferMode neither: the block is no motion command.
 
@@ -710,7 +710,7 @@ class MC_StepRefFlyingSwitch(_FlyingFB):
     is: ErrorStop ``Eerrstop`` 11, Stopping ``EAxStop`` 6, Disabled ``Epower`` 10, constants
     missing ``Econst`` 12, a group member 1000, Homing ``Ehome`` 9 (the homing procedure sets
     the coordinate), an encoder-only axis ``ENoDrive`` 14. MC_On / MC_Off (a level is no point
-    on the axis), an unknown SwitchMode, a Position that is not finite or a negative/not finite
+    on the axis), an unknown SwitchMode, a SetPosition that is not finite or a negative/not finite
     limit: ``EParam``; a refused call leaves the axis as it was. A shift that puts the axis or
     the running command's target beyond an active software limit (as the limits act once Ref
     is set) ends it at the edge with ``Ecil`` 8: the coordinate and Ref stay as they were, the
@@ -741,7 +741,7 @@ class MC_StepRefFlyingSwitch(_FlyingFB):
 class MC_StepRefFlyingRefPulse(_FlyingFB):
     """Flying reference on the encoder index pulse NI (PLCopen Part 5 v2.0; announced in the
     MotionControlLib, Tab. 2.2): while another command moves the axis, the coordinate is set so
-    that the next rising edge of the index pulse has the coordinate ``Position`` [u]. The edge
+    that the next rising edge of the index pulse has the coordinate ``SetPosition`` [u]. The edge
     is the count the encoder latched at it in hardware, exact to the count at any velocity. No
     motion, no abort, state unchanged, Ref set, the outputs, the standing axis, the limits and
     the refusals as for MC_StepRefFlyingSwitch.

@@ -680,7 +680,7 @@ BAD_PARAMETERS: list[tuple[str, type[ExecuteFB], dict[str, Any], int]] = [
     ("halt deceleration negative", mcl.MC_Halt, {"Deceleration": -1.0}, 5),
     ("stop deceleration NaN", mcl.MC_Stop, {"Deceleration": math.nan}, 5),
     ("stop jerk negative", mcl.MC_Stop, {"Jerk": -5.0}, 5),
-    ("flying switch position NaN", mcl.MC_StepRefFlyingSwitch, {"Position": math.nan}, 5),
+    ("flying switch position NaN", mcl.MC_StepRefFlyingSwitch, {"SetPosition": math.nan}, 5),
     (
         "flying switch level mode",
         mcl.MC_StepRefFlyingSwitch,
@@ -912,7 +912,7 @@ NO_AXIS_CALLS: list[tuple[type[Any], dict[str, Any]]] = [
     (mcl.GT_Jog, {"Enable": False}),
     (mcl.GT_EStop, {"Enable": False}),
     (mcl.MC_SetPosition, {"Execute": True, "Position": 5.0}),
-    (mcl.MC_StepRefFlyingSwitch, {"Execute": True, "Position": 5.0}),
+    (mcl.MC_StepRefFlyingSwitch, {"Execute": True, "SetPosition": 5.0}),
     (mcl.MC_StepRefFlyingRefPulse, {"Execute": False}),
     (mcl.MC_ReadParameter, {"Enable": True, "ParameterNumber": 1}),
     (mcl.MC_ReadBoolParameter, {"Enable": False}),

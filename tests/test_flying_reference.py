@@ -108,7 +108,7 @@ def test_ref_pulse_sets_the_index_edge_to_position_and_the_motion_goes_on(
         fb,
         direction,
         arm=lambda: abs(x_of(machine) - start) > 0.0155,
-        Position=500.0,
+        SetPosition=500.0,
     )
     assert fb.Done and not fb.Busy and X.Ref, fb.ErrorID
     assert (True, False, False, False) in out.seen, "Busy while waiting"
@@ -135,7 +135,7 @@ def test_done_shows_for_one_scan_when_execute_fell_while_waiting() -> None:
         result, first[0] = first[0], False
         return result
 
-    _, out, _ = moving(machine, X, fb, arm=arm, until=lambda: X.Ref, Position=0.0)
+    _, out, _ = moving(machine, X, fb, arm=arm, until=lambda: X.Ref, SetPosition=0.0)
     assert out.seen[0] == (True, False, False, False)
     machine.run(scan(lambda: fb(Axis=X, Execute=False), out), timeout=0.05)
     assert out.seen.count((False, True, False, False)) == 1
@@ -148,7 +148,7 @@ def test_a_standing_axis_is_armed_and_waits_for_the_motion() -> None:
     machine, X = homing_axis()
     fb = mcl.MC_StepRefFlyingRefPulse()
     x0 = x_of(machine)
-    machine.run(lambda: fb(Axis=X, Execute=True, Position=7.0), timeout=0.3)
+    machine.run(lambda: fb(Axis=X, Execute=True, SetPosition=7.0), timeout=0.3)
     assert fb.Busy and not fb.Done and X.state == AxisState.StandStill
     assert abs(x_of(machine) - x0) < 1e-6
     move = mcl.MC_MoveRelative()
@@ -174,7 +174,7 @@ def test_a_running_absolute_move_ends_at_the_same_physical_place() -> None:
 
     def program() -> None:
         move(Axis=X, Execute=True, Position=target, Velocity=V)
-        fb(Axis=X, Execute=True, Position=1000.0)
+        fb(Axis=X, Execute=True, SetPosition=1000.0)
 
     machine.run(program, until=lambda: move.Done or move.Error, timeout=3.0)
     machine.run(program, timeout=0.2)
@@ -205,7 +205,7 @@ def test_switch_mode_picks_the_edge_and_it_gets_position_within_a_servo_cycle_of
     latched point lies up to V × servo period beyond the edge (MC_StepAbsSwitch alike)."""
     machine, X = homing_axis(start=start)
     fb = mcl.MC_StepRefFlyingSwitch()
-    move, _, sample = moving(machine, X, fb, direction, SwitchMode=mode, Position=-5.0)
+    move, _, sample = moving(machine, X, fb, direction, SwitchMode=mode, SetPosition=-5.0)
     assert fb.Done and X.Ref and move.Busy and X.state == AxisState.ContinuousMotion
     beyond = (sample.coordinate(LAYOUT[edge]) + 5.0) * (-1 if direction == POSITIVE else 1)
     assert -1e-6 <= beyond <= V * SERVO + COUNT, f"edge coordinate off by {beyond} mm"
@@ -213,8 +213,8 @@ def test_switch_mode_picks_the_edge_and_it_gets_position_within_a_servo_cycle_of
 
 # ---------------------------------------------------------------------- refusals, parameters
 COMMON_BAD: list[dict[str, Any]] = [
-    {"Position": math.nan},
-    {"Position": math.inf},
+    {"SetPosition": math.nan},
+    {"SetPosition": math.inf},
     {"TimeLimit": -1.0},
     {"DistanceLimit": math.nan},
 ]
@@ -362,12 +362,12 @@ def test_a_shift_beyond_an_active_software_limit_is_refused_at_the_edge() -> Non
     )
     X = machine.axes["X"]
     fb = mcl.MC_StepRefFlyingRefPulse()
-    move, _, _ = moving(machine, X, fb, Position=-500.0)
+    move, _, _ = moving(machine, X, fb, SetPosition=-500.0)
     assert fb.Error and fb.ErrorID == ErrorID.Ecil
     assert X.offset == 0.0 and not X.Ref and X.AxErrorID == 0
     assert move.Busy and X.state == AxisState.ContinuousMotion
     ok = mcl.MC_StepRefFlyingRefPulse()
-    moving(machine, X, ok, Position=-50.0)  # a new MC_MoveVelocity takes over
+    moving(machine, X, ok, SetPosition=-50.0)  # a new MC_MoveVelocity takes over
     assert ok.Done and X.Ref and X.AxErrorID == 0
 
 
@@ -398,7 +398,7 @@ def _geared(flying: bool) -> tuple[list[float], mcl.MC_StepRefFlyingRefPulse]:
     def program() -> None:
         move(Axis=M, Execute=True, Velocity=V, Acceleration=5000.0)
         gear(Master=M, Slave=S, Execute=True, RatioNumerator=1, RatioDenominator=1)
-        fb(Axis=M, Execute=flying and gear.InGear, Position=1000.0)
+        fb(Axis=M, Execute=flying and gear.InGear, SetPosition=1000.0)
 
     machine.run(program, timeout=0.5)
     return slave, fb
@@ -454,10 +454,10 @@ def gantry_run(start: float, flying: bool, sensors: mcl.Sensors | None = None):
         move(Axis=X, Execute=power.Status, Distance=200.0, Velocity=V)
         if flying:
             switch(
-                Axis=X, Execute=power.Status, SwitchMode=MC_SwitchMode.MC_EdgeOff, Position=110.0
+                Axis=X, Execute=power.Status, SwitchMode=MC_SwitchMode.MC_EdgeOff, SetPosition=110.0
             )
             armed[0] = armed[0] or switch.Done
-            pulse(Axis=X, Execute=armed[0], Position=120.0)
+            pulse(Axis=X, Execute=armed[0], SetPosition=120.0)
 
     scene.run(program, until=lambda: move.Done or move.Error, timeout=3.0)
     scene.run(program, timeout=0.3)
@@ -524,7 +524,7 @@ def test_gantry_flying_switch_latches_within_a_servo_cycle_of_travel(start: floa
     def program() -> None:
         power(Axis=X, Enable=True)
         move(Axis=X, Execute=power.Status, Distance=100.0, Velocity=V)
-        switch(Axis=X, Execute=power.Status, SwitchMode=MC_SwitchMode.MC_EdgeOff, Position=110.0)
+        switch(Axis=X, Execute=power.Status, SwitchMode=MC_SwitchMode.MC_EdgeOff, SetPosition=110.0)
 
     scene.run(program, until=lambda: switch.Done or switch.Error, timeout=3.0)
     assert switch.Done and X.state == AxisState.DiscreteMotion
@@ -544,9 +544,9 @@ VAR
 END_VAR
 power(Enable := TRUE, Axis := X);
 move(Execute := power.Status, Distance := 200.0, Velocity := 200.0, Axis := X);
-switch(Execute := power.Status, SwitchMode := MC_EdgeOff, Position := 110.0, Axis := X);
+switch(Execute := power.Status, SwitchMode := MC_EdgeOff, SetPosition := 110.0, Axis := X);
 armed := armed OR switch.Done;
-pulse(Execute := armed, Position := 120.0, Axis := X);
+pulse(Execute := armed, SetPosition := 120.0, Axis := X);
 END_PROGRAM
 """
 
