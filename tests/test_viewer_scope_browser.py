@@ -151,8 +151,13 @@ def test_two_recordings_overlay_and_the_csv_carries_both(
     ]
     assert len(lines) == scope.recording.t.size
     choose(page, "Overlay", "none")
+    # the overlay's rows leave the plot and the read-out first, so the buttons below them
+    # stand still when Run is clicked
+    wait_for(lambda: not any(chart(page)[0]["dashed"]), 15.0, "the overlay gone")
     page.get_by_role("button", name="Run", exact=True).click()
-    wait_for(lambda: scope.acquisition.running and scope.overlay is None, 10.0, "Run")
+    acquisition = scope.acquisition
+    wait_for(lambda: acquisition.running and scope.overlay is None, 10.0, "Run")
+    assert not acquisition.single, "Single was pressed, not Run"
 
 
 def test_a_watching_page_changes_only_its_own_scope(
