@@ -324,6 +324,9 @@ class AxisChannel:
         """The absolute measuring system (None: the axis has none)."""
         self.absolute_word = 0 if self.absolute is None else self.absolute.word(origin)
         """The last word the absolute sensor sent (known from power-on)."""
+        self.absolute_ok = True
+        """The last frame passed its check (False under :class:`mcl.faults.AbsoluteFrameError`:
+        the word is discarded)."""
         self.analog: Sequence[float] = ()
         self.inputs: Sequence[bool] = ()
         self.outputs = [False] * digital_outputs
@@ -500,6 +503,8 @@ class AxisChannel:
         if seed is not None:
             self._rngs[key] = random.Random(seed)
         self._faults[key] = fault
+        if isinstance(fault, flt.AbsoluteFrameError):
+            self.absolute_ok = False  # the module sees the bad frame at once
 
     def clear_fault(self, fault: flt.Fault) -> None:
         """Remove ``fault`` if it is set (a frozen counter resumes from where it stopped)."""
@@ -508,6 +513,9 @@ class AxisChannel:
             if isinstance(fault, flt.EncoderFreeze | flt.EncoderWireBreak):
                 self._frozen_at = None
                 self.encoder_ok = True
+            if isinstance(fault, flt.AbsoluteFrameError) and self.absolute is not None:
+                self.absolute_ok = True  # the next frame is good: the position now
+                self.absolute_word = self.absolute.word(self._x)
 
     # ------------------------------------------------------------------ inputs
     def sample(
@@ -551,7 +559,9 @@ class AxisChannel:
         self.lim_pos, self.lim_neg, self.ref = lim_pos, lim_neg, ref
         self.analog = analog
         if self.absolute is not None:
-            self.absolute_word = self.absolute.word(x)
+            self.absolute_ok = "absolute" not in self._faults
+            if self.absolute_ok:
+                self.absolute_word = self.absolute.word(x)
         if self.probe is not None:
             self._sample_probe(t, x, x if probe_q is None else probe_q)
         self.t, self._x = t, x
@@ -560,9 +570,11 @@ class AxisChannel:
 
     def absolute_position(self) -> float | None:
         """The position the absolute sensor's last word stands for [m or rad]; None without
-        an absolute sensor."""
+        an absolute sensor or when the last frame failed its check."""
         absolute = self.absolute
-        return None if absolute is None else absolute.position(self.absolute_word)
+        if absolute is None or not self.absolute_ok:
+            return None
+        return absolute.position(self.absolute_word)
 
     @property
     def position(self) -> float:

@@ -341,19 +341,25 @@ class AbsoluteCoordinate(Command):
         self.offset = offset
         self.position = 0.0
         """The model position it keeps [u], rebased."""
+        self.failed = False
+        """No valid reading at the start (a frame error): the axis error EAbsFrame follows."""
 
     def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
         io = axis.io
         reading = io.absolute_position()
         delta = 0.0
+        self.failed = reading is None
         if reading is not None:
             target = reading * (axis.config.resolution / io.resolution) + self.offset
             delta = target - axis.actual
             axis.rebase(delta)
+            axis.Ref = True
         self.position = p + delta
-        axis.Ref = True
 
     def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
+        if self.failed:  # the frame failed between the call and the start (a buffered step)
+            axis.fault(ErrorID.EAbsFrame)
+            return axis.sp_pos, axis.sp_vel, axis.sp_acc
         self.signal = True
         return self.position, 0.0, 0.0
 
@@ -541,8 +547,10 @@ class MC_StepAbsolute(MotionFB):
     follows the sensor, and is the same after a power cycle. Refused like MC_StepDirect
     (Disabled ``Epower``, ErrorStop ``Eerrstop``, Stopping ``EAxStop``, a moving axis with
     Aborting ``EParam``); Offset NaN/infinite gives ``EParam``; then an axis without an absolute
-    sensor gives ``ENoAbsolute`` 21. A refused block leaves the axis untouched (coordinate, Ref,
-    state).
+    sensor gives ``ENoAbsolute`` 21, a frame that failed its parity / CRC check
+    (:class:`mcl.faults.AbsoluteFrameError`) ``EAbsFrame`` 22. A refused block leaves the axis
+    untouched (coordinate, Ref, state). Should the frame fail between a buffered call and the
+    step's start, the step ends with the axis error ``EAbsFrame`` (ErrorStop), Ref stays unset.
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("Offset",)
@@ -558,6 +566,8 @@ class MC_StepAbsolute(MotionFB):
             return ErrorID.EParam
         if axis.io.absolute is None:
             return ErrorID.ENoAbsolute
+        if axis.io.absolute_position() is None:
+            return ErrorID.EAbsFrame  # a frame failed its check: its word is not used
         if mode == MC_BufferMode.Aborting and axis.moving:
             return ErrorID.EParam  # the axis must stand still
         return AbsoluteCoordinate(mode, offset)

@@ -18,8 +18,11 @@ from typing import Any
 import pytest
 
 import mcl
+import scenes
 from mcl import AbsoluteEncoder, AxisState, ErrorID
+from mcl import faults as flt
 from scenes.machines import gantry
+from scenes.machines.press import RAM_SSI
 from scenes.scene import Scene
 from tests.helpers import make_machine, tick
 
@@ -298,3 +301,83 @@ def test_gantry_after_a_power_cycle_the_same_point_gets_the_same_coordinate() ->
     assert_coordinate_is_the_joint(again)
     for name, axis in again.axes.items():
         assert axis.actual == pytest.approx(before[name], abs=2 * COUNT), name
+
+
+# ---------------------------------------------------------------------- the press' SSI transducer
+PRESS_COUNT = 0.005
+"""One count of the ram's incremental encoder and of its SSI transducer [mm]."""
+PRESS_TOL = 2 * PRESS_COUNT + 1e-9
+"""How far the ram's coordinate may lie from its joint coordinate once homed [mm]: one count
+of the transducer (the reading is truncated) and one of the incremental encoder, whose grid
+starts where the ram stood at power-up, not on the transducer's."""
+
+
+def press(q: float) -> scenes.Scene:
+    """The MuJoCo press, the ram at joint coordinate ``q`` [m] at power-up."""
+    return scenes.load("press", start={"R": q}, trace_every=0)
+
+
+def step_ram(scene: scenes.Scene, settle: float = 0.1) -> mcl.MC_StepAbsolute:
+    """Power the ram, then MC_StepAbsolute once powered; until Done or Error, ``settle`` more."""
+    R = scene.axes["R"]
+    power, step = mcl.MC_Power(), mcl.MC_StepAbsolute()
+
+    def program() -> None:
+        power(Axis=R, Enable=True)
+        step(Axis=R, Execute=power.Status)
+
+    scene.run(program, until=lambda: step.Done or step.Error, timeout=1.0)
+    scene.run(program, timeout=settle)
+    return step
+
+
+def ram_mm(scene: scenes.Scene) -> float:
+    return joint_mm(scene, "R")
+
+
+def test_press_ram_carries_a_gray_coded_ssi_transducer() -> None:
+    scene = press(0.1234567)
+    io = scene.io("R")
+    assert io.absolute == RAM_SSI and RAM_SSI.gray and RAM_SSI.bits == 24
+    assert io.counts == 0
+    reading = io.absolute_position()
+    assert reading is not None and abs(reading - 0.1234567) <= 5.0e-6
+
+
+@pytest.mark.parametrize("q", [0.0423171, 0.1876543])
+def test_press_coordinate_after_power_on_is_the_joint_coordinate(q: float) -> None:
+    scene = press(q)
+    step = step_ram(scene)
+    R = scene.axes["R"]
+    assert step.Done and R.Ref and R.state == AxisState.StandStill
+    error = R.actual - ram_mm(scene)
+    assert abs(error) <= PRESS_TOL, error
+
+
+def test_press_after_a_power_cycle_the_same_point_gets_the_same_coordinate() -> None:
+    scene = press(0.0617283)
+    step_ram(scene)
+    R = scene.axes["R"]
+    before, q = R.actual, ram_mm(scene) / 1000.0
+    again = press(q)
+    step_ram(again)
+    assert again.axes["R"].actual == pytest.approx(before, abs=2 * PRESS_COUNT)
+    assert abs(again.axes["R"].actual - ram_mm(again)) <= PRESS_TOL
+
+
+def test_press_frame_error_is_reported_not_used() -> None:
+    """A corrupted SSI frame (parity/CRC bad): MC_StepAbsolute refuses with EAbsFrame 22, the
+    coordinate stays the incremental one (0 at power-up) and Ref unset; once the line is clean
+    again the step homes the ram."""
+    scene = press(0.0917)
+    R = scene.axes["R"]
+    scene.faults.set("R", flt.AbsoluteFrameError())
+    scene.run(timeout=0.01)
+    assert scene.io("R").absolute_position() is None and not scene.io("R").absolute_ok
+    step = step_ram(scene)
+    assert step.Error and step.ErrorID == ErrorID.EAbsFrame == 22 and not R.Ref
+    assert abs(R.actual) < 0.1, "the coordinate was not touched"
+    scene.faults.clear("R", flt.AbsoluteFrameError())
+    step = step_ram(scene)
+    assert step.Done and R.Ref
+    assert abs(R.actual - ram_mm(scene)) <= PRESS_TOL
