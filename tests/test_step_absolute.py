@@ -381,3 +381,59 @@ def test_press_frame_error_is_reported_not_used() -> None:
     step = step_ram(scene)
     assert step.Done and R.Ref
     assert abs(R.actual - ram_mm(scene)) <= PRESS_TOL
+
+
+# ---------------------------------------------------------------------- buffered after a search
+def searching_axis() -> tuple[mcl.SimMachine, mcl.Axis]:
+    """The simulated axis of tests/test_homing_sim.py (REF 203.5 … 253.7 mm, start 302.3 mm)
+    with the SSI transducer."""
+    from tests.test_homing_sim import LAYOUT
+
+    layout: dict[str, Any] = {**LAYOUT, "sensors": replace(mcl.IDEAL_SENSORS, absolute=SSI)}
+    machine = make_machine({"X": mcl.SimAxisParams(**layout)}, referenced=False)
+    return machine, machine.axes["X"]
+
+
+SEARCH = {
+    "Direction": mcl.MC_Direction.MC_Negative,
+    "Velocity": 20.0,
+    "SwitchMode": mcl.MC_SwitchMode.MC_EdgeOn,
+}
+
+
+def test_buffered_after_a_search_reads_the_sensor_where_the_search_left_the_axis() -> None:
+    machine, X = searching_axis()
+    search, step = mcl.MC_StepAbsSwitch(), mcl.MC_StepAbsolute()
+    buffered = mcl.MC_BufferMode.Buffered
+
+    def program() -> None:
+        search(Axis=X, Execute=True, **SEARCH)
+        step(Axis=X, Execute=True, BufferMode=buffered)
+
+    machine.run(program, until=lambda: step.Done or step.Error or search.Error, timeout=30.0)
+    assert search.Done and step.Done and not step.Error
+    machine.run(program, timeout=0.3)
+    x = machine.sims["X"].x
+    assert x < 0.2537 + 1e-3, "the search went to the REF switch"
+    assert X.Ref and X.state == AxisState.StandStill
+    assert pytest.approx(x * 1000.0, abs=2 * COUNT) == X.POS
+
+
+def test_buffered_step_is_aborted_with_the_search_by_mc_stop() -> None:
+    machine, X = searching_axis()
+    search, step, stop = mcl.MC_StepAbsSwitch(), mcl.MC_StepAbsolute(), mcl.MC_Stop()
+    buffered = mcl.MC_BufferMode.Buffered
+    state = {"stop": False}
+
+    def program() -> None:
+        search(Axis=X, Execute=True, **SEARCH)
+        step(Axis=X, Execute=True, BufferMode=buffered)
+        stop(Axis=X, Execute=state["stop"])
+
+    machine.run(program, timeout=0.5)
+    assert search.Busy and step.Busy and not step.Done
+    state["stop"] = True
+    machine.run(program, until=lambda: step.CommandAborted or step.Done, timeout=1.0)
+    assert step.CommandAborted and not (step.Done or step.Busy or step.Error)
+    assert search.CommandAborted
+    assert not X.Ref
