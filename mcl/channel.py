@@ -476,6 +476,9 @@ class AxisChannel:
         self._pending = s.pending
         self._physical = list(s.physical)
         self._trip = list(s.trip)
+        self.absolute_ok = "absolute" not in self._faults
+        if self.absolute is not None and self.absolute_ok:
+            self.absolute_word = self.absolute.word(s.x)  # a function of the position
 
     # ------------------------------------------------------------------ faults
     @property

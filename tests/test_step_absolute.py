@@ -102,6 +102,18 @@ def test_the_absolute_reading_is_known_at_power_on_unlike_the_incremental_counte
     assert reading == pytest.approx(START, abs=1.0e-6) and reading <= START
 
 
+def test_channel_snapshot_restores_the_reading_and_its_frame_state() -> None:
+    channel = mcl.AxisChannel("A", 1.0e-6, 1000, sensors=replace(mcl.IDEAL_SENSORS, absolute=SSI))
+    channel.sample(0.001, 0.1, 0.1, 0.1, 0.1)
+    snap = channel.snapshot()
+    channel.set_fault(flt.AbsoluteFrameError())
+    channel.sample(0.002, 0.2, 0.2, 0.2, 0.2)
+    assert channel.absolute_position() is None
+    channel.restore(snap)
+    assert channel.absolute_ok
+    assert channel.absolute_position() == pytest.approx(0.1, abs=1.0e-6)
+
+
 # ---------------------------------------------------------------------- the block
 def test_step_absolute_sets_the_coordinate_from_the_sensor_ref_standstill_no_motion() -> None:
     machine, X = absolute_axis()
