@@ -29,6 +29,7 @@ from mcl.administrative import (
 from mcl.axis import Axis, AxisConfig, AxisSnapshot
 from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
+from mcl.encoder import AbsoluteEncoder
 from mcl.enums import (
     AxisState,
     GroupState,
@@ -56,6 +57,7 @@ from mcl.group_fb import (
 )
 from mcl.homing import (
     MC_FinishHoming,
+    MC_StepAbsolute,
     MC_StepAbsSwitch,
     MC_StepBlock,
     MC_StepDirect,
@@ -116,6 +118,7 @@ __all__ = [
     "MC_TP_REF",
     "MC_TV",
     "MC_TV_REF",
+    "AbsoluteEncoder",
     "AxesGroup",
     "Axis",
     "AxisChannel",
@@ -178,6 +181,7 @@ __all__ = [
     "MC_SetOverride",
     "MC_SetPosition",
     "MC_StepAbsSwitch",
+    "MC_StepAbsolute",
     "MC_StepBlock",
     "MC_StepDirect",
     "MC_StepLimitSwitch",

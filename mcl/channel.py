@@ -24,7 +24,7 @@ import numpy as np
 from mypy_extensions import mypyc_attr
 
 from mcl import faults as flt
-from mcl.encoder import EncoderState, IncrementalEncoder
+from mcl.encoder import AbsoluteEncoder, EncoderState, IncrementalEncoder
 from mcl.errors import StateError, check_finite
 from mcl.servo import DAC_FULL_SCALE
 
@@ -116,6 +116,9 @@ class Sensors:
         output_delay: servo cycles between sampling the inputs and the command reaching the
             drive (0 or 1).
         seed: seed of the noise; each axis draws its own sequence (from the seed and its name).
+        absolute: the axis' absolute measuring system besides its incremental encoder (None:
+            none; MC_StepAbsolute then refuses): a multi-turn absolute rotary encoder or an SSI
+            linear transducer (:class:`mcl.encoder.AbsoluteEncoder`), read at the true position.
     """
 
     switch_hysteresis: float = 10.0e-6
@@ -124,6 +127,7 @@ class Sensors:
     index_jitter: float = 0.3
     output_delay: int = 1
     seed: int = 0
+    absolute: AbsoluteEncoder | None = None
 
     def __post_init__(self) -> None:
         names = ("switch_hysteresis", "switch_repeatability", "encoder_noise", "index_jitter")
@@ -316,6 +320,13 @@ class AxisChannel:
         self.index = self.lim_pos = self.lim_neg = self.ref = self.tp = False
         self.tp_count = self.tp_seq = 0
         self.encoder_ok = True
+        self.absolute = sensors.absolute
+        """The absolute measuring system (None: the axis has none)."""
+        self.absolute_word = 0 if self.absolute is None else self.absolute.word(origin)
+        """The last word the absolute sensor sent (known from power-on)."""
+        self.absolute_ok = True
+        """The last frame passed its check (False under :class:`mcl.faults.AbsoluteFrameError`:
+        the word is discarded)."""
         self.analog: Sequence[float] = ()
         self.inputs: Sequence[bool] = ()
         self.outputs = [False] * digital_outputs
@@ -465,6 +476,9 @@ class AxisChannel:
         self._pending = s.pending
         self._physical = list(s.physical)
         self._trip = list(s.trip)
+        self.absolute_ok = "absolute" not in self._faults
+        if self.absolute is not None and self.absolute_ok:
+            self.absolute_word = self.absolute.word(s.x)  # a function of the position
 
     # ------------------------------------------------------------------ faults
     @property
@@ -492,6 +506,8 @@ class AxisChannel:
         if seed is not None:
             self._rngs[key] = random.Random(seed)
         self._faults[key] = fault
+        if isinstance(fault, flt.AbsoluteFrameError):
+            self.absolute_ok = False  # the module sees the bad frame at once
 
     def clear_fault(self, fault: flt.Fault) -> None:
         """Remove ``fault`` if it is set (a frozen counter resumes from where it stopped)."""
@@ -500,6 +516,9 @@ class AxisChannel:
             if isinstance(fault, flt.EncoderFreeze | flt.EncoderWireBreak):
                 self._frozen_at = None
                 self.encoder_ok = True
+            if isinstance(fault, flt.AbsoluteFrameError) and self.absolute is not None:
+                self.absolute_ok = True  # the next frame is good: the position now
+                self.absolute_word = self.absolute.word(self._x)
 
     # ------------------------------------------------------------------ inputs
     def sample(
@@ -542,11 +561,23 @@ class AxisChannel:
         self.index_seq = enc.index_seq
         self.lim_pos, self.lim_neg, self.ref = lim_pos, lim_neg, ref
         self.analog = analog
+        if self.absolute is not None:
+            self.absolute_ok = "absolute" not in self._faults
+            if self.absolute_ok:
+                self.absolute_word = self.absolute.word(x)
         if self.probe is not None:
             self._sample_probe(t, x, x if probe_q is None else probe_q)
         self.t, self._x = t, x
         if self._pending is not None:  # driven by hand: no runtime latched it at this instant
             self.latch(t)
+
+    def absolute_position(self) -> float | None:
+        """The position the absolute sensor's last word stands for [m or rad]; None without
+        an absolute sensor or when the last frame failed its check."""
+        absolute = self.absolute
+        if absolute is None or not self.absolute_ok:
+            return None
+        return absolute.position(self.absolute_word)
 
     @property
     def position(self) -> float:

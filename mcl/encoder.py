@@ -152,3 +152,78 @@ class IncrementalEncoder:
             absolute_count += round(self._jitter * self._rng.next())
         self.index_count = absolute_count - self._origin
         self.index_seq += 1
+
+
+def gray_decode(word: int) -> int:
+    """The binary value of a Gray-coded word."""
+    value = word
+    shift = word >> 1
+    while shift:
+        value ^= shift
+        shift >>= 1
+    return value
+
+
+@dataclass(frozen=True, slots=True)
+class AbsoluteEncoder:
+    """An absolute measuring system: its word is a function of the position, known at power-on.
+
+    One model for both kinds: a multi-turn absolute rotary encoder on the motor (word = turns ·
+    2**single-turn bits + angle; :meth:`rotary`) and an SSI linear transducer (:meth:`ssi`). The
+    reading counts ``resolution`` steps from ``offset`` and wraps after ``2**bits`` of them (a
+    multi-turn encoder past its 4096 turns, an SSI transducer past its word length).
+
+    Attributes:
+        resolution: travel per count at the axis [m or rad].
+        bits: word length: the reading wraps modulo ``2**bits``.
+        offset: physical position where the reading is 0 [m or rad].
+        gray: the word is transmitted Gray-coded (an SSI option); the channel decodes it.
+    """
+
+    resolution: float
+    bits: int = 29
+    offset: float = 0.0
+    gray: bool = False
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.resolution) and self.resolution > 0.0):
+            raise ValueError(f"AbsoluteEncoder.resolution must be > 0, got {self.resolution!r}")
+        if not 1 <= self.bits <= 48:
+            raise ValueError(f"AbsoluteEncoder.bits must be 1 .. 48, got {self.bits!r}")
+        if not math.isfinite(self.offset):
+            raise ValueError(f"AbsoluteEncoder.offset must be finite, got {self.offset!r}")
+
+    @staticmethod
+    def rotary(
+        travel_per_rev: float, single_turn: int = 17, multi_turn: int = 12, offset: float = 0.0
+    ) -> AbsoluteEncoder:
+        """A multi-turn absolute encoder on the motor: ``single_turn`` bits per revolution,
+        ``multi_turn`` bits of revolutions; ``travel_per_rev`` is the axis travel per motor
+        revolution [m or rad] (the screw lead over the gear ratio)."""
+        resolution = travel_per_rev / float(1 << single_turn)
+        return AbsoluteEncoder(resolution, single_turn + multi_turn, offset)
+
+    @staticmethod
+    def ssi(
+        resolution: float = 1.0e-6, bits: int = 24, offset: float = 0.0, gray: bool = False
+    ) -> AbsoluteEncoder:
+        """An SSI linear transducer (magnetostrictive, e.g. 1 µm or 5 µm, 24 or 25 bit)."""
+        return AbsoluteEncoder(resolution, bits, offset, gray)
+
+    @property
+    def span(self) -> float:
+        """Travel before the reading wraps [m or rad]."""
+        return self.resolution * float(1 << self.bits)
+
+    def word(self, position: float) -> int:
+        """The word the sensor sends at ``position`` [m or rad] (Gray-coded if :attr:`gray`)."""
+        count = math.floor((position - self.offset) / self.resolution + 1e-9) % (1 << self.bits)
+        return count ^ (count >> 1) if self.gray else count
+
+    def count(self, word: int) -> int:
+        """The count a received word stands for (0 .. 2**bits − 1)."""
+        return gray_decode(word) if self.gray else word
+
+    def position(self, word: int) -> float:
+        """The position a received word stands for [m or rad]: offset + count · resolution."""
+        return self.offset + self.count(word) * self.resolution

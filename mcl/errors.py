@@ -49,6 +49,11 @@ class ErrorID(IntEnum):
     way round)."""
     EReadOnly = 20
     """Beyond the Teco library (MC_WriteParameter): the parameter can only be read."""
+    ENoAbsolute = 21
+    """Beyond the Teco library (MC_StepAbsolute): the axis has no absolute measuring system."""
+    EAbsFrame = 22
+    """Beyond the Teco library (MC_StepAbsolute): the absolute sensor's frame failed its check
+    (parity / CRC; :class:`mcl.faults.AbsoluteFrameError`): the reading is not used."""
     EGroupMember = 1000
     EGroupFull = 1001
     ENotGroupMember = 1003
@@ -87,6 +92,8 @@ _TEXTS: dict[int, tuple[str, str]] = {
     18: ("slave is not geared", "slave osa není ve vazbě na master"),
     19: ("no parameter of this number and type", "parametr tohoto čísla a typu neexistuje"),
     20: ("parameter is read-only", "parametr je jen pro čtení"),
+    21: ("axis has no absolute encoder", "osa nemá absolutní snímač"),
+    22: ("absolute encoder frame error", "chyba rámce absolutního snímače"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

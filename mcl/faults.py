@@ -86,6 +86,15 @@ class EncoderWireBreak(Fault):
 
 
 @dataclass(frozen=True)
+class AbsoluteFrameError(Fault):
+    """The absolute sensor's serial frames (SSI) arrive corrupted (interference on the clock or
+    data pair): the parity / CRC check fails, the module discards the word and reports it;
+    MC_StepAbsolute then refuses (``EAbsFrame`` 22) instead of using a wrong position."""
+
+    slot = "absolute"
+
+
+@dataclass(frozen=True)
 class DriveNotReady(Fault):
     """The amplifier does not switch on (no ready signal): no force, its brake stays engaged."""
 

@@ -326,6 +326,47 @@ class SetCoordinate(Command):
         self.position += delta
 
 
+class AbsoluteCoordinate(Command):
+    """MC_StepAbsolute: no motion; the actual position becomes the absolute sensor's reading
+    (in axis units) plus an offset, and Ref is set.
+
+    The reading is taken when the command starts (after a preceding buffered step: where that
+    step left the axis); the whole coordinate system moves with it, as for MC_StepDirect.
+    """
+
+    state = AxisState.Homing
+
+    def __init__(self, buffer_mode: MC_BufferMode, offset: float) -> None:
+        super().__init__(buffer_mode)
+        self.offset = offset
+        self.position = 0.0
+        """The model position it keeps [u], rebased."""
+        self.failed = False
+        """No valid reading at the start (a frame error): the axis error EAbsFrame follows."""
+
+    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
+        io = axis.io
+        reading = io.absolute_position()
+        delta = 0.0
+        self.failed = reading is None
+        if reading is not None:
+            target = reading * (axis.config.resolution / io.resolution) + self.offset
+            delta = target - axis.actual
+            axis.rebase(delta)
+            axis.Ref = True
+        self.position = p + delta
+
+    def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
+        if self.failed:  # the frame failed between the call and the start (a buffered step)
+            axis.fault(ErrorID.EAbsFrame)
+            return axis.sp_pos, axis.sp_vel, axis.sp_acc
+        self.signal = True
+        return self.position, 0.0, 0.0
+
+    def rebase(self, delta: float) -> None:
+        self.position += delta
+
+
 # --------------------------------------------------------------------------- function blocks
 
 
@@ -490,6 +531,46 @@ class MC_StepDirect(MotionFB):
         if mode == MC_BufferMode.Aborting and axis.moving:
             return ErrorID.EParam  # the axis must stand still
         return SetCoordinate(mode, position)
+
+
+class MC_StepAbsolute(MotionFB):
+    """Home an axis with an absolute measuring system without motion (PLCopen Part 5
+    MC_StepAbsolute): the actual position becomes the absolute sensor's reading, scaled to axis
+    units, plus Offset [u]; Ref, StandStill.
+
+    The axis' absolute sensor (:attr:`mcl.Sensors.absolute`: a multi-turn absolute encoder or an
+    SSI transducer) gives the position at once, from power-on; nothing is searched, so the step
+    ends in the cycle it starts. The reading is the sensor's travel from its own zero (its
+    ``offset``) converted with the axis' scale (``AxisConfig.resolution`` per incremental count
+    over the channel's travel per count); Offset shifts the coordinate further (0: the axis
+    coordinate is the sensor's). Unlike MC_StepDirect no position is imposed: the coordinate
+    follows the sensor, and is the same after a power cycle. Refused like MC_StepDirect
+    (Disabled ``Epower``, ErrorStop ``Eerrstop``, Stopping ``EAxStop``, a moving axis with
+    Aborting ``EParam``); Offset NaN/infinite gives ``EParam``; then an axis without an absolute
+    sensor gives ``ENoAbsolute`` 21, a frame that failed its parity / CRC check
+    (:class:`mcl.faults.AbsoluteFrameError`) ``EAbsFrame`` 22. A refused block leaves the axis
+    untouched (coordinate, Ref, state). Should the frame fail between a buffered call and the
+    step's start, the step ends with the axis error ``EAbsFrame`` (ErrorStop), Ref stays unset.
+    """
+
+    INPUTS: ClassVar[tuple[str, ...]] = ("Offset",)
+    Offset: float = 0.0
+
+    def _command(self, mode: MC_BufferMode) -> Command | int:
+        axis = self.axis
+        error = axis.check_ready(homing_ok=True)
+        if error:
+            return error
+        offset = number(self.Offset)
+        if not math.isfinite(offset):
+            return ErrorID.EParam
+        if axis.io.absolute is None:
+            return ErrorID.ENoAbsolute
+        if axis.io.absolute_position() is None:
+            return ErrorID.EAbsFrame  # a frame failed its check: its word is not used
+        if mode == MC_BufferMode.Aborting and axis.moving:
+            return ErrorID.EParam  # the axis must stand still
+        return AbsoluteCoordinate(mode, offset)
 
 
 class MC_FinishHoming(MotionFB):

@@ -456,6 +456,8 @@ ERROR_TEXTS: dict[int, tuple[str, str]] = {
     18: ("slave is not geared", "slave osa není ve vazbě na master"),
     19: ("no parameter of this number and type", "parametr tohoto čísla a typu neexistuje"),
     20: ("parameter is read-only", "parametr je jen pro čtení"),
+    21: ("axis has no absolute encoder", "osa nemá absolutní snímač"),
+    22: ("absolute encoder frame error", "chyba rámce absolutního snímače"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

@@ -688,6 +688,8 @@ BAD_PARAMETERS: list[tuple[str, type[ExecuteFB], dict[str, Any], int]] = [
         5,
     ),
     ("flying ref pulse time limit negative", mcl.MC_StepRefFlyingRefPulse, {"TimeLimit": -1.0}, 5),
+    ("step absolute offset NaN", mcl.MC_StepAbsolute, {"Offset": math.nan}, 5),
+    ("step absolute without absolute sensor", mcl.MC_StepAbsolute, {}, 21),
 ]
 
 
@@ -914,6 +916,7 @@ NO_AXIS_CALLS: list[tuple[type[Any], dict[str, Any]]] = [
     (mcl.MC_SetPosition, {"Execute": True, "Position": 5.0}),
     (mcl.MC_StepRefFlyingSwitch, {"Execute": True, "SetPosition": 5.0}),
     (mcl.MC_StepRefFlyingRefPulse, {"Execute": False}),
+    (mcl.MC_StepAbsolute, {"Execute": True}),
     (mcl.MC_ReadParameter, {"Enable": True, "ParameterNumber": 1}),
     (mcl.MC_ReadBoolParameter, {"Enable": False}),
     (mcl.MC_WriteParameter, {"Execute": True, "ParameterNumber": 9, "Value": 100.0}),

@@ -45,6 +45,10 @@ STEP_BLOCK_INPUTS = {
 }
 """The inputs of the MC_StepBlock that :data:`BLOCK_HOMING` runs."""
 
+RAM_SSI = mcl.AbsoluteEncoder.ssi(resolution=5.0e-6, bits=24, offset=-0.010, gray=True)
+"""The ram's SSI linear transducer (magnetostrictive, models/README.md): 5 µm, 24 bit Gray,
+its zero 10 mm above the ram's top (the null zone), so the stroke reads 2000 … 62000 counts."""
+
 AXES = {
     "R": AxisDef(
         config=mcl.AxisConfig(
@@ -73,6 +77,7 @@ AXES = {
         device="cylinder",
         analog=ANALOG_INPUTS,
         homing=BLOCK_HOMING,
+        sensors=mcl.Sensors(absolute=RAM_SSI),
     )
 }
 """The ram axis (user unit mm)."""
