@@ -34,9 +34,12 @@ lint: setup
 typecheck: setup
 	$(VENV)/bin/mypy
 
-# the whole suite in the active mode, then again in pure Python when the active one is compiled
+# the browser tests first, alone (headless Chromium renders the 3-D view in software and needs
+# the cores; beside physics tests its input events starve), then the rest of the suite in the
+# active mode, then again in pure Python when the active one is compiled
 pytest: setup
-	$(PY) -m pytest -n auto --dist loadgroup
+	$(PY) -m pytest -n 0 -m browser
+	$(PY) -m pytest -n auto --dist loadgroup -m "not browser"
 	@if $(PY) -c "import mcl, sys; sys.exit(not mcl.COMPILED)"; then \
 		echo "== the same suite in pure Python (the browser tests drive the page, which is the same"; \
 		echo "   in both modes: they ran above)"; \
