@@ -27,6 +27,7 @@ BUILTIN = {
     "flying_shear": "scenes.machines.flying_shear:MACHINE",
     "gantry": "scenes.machines.gantry:MACHINE",
     "press": "scenes.machines.press:MACHINE",
+    "rotary_cutter": "scenes.machines.rotary_cutter:MACHINE",
     "single_axis": "scenes.machines.single_axis:MACHINE",
 }
 """The project's own machines: name → where its definition is."""

@@ -1,0 +1,57 @@
+"""The rotary cross cutter (models/rotary_cutter.xml): a web line cut across by a knife drum.
+
+Three mcl axes (:mod:`.axes`): ``L`` the web feed (pinch rolls, MC_MoveVelocity), ``W`` the
+measuring wheel (encoder only: the drum's master, its touch probe wired to the mark sensor) and
+``D`` the knife drum (modulo 360°, homed on its REF cam and the motor's index). Python devices
+run before every physics step: the measuring wheel's errors (the flying shear's wheel, measurement
+only) and :class:`KnifeDrum` (:mod:`.devices`): the blades in the web (cutting force, grip along
+the web) and every cut taken from the physics (a piece is cut when a blade's tip has gone through
+the web). :class:`Demo` (:mod:`.demo`) is the PLC program: the drum geared to the wheel with
+MC_GearIn, tip speed = web speed, so each piece is one blade pitch long. :mod:`.definition` is
+the machine in the registry.
+"""
+
+from scenes.machines.rotary_cutter.axes import (
+    AXES,
+    GEAR_RATIO,
+    HOMING,
+    PREFIX,
+    ROLL_RADIUS,
+    SENSOR_DELAY,
+    TIP_CIRCUMFERENCE,
+    WHEEL_RADIUS,
+)
+from scenes.machines.rotary_cutter.definition import DEVICES, MACHINE
+from scenes.machines.rotary_cutter.demo import DRUM_SPEED_LIMIT, CutterJob, Demo
+from scenes.machines.rotary_cutter.devices import (
+    MARK_PITCH,
+    MARKS,
+    Cut,
+    KnifeDrum,
+    marks,
+)
+
+COMPILED_MODULES = ("devices",)
+"""The modules of this package that the compiled build covers (its devices, run every physics
+step)."""
+
+__all__ = [
+    "AXES",
+    "DEVICES",
+    "DRUM_SPEED_LIMIT",
+    "GEAR_RATIO",
+    "HOMING",
+    "MACHINE",
+    "MARKS",
+    "MARK_PITCH",
+    "PREFIX",
+    "ROLL_RADIUS",
+    "SENSOR_DELAY",
+    "TIP_CIRCUMFERENCE",
+    "WHEEL_RADIUS",
+    "Cut",
+    "CutterJob",
+    "Demo",
+    "KnifeDrum",
+    "marks",
+]
