@@ -6,6 +6,7 @@ is where the blade's tip was on the web when it went through it (its depth from 
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -88,7 +89,7 @@ def test_geared_pieces_are_one_blade_pitch_long_from_the_physics(blades: int) ->
     assert abs(lengths.mean() - pitch) < 0.1, lengths
     turns = [c.blade for c in pieces]
     assert set(turns) == set(range(1, blades + 1))
-    assert all(a != b for a, b in zip(turns, turns[1:], strict=False)) or blades == 1
+    assert all(a != b for a, b in itertools.pairwise(turns)) or blades == 1
     assert all(c.through and 0.3 <= c.depth <= 0.36 for c in pieces)
     mismatch = max(c.mismatch for c in pieces)
     assert 0.0044 < mismatch < 0.015, mismatch
