@@ -23,13 +23,8 @@ from scenes.machines.rotary_cutter.axes import (
 )
 from scenes.machines.rotary_cutter.definition import DEVICES, MACHINE
 from scenes.machines.rotary_cutter.demo import DRUM_SPEED_LIMIT, CutterJob, Demo
-from scenes.machines.rotary_cutter.devices import (
-    MARK_PITCH,
-    MARKS,
-    Cut,
-    KnifeDrum,
-    marks,
-)
+from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
+from scenes.machines.rotary_cutter.marks import MARK_PITCH, MARKS, PRINT_MARKS, PrintMarks
 
 COMPILED_MODULES = ("devices",)
 """The modules of this package that the compiled build covers (its devices, run every physics
@@ -45,6 +40,7 @@ __all__ = [
     "MARKS",
     "MARK_PITCH",
     "PREFIX",
+    "PRINT_MARKS",
     "ROLL_RADIUS",
     "SENSOR_DELAY",
     "TIP_CIRCUMFERENCE",
@@ -53,5 +49,5 @@ __all__ = [
     "CutterJob",
     "Demo",
     "KnifeDrum",
-    "marks",
+    "PrintMarks",
 ]

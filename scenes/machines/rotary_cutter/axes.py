@@ -13,7 +13,7 @@ import math
 
 import mcl
 from scenes.definition import AxisDef
-from scenes.machines.rotary_cutter.devices import MARKS
+from scenes.machines.rotary_cutter.marks import MARKS
 from scenes.plant.mujoco import Probe
 from scenes.procedures import HomingRecipe
 

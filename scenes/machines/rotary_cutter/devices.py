@@ -7,7 +7,6 @@ errors are the flying shear's (:class:`scenes.machines.flying_shear.devices.Meas
 from __future__ import annotations
 
 import math
-import random
 from dataclasses import dataclass
 from typing import Any
 
@@ -15,40 +14,7 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
-import mcl
 from scenes.plant.mujoco import numeric
-
-MARK_PITCH = 0.5
-"""Print-mark pitch on the web [m] (one mark per 500 mm piece)."""
-MARK_FIRST = 1.0
-"""Web travel M [m] at which the first mark passes the sensor."""
-PRINT_ERROR = 2.0e-4
-"""Print error of a mark: uniform within ± this [m] (seeded)."""
-SENSOR_JITTER = 2.5e-5
-"""Mark sensor jitter at 1 m/s: its switching point scatters uniformly within ± this [m]
-(±25 µs of a contrast scanner's response)."""
-
-
-def marks(
-    print_error: float = PRINT_ERROR, jitter: float = SENSOR_JITTER, seed: int = 25
-) -> mcl.Marks:
-    """The print marks on the web coordinate M as the sensor sees them: mark k passes at
-    ``M = MARK_FIRST + k·MARK_PITCH + print error_k + jitter_k`` [m] (each uniform within ±,
-    seeded; 256 marks, then cycled); 0 and 0: ideal marks and an ideal sensor."""
-    if not (print_error >= 0.0 and jitter >= 0.0):
-        raise ValueError(f"print_error and jitter must be >= 0 [m], got {print_error}, {jitter}")
-    rng = random.Random(seed)
-    errors = tuple(
-        round(rng.uniform(-print_error, print_error) + rng.uniform(-jitter, jitter), 7)
-        for _ in range(256)
-    )
-    return mcl.Marks(
-        first=MARK_FIRST, pitch=MARK_PITCH, width=0.004, errors=errors if any(errors) else ()
-    )
-
-
-MARKS = marks()
-"""The model's print marks and mark sensor (:func:`marks` with its defaults)."""
 
 
 def _wrap(angle: float) -> float:
