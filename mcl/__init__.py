@@ -39,6 +39,7 @@ from mcl.enums import (
     MC_SwitchMode,
 )
 from mcl.errors import ErrorID, StateError, error_text
+from mcl.flying_reference import MC_StepRefFlyingRefPulse, MC_StepRefFlyingSwitch
 from mcl.force import MC_ForceControl
 from mcl.gearing import MC_GearIn, MC_GearInPos, MC_GearOut
 from mcl.group import AxesGroup
@@ -62,8 +63,6 @@ from mcl.homing import (
     MC_StepBlock,
     MC_StepDirect,
     MC_StepLimitSwitch,
-    MC_StepRefFlyingRefPulse,
-    MC_StepRefFlyingSwitch,
     MC_StepRefPulse,
 )
 from mcl.inputs_outputs import (

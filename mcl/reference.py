@@ -41,6 +41,7 @@ CHAPTER_ORDER = (
     "profiles",
     "override",
     "homing",
+    "flying_reference",
     "gearing",
     "force",
     "touch_probe",
