@@ -15,8 +15,9 @@ import threading
 from collections.abc import Sequence
 
 import scenes
-from scenes.bridge.modbus import Server, check_host, device
+from scenes.bridge.modbus import Server, device
 from scenes.bridge.program import BridgeProgram
+from scenes.bridge.serving import check_host
 from scenes.bridge.table import SignalTable, tables_of
 from scenes.scene import Scene
 
