@@ -5,12 +5,14 @@ with the client (:mod:`scenes.bridge.pacing`). The same tables, blocks, rules an
 the Modbus server's (:mod:`scenes.bridge.modbus`).
 
 Security: the server binds loopback and serves it without security (anonymous, no encryption),
-as the Modbus server does. Another address needs ``allow`` (the client addresses accepted; every
-other connection is closed at once), and there — or on loopback with ``secure`` — only encrypted
+as the Modbus server does. On another address — or on loopback with ``secure`` — only encrypted
 sessions of the user :data:`USER` are served: endpoints Basic256Sha256 and Aes256Sha256RsaPss,
-SignAndEncrypt only; no anonymous session; the password from the environment variable
-:data:`PASSWORD_ENV`; a self-signed server certificate made in ``certs`` on the first start. A
-client's certificate is accepted as it comes (the password says who may command).
+SignAndEncrypt only; no anonymous session, none without encryption; the password from a file
+only its owner may read (``--password-file``) or from the environment variable
+:data:`PASSWORD_ENV`; a self-signed server certificate made on the first start in ``certs``, a
+directory only its owner may enter. A client's certificate is accepted as it comes (the password
+says who may command). ``allow`` (optional) restricts the client addresses further: every other
+connection is closed at once.
 
 Bounded: at most :data:`MAX_CONNECTIONS` connections and :data:`MAX_SUBSCRIPTIONS`
 subscriptions, messages of :data:`MAX_MESSAGE` bytes; a session must be activated within
@@ -26,8 +28,9 @@ import hmac
 import logging
 import os
 import socket
+import stat
 import tempfile
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -35,11 +38,13 @@ from typing import Any
 from asyncua import Server as UaServer
 from asyncua import ua
 from asyncua.common.connection import TransportLimits
+from asyncua.common.utils import ServiceError
 from asyncua.crypto import uacrypto
 from asyncua.crypto.cert_gen import setup_self_signed_certificate
 from asyncua.crypto.permission_rules import User, UserRole
 from asyncua.server.binary_server_asyncio import BinaryServer, OPCUAProtocol
 from asyncua.server.internal_server import InternalServer
+from asyncua.server.uaprocessor import UaProcessor
 from asyncua.server.user_managers import UserManager
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
@@ -48,7 +53,7 @@ from scenes.bridge.opcua_nodes import BridgeNodes
 from scenes.bridge.serving import (
     admitted,
     allowed,
-    check_host,
+    check_allow,
     is_loopback,
     run_command,
     stop_on_signals,
@@ -110,29 +115,71 @@ def security_of(
     allow: Sequence[str] = (),
     secure: bool = False,
     certs: Path = CERTS,
-    environ: Any = os.environ,
+    password_file: Path | None = None,
+    environ: Mapping[str, str] = os.environ,
 ) -> Security:
-    """The security of a server on ``host``: secure beyond loopback (which needs ``allow``) or
-    when asked for; its password from :data:`PASSWORD_ENV`.
+    """The security of a server on ``host``: secure beyond loopback, or when asked for; the
+    password read from ``password_file`` (of mode 0600 or stricter) or else from
+    :data:`PASSWORD_ENV`; the certificate's directory checked (:func:`check_certs`).
 
     Raises:
-        ValueError: a host beyond loopback without ``allow``, a bad address in it, a secure
-            server without a password.
+        ValueError: a bad address in ``allow``, a secure server without a password, a password
+            file others may read, a certificate directory others may enter.
     """
-    check_host(
-        host,
-        allow,
-        server="OPC UA",
-        why="beyond it the server needs the PLCs' addresses, and serves them encrypted",
-    )
+    check_allow(allow)
     if not (secure or not is_loopback(host)):
         return Security(None, certs)
-    password = environ.get(PASSWORD_ENV, "")
+    password = read_password(password_file) if password_file else environ.get(PASSWORD_ENV, "")
     if not password:
         raise ValueError(
-            f"a secure OPC UA server needs the password of user {USER!r}: set {PASSWORD_ENV}"
+            f"a secure OPC UA server (beyond loopback, or --secure) needs the password of user "
+            f"{USER!r}: set {PASSWORD_ENV} or give --password-file FILE (mode 0600)"
         )
+    check_certs(certs)
     return Security(password, certs)
+
+
+def read_password(path: Path) -> str:
+    """The password in the first line of ``path``, a file only its owner may read or write.
+
+    Raises:
+        ValueError: no such file, others may read or write it, or its first line is empty.
+    """
+    try:
+        mode = path.stat().st_mode
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeError) as error:
+        raise ValueError(f"--password-file {path}: {error}") from None
+    if mode & 0o077:
+        raise ValueError(
+            f"--password-file {path}: others may read or write it (mode {mode & 0o777:o}); "
+            f"expected mode 600: chmod 600 {path}"
+        )
+    password = text.splitlines()[0] if text else ""
+    if not password:
+        raise ValueError(f"--password-file {path}:1: the password is empty")
+    return password
+
+
+def check_certs(certs: Path) -> None:
+    """Make the certificate directory ``certs`` (mode 0700) or check that only its owner may
+    enter an existing one.
+
+    Raises:
+        ValueError: it cannot be made, is no directory, or others may enter it.
+    """
+    try:
+        certs.mkdir(parents=True, exist_ok=True, mode=0o700)
+        mode = certs.stat().st_mode
+    except OSError as error:
+        raise ValueError(f"--certs {certs}: {error}") from None
+    if not stat.S_ISDIR(mode):
+        raise ValueError(f"--certs {certs}: not a directory")
+    if mode & 0o077:
+        raise ValueError(
+            f"--certs {certs}: others may enter it (mode {mode & 0o777:o}), and it keeps the "
+            f"server's private key; expected mode 700: chmod 700 {certs}"
+        )
 
 
 class PasswordUser(UserManager):
@@ -160,13 +207,14 @@ class Server(UaServer):
     """An asyncua server that closes every connection from an address not allowed.
 
     Args:
-        allow: client addresses accepted besides loopback ones.
+        allow: client addresses accepted besides loopback ones (empty: every address).
         users: who may open a session (None: anyone, anonymous).
     """
 
     def __init__(self, allow: Sequence[str] = (), users: UserManager | None = None) -> None:
         super().__init__(user_manager=users)
-        self.allowed = allowed(allow)
+        self.allowed = allowed(allow) if allow else None
+        self.secure = users is not None
 
     async def start(self) -> None:
         """Listen (asyncua's start, with the guarded binary server)."""
@@ -177,7 +225,9 @@ class Server(UaServer):
         await self._setup_server_nodes()
         await self.iserver.start()
         host, port = self._get_bind_socket_info()
-        self.bserver = _Guarded(self.iserver, host or "", port or 0, self.limits, self.allowed)
+        self.bserver = _Guarded(
+            self.iserver, host or "", port or 0, self.limits, self.allowed, self.secure
+        )
         self.bserver.set_policies(self._policies)
         try:
             await self.bserver.start()
@@ -187,7 +237,8 @@ class Server(UaServer):
 
 
 class _Guarded(BinaryServer):
-    """The binary server whose connections from addresses not allowed are closed at once."""
+    """The binary server whose connections from addresses not allowed are closed at once and,
+    ``secure``, whose sessions need an encrypted channel."""
 
     def __init__(
         self,
@@ -195,10 +246,12 @@ class _Guarded(BinaryServer):
         host: str,
         port: int,
         limits: TransportLimits,
-        allow: frozenset[str],
+        allow: frozenset[str] | None,
+        secure: bool,
     ) -> None:
         super().__init__(iserver, host, port, limits)
         self.allowed = allow
+        self.secure = secure
 
     def _make_protocol(self) -> OPCUAProtocol:
         return _Protocol(
@@ -208,23 +261,56 @@ class _Guarded(BinaryServer):
             closing_tasks=self.closing_tasks,
             limits=self.limits,
             allow=self.allowed,
+            secure=self.secure,
         )
 
 
 class _Protocol(OPCUAProtocol):
-    """A connection: closed at once when its peer is not allowed."""
+    """A connection: closed at once when its peer is not allowed (``allow`` None: every peer
+    is); ``secure``, its messages go to a :class:`_SecureProcessor`."""
 
-    def __init__(self, *args: Any, allow: frozenset[str], **kwargs: Any) -> None:
+    def __init__(
+        self, *args: Any, allow: frozenset[str] | None, secure: bool, **kwargs: Any
+    ) -> None:
         super().__init__(*args, **kwargs)
         self.allowed = allow
+        self.secure = secure
 
     def connection_made(self, transport: Any) -> None:
-        served, host = admitted(transport.get_extra_info("peername"), self.allowed)
+        peer = transport.get_extra_info("peername")
+        served, host = (True, "") if self.allowed is None else admitted(peer, self.allowed)
         if not served:
             log.warning("refused an OPC UA connection from %s (not in --allow)", host)
             transport.close()
             return
         super().connection_made(transport)
+        if self.secure and self.processor is not None:
+            self.processor = _SecureProcessor(self.iserver, self.transport, self.limits)
+            self.processor.set_policies(self.policies)
+
+
+SESSION_REQUESTS = frozenset(
+    ua.NodeId(ua.Int32(code))
+    for code in (
+        ua.ObjectIds.CreateSessionRequest_Encoding_DefaultBinary,
+        ua.ObjectIds.ActivateSessionRequest_Encoding_DefaultBinary,
+    )
+)
+"""The requests that open a session."""
+
+
+class _SecureProcessor(UaProcessor):
+    """A secure server's processor of a connection's messages: a session on a channel without
+    encryption is refused (BadSecurityModeRejected) — asyncua would open it with a valid
+    password sent in the clear; the endpoints (GetEndpoints, FindServers) stay readable to
+    find the secure ones."""
+
+    async def _process_message(self, typeid: Any, requesthdr: Any, seqhdr: Any, body: Any) -> Any:
+        encrypted = self._connection.security_policy.Mode == ua.MessageSecurityMode.SignAndEncrypt
+        if typeid in SESSION_REQUESTS and not encrypted:
+            log.warning("refused an OPC UA session on a channel without encryption")
+            raise ServiceError(ua.StatusCodes.BadSecurityModeRejected)
+        return await super()._process_message(typeid, requesthdr, seqhdr, body)
 
 
 def cache_dir() -> Path:
@@ -271,9 +357,9 @@ def _asyncua_version() -> str:
 
 
 async def certificate(server: UaServer, certs: Path) -> None:
-    """Load the server's key and self-signed certificate from ``certs``, made there first
-    (the key readable by its owner only)."""
-    certs.mkdir(parents=True, exist_ok=True, mode=0o700)
+    """Load the server's key and self-signed certificate from ``certs`` (checked by
+    :func:`check_certs`), made there on the first start (the key readable by its owner only)."""
+    check_certs(certs)
     key, cert = certs / "server-key.pem", certs / "server-cert.der"
     host = socket.gethostname()
     await setup_self_signed_certificate(
@@ -300,7 +386,7 @@ async def server_of(
     """The OPC UA server of ``bridge``'s tables, ready to start.
 
     Raises:
-        ValueError: a host beyond loopback without ``allow``, or without a password.
+        ValueError: a host beyond loopback without a password, a bad address in ``allow``.
     """
     security = security or security_of(host, allow)
     if not is_loopback(host) and not security.secure:
@@ -395,14 +481,15 @@ def main(
     allow: Sequence[str] = (),
     secure: bool = False,
     certs: Path = CERTS,
+    password_file: Path | None = None,
 ) -> int:
-    """The ``bridge opcua`` command: serve until stopped; 2 for a refused host, speed or a
-    missing password."""
+    """The ``bridge opcua`` command: serve until stopped; 2 for a refused speed, port, allow
+    entry, password or certificate directory."""
     security = Security()
 
     def checks() -> None:
         nonlocal security
-        security = security_of(host, allow, secure, certs)
+        security = security_of(host, allow, secure, certs, password_file)
         check_speed(speed)
         if not 0 < port < 65536:
             raise ValueError(f"--port takes 1…65535, got {port}")

@@ -418,7 +418,9 @@ class Writes(AttributeService):
         results = []
         for item in params.NodesToWrite:
             status = None
-            if item.AttributeId == ua.AttributeIds.Value:
+            if item.NodeId not in self._aspace:
+                status = _status(ua.StatusCodes.BadNodeIdUnknown)
+            elif item.AttributeId == ua.AttributeIds.Value:
                 status = await self._write_value(item)
             if status is None:
                 one = ua.WriteParameters(NodesToWrite=[item])

@@ -51,6 +51,16 @@ def check_host(
             f"the {server} server binds loopback only, got {host!r}: {why}; to serve another "
             f"address, name the PLC's address with {flag} ADDRESS"
         )
+    check_allow(allow, flag)
+
+
+def check_allow(allow: Sequence[str], flag: str = "--allow") -> None:
+    """Refuse an allow-list entry that is no IP address (``flag``: the option, for the
+    message).
+
+    Raises:
+        ValueError: says which entry.
+    """
     for address in allow:
         try:
             ipaddress.ip_address(address)

@@ -248,7 +248,13 @@ def _bridge_parser(sub: Any) -> None:
     opcua.add_argument(
         "--certs",
         metavar="DIR",
-        help="where the server's self-signed certificate is made and kept (~/.mcl-testbench/opcua)",
+        help="where the server's self-signed certificate is made and kept, a directory of mode "
+        "0700 (~/.mcl-testbench/opcua)",
+    )
+    opcua.add_argument(
+        "--password-file",
+        metavar="FILE",
+        help="the password of user plc in a file of mode 0600 (else MCL_OPCUA_PASSWORD)",
     )
 
 
@@ -265,7 +271,10 @@ def _bridge(args: argparse.Namespace) -> int:
         from scenes.bridge import opcua
 
         certs = Path(args.certs) if args.certs else opcua.CERTS
-        return opcua.main(args.name, args.host, args.port, speed, args.allow, args.secure, certs)
+        password = Path(args.password_file) if args.password_file else None
+        return opcua.main(
+            args.name, args.host, args.port, speed, args.allow, args.secure, certs, password
+        )
     from scenes.bridge.modbus import main as modbus
 
     return modbus(args.name, args.host, args.port, speed, args.allow)
