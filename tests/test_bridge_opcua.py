@@ -51,10 +51,10 @@ def run(coroutine: Awaitable[Any]) -> Any:
 
 @pytest.fixture(scope="module")
 def free_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[int]:
-    """A free-running gantry server (1× real time) for the tests that do not spoil the machine;
-    its port."""
+    """A free-running gantry server (at 2× real time) for the tests that leave the machine
+    unharmed; its port."""
     log = tmp_path_factory.mktemp("opcua") / "stderr.txt"
-    with opcua_server("gantry", log) as port:
+    with opcua_server("gantry", log, "--speed", "2") as port:
         yield port
 
 
@@ -124,7 +124,7 @@ def test_power_home_move_to_300_mm_limit_and_reset(free_server: int) -> None:
         await asyncio.sleep(0.1)
         await subscription.delete()
         moving = [v for v in changes.values if 1.0 < v < 299.0]
-        assert len(moving) > 20  # notified all along the move (1.5 s at 20 ms)
+        assert len(moving) > 15  # notified all along the move (0.75 s wall at 20 ms)
         assert moving == sorted(moving)
         assert changes.values[-1] == pytest.approx(300.0, abs=0.02)
         await g.move("X", 5000.0)  # beyond the software limit
@@ -272,24 +272,25 @@ def test_ten_thousand_random_requests_and_a_vanishing_client(tmp_path: Path) -> 
 
     async def fuzz(g: Gantry) -> int:
         rng = random.Random(23)
-        answered = 0
+        statuses: list[ua.StatusCode] = []
+        uaclient = g.client.uaclient
         for _ in range(100):  # 100 batches of 100 requests, each batch one request per service
             batch = [random_request(g, rng, names) for _ in range(100)]
             reads = [n for what, n in batch if what == "read"]
             writes = [n for what, n in batch if what == "write"]
             calls = [c for what, c in batch if what == "call"]
             if reads:
-                answered += len(
-                    await g.client.uaclient.read_attributes(reads, ua.AttributeIds.Value)
-                )
+                values = await uaclient.read_attributes(reads, ua.AttributeIds.Value)
+                statuses += [v.StatusCode or ua.StatusCode() for v in values]
             if writes:
-                values = [ua.DataValue(random_variant(rng)) for _ in writes]
-                answered += len(
-                    await g.client.uaclient.write_attributes(writes, values, ua.AttributeIds.Value)
-                )
+                data = [ua.DataValue(random_variant(rng)) for _ in writes]
+                statuses += await uaclient.write_attributes(writes, data, ua.AttributeIds.Value)
             if calls:
-                answered += len(await g.client.uaclient.call(calls))
-        return answered
+                statuses += [r.StatusCode for r in await uaclient.call(calls)]
+        internal = ua.StatusCodes.BadInternalError
+        assert not [s for s in statuses if s.value == internal]  # every one judged, none failed
+        assert 1000 < sum(s.is_bad() for s in statuses) < 9000  # many refused, many taken
+        return len(statuses)
 
     async def vanish(port: int) -> None:
         """A client that opens a session and disappears without closing it, and raw
@@ -309,10 +310,12 @@ def test_ten_thousand_random_requests_and_a_vanishing_client(tmp_path: Path) -> 
             position = await g.value(f"{axis}.actual_position")
             assert math.isfinite(position) and -50.0 < position < 1100.0
 
-    with opcua_server("gantry", tmp_path / "stderr.txt") as port:
+    log = tmp_path / "stderr.txt"
+    with opcua_server("gantry", log) as port:
         assert run(connected(port, fuzz)) == 10_000
         run(vanish(port))
         run(connected(port, still_runs))
+    assert "Error while processing" not in log.read_text()
 
 
 def test_lockstep_equals_in_process_bit_for_bit(tmp_path: Path) -> None:

@@ -322,6 +322,14 @@ def _variant(value: float, kind: ua.VariantType) -> ua.Variant:
     return ua.Variant(int(value), kind)
 
 
+def _same(a: float, b: float) -> bool:
+    """Whether ``a`` and ``b`` are the same value to the bit (0.0 and −0.0 differ, NaNs are
+    the same)."""
+    if a != a or b != b:
+        return a != a and b != b
+    return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
+
+
 class Mirror:
     """The variables' values, kept equal to the tables': :meth:`refresh` writes what changed
     (and so notifies the subscriptions); :meth:`published` asks for it from the simulation
@@ -376,12 +384,7 @@ class Mirror:
             for t, (table, variables) in enumerate(zip(self.tables, self._of, strict=True)):
                 values = table.snapshot()
                 for v in variables:
-                    value = values[v.field.name]
-                    last = self._last.get(v.node)
-                    if value == last or (value != value and last is not None and last != last):
-                        continue
-                    self._last[v.node] = value
-                    await self._write(v.node, _variant(value, v.variant), now)
+                    await self._mirror(v, values[v.field.name], now)
                 for (k, name), nodes in self._bits.items():
                     if k != t:
                         continue
@@ -391,6 +394,19 @@ class Mirror:
                     for i, node in enumerate(nodes):
                         if changed >> i & 1:
                             await self._write(node, ua.Variant(bool(word >> i & 1)), now)
+
+    async def refresh_one(self, v: Variable) -> None:
+        """Write variable ``v`` if its field changed (after a client's write of it)."""
+        async with self._lock:
+            await self._mirror(v, v.table.get(v.field.name), ua.DateTime.now(UTC))
+
+    async def _mirror(self, v: Variable, value: float, now: ua.DateTime) -> None:
+        """Write ``value`` into ``v`` unless it holds it already, bit for bit (lock held)."""
+        last = self._last.get(v.node)
+        if last is not None and _same(value, last):
+            return
+        self._last[v.node] = value
+        await self._write(v.node, _variant(value, v.variant), now)
 
     async def _write(self, node: ua.NodeId, variant: ua.Variant, now: ua.DateTime) -> None:
         value = ua.DataValue(variant, SourceTimestamp=now, ServerTimestamp=now)
@@ -598,7 +614,9 @@ class BridgeNodes:
             return _status(ua.StatusCodes.BadNotWritable)
         if name == "sim.target" and self.bridge.lockstep:
             await acknowledge(self.bridge.run, int(value))
-        await self._refresh()
+            await self._refresh()
+        elif self.mirror is not None:
+            await self.mirror.refresh_one(v)
         return ua.StatusCode()
 
     async def _refresh(self) -> None:
