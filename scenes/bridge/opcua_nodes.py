@@ -380,33 +380,46 @@ class Mirror:
         """Write every variable whose field changed since the last refresh."""
         async with self._lock:
             self._pending = False
-            now = ua.DateTime.now(UTC)
+            changes: list[tuple[ua.NodeId, ua.Variant]] = []
             for t, (table, variables) in enumerate(zip(self.tables, self._of, strict=True)):
                 values = table.snapshot()
                 for v in variables:
-                    await self._mirror(v, values[v.field.name], now)
+                    self._diff(v, values[v.field.name], changes)
                 for (k, name), nodes in self._bits.items():
                     if k != t:
                         continue
                     word = int(values[name])
                     changed = word ^ self._words.get((k, name), ~word)
                     self._words[(k, name)] = word
-                    for i, node in enumerate(nodes):
-                        if changed >> i & 1:
-                            await self._write(node, ua.Variant(bool(word >> i & 1)), now)
+                    changes += [
+                        (node, ua.Variant(bool(word >> i & 1)))
+                        for i, node in enumerate(nodes)
+                        if changed >> i & 1
+                    ]
+            await self._write_all(changes)
 
     async def refresh_one(self, v: Variable) -> None:
         """Write variable ``v`` if its field changed (after a client's write of it)."""
         async with self._lock:
-            await self._mirror(v, v.table.get(v.field.name), ua.DateTime.now(UTC))
+            changes: list[tuple[ua.NodeId, ua.Variant]] = []
+            self._diff(v, v.table.get(v.field.name), changes)
+            await self._write_all(changes)
 
-    async def _mirror(self, v: Variable, value: float, now: ua.DateTime) -> None:
-        """Write ``value`` into ``v`` unless it holds it already, bit for bit (lock held)."""
+    def _diff(self, v: Variable, value: float, changes: list[tuple[ua.NodeId, ua.Variant]]) -> None:
+        """Add ``v`` with ``value`` to ``changes`` unless it holds it already, bit for bit."""
         last = self._last.get(v.node)
         if last is not None and _same(value, last):
             return
         self._last[v.node] = value
-        await self._write(v.node, _variant(value, v.variant), now)
+        changes.append((v.node, _variant(value, v.variant)))
+
+    async def _write_all(self, changes: list[tuple[ua.NodeId, ua.Variant]]) -> None:
+        """Write the changed values, all with the same timestamp (lock held)."""
+        if not changes:
+            return
+        now = ua.DateTime.now(UTC)
+        for node, variant in changes:
+            await self._write(node, variant, now)
 
     async def _write(self, node: ua.NodeId, variant: ua.Variant, now: ua.DateTime) -> None:
         value = ua.DataValue(variant, SourceTimestamp=now, ServerTimestamp=now)
