@@ -227,18 +227,25 @@ def _bridge_parser(sub: Any) -> None:
     map_parser.add_argument("--csv", action="store_true", help="print CSV instead")
     modbus = what.add_parser("modbus", help="run the machine with its Modbus TCP server")
     opcua = what.add_parser("opcua", help="run the machine with its OPC UA server")
-    for server, port in ((modbus, 5020), (opcua, 4840)):
+    modbus_help = (
+        "loopback address to bind (another one needs --allow)",
+        "a PLC's IP address accepted when --host is beyond loopback (repeat for more)",
+    )
+    opcua_help = (
+        "address to bind (beyond loopback: encrypted sessions of user plc only)",
+        "serve only this client IP address beyond loopback (repeat for more)",
+    )
+    for server, port, (host_help, allow_help) in (
+        (modbus, 5020, modbus_help),
+        (opcua, 4840, opcua_help),
+    ):
         server.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
-        server.add_argument("--host", default="127.0.0.1", help="loopback address to bind")
+        server.add_argument("--host", default="127.0.0.1", help=host_help)
         server.add_argument("--port", type=int, default=port, help="TCP port")
         server.add_argument("--speed", type=float, default=1.0, help="free-running: × real time")
         server.add_argument("--lockstep", action="store_true", help="advance on sim.target only")
         server.add_argument(
-            "--allow",
-            action="append",
-            default=[],
-            metavar="ADDRESS",
-            help="a PLC's IP address accepted when --host is beyond loopback (repeat for more)",
+            "--allow", action="append", default=[], metavar="ADDRESS", help=allow_help
         )
     opcua.add_argument(
         "--secure",
