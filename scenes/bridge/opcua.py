@@ -50,7 +50,7 @@ from asyncua.server.user_managers import UserManager
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
 from scenes.bridge.machine import Bridge, check_speed
-from scenes.bridge.opcua_nodes import BridgeNodes
+from scenes.bridge.opcua_nodes import BridgeNodes, Served
 from scenes.bridge.serving import (
     admitted,
     allowed,
@@ -219,6 +219,8 @@ class Server(UaServer):
         super().__init__(user_manager=users)
         self.allowed = allowed(allow) if allow else None
         self.secure = users is not None
+        self.bridge_nodes: BridgeNodes | None = None
+        """The node tree of the tables (:func:`server_of` makes it)."""
 
     async def start(self) -> None:
         """Listen (asyncua's start, with the guarded binary server)."""
@@ -380,7 +382,7 @@ async def certificate(server: UaServer, certs: Path) -> None:
 
 
 async def server_of(
-    bridge: Bridge,
+    bridge: Served,
     host: str = "127.0.0.1",
     port: int = 4840,
     allow: Sequence[str] = (),
@@ -416,7 +418,8 @@ async def server_of(
         max_chunk_count=MAX_MESSAGE // 65535 + 1,
         max_message_size=MAX_MESSAGE,
     )
-    await BridgeNodes(server, bridge).build()
+    server.bridge_nodes = BridgeNodes(server, bridge)
+    await server.bridge_nodes.build()
     return server
 
 

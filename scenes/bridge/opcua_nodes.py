@@ -43,7 +43,7 @@ import re
 from collections.abc import Awaitable, Callable, Sequence
 from dataclasses import dataclass
 from datetime import UTC
-from typing import Any, Literal
+from typing import Any, Literal, Protocol
 
 from asyncua import Server, ua
 from asyncua.common.node import Node
@@ -51,10 +51,11 @@ from asyncua.crypto.permission_rules import User, UserRole
 from asyncua.server.address_space import AttributeService
 
 import mcl
-from scenes.bridge.machine import Bridge
-from scenes.bridge.program import AxisBridge
+from scenes.bridge.pacing import Run
+from scenes.bridge.program import AxisBridge, BridgeProgram
 from scenes.bridge.serving import acknowledge
 from scenes.bridge.table import STATUS_BITS, Field, Kind, NotInControl, SignalTable, WriteRefused
+from scenes.definition import MachineDef
 
 log = logging.getLogger(__name__)
 
@@ -458,6 +459,27 @@ class Writes(AttributeService):
         return results
 
 
+class Served(Protocol):
+    """What a node tree serves: a machine's definition, its tables and the bridge program that
+    scans them; ``run``, the simulation thread of a headless server (None: another thread scans,
+    the viewer's, and tells :meth:`BridgeNodes.published`)."""
+
+    @property
+    def definition(self) -> MachineDef: ...
+
+    @property
+    def tables(self) -> list[SignalTable]: ...
+
+    @property
+    def program(self) -> BridgeProgram: ...
+
+    @property
+    def lockstep(self) -> bool: ...
+
+    @property
+    def run(self) -> Run | None: ...
+
+
 class BridgeNodes:
     """The node tree of ``bridge``'s tables in ``server`` (:meth:`build` makes it) and what its
     writes and calls do.
@@ -467,7 +489,7 @@ class BridgeNodes:
         bridge: the machine with its tables, program and run.
     """
 
-    def __init__(self, server: Server, bridge: Bridge) -> None:
+    def __init__(self, server: Server, bridge: Served) -> None:
         self.server = server
         self.bridge = bridge
         self.tables = bridge.tables
@@ -478,6 +500,11 @@ class BridgeNodes:
         self.mirror: Mirror | None = None
         axes = {a.name: a for a in bridge.program.axes}
         self._axes = axes
+
+    def published(self, cycle: int) -> None:
+        """The tables were published (any thread): the variables follow soon."""
+        if self.mirror is not None:
+            self.mirror.published(cycle)
 
     def node(self, name: str) -> ua.NodeId:
         """The NodeId of ``name`` in the bridge's namespace."""
@@ -499,7 +526,8 @@ class BridgeNodes:
         await self._simulation(machine)
         self.mirror = Mirror(server, list(self.variables.values()), self._bits)
         await self.mirror.refresh()
-        self.bridge.run.on_publish.append(self.mirror.published)
+        if self.bridge.run is not None:
+            self.bridge.run.on_publish.append(self.mirror.published)
         iserver = server.iserver
         iserver.attribute_service = Writes(iserver.attribute_service, self.write_value)
 
@@ -625,8 +653,9 @@ class BridgeNodes:
         except WriteRefused as refused:
             log.warning("refused: write of %s: %s", name, refused)
             return _status(ua.StatusCodes.BadNotWritable)
-        if name == "sim.target" and self.bridge.lockstep:
-            await acknowledge(self.bridge.run, int(value))
+        run = self.bridge.run
+        if name == "sim.target" and self.bridge.lockstep and run is not None:
+            await acknowledge(run, int(value))
             await self._refresh()
         elif self.mirror is not None:
             await self.mirror.refresh_one(v)
@@ -743,8 +772,9 @@ class BridgeNodes:
             result.InputArgumentResults = [_status(refused.code)]
             return result
         target = bridge.program.target + cycles
+        run = bridge.run
         try:
-            if not bridge.lockstep:
+            if not bridge.lockstep or run is None:
                 raise Refused(ua.StatusCodes.BadInvalidState, "free-running: no lockstep")
             if target > RANGE["u32"][1]:
                 raise Refused(ua.StatusCodes.BadInvalidState, "the cycle counter is full")
@@ -754,10 +784,10 @@ class BridgeNodes:
             log.warning("refused: Advance: %s", refused)
             result.StatusCode = _status(ua.StatusCodes.BadInvalidState)
             return result
-        await acknowledge(bridge.run, target)
+        await acknowledge(run, target)
         await self._refresh()
         result.InputArgumentResults = [ua.StatusCode()]
-        result.OutputArguments = [ua.Variant(bridge.run.published, ua.VariantType.UInt32)]
+        result.OutputArguments = [ua.Variant(run.published, ua.VariantType.UInt32)]
         return result
 
 
