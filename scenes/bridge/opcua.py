@@ -29,7 +29,6 @@ import logging
 import os
 import socket
 import stat
-import sys
 import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
@@ -83,9 +82,6 @@ MAX_SUBSCRIPTIONS = 32
 """Subscriptions of all sessions together."""
 MAX_MESSAGE = 4 * 1024 * 1024
 """Largest message [bytes] the server takes."""
-SWITCH_INTERVAL = 0.0005
-"""How long [s] the simulation thread keeps the interpreter before the network's thread may
-answer a request (Python's default 5 ms would be a request's latency while the scene runs)."""
 ACTIVATION = 10.0
 """A connection without an activated session after this long [s] is closed."""
 
@@ -459,7 +455,6 @@ async def serve(
     """Build the scene of ``machine``, run it (free at ``speed`` × real time; None: lockstep)
     and serve its tables until SIGTERM/SIGINT."""
     quiet_asyncua()
-    sys.setswitchinterval(SWITCH_INTERVAL)
     bridge = Bridge(machine, speed)
     server = await server_of(bridge, host, port, allow, security, cache_dir())
     quiet_asyncua()  # the loggers asyncua made meanwhile

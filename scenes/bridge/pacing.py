@@ -40,6 +40,7 @@ class Run:
         self._reached = threading.Condition()
         self._published = program.cycles
         """The cycle whose status the tables show (a client reads it once :meth:`wait` says so)."""
+        self._waiters: list[tuple[int, Callable[[], None]]] = []
 
     def wait(self, cycle: int, timeout: float) -> bool:
         """Wait until the tables show PLC cycle ``cycle`` or a later one (or the run stops)
@@ -48,6 +49,20 @@ class Run:
             return self._reached.wait_for(
                 lambda: self._published >= cycle or self._stop.is_set(), timeout
             )
+
+    def when_published(self, cycle: int, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` once the tables show PLC cycle ``cycle`` or a later one, or the
+        run stops: at once if they do, else in the simulation thread after that publish."""
+        with self._reached:
+            if not (self._published >= cycle or self._stop.is_set()):
+                self._waiters.append((cycle, callback))
+                return
+        callback()
+
+    def forget(self, callback: Callable[[], None]) -> None:
+        """No longer call ``callback`` (of :meth:`when_published`; one that timed out)."""
+        with self._reached:
+            self._waiters = [w for w in self._waiters if w[1] is not callback]
 
     @property
     def published(self) -> int:
@@ -64,6 +79,10 @@ class Run:
         with self._reached:
             self._published = cycle
             self._reached.notify_all()
+            due = [w for w in self._waiters if w[0] <= cycle]
+            self._waiters = [w for w in self._waiters if w[0] > cycle]
+        for _, callback in due:
+            callback()
 
     def start(self) -> None:
         """Start the thread."""
@@ -74,6 +93,7 @@ class Run:
         self._stop.set()
         if self._thread.is_alive():
             self._thread.join(timeout)
+        self._release()
 
     def _guarded(self) -> None:
         try:
@@ -82,8 +102,15 @@ class Run:
             self.error = f"{type(error).__name__}: {error}"
             log.exception("simulation stopped")
         finally:
-            with self._reached:
-                self._reached.notify_all()
+            self._release()
+
+    def _release(self) -> None:
+        """Wake whoever waits: the run stops."""
+        with self._reached:
+            self._reached.notify_all()
+            due, self._waiters = self._waiters, []
+        for _, callback in due:
+            callback()
 
     def _run(self) -> None:
         raise NotImplementedError

@@ -5,6 +5,7 @@ on SIGTERM/SIGINT and the command's exit on a user's mistake."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import ipaddress
 import signal
 import sys
@@ -83,7 +84,19 @@ def admitted(peer: Any, allow: frozenset[str]) -> tuple[bool, str]:
 async def acknowledge(run: Run, cycle: int) -> bool:
     """Wait until ``run`` has published PLC cycle ``cycle`` (at most :data:`ACK_TIMEOUT`),
     without blocking the event loop; whether it has."""
-    return await asyncio.to_thread(run.wait, cycle, ACK_TIMEOUT)
+    loop = asyncio.get_running_loop()
+    reached = asyncio.Event()
+
+    def tell() -> None:  # in the simulation thread, or here at once
+        with contextlib.suppress(RuntimeError):  # the loop closed: the server stops
+            loop.call_soon_threadsafe(reached.set)
+
+    run.when_published(cycle, tell)
+    try:
+        await asyncio.wait_for(reached.wait(), ACK_TIMEOUT)
+    except TimeoutError:
+        run.forget(tell)
+    return run.published >= cycle
 
 
 def stop_on_signals(stop: Callable[[], Coroutine[Any, Any, Any]]) -> None:
