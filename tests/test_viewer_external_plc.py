@@ -204,7 +204,8 @@ def test_over_opcua_the_plc_commands_until_stop_all_takes_the_machine_back() -> 
             value = lambda name: client.get_node(f"ns={ns};s={name}").read_value()  # noqa: E731
             x = client.get_node(f"ns={ns};s=X")
             wait(lambda: value("sim.control") == 1, 5.0, "the PLC in control")
-            assert "1 client connected" in session.snapshot.demo.step
+            step = lambda: session.snapshot.demo.step  # noqa: E731 (published with the frames)
+            wait(lambda: "1 client connected" in step(), 2.0, "the client shown")
             x.call_method(f"{ns}:MC_Power", ua.Variant(True, ua.VariantType.Boolean))
             wait(lambda: value("X.status.power"), 5.0, "power")
             ramp = [ua.Variant(v, ua.VariantType.Double) for v in (150.0, 1000.0, 1000.0, 0.0)]
