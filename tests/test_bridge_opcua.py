@@ -50,11 +50,16 @@ def run(coroutine: Awaitable[Any]) -> Any:
 
 
 @pytest.fixture(scope="module")
-def free_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[int]:
-    """A free-running gantry server (at 2× real time) for the tests that leave the machine
-    unharmed; its port."""
-    log = tmp_path_factory.mktemp("opcua") / "stderr.txt"
-    with opcua_server("gantry", log, "--speed", "2") as port:
+def free_log(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Where the free-running server logs."""
+    return tmp_path_factory.mktemp("opcua") / "stderr.txt"
+
+
+@pytest.fixture(scope="module")
+def free_server(free_log: Path) -> Iterator[int]:
+    """A free-running gantry server (at 2× real time) shared by the tests of this module that
+    use it, in their order (the fuzz test last); its port."""
+    with opcua_server("gantry", free_log, "--speed", "2") as port:
         yield port
 
 
@@ -267,7 +272,9 @@ def random_request(g: Gantry, rng: random.Random, names: list[str]) -> tuple[str
     return ("read" if what == 0 else "write"), g.node(name).nodeid
 
 
-def test_ten_thousand_random_requests_and_a_vanishing_client(tmp_path: Path) -> None:
+def test_ten_thousand_random_requests_and_a_vanishing_client(
+    free_server: int, free_log: Path
+) -> None:
     names = [f.name for f in TABLE.fields] + [f"X.status.{b}" for b in ("done", "error")]
 
     async def fuzz(g: Gantry) -> int:
@@ -310,12 +317,10 @@ def test_ten_thousand_random_requests_and_a_vanishing_client(tmp_path: Path) -> 
             position = await g.value(f"{axis}.actual_position")
             assert math.isfinite(position) and -50.0 < position < 1100.0
 
-    log = tmp_path / "stderr.txt"
-    with opcua_server("gantry", log) as port:
-        assert run(connected(port, fuzz)) == 10_000
-        run(vanish(port))
-        run(connected(port, still_runs))
-    assert "Error while processing" not in log.read_text()
+    assert run(connected(free_server, fuzz)) == 10_000
+    run(vanish(free_server))
+    run(connected(free_server, still_runs))
+    assert "Error while processing" not in free_log.read_text()
 
 
 def test_lockstep_equals_in_process_bit_for_bit(tmp_path: Path) -> None:
