@@ -42,6 +42,7 @@ CHAPTER_ORDER = (
     "override",
     "homing",
     "gearing",
+    "cam",
     "force",
     "touch_probe",
     "inputs_outputs",
