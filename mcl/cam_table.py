@@ -294,7 +294,8 @@ def _points(table: Any) -> list[tuple[float, float, float, float, int]] | str:
                 getattr(point, "Law", 0),
             ]
         elif isinstance(point, Sequence) and not isinstance(point, str | bytes):
-            fields = [*point, math.nan, math.nan, 0][:5] if 2 <= len(point) <= 5 else []
+            defaults: list[Any] = [math.nan, math.nan, math.nan, math.nan, CamLaw.Linear]
+            fields = [*point, *defaults[len(point) :]] if 2 <= len(point) <= 5 else []
         else:
             fields = []
         if not fields:
