@@ -22,6 +22,28 @@ FALSE) and its slave position continues from the running cam's (SlaveAbsolute FA
 slave does not jump; a difference of slope or curvature between the two tables at the boundary
 (and, in the ramp-in modes, of position) is blended out over ``MasterStartDistance`` of table
 travel by a quintic in the master position (position, velocity and acceleration stay continuous).
+
+A cam table is ``mcl.MC_CAM_REF(Points=[mcl.MC_CamPoint(Master, Slave, Velocity, Acceleration,
+Law), ...], NumberOfPoints=None)`` (an ST program passes a STRUCT with these fields): up to 10 000
+points, ``Master`` strictly increasing, ``Velocity`` the slope ds/dm and ``Acceleration`` the
+curvature d²s/dm² at the point (NaN: not given, 0 for the motion laws), ``Law`` (``mcl.CamLaw``,
+below) the interpolation of the segment that starts at the point. MC_CamTableSelect refuses a
+table with ``EParam`` and its reason in ``ErrorText``: fewer than 2 or more than 10 000 points, a
+value that is not finite, the master not increasing, an unknown law, a modified law whose end
+slopes differ or whose points carry an acceleration, a jump of the slope at a point next to a
+segment that is not Linear, a jump of the curvature between two motion-law segments, and, for a
+periodic table, the same across the period boundary; the slave position is continuous by
+construction.
+
+``mcl.rotary_knife(cut_length, circumference, blades, sync_angle, law)`` builds the cam of a
+rotary cross cutter: master = web position over one cut length [mm], slave = drum angle over
+360°/blades [°], the cut at the period boundary; over ``sync_angle`` [°] of drum rotation around
+each cut the blade tip runs at the web's speed (slope 360°/circumference), between two sync zones
+the drum speeds up (a cut shorter than circumference/blades) or slows down along the law. A cut
+the drum cannot make (a sync zone longer than the piece, a transition that would turn the drum
+backwards, invalid values) gives a table whose ``Problem`` says why; MC_CamTableSelect refuses it
+with ``EParam`` and that text. What the drum's motor cannot do at the line speed is refused by
+MC_CamIn (``ECamLimit``) before the blade reaches the web.
 """
 
 from __future__ import annotations
@@ -40,6 +62,38 @@ from mcl.fb import ExecuteFB, MotionFB, non_negative, positive
 from mcl.gearing import DEFAULT_KV, MasterReader, release_slave
 from mcl.profiles import TableRef
 from mcl.trajectory import Limits, PlanningError, Profile
+
+REFERENCE_TABLE: Final = (
+    ("CamLaw", "value", "the segment from its point to the next"),
+    (
+        ("Linear", "0", "a straight line; the slope may jump at its ends"),
+        (
+            "CubicSpline",
+            "1",
+            "one cubic spline through consecutive spline segments, continuous in slope and "
+            "curvature; at its ends the point's Velocity where given, else natural; a periodic "
+            "table of spline segments only is one periodic spline",
+        ),
+        (
+            "Polynomial5",
+            "2",
+            "the quintic with the Velocity and Acceleration of both points (VDI 2143; rest to "
+            "rest 10z³ − 15z⁴ + 6z⁵, Cv 1.875, Ca 5.77)",
+        ),
+        (
+            "ModifiedSine",
+            "3",
+            "VDI 2143 modified sine on the deviation from the end slope (the same at both "
+            "points); Cv 1.76, Ca 5.53",
+        ),
+        (
+            "ModifiedTrapezoid",
+            "4",
+            "VDI 2143 modified trapezoid, likewise; Cv 2.00, Ca 4.89",
+        ),
+    ),
+)
+"""The interpolations of a cam segment, for the reference."""
 
 SLOW: Final = 1e-9
 """A master slower than this [u/s] is taken as standing when a coupling converts the slave's
@@ -261,8 +315,6 @@ class CamIn(Command):
 
     def rebase(self, delta: float) -> None:
         self.base += delta
-        if self.ramp is not None:
-            self.ramp[0] += delta
         if self.phase == _WAIT_START:
             self.hold += delta
         if self.previous is not None:
@@ -490,7 +542,8 @@ class MC_CamIn(MotionFB):
     units], ``MasterScaling`` (not 0): the table is read at ``MasterScaling`` × master position
     + MasterOffset; ``SlaveOffset`` [u], ``SlaveScaling``: the slave is at SlaveScaling × table
     value + SlaveOffset (see the module text for the relative modes). ``StartMode``
-    (``MC_StartMode``): mcAbsolute and mcRelative couple at once (the slave jumps to the table
+    (``MC_StartMode``: 0 mcAbsolute, 1 mcRelative, 2 mcRampIn, 3 mcRampInPos, 4 mcRampInNeg):
+    mcAbsolute and mcRelative couple at once (the slave jumps to the table
     where it is not on it); mcRampIn, mcRampInPos, mcRampInNeg blend the slave's position,
     velocity and acceleration into the cam over ``MasterStartDistance`` (> 0) of table travel
     (Pos/Neg: on a modulo slave the cam is met forward / backward); with MasterAbsolute the
@@ -709,7 +762,7 @@ class MC_Phasing(ExecuteFB):
     def _poll(self) -> Status | None:
         job, cam = self._job, self._cam
         if job is None or cam is None:
-            return Status.Error
+            return Status.Aborted
         if job.status == Status.Active and cam.status != Status.Active:
             job.status = Status.Aborted
         return None if job.status == Status.Active else job.status

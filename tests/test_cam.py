@@ -373,3 +373,39 @@ def test_bad_phasing_inputs_give_eparam_and_leave_the_cam_alone(machine, inputs)
     machine.run(scan(lambda: cam(Execute=True), lambda: phasing(Execute=True)), timeout=3 * PLC)
     assert phasing.Error and phasing.ErrorID == mcl.ErrorID.EParam
     assert S.active is command and cam.Active and cam.InSync
+
+
+ST_PROGRAM = """
+TYPE Point : STRUCT
+  Master : LREAL; Slave : LREAL; Velocity : LREAL; Acceleration : LREAL; Law : DINT;
+END_STRUCT END_TYPE
+TYPE Table : STRUCT Points : ARRAY[0..3] OF Point; NumberOfPoints : DINT := 4; END_STRUCT END_TYPE
+PROGRAM cams
+VAR
+  lift : Table;
+  sel : MC_CamTableSelect;
+  cam : MC_CamIn;
+  id : DINT;
+  synced : BOOL;
+END_VAR
+lift.Points[0].Law := ModifiedSine;
+lift.Points[1].Master := 80.0; lift.Points[1].Slave := 40.0;
+lift.Points[2].Master := 100.0; lift.Points[2].Slave := 40.0; lift.Points[2].Law := Polynomial5;
+lift.Points[3].Master := 200.0;
+sel(Master := M, Slave := S, CamTable := lift, Execute := TRUE, Periodic := TRUE,
+    MasterAbsolute := TRUE, SlaveAbsolute := TRUE, CamTableID => id);
+cam(Master := M, Slave := S, Execute := sel.Done, CamTableID := id, StartMode := mcRampIn,
+    MasterStartDistance := 20.0, InSync => synced);
+END_PROGRAM
+"""
+
+
+def test_an_st_program_cams_the_slave_as_python_does(machine):
+    import mcl.st
+
+    M, S = machine.axes["M"], machine.axes["S"]
+    program = mcl.st.from_source(ST_PROGRAM, machine)
+    machine.run(program, until=lambda: bool(program.synced), timeout=3.0)
+    machine.run(program, timeout=0.2)
+    assert program.synced and S.state == mcl.AxisState.SynchronizedMotion
+    assert S.sp_pos == pytest.approx(CAM.at(M.sp_pos)[0], abs=1e-9)
