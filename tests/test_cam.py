@@ -409,3 +409,72 @@ def test_an_st_program_cams_the_slave_as_python_does(machine):
     machine.run(program, timeout=0.2)
     assert program.synced and S.state == mcl.AxisState.SynchronizedMotion
     assert S.sp_pos == pytest.approx(CAM.at(M.sp_pos)[0], abs=1e-9)
+
+
+def test_a_steeper_table_is_blended_in_at_the_boundary_over_master_start_distance(machine):
+    M, S = machine.axes["M"], machine.axes["S"]
+    inputs = dict(Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
+    gentle = select(M, S, mcl.MC_CAM_REF(Points=[(0.0, 0.0), (100.0, 20.0)]), **inputs)
+    steep = select(M, S, mcl.MC_CAM_REF(Points=[(0.0, 0.0), (100.0, 60.0)]), **inputs)
+    first = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=gentle)
+    second = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=steep, MasterStartDistance=50.0)
+    start: list[tuple[float, float]] = []
+
+    def program() -> None:
+        if not start:
+            start.append((M.sp_pos, S.sp_pos))
+        first(Execute=True)  # couples at once: a velocity jump from 0 to 20 mm/s
+        second(Execute=M.sp_pos > start[0][0] + 30.0)
+
+    recorder = Recorder(machine, M, S)
+    machine.run(program, timeout=3.0)
+    m_c, s_c = start[0]
+    boundary = m_c + 100.0
+    samples = [x for x in recorder.samples if x.master > m_c + 1.0]
+    assert first.CommandAborted and second.InSync
+    for x in samples:
+        if x.master < boundary - 1e-6:
+            assert x.slave == pytest.approx(s_c + 0.2 * (x.master - m_c), abs=1e-9)
+        elif x.master >= boundary + 50.0:
+            assert x.slave == pytest.approx(s_c + 20.0 + 0.6 * (x.master - boundary), abs=1e-9)
+    steps = [abs(b.slave_velocity - a.slave_velocity) for a, b in itertools.pairwise(samples)]
+    assert max(steps) < 0.5, "20 → 60 mm/s over 50 mm of master travel, no jump"
+
+
+def test_a_non_periodic_table_ends_once_and_the_slave_goes_on_along_its_end_slope(machine):
+    M, S = machine.axes["M"], machine.axes["S"]
+    ramp = mcl.MC_CAM_REF(
+        Points=[MC_CamPoint(0.0, 0.0, 0.0, 0.0, CamLaw.Polynomial5), MC_CamPoint(100.0, 30.0, 0.5)]
+    )
+    table_id = select(M, S, ramp, Periodic=False, MasterAbsolute=False, SlaveAbsolute=False)
+    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    ends: list[float] = []
+    start: list[float] = []
+
+    def program() -> None:
+        start.append(start[0] if start else M.sp_pos)
+        cam(Execute=True)
+        if cam.EndOfProfile:
+            ends.append(M.sp_pos)
+
+    machine.run(program, timeout=2.0)
+    assert len(ends) == 1 and 0.0 <= ends[0] - start[0] - 100.0 <= SPEED * PLC
+    assert cam.Active and S.state == mcl.AxisState.SynchronizedMotion
+    assert S.sp_vel == pytest.approx(0.5 * SPEED)
+
+
+def test_a_master_too_fast_for_the_cam_stops_the_slave_with_ecamlimit(machine):
+    M, S = machine.axes["M"], machine.axes["S"]
+    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
+    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id, SlaveScaling=1.5)
+    faster = mcl.MC_MoveVelocity(Axis=M, Velocity=400.0, Acceleration=500.0)
+    machine.run(lambda: cam(Execute=True), timeout=0.1)
+    assert cam.InSync  # 1.5 × 0.88 × 100 mm/s = 132 mm/s at the steepest
+    machine.run(
+        scan(lambda: cam(Execute=True), lambda: faster(Execute=True)),
+        until=lambda: cam.Error,
+        timeout=2.0,
+    )
+    assert cam.ErrorID == S.AxErrorID == mcl.ErrorID.ECamLimit
+    assert S.state == mcl.AxisState.ErrorStop
+    assert 1.5 * CAM.peak_slope * M.sp_vel > 0.99 * S.constants.Vmax  # refused at 500 mm/s
