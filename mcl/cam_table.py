@@ -215,15 +215,33 @@ class Cam:
         self._last = 0
         slope = curvature = 0.0
         for i in range(len(kinds)):
-            h = masters[i + 1] - masters[i]
-            for j in range(SAMPLES + 1):
-                _, v, a = self.segment(i, h * j / SAMPLES)
-                slope, curvature = max(slope, abs(v)), max(curvature, abs(a))
+            v, a = self._peaks(i)
+            slope, curvature = max(slope, v), max(curvature, a)
         self.peak_slope = slope
-        """The largest |ds/dm| of the table (sampled at :data:`SAMPLES` + 1 points per
-        segment, the peaks of the modified laws among them)."""
+        """The largest |ds/dm| of the table."""
         self.peak_curvature = curvature
-        """The largest |d²s/dm²| of the table, sampled likewise."""
+        """The largest |d²s/dm²| of the table."""
+
+    def _peaks(self, i: int) -> tuple[float, float]:
+        """The largest |slope| and |curvature| of segment ``i``: exact for a line and the
+        modified laws (f′ runs from 0 to Cv, |f″| up to Ca), sampled at :data:`SAMPLES` + 1
+        points for a polynomial."""
+        c = self.coefficients[i]
+        kind = self.kinds[i]
+        if kind != _POLY:
+            v, h, d = c[1], c[2], c[3]
+            cv, ca = (
+                (4.0 * _PI * _MS_K, 4.0 * _PI * _PI * _MS_K) if kind == _SINE else (2.0, _TRAP_A)
+            )
+            return max(abs(v), abs(v + d / h * cv)), abs(d) / (h * h) * ca
+        if c[2] == 0.0 and c[3] == 0.0 and c[4] == 0.0 and c[5] == 0.0:
+            return abs(c[1]), 0.0
+        h = self.masters[i + 1] - self.masters[i]
+        slope = curvature = 0.0
+        for j in range(SAMPLES + 1):
+            _, v, a = polynomial(c, h * j / SAMPLES)
+            slope, curvature = max(slope, abs(v)), max(curvature, abs(a))
+        return slope, curvature
 
     def segment(self, i: int, u: float) -> tuple[float, float, float]:
         """Slave position, slope and curvature in segment ``i`` at ``u`` from its start."""
@@ -320,52 +338,112 @@ def _given(x: float) -> float:
     return 0.0 if math.isnan(x) else x
 
 
+def _tridiagonal(a: list[float], b: list[float], c: list[float], r: list[float]) -> list[float]:
+    """Solve ``a[i]·x[i−1] + b[i]·x[i] + c[i]·x[i+1] = r[i]`` (Thomas algorithm; ``a[0]`` and
+    ``c[-1]`` unused); the spline systems are diagonally dominant."""
+    n = len(b)
+    cp, rp = [0.0] * n, [0.0] * n
+    cp[0], rp[0] = c[0] / b[0], r[0] / b[0]
+    for i in range(1, n):
+        w = b[i] - a[i] * cp[i - 1]
+        cp[i] = c[i] / w
+        rp[i] = (r[i] - a[i] * rp[i - 1]) / w
+    x = [0.0] * n
+    x[-1] = rp[-1]
+    for i in range(n - 2, -1, -1):
+        x[i] = rp[i] - cp[i] * x[i + 1]
+    return x
+
+
+def spline_slopes(
+    x: list[float], y: list[float], v0: float, v1: float, periodic: bool
+) -> list[float]:
+    """The slopes at the knots of the cubic spline through (``x``, ``y``): continuous slope and
+    curvature at the inner knots, ``h[i]·m[i−1] + 2(h[i−1] + h[i])·m[i] + h[i−1]·m[i+1] =
+    3(h[i]·d[i−1] + h[i−1]·d[i])`` (de Boor, A Practical Guide to Splines, ch. IV); at the ends
+    the slope ``v0`` / ``v1`` where given (not NaN), else natural (curvature 0); ``periodic``:
+    slope and curvature the same at both ends (the slave's rise over the period is kept)."""
+    n = len(x) - 1
+    h = [x[i + 1] - x[i] for i in range(n)]
+    d = [(y[i + 1] - y[i]) / h[i] for i in range(n)]
+    if periodic:
+        if n == 1:
+            return [d[0], d[0]]
+        # unknowns m[0] … m[n−1] (m[n] = m[0]): a cyclic system, solved with Sherman–Morrison
+        a = [h[i] for i in range(n)]
+        b = [2.0 * (h[i - 1] + h[i]) for i in range(n)]
+        c = [h[i - 1] for i in range(n)]
+        r = [3.0 * (h[i] * d[i - 1] + h[i - 1] * d[i]) for i in range(n)]
+        if n == 2:
+            a00, a01 = b[0], a[0] + c[0]
+            a10, a11 = a[1] + c[1], b[1]
+            det = a00 * a11 - a01 * a10
+            m0 = (r[0] * a11 - a01 * r[1]) / det
+            m1 = (a00 * r[1] - a10 * r[0]) / det
+            return [m0, m1, m0]
+        corner_low, corner_high = a[0], c[n - 1]  # m[n−1] in row 0, m[0] in row n−1
+        gamma = -b[0]
+        bb = list(b)
+        bb[0] -= gamma
+        bb[n - 1] -= corner_low * corner_high / gamma
+        first = _tridiagonal(a, bb, c, r)
+        u = [0.0] * n
+        u[0], u[n - 1] = gamma, corner_high
+        z = _tridiagonal(a, bb, c, u)
+        factor = (first[0] + corner_low * first[n - 1] / gamma) / (
+            1.0 + z[0] + corner_low * z[n - 1] / gamma
+        )
+        m = [first[i] - factor * z[i] for i in range(n)]
+        return [*m, m[0]]
+    a = [0.0] * (n + 1)
+    b = [0.0] * (n + 1)
+    c = [0.0] * (n + 1)
+    r = [0.0] * (n + 1)
+    if math.isnan(v0):
+        b[0], c[0], r[0] = 2.0, 1.0, 3.0 * d[0]
+    else:
+        b[0], r[0] = 1.0, v0
+    for i in range(1, n):
+        a[i], b[i], c[i] = h[i], 2.0 * (h[i - 1] + h[i]), h[i - 1]
+        r[i] = 3.0 * (h[i] * d[i - 1] + h[i - 1] * d[i])
+    if math.isnan(v1):
+        a[n], b[n], r[n] = 1.0, 2.0, 3.0 * d[n - 1]
+    else:
+        b[n], r[n] = 1.0, v1
+    return _tridiagonal(a, b, c, r)
+
+
 def _spline_runs(
     pts: list[tuple[float, float, float, float, int]], periodic: bool
 ) -> dict[int, list[float]]:
-    """Cubic coefficients of the segments of each run of CubicSpline segments."""
-    from scipy.interpolate import CubicSpline  # only tables with splines need it
-
+    """Cubic coefficients (of ``u`` from the segment's start) of each run of CubicSpline
+    segments."""
     n = len(pts) - 1
     laws = [p[4] for p in pts[:n]]
     result: dict[int, list[float]] = {}
-    if periodic and all(law == CamLaw.CubicSpline for law in laws):
-        runs = [(0, n)]
-        whole = True
-    else:
-        whole = False
-        runs = []
-        i = 0
-        while i < n:
-            if laws[i] != CamLaw.CubicSpline:
-                i += 1
-                continue
-            j = i
-            while j < n and laws[j] == CamLaw.CubicSpline:
-                j += 1
-            runs.append((i, j))
-            i = j
+    whole = periodic and all(law == CamLaw.CubicSpline for law in laws)
+    runs: list[tuple[int, int]] = [(0, n)] if whole else []
+    i = 0
+    while i < n and not whole:
+        if laws[i] != CamLaw.CubicSpline:
+            i += 1
+            continue
+        j = i
+        while j < n and laws[j] == CamLaw.CubicSpline:
+            j += 1
+        runs.append((i, j))
+        i = j
     for i, j in runs:
         x = [pts[k][0] for k in range(i, j + 1)]
         y = [pts[k][1] for k in range(i, j + 1)]
-        slope = 0.0
-        if whole:
-            slope = (y[-1] - y[0]) / (x[-1] - x[0])
-            y = [yk - slope * (xk - x[0]) for xk, yk in zip(x, y, strict=True)]
-            y[-1] = y[0]
-            spline = CubicSpline(x, y, bc_type="periodic")
-        else:
-            v0, v1 = pts[i][2], pts[j][2]
-            left: Any = "natural" if math.isnan(v0) else (1, v0)
-            right: Any = "natural" if math.isnan(v1) else (1, v1)
-            if len(x) == 2 and left == "natural" and right == "natural":
-                spline = CubicSpline(x, y, bc_type=((2, 0.0), (2, 0.0)))
-            else:
-                spline = CubicSpline(x, y, bc_type=(left, right))
+        m = spline_slopes(x, y, pts[i][2], pts[j][2], whole)
         for k in range(i, j):
-            c = spline.c[:, k - i]
-            result[k] = [float(c[3]), float(c[2]) + slope, float(c[1]), float(c[0]), 0.0, 0.0]
-            result[k][0] = pts[k][1]
+            q = k - i
+            h = x[q + 1] - x[q]
+            d = (y[q + 1] - y[q]) / h
+            c2 = (3.0 * d - 2.0 * m[q] - m[q + 1]) / h
+            c3 = (m[q] + m[q + 1] - 2.0 * d) / (h * h)
+            result[k] = [y[q], m[q], c2, c3, 0.0, 0.0]
     return result
 
 

@@ -163,6 +163,36 @@ def test_a_cubic_spline_passes_its_points_with_continuous_slope_and_curvature():
     assert cam.at(5.0 - 1e-12)[2] == pytest.approx(0.0, abs=1e-9)
 
 
+@pytest.mark.parametrize("ends", ["natural", "clamped", "periodic"])
+def test_the_cubic_spline_is_scipys_at_10000_points(ends: str):
+    from scipy.interpolate import CubicSpline
+
+    rng = np.random.default_rng(7)
+    xs = np.cumsum(rng.uniform(0.5, 2.0, 12))
+    ys = rng.uniform(-3.0, 3.0, 12)
+    v0, v1 = (0.7, -1.2) if ends == "clamped" else (math.nan, math.nan)
+    points = [
+        MC_CamPoint(x, y, math.nan, math.nan, CamLaw.CubicSpline)
+        for x, y in zip(xs, ys, strict=True)
+    ]
+    points[0].Velocity, points[-1].Velocity = v0, v1
+    cam = compile_cam(table(*points), ends == "periodic")
+    assert not isinstance(cam, str), cam
+    if ends == "periodic":  # scipy's periodic spline needs y[0] = y[-1]: the rise taken out
+        rise = (ys[-1] - ys[0]) / (xs[-1] - xs[0])
+        flat = ys - rise * (xs - xs[0])
+        flat[-1] = flat[0]
+        ref = CubicSpline(xs, flat, bc_type="periodic")
+    else:
+        rise = 0.0
+        ref = CubicSpline(xs, ys, bc_type="natural" if ends == "natural" else ((1, v0), (1, v1)))
+    masters = xs[0] + (xs[-1] - xs[0]) * Z
+    got = evaluate(cam, masters)
+    assert np.max(np.abs(got[:, 0] - ref(masters) - rise * (masters - xs[0]))) < 1e-9
+    assert np.max(np.abs(got[:, 1] - ref(masters, 1) - rise)) < 1e-9
+    assert np.max(np.abs(got[:, 2] - ref(masters, 2))) < 1e-8
+
+
 def test_a_periodic_spline_is_smooth_across_the_period_boundary_and_rises_per_period():
     points = [
         MC_CamPoint(x, y, math.nan, math.nan, CamLaw.CubicSpline)
