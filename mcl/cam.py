@@ -158,6 +158,8 @@ class PhaseJob:
     def __init__(self) -> None:
         self.status = Status.Active
         self.error_id = 0
+        self.owner: CamIn | None = None
+        """The cam whose master it shifts (a cam that takes over at a boundary adopts it)."""
 
 
 class CamIn(Command):
@@ -219,6 +221,8 @@ class CamIn(Command):
         self.shift_job: PhaseJob | None = None
         self.shift_target = 0.0
         """Where the running shift ends, beyond :attr:`shift` [master u]."""
+        self.successor: CamIn | None = None
+        """The cam that waits for this one's period boundary to take over."""
 
     # ------------------------------------------------------------------ Command interface
     def start(self, axis: AxisRef, p: float, v: float, a: float, v_end: float) -> None:
@@ -226,14 +230,17 @@ class CamIn(Command):
         master.update_setpoint(master.t_cycle)
         previous = axis.active
         if isinstance(previous, CamIn) and previous.master is master:
-            if previous.phase == _WAIT_BOUNDARY:
-                previous = previous.previous  # a newer cam replaces the waiting one
-            assert isinstance(previous, CamIn)
-            self.reader = previous.reader
-            self.previous = previous
-            self.phase = _WAIT_BOUNDARY
-            self.shift, self.shift_profile = previous.shift_now(axis.t_cycle), None
-            return
+            if previous.phase != _COUPLED:  # a newer cam replaces a waiting one
+                waiting = previous
+                previous = waiting.previous
+                if waiting.phase == _WAIT_START:
+                    p = waiting.hold if previous is None else p
+            if isinstance(previous, CamIn) and previous.master is master:
+                self.reader = previous.reader
+                self.previous = previous
+                previous.successor = self
+                self.phase = _WAIT_BOUNDARY
+                return
         reader = self.reader = MasterReader(master, DEFAULT_KV)
         m, vm, am = reader.position, reader.velocity, reader.acceleration
         self.previous = previous if previous is not None and previous is not self else None
@@ -272,7 +279,9 @@ class CamIn(Command):
             boundary = previous.boundary(cycle)
             s, slope, curvature = previous.shape(boundary)
             m_b = previous.master_at(boundary)
+            self._adopt_shift(previous)
             self.previous = None
+            m, vm, am = self._master_seen(axis.t_cycle)
             self._couple(axis, m_b, vm, s, slope, curvature, self.start_distance)
         elif self.phase == _WAIT_START:
             tau = self.master_scaling * m + self.master_offset
@@ -432,14 +441,21 @@ class CamIn(Command):
             return m + p, vm, am
         return m + p, vm + v, am + a
 
-    def shift_now(self, t: float) -> float:
-        """The phase shift reached now [master u]; a running shift stops here (Aborted)."""
-        self.shift = self.total_shift(t)
-        self.shift_profile = None
-        job = self.shift_job
-        if job is not None and job.status == Status.Active:
-            job.status = Status.Aborted
-        return self.shift
+    def _adopt_shift(self, previous: CamIn) -> None:
+        """Take over the phase shift of the cam this one replaces, a running MC_Phasing
+        included."""
+        self.shift, self.shift_profile = previous.shift, previous.shift_profile
+        self.shift_t0, self.shift_target = previous.shift_t0, previous.shift_target
+        self.shift_job, previous.shift_job = previous.shift_job, None
+        if self.shift_job is not None:
+            self.shift_job.owner = self
+        previous.successor = None
+
+    def running(self) -> bool:
+        """The cam drives the slave: active, or continued by a successor waiting for its
+        boundary."""
+        successor = self.successor
+        return self.status == Status.Active or (successor is not None and successor.running())
 
     def phase_shift(self, t: float, distance: float, limits: Limits, job: PhaseJob) -> int:
         """MC_Phasing: shift the master position the cam reads by ``distance`` [master u] from
@@ -461,6 +477,7 @@ class CamIn(Command):
         self.shift_profile = planned
         self.shift_t0 = t
         self.shift_job = job
+        job.owner = self
         self.shift_target = target
         return 0
 
@@ -694,7 +711,9 @@ class MC_Phasing(ExecuteFB):
     ``Deceleration`` [master u/s²] and ``Jerk`` [master u/s³] (0: the master axis' defaults)
     and adds to the shifts before it; ``Done`` when it is reached, ``AbsolutePhaseShift`` [master
     u] the total shift of the running cam. A new MC_Phasing takes over a running shift from where
-    it is (the first reports CommandAborted), and so does the end of the cam. ``BufferMode``:
+    it is (the first reports CommandAborted), and so does the end of the cam. While a new MC_CamIn
+    waits for the period boundary, the shift applies to the cam that runs, and the new cam takes
+    it over (a running shift goes on). ``BufferMode``:
     Aborting only (others ``EParam``).
 
     ``ENotGeared`` 18 when no MC_CamIn of this Master runs on the slave; ``EParam`` for
@@ -726,7 +745,6 @@ class MC_Phasing(ExecuteFB):
         self.CommandAborted = False
         self.AbsolutePhaseShift = 0.0
         self._job: PhaseJob | None = None
-        self._cam: CamIn | None = None
 
     def _begin(self) -> int:
         slave = self.axis
@@ -734,6 +752,8 @@ class MC_Phasing(ExecuteFB):
         if error:
             return error
         cmd = slave.active
+        if isinstance(cmd, CamIn) and cmd.phase == _WAIT_BOUNDARY:
+            cmd = cmd.previous  # shift the cam that drives the slave until the boundary
         if not isinstance(cmd, CamIn) or cmd.master is not self.Master:
             return ErrorID.ENotGeared
         v, a, d, j = self.Velocity, self.Acceleration, self.Deceleration, self.Jerk
@@ -756,14 +776,15 @@ class MC_Phasing(ExecuteFB):
         error = cmd.phase_shift(slave.t_cycle, self.PhaseShift, limits, job)
         if error:
             return error
-        self._job, self._cam = job, cmd
+        self._job = job
         return 0
 
     def _poll(self) -> Status | None:
-        job, cam = self._job, self._cam
-        if job is None or cam is None:
+        job = self._job
+        if job is None:
             return Status.Aborted
-        if job.status == Status.Active and cam.status != Status.Active:
+        owner = job.owner
+        if job.status == Status.Active and (owner is None or not owner.running()):
             job.status = Status.Aborted
         return None if job.status == Status.Active else job.status
 
@@ -773,7 +794,8 @@ class MC_Phasing(ExecuteFB):
     def _show_more(self, visible: bool, final: Status | None) -> None:
         self.Active = self._running
         self.CommandAborted = visible and final == Status.Aborted
-        cam = self._cam
+        job = self._job
+        cam = job.owner if job is not None else None
         if cam is not None:
             self.AbsolutePhaseShift = cam.total_shift(cam.master.t_cycle)
 

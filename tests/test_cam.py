@@ -478,3 +478,40 @@ def test_a_master_too_fast_for_the_cam_stops_the_slave_with_ecamlimit(machine):
     assert cam.ErrorID == S.AxErrorID == mcl.ErrorID.ECamLimit
     assert S.state == mcl.AxisState.ErrorStop
     assert 1.5 * CAM.peak_slope * M.sp_vel > 0.99 * S.constants.Vmax  # refused at 500 mm/s
+
+
+def test_a_cam_waiting_for_the_boundary_is_replaced_and_a_phase_shift_carries_over(machine):
+    M, S = machine.axes["M"], machine.axes["S"]
+    inputs = dict(Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
+    table_id = select(M, S, LIFT, **inputs)
+    first = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    second = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id, SlaveScaling=1.2)
+    third = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id, SlaveScaling=0.8)
+    phasing = mcl.MC_Phasing(Master=M, Slave=S, PhaseShift=10.0, Velocity=40.0)
+    start: list[tuple[float, float]] = []
+    seen: list[str] = []
+
+    def program() -> None:
+        if not start:
+            start.append((M.sp_pos, S.sp_pos))
+        travel = M.sp_pos - start[0][0]
+        first(Execute=True)
+        second(Execute=travel > 20.0)
+        third(Execute=travel > 40.0)
+        phasing(Execute=travel > 60.0)  # while the third waits: it shifts the first cam
+        if second.CommandAborted and "second aborted" not in seen:
+            seen.append("second aborted")
+        if phasing.Done and "phased" not in seen:
+            seen.append("phased" if not third.InSync else "phased late")
+
+    recorder = Recorder(machine, M, S)
+    machine.run(program, timeout=3.5)
+    m_c, s_c = start[0]
+    assert seen == ["second aborted", "phased"], seen
+    assert first.CommandAborted and third.Active and third.InSync and not second.Active
+    assert phasing.AbsolutePhaseShift == pytest.approx(10.0, abs=1e-9)
+    # the third cam starts at the first one's boundary (master seen 200 mm on) and keeps the shift
+    assert S.sp_pos == pytest.approx(s_c + 0.8 * CAM.at(M.sp_pos + 10.0 - m_c - 200.0)[0], abs=1e-9)
+    samples = [x for x in recorder.samples if x.master > m_c + 1.0]
+    steps = [abs(b.slave_velocity - a.slave_velocity) for a, b in itertools.pairwise(samples)]
+    assert max(steps) < 2.0, "no jump of the set-point velocity [mm/s per servo cycle]"
