@@ -43,6 +43,7 @@ CHAPTER_ORDER = (
     "homing",
     "flying_reference",
     "gearing",
+    "cam",
     "force",
     "touch_probe",
     "inputs_outputs",
