@@ -27,6 +27,8 @@ from mcl.administrative import (
     MC_SetPosition,
 )
 from mcl.axis import Axis, AxisConfig, AxisSnapshot
+from mcl.cam import MC_CamIn, MC_CamOut, MC_CamTableSelect, MC_Phasing, MC_StartMode
+from mcl.cam_table import MC_CAM_REF, CamLaw, MC_CamPoint, rotary_knife
 from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
 from mcl.encoder import AbsoluteEncoder
@@ -39,6 +41,7 @@ from mcl.enums import (
     MC_SwitchMode,
 )
 from mcl.errors import ErrorID, StateError, error_text
+from mcl.flying_reference import MC_StepRefFlyingRefPulse, MC_StepRefFlyingSwitch
 from mcl.force import MC_ForceControl
 from mcl.gearing import MC_GearIn, MC_GearInPos, MC_GearOut
 from mcl.group import AxesGroup
@@ -62,8 +65,6 @@ from mcl.homing import (
     MC_StepBlock,
     MC_StepDirect,
     MC_StepLimitSwitch,
-    MC_StepRefFlyingRefPulse,
-    MC_StepRefFlyingSwitch,
     MC_StepRefPulse,
 )
 from mcl.inputs_outputs import (
@@ -112,6 +113,7 @@ from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
 
 __all__ = [
     "IDEAL_SENSORS",
+    "MC_CAM_REF",
     "MC_TA",
     "MC_TA_REF",
     "MC_TP",
@@ -126,6 +128,7 @@ __all__ = [
     "AxisIO",
     "AxisSnapshot",
     "AxisState",
+    "CamLaw",
     "ChannelSnapshot",
     "ConditionTimeout",
     "ErrorID",
@@ -144,6 +147,10 @@ __all__ = [
     "MC_AccelerationProfile",
     "MC_AddAxisToGroup",
     "MC_BufferMode",
+    "MC_CamIn",
+    "MC_CamOut",
+    "MC_CamPoint",
+    "MC_CamTableSelect",
     "MC_Direction",
     "MC_ExecutionMode",
     "MC_FinishHoming",
@@ -167,6 +174,7 @@ __all__ = [
     "MC_MoveLinearRelative",
     "MC_MoveRelative",
     "MC_MoveVelocity",
+    "MC_Phasing",
     "MC_PositionProfile",
     "MC_Power",
     "MC_ReadActualPosition",
@@ -180,6 +188,7 @@ __all__ = [
     "MC_Reset",
     "MC_SetOverride",
     "MC_SetPosition",
+    "MC_StartMode",
     "MC_StepAbsSwitch",
     "MC_StepAbsolute",
     "MC_StepBlock",
@@ -212,4 +221,5 @@ __all__ = [
     "StateError",
     "error_text",
     "faults",
+    "rotary_knife",
 ]

@@ -11,7 +11,7 @@ import math
 from collections import deque
 from typing import TYPE_CHECKING
 
-from mcl import axis_state
+from mcl import axis_state, software_limits
 from mcl.axis_config import AxisConfig, AxisParameters
 from mcl.axis_state import AxisSnapshot
 from mcl.channel import AxisChannel
@@ -34,7 +34,7 @@ from mcl.time_scale import TimeScale
 from mcl.trajectory import Limits, PlanningError
 
 if TYPE_CHECKING:
-    from mcl.homing import FlyingReference
+    from mcl.flying_reference import FlyingReference
     from mcl.module import Module
 
 __all__ = ["Axis", "AxisConfig", "AxisSnapshot"]
@@ -81,7 +81,8 @@ class Axis:
         self.constants: ServoConstants | None = None
         self.parameters = AxisParameters.of(config)
         """What MC_WriteParameter, MC_WriteBoolParameter and GT_SWLim change at run time."""
-        self._sw_limits = False
+        self.sw_limits_active = False
+        """A software limit is on and the axis is linear (supervised once it has Ref)."""
         self.regulator: Regulator | None = None
         self.speed_mode = 0
         self.loop_closed = False
@@ -213,7 +214,7 @@ class Axis:
     def update_sw_limits(self) -> None:
         """The parameters' software limits changed: whether the servo cycle supervises any."""
         p = self.parameters
-        self._sw_limits = (p.sw_enable_pos or p.sw_enable_neg) and not self.config.modulo
+        self.sw_limits_active = (p.sw_enable_pos or p.sw_enable_neg) and not self.config.modulo
 
     def set_sw_limits(self, pos: float, neg: float, enable_pos: bool, enable_neg: bool) -> int:
         """Set the software limits at run time (GT_SWLim, MC_WriteParameter 2–5): supervised
@@ -227,27 +228,9 @@ class Axis:
         target) heading for a new limit is stopped there by the supervision (ERRSWP / ERRSWN on
         the maximum ramp), as by a limit set before it started.
         """
-        if enable_pos and enable_neg and pos <= neg:
-            return ErrorID.EParam
-        if self.Ref and not self.config.modulo and (enable_pos or enable_neg):
-            high = pos if enable_pos else math.inf
-            low = neg if enable_neg else -math.inf
-            margin = 0.5 * self.config.resolution
-            budget = self.parameters.max_position_lag
-            if not low - margin <= self.sp_pos <= high + margin:
-                return ErrorID.Ecil
-            if not low - budget <= self.actual <= high + budget:
-                return ErrorID.Ecil
-            end = self.sp_pos
-            for cmd in (self.active, *self.queue):
-                if isinstance(cmd, Deferred):
-                    end = cmd.moved(end)
-                elif cmd is not None and cmd.target is not None:
-                    end = cmd.target
-                else:
-                    continue
-                if not low <= end <= high:
-                    return ErrorID.Ecil
+        error = software_limits.change_refused(self, pos, neg, enable_pos, enable_neg)
+        if error:
+            return error
         p = self.parameters
         p.sw_limit_pos, p.sw_limit_neg = pos, neg
         p.sw_enable_pos, p.sw_enable_neg = enable_pos, enable_neg
@@ -255,15 +238,9 @@ class Axis:
         return 0
 
     def sw_limit_range(self) -> tuple[float, float]:
-        """The positions allowed by the software limits now: (negative, positive) [u];
-        ±inf for a limit that is off, and both while the axis has no Ref or is modulo."""
-        p = self.parameters
-        if not self.Ref or not self._sw_limits:
-            return -math.inf, math.inf
-        return (
-            p.sw_limit_neg if p.sw_enable_neg else -math.inf,
-            p.sw_limit_pos if p.sw_enable_pos else math.inf,
-        )
+        """The positions allowed by the software limits now: (negative, positive) [u]
+        (:func:`mcl.software_limits.allowed_range`)."""
+        return software_limits.allowed_range(self)
 
     def max_velocity(self) -> float:
         """The velocity commanded motion may reach: Vmax, or MaxVelocityAppl below it [u/s]."""
@@ -325,7 +302,7 @@ class Axis:
 
     def check_target(self, target: float) -> int:
         """``Ecil`` 8 when the target lies beyond an active software limit (only with Ref)."""
-        if not self._sw_limits or not self.Ref:
+        if not self.sw_limits_active or not self.Ref:
             return 0
         low, high = self.sw_limit_range()
         return 0 if low <= target <= high else ErrorID.Ecil
@@ -335,16 +312,25 @@ class Axis:
         return self.constants is not None and velocity < 0.01 * self.constants.Vmax
 
     # ------------------------------------------------------------------ positions
-    def last_target(self) -> float:
-        """Where the commanded motion ends: the last queued/active target, else the model [u];
-        in the coordinate a queued MC_SetPosition (mcQueued) will have set by then."""
+    def planned_ends(self) -> list[float]:
+        """Where each command with a target (the active one, then the queued ones) ends [u], in
+        the coordinate a queued MC_SetPosition (mcQueued) will have set by then."""
         end = self.sp_pos
+        ends = []
         for cmd in (self.active, *self.queue):
             if isinstance(cmd, Deferred):
                 end = cmd.moved(end)
             elif cmd is not None and cmd.target is not None:
                 end = cmd.target
-        return end
+            else:
+                continue
+            ends.append(end)
+        return ends
+
+    def last_target(self) -> float:
+        """Where the commanded motion ends: the last queued/active target, else the model [u]."""
+        ends = self.planned_ends()
+        return ends[-1] if ends else self.sp_pos
 
     def modulo_target(self, position: float, direction: int, start: float) -> float:
         """Continuous model target for an absolute position on a modulo axis.
@@ -407,7 +393,7 @@ class Axis:
         ``queued`` False: the queued commands are in the new coordinate already (a queued
         MC_SetPosition applied when the command before it signals) and stay as they are.
         """
-        error = self._shift_beyond_limits(delta, queued)
+        error = software_limits.shift_refused(self, delta, queued)
         if error:
             return error
         self.rebase(delta)
@@ -419,24 +405,6 @@ class Axis:
         window = self._probe_window
         if window is not None:
             self._probe_window = (window[0] + delta, window[1] + delta)
-        return 0
-
-    def _shift_beyond_limits(self, delta: float, queued: bool) -> int:
-        """``Ecil`` when a shift by ``delta`` puts the actual position or the target of a
-        command it moves (the active one; the queued ones if ``queued``) beyond an active
-        software limit (only with Ref), else 0."""
-        low, high = self.sw_limit_range()
-        if low == -math.inf and high == math.inf:
-            return 0
-        positions = [self.actual]
-        for cmd in (self.active, *self.queue) if queued else (self.active,):
-            if isinstance(cmd, CoordinateShift) and not cmd.relative:
-                break
-            if cmd is not None and cmd.target is not None:
-                positions.append(cmd.target)
-        for position in positions:
-            if not low <= position + delta <= high:
-                return ErrorID.Ecil
         return 0
 
     def submit_deferred(self, cmd: Deferred) -> None:
@@ -867,7 +835,7 @@ class Axis:
             or lim_neg
             or self._lim_prev
             or abs(e) > self.parameters.max_position_lag
-            or (self._sw_limits and self.Ref)
+            or (self.sw_limits_active and self.Ref)
             or not io.encoder_ok
         ):
             self._supervise(e, self.sp_vel, actual, lim_pos, lim_neg)
@@ -979,14 +947,7 @@ class Axis:
             if lim_neg and (v < 0.0 or not prev_neg):
                 self.fault(ErrorID.ERRLIN)
                 return
-        if self.Ref and self._sw_limits:
-            # the model must not pass a limit moving outward (half a count: rounding of the
-            # profile); the actual position may lag or overshoot the model by the
-            # following-error budget DevMax (beyond it only where that is not supervised)
-            low, high = self.sw_limit_range()
-            model, budget = self.sp_pos, p.max_position_lag
-            margin = 0.5 * self.config.resolution
-            if v > 0.0 and (model > high + margin or actual > high + budget):
-                self.fault(ErrorID.ERRSWP)
-            elif v < 0.0 and (model < low - margin or actual < low - budget):
-                self.fault(ErrorID.ERRSWN)
+        if self.Ref and self.sw_limits_active:
+            error = software_limits.crossed(self, v, actual)
+            if error:
+                self.fault(error)

@@ -197,7 +197,7 @@ def restore(axis: Axis, snapshot: AxisSnapshot) -> None:
     else:
         axis.constants = None
         axis.regulator = None
-        axis._sw_limits = False
+        axis.sw_limits_active = False
         axis._vel_alpha = 1.0
     axis.state = s.state
     axis.AxErrorID = s.AxErrorID

@@ -54,6 +54,9 @@ class ErrorID(IntEnum):
     EAbsFrame = 22
     """Beyond the Teco library (MC_StepAbsolute): the absolute sensor's frame failed its check
     (parity / CRC; :class:`mcl.faults.AbsoluteFrameError`): the reading is not used."""
+    ECamLimit = 23
+    """Beyond the Teco library (MC_CamIn): at the master's speed the cam needs more than the
+    slave's Vmax or maximum acceleration."""
     EGroupMember = 1000
     EGroupFull = 1001
     ENotGroupMember = 1003
@@ -94,6 +97,10 @@ _TEXTS: dict[int, tuple[str, str]] = {
     20: ("parameter is read-only", "parametr je jen pro čtení"),
     21: ("axis has no absolute encoder", "osa nemá absolutní snímač"),
     22: ("absolute encoder frame error", "chyba rámce absolutního snímače"),
+    23: (
+        "cam needs more than the slave's maximum velocity or acceleration",
+        "vačka vyžaduje víc než maximální rychlost nebo zrychlení slave osy",
+    ),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

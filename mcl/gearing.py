@@ -719,15 +719,22 @@ class MC_GearOut(ExecuteFB):
             return error
         if not isinstance(slave.active, (GearIn, GearInPos)):
             return ErrorID.ENotGeared
-        ramp = slave.max_ramp()
-        v, a = slave.sp_vel, slave.sp_acc
-        velocity = v + a * abs(a) / (2.0 * ramp.jerk) if math.isfinite(ramp.jerk) else v
-        limits = Limits(ramp.velocity, slave.config.max_acceleration, ramp.deceleration, ramp.jerk)
-        cmd = MoveVelocity(MC_BufferMode.Aborting, limits, velocity)
-        slave.submit(cmd)
-        if cmd.status == Status.Error:
-            return cmd.error_id
-        return 0
+        return release_slave(slave)
+
+
+def release_slave(slave: AxisRef) -> int:
+    """Let a coupled slave go on at the velocity it has, its acceleration brought to 0 on the
+    axis' maximum jerk, as a never-ending velocity motion (MC_GearOut, MC_CamOut); an error code
+    when it is refused."""
+    ramp = slave.max_ramp()
+    v, a = slave.sp_vel, slave.sp_acc
+    velocity = v + a * abs(a) / (2.0 * ramp.jerk) if math.isfinite(ramp.jerk) else v
+    limits = Limits(ramp.velocity, slave.config.max_acceleration, ramp.deceleration, ramp.jerk)
+    cmd = MoveVelocity(MC_BufferMode.Aborting, limits, velocity)
+    slave.submit(cmd)
+    if cmd.status == Status.Error:
+        return cmd.error_id
+    return 0
 
 
 __all__ = ["MC_GearIn", "MC_GearInPos", "MC_GearOut"]

@@ -1,17 +1,21 @@
 """A PLC's view of the bridge for the tests: the same calls (write a field, read one, run PLC
-cycles) in-process on a machine's signal table, or over Modbus TCP to a lockstep server in its own
-process; and the scenarios the machines' acceptance runs through either."""
+cycles) in-process on a machine's signal table, or over Modbus TCP or OPC UA to a lockstep server
+in its own process; and the scenarios the machines' acceptance runs through any of them."""
 
 from __future__ import annotations
 
 import os
+import random
 import socket
 import subprocess
 import sys
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from asyncua import ua
+from asyncua.sync import Client as SyncUaClient
 from pymodbus.client import ModbusTcpClient
 
 import scenes
@@ -81,20 +85,27 @@ class Plc:
 
 class InProcess(Plc):
     """The table of a scene of ``machine`` in this process, published after each run of scans
-    as a lockstep server publishes it."""
+    as a lockstep server publishes it; written and read as registers (as a Modbus client does:
+    REALs as f32) or, ``by_name``, as values (as an OPC UA client does: REALs as Double)."""
 
-    def __init__(self, machine: str) -> None:
+    def __init__(self, machine: str, by_name: bool = False) -> None:
         self.scene = scenes.load(machine, trace_every=0)
         self.table = SignalTable(scenes.definition(machine))
         homing = scenes.homing(self.scene)
         self.program = BridgeProgram(self.scene, [self.table], homing, publish_every_scan=False)
         self.plc_period = self.scene.runtime.plc_period
+        self.by_name = by_name
 
     def write(self, name: str, value: float) -> None:
+        if self.by_name:
+            self.table.put(name, value)
+            return
         f = self.table.by_name[name]
         self.table.write(f.address, encode(f.kind, value))
 
     def read(self, name: str) -> float:
+        if self.by_name:
+            return self.table.get(name)
         f = self.table.by_name[name]
         return decode(f.kind, self.table.read(f.address, f.width))  # as a client reads it
 
@@ -123,6 +134,47 @@ class ModbusLockstep(Plc):
         reply = self.client.read_holding_registers(f.address, count=f.width)
         assert not reply.isError(), f"read {name}: {reply}"
         return decode(f.kind, reply.registers)
+
+    def run(self, seconds: float) -> None:
+        self.target += round(seconds / self.plc_period)
+        self.write("sim.target", self.target)
+        assert int(self.read("sim.cycle")) == self.target  # answered when the scene is there
+
+
+UA_TYPE = {
+    "u16": ua.VariantType.UInt16,
+    "i16": ua.VariantType.Int16,
+    "u32": ua.VariantType.UInt32,
+    "f32": ua.VariantType.Double,
+}
+"""The OPC UA type of a field's variable (docs/bridge.md)."""
+
+NAMESPACE = "urn:mcl-testbench:bridge"
+
+
+def ua_variant(table: SignalTable, name: str, value: float) -> ua.Variant:
+    """The variant a client writes to field ``name``'s variable."""
+    kind = UA_TYPE[table.by_name[name].kind]
+    return ua.Variant(float(value) if kind == ua.VariantType.Double else int(value), kind)
+
+
+class OpcuaLockstep(Plc):
+    """An OPC UA client (asyncua's synchronous one) of a lockstep server of ``machine`` at
+    ``url``: each run writes ``sim.target`` and is answered when the scene is there."""
+
+    def __init__(self, machine: str, client: SyncUaClient) -> None:
+        self.table = SignalTable(scenes.definition(machine))
+        self.client = client
+        self.plc_period = scenes.definition(machine).plc_period
+        self.target = 0
+        ns = client.get_namespace_index(NAMESPACE)
+        self.nodes = {f.name: client.get_node(f"ns={ns};s={f.name}") for f in self.table.fields}
+
+    def write(self, name: str, value: float) -> None:
+        self.nodes[name].write_value(ua.DataValue(ua_variant(self.table, name, value)))
+
+    def read(self, name: str) -> float:
+        return float(self.nodes[name].read_value())
 
     def run(self, seconds: float) -> None:
         self.target += round(seconds / self.plc_period)
@@ -159,6 +211,77 @@ def modbus_server(machine: str, log: Path, *options: str) -> Iterator[ModbusTcpC
         process.terminate()
         process.wait(10)
     assert "Traceback" not in log.read_text()
+
+
+@contextmanager
+def opcua_server(
+    machine: str, log: Path, *options: str, env: dict[str, str] | None = None
+) -> Iterator[int]:
+    """The OPC UA server of ``machine`` in its own process (``env``: more of its environment),
+    listening; its port. Checks at the end that it stayed up and logged no traceback."""
+    port = free_port()
+    environ = {**os.environ, "MCL_PURE_PYTHON": os.environ.get("MCL_PURE_PYTHON", "")}
+    command = [sys.executable, "-m", "scenes", "bridge", "opcua", machine, "--port", str(port)]
+    with log.open("w") as stderr:
+        process = subprocess.Popen(
+            [*command, *options],
+            env={**environ, **(env or {})},
+            stdout=subprocess.PIPE,
+            stderr=stderr,
+            text=True,
+        )
+    try:
+        assert process.stdout is not None
+        line = process.stdout.readline()
+        assert f"{machine}: OPC UA on opc.tcp://" in line, log.read_text()
+        yield port
+        assert process.poll() is None
+    finally:
+        process.terminate()
+        process.wait(10)
+    assert "Traceback" not in log.read_text()
+
+
+@contextmanager
+def opcua_client(port: int) -> Iterator[SyncUaClient]:
+    """asyncua's synchronous client connected to a loopback server without security."""
+    client = SyncUaClient(f"opc.tcp://127.0.0.1:{port}/", timeout=10)
+    client.connect()
+    try:
+        yield client
+    finally:
+        client.disconnect()
+
+
+MOVING: dict[str, float] = {"X.control": bits("enable", "move_absolute")}
+"""Power on and MC_MoveAbsolute's Execute."""
+
+SCENARIO: tuple[tuple[int, dict[str, float]], ...] = (
+    (50, {"X.control": bits("enable")}),
+    (2000, {"X.control": bits("enable", "home")}),
+    (10, {"X.control": bits("enable"), "X.position": 300.0, "X.velocity": 200.0}),
+    (10, {"X.acceleration": 1000.0, "X.deceleration": 1000.0}),
+    *[(40, MOVING)] * 30,
+)
+"""The gantry's lockstep scenario: (PLC cycles to run, fields written before) — power, home,
+move X to 300 mm."""
+
+WATCHED = ("X.actual_position", "X.following_error", "X.status", "sim.cycle")
+"""The fields the lockstep trace records after every step."""
+
+
+def gantry_lockstep(plc: Plc, rng: random.Random | None = None) -> list[list[float]]:
+    """The values of :data:`WATCHED` after every step of :data:`SCENARIO` run by ``plc``
+    (``rng``: a random pause of up to 3 ms after each write, whatever the network timing)."""
+    trace = []
+    for cycles, writes in SCENARIO:
+        for name, value in writes.items():
+            plc.write(name, value)
+            if rng is not None:
+                time.sleep(rng.uniform(0.0, 0.003))
+        plc.run(cycles * plc.plc_period)
+        trace.append([plc.read(name) for name in WATCHED])
+    return trace
 
 
 SHEAR_SPEED = 1000.0

@@ -21,6 +21,7 @@ from pymodbus.client import ModbusTcpClient
 import scenes
 from scenes.bridge.program import BridgeProgram
 from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable, decode, encode
+from tests.bridge_clients import SCENARIO, WATCHED
 
 TABLE = SignalTable(scenes.definition("gantry"))
 FLOAT = ModbusTcpClient.DATATYPE.FLOAT32
@@ -180,21 +181,6 @@ def test_ten_thousand_random_requests_and_malformed_frames(
     before = read_float(client, "sim.time")
     time.sleep(0.2)
     assert read_float(client, "sim.time") > before  # the machine still runs
-
-
-MOVING: dict[str, float] = {"X.control": 1 | 1 << CONTROL_BITS.index("move_absolute")}
-"""Power on and MC_MoveAbsolute's Execute."""
-
-SCENARIO: tuple[tuple[int, dict[str, float]], ...] = (
-    (50, {"X.control": 1}),
-    (2000, {"X.control": 1 | 1 << CONTROL_BITS.index("home")}),
-    (10, {"X.control": 1, "X.position": 300.0, "X.velocity": 200.0}),
-    (10, {"X.acceleration": 1000.0, "X.deceleration": 1000.0}),
-    *[(40, MOVING)] * 30,
-)
-"""Lockstep scenario: (PLC cycles to run, fields written before) — power, home, move to 300."""
-
-WATCHED = ("X.actual_position", "X.following_error", "X.status", "sim.cycle")
 
 
 def in_process_trace() -> list[list[int]]:

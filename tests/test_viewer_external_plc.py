@@ -1,7 +1,8 @@
-"""An external PLC in the viewer (``--modbus PORT``): it commands the gantry through the bridge's
-register map while its Program entry runs; STOP all, a Power button or another scene take the
-machine back at once (its writes refused with DEVICE_BUSY, the axis stopped, measured on the
-joint), Run demo hands it back; every page's Operator line says who commands."""
+"""An external PLC in the viewer (``--modbus PORT``, ``--opcua PORT``): it commands the gantry
+through the bridge's register map or node tree while its Program entry runs; STOP all, a Power
+button or another scene take the machine back at once (its writes refused with DEVICE_BUSY or
+BadInvalidState, the axis stopped, measured on the joint), Run demo hands it back; every page's
+Operator line says who commands."""
 
 from __future__ import annotations
 
@@ -14,10 +15,13 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
+from asyncua import ua
 from pymodbus.client import ModbusTcpClient
 from pymodbus.constants import ExcCodes
 
+import mcl
 from scenes.bridge.table import CONTROL_BITS, STATUS_BITS
+from tests.bridge_clients import NAMESPACE, opcua_client
 from tests.test_bridge_modbus import address, free_port, read_float, write_float
 from viewer.control import Control
 from viewer.control_page import control_html
@@ -183,3 +187,69 @@ def test_a_taken_modbus_port_is_one_clear_message() -> None:
     assert done.returncode == 2
     assert f"cannot serve Modbus TCP on 127.0.0.1:{taken}" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_over_opcua_the_plc_commands_until_stop_all_takes_the_machine_back() -> None:
+    """The same with ``--opcua``: the PLC's method calls move X (measured on the joint); after
+    STOP all its calls and writes are refused with BadInvalidState and X stands."""
+    plc = ExternalPlc("gantry", port=free_port(), protocol="opcua")
+    session = Session("gantry", speed=2.0, programs=ProgramCatalog(external=plc))
+    try:
+        session.programs.choose(plc.label)
+        session.start()
+        session.start_demo()
+        assert "OPC UA opc.tcp://127.0.0.1" in plc.label
+        with opcua_client(int(plc.label.rsplit(":", 1)[1].rstrip(")"))) as client:
+            ns = client.get_namespace_index(NAMESPACE)
+            value = lambda name: client.get_node(f"ns={ns};s={name}").read_value()  # noqa: E731
+            x = client.get_node(f"ns={ns};s=X")
+            wait(lambda: value("sim.control") == 1, 5.0, "the PLC in control")
+            step = lambda: session.snapshot.demo.step  # noqa: E731 (published with the frames)
+            wait(lambda: "1 client connected" in step(), 2.0, "the client shown")
+            x.call_method(f"{ns}:MC_Power", ua.Variant(True, ua.VariantType.Boolean))
+            wait(lambda: value("X.status.power"), 5.0, "power")
+            ramp = [ua.Variant(v, ua.VariantType.Double) for v in (150.0, 1000.0, 1000.0, 0.0)]
+            direction = ua.Variant(int(mcl.MC_Direction.MC_Positive), ua.VariantType.Int32)
+            mode = ua.Variant(0, ua.VariantType.UInt16)
+            x.call_method(f"{ns}:MC_MoveVelocity", *ramp, direction, mode)
+            wait(lambda: value("X.status.in_velocity"), 5.0, "InVelocity")
+            scene = session.scene
+            joint_velocity = lambda: scene.data.qvel[scene.io("X").dof] * 1000.0  # noqa: E731
+            assert joint_velocity() == pytest.approx(150.0, rel=0.03)  # measured on the joint
+
+            session.stop_all()
+            wait(lambda: value("sim.control") == 0, 2.0, "the PLC refused")
+            with pytest.raises(ua.UaStatusCodeError, match="BadInvalidState"):
+                x.call_method(f"{ns}:MC_MoveVelocity", *ramp, direction, mode)
+            wait(lambda: abs(value("X.actual_velocity")) < 0.5, 5.0, "X stopped")
+            stopped_at = value("X.actual_position")
+            position = client.get_node(f"ns={ns};s=X.position")
+            with pytest.raises(ua.UaStatusCodeError, match="BadInvalidState"):
+                position.write_value(ua.DataValue(ua.Variant(500.0, ua.VariantType.Double)))
+            time.sleep(0.3)
+            assert value("X.actual_position") == pytest.approx(stopped_at, abs=0.01)
+            assert abs(joint_velocity()) < 1.0
+    finally:
+        session.close()
+        plc.close()
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--modbus", "5020", "--opcua", "4840"], "one external PLC at a time"),
+        (["--opcua", "4840", "--opcua-host", "0.0.0.0"], "needs the password of user 'plc'"),
+    ],
+)
+def test_a_refused_opcua_option_is_one_line(
+    options: list[str],
+    message: str,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    from viewer.__main__ import main
+
+    monkeypatch.delenv("MCL_OPCUA_PASSWORD", raising=False)
+    assert main(["--port", str(free_port()), *options]) == 2
+    stderr = capsys.readouterr().err
+    assert message in stderr and len(stderr.strip().splitlines()) == 1

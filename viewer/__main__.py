@@ -183,6 +183,20 @@ def parser() -> argparse.ArgumentParser:
         metavar="ADDR",
         help="a PLC's IP address the Modbus server accepts beyond loopback; repeatable",
     )
+    p.add_argument(
+        "--opcua",
+        type=parse_port,
+        metavar="PORT",
+        help="serve the machine to an external PLC over OPC UA on PORT instead (the bridge's node "
+        "tree, docs/bridge.md); it is in control while its Program entry runs",
+    )
+    p.add_argument(
+        "--opcua-host",
+        default=DEFAULT_HOST,
+        metavar="HOST",
+        help=f"interface of the OPC UA server (default {DEFAULT_HOST}; beyond loopback encrypted "
+        "sessions of user plc only, the password from MCL_OPCUA_PASSWORD)",
+    )
     return p
 
 
@@ -255,8 +269,7 @@ def serve(args: argparse.Namespace) -> int:
     try:
         print(f"viewer: {args.scene} at {viewer.url}  (Ctrl-C to stop)", flush=True)
         if plc is not None:
-            units = ", ".join(f"{t.unit_id} {t.machine}" for t in plc.tables)
-            print(f"viewer: {plc.label}, unit id {units}", flush=True)
+            print(f"viewer: {plc.banner}", flush=True)
         if viewer.exposed:
             print(viewer.warning(), file=sys.stderr, flush=True)
         if not args.no_demo and not viewer.session.demo_available():
@@ -275,12 +288,18 @@ def serve(args: argparse.Namespace) -> int:
 
 
 def external_plc(args: argparse.Namespace) -> ExternalPlc | None:
-    """The external PLC's Modbus server that ``args`` ask for (None: no ``--modbus``).
+    """The external PLC's Modbus or OPC UA server that ``args`` ask for (None: neither
+    ``--modbus`` nor ``--opcua``).
 
     Raises:
-        ValueError: a host beyond loopback without ``--modbus-allow``, or a bad address.
+        ValueError: both asked for; a host beyond loopback without ``--modbus-allow`` or the
+            OPC UA password; a bad address.
         OSError: the port cannot be served.
     """
+    if args.modbus is not None and args.opcua is not None:
+        raise ValueError("one external PLC at a time: give --modbus PORT or --opcua PORT")
+    if args.opcua is not None:
+        return ExternalPlc(args.scene, args.opcua_host, args.opcua, protocol="opcua")
     if args.modbus is None:
         return None
     return ExternalPlc(args.scene, args.modbus_host, args.modbus, args.modbus_allow)

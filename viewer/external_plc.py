@@ -1,11 +1,13 @@
-"""An external PLC in the viewer: the Modbus TCP server of the bridge (``--modbus PORT``) on the
-machine the viewer shows, offered as one more entry of the Program choice.
+"""An external PLC in the viewer: the Modbus TCP server of the bridge (``--modbus PORT``) or its
+OPC UA server (``--opcua PORT``) on the machine the viewer shows, offered as one more entry of the
+Program choice.
 
 The PLC commands the machine exactly while that entry is the running program: Run demo hands it
 the machine (the operator hands power over, as to a demo), and whatever ends a demo — STOP all,
 a Power button, End demo, another program, a reset — takes it back at the next PLC cycle. While
 it is not in control the status stays live and its writes are refused (``sim.control`` 0,
-Modbus exception DEVICE_BUSY), so one owner commands at a time and STOP all always works.
+Modbus exception DEVICE_BUSY, OPC UA BadInvalidState), so one owner commands at a time and STOP
+all always works.
 """
 
 from __future__ import annotations
@@ -13,41 +15,86 @@ from __future__ import annotations
 import asyncio
 import threading
 from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
 
 import scenes
-from scenes.bridge.modbus import Server, check_host, device
+from scenes.bridge.modbus import Server, device
+from scenes.bridge.pacing import CHUNK, Run
 from scenes.bridge.program import BridgeProgram
+from scenes.bridge.serving import check_host
 from scenes.bridge.table import SignalTable, tables_of
+from scenes.definition import MachineDef
 from scenes.scene import Scene
 
-START_TIMEOUT = 5.0
+if TYPE_CHECKING:
+    from scenes.bridge import opcua
+
+Transport = Literal["modbus", "opcua"]
+"""How the PLC reaches the machine: Modbus TCP or OPC UA."""
+
+START_TIMEOUT = 15.0
 """Longest wall time [s] the server may take to listen."""
 
 
+@dataclass(frozen=True)
+class _Served:
+    """What the OPC UA node tree serves in the viewer: the tables, and a bridge program on a
+    scene of the machine for the axes' methods (the viewer scans its own); no run of its own."""
+
+    definition: MachineDef
+    tables: list[SignalTable]
+    program: BridgeProgram
+    lockstep: bool = False
+    run: Run | None = None
+
+
 class ExternalPlc:
-    """The Modbus TCP server of ``machine``'s signal tables, serving from its own thread, and
-    the bridge program that turns them into function-block calls on the viewer's scene.
+    """The Modbus TCP or OPC UA server of ``machine``'s signal tables, serving from its own
+    thread, and the bridge program that turns them into function-block calls on the viewer's
+    scene.
 
     Args:
         machine: registry name of the machine it serves (the viewer's ``--scene``).
-        host: interface to bind (loopback unless ``allow`` names clients).
+        host: interface to bind (Modbus: loopback unless ``allow`` names clients; OPC UA:
+            beyond loopback encrypted sessions of user plc only, the password from
+            MCL_OPCUA_PASSWORD).
         port: TCP port.
         allow: client addresses accepted beyond loopback.
+        protocol: ``modbus`` or ``opcua``.
 
     Raises:
-        ValueError: a host beyond loopback without ``allow``, or a bad address in it.
+        ValueError: a host beyond loopback without ``allow`` (Modbus) or a password (OPC UA),
+            or a bad address in ``allow``.
         OSError: the port cannot be served (taken, privileged).
     """
 
     def __init__(
-        self, machine: str, host: str = "127.0.0.1", port: int = 5020, allow: Sequence[str] = ()
+        self,
+        machine: str,
+        host: str = "127.0.0.1",
+        port: int = 5020,
+        allow: Sequence[str] = (),
+        protocol: Transport = "modbus",
     ) -> None:
-        check_host(host, allow, "--modbus-allow")
+        self.protocol = protocol
+        self._security: opcua.Security | None = None
+        if protocol == "opcua":
+            from scenes.bridge import opcua
+
+            self._security = opcua.security_of(host, allow)
+        else:
+            check_host(host, allow, "--modbus-allow")
         self.machine = machine
         self.tables: list[SignalTable] = tables_of(scenes.definition(machine))
         for table in self.tables:
             table.in_control = False
-        self.label = f"external PLC (Modbus TCP {host}:{port})"
+        what = (
+            f"OPC UA opc.tcp://{host}:{port}"
+            if protocol == "opcua"
+            else f"Modbus TCP {host}:{port}"
+        )
+        self.label = f"external PLC ({what})"
         """The Program choice's entry."""
         self._address = (host, port)
         self._allow = tuple(allow)
@@ -55,6 +102,8 @@ class ExternalPlc:
         self._commanding = False
         self._loop: asyncio.AbstractEventLoop | None = None
         self._server: Server | None = None
+        self._ua: opcua.Server | None = None
+        self._ua_stop: asyncio.Event | None = None
         self._started = threading.Event()
         self._error: BaseException | None = None
         self._thread = threading.Thread(target=self._serve, name="external-plc", daemon=True)
@@ -62,17 +111,45 @@ class ExternalPlc:
         self._started.wait(START_TIMEOUT)
         if self._error is not None:
             raise self._error
-        if self._server is None:
-            raise OSError(f"the Modbus server on {host}:{port} did not start")
+        if self._server is None and self._ua is None:
+            raise OSError(f"the {what} server did not start")
 
     # ------------------------------------------------------------------------- server thread
 
     def _serve(self) -> None:
         try:
-            asyncio.run(self._listen())
+            asyncio.run(self._listen() if self.protocol == "modbus" else self._listen_opcua())
         except BaseException as error:  # reported to the constructor (it raises it)
             self._error = error
             self._started.set()
+
+    async def _listen_opcua(self) -> None:
+        from scenes.bridge import opcua
+
+        self._loop = asyncio.get_running_loop()
+        host, port = self._address
+        opcua.quiet_asyncua()
+        scene = scenes.load(self.machine, trace_every=0)  # for the axes' methods only
+        served = _Served(
+            scenes.definition(self.machine),
+            self.tables,
+            BridgeProgram(scene, self.tables, scenes.homing(scene)),
+        )
+        server = await opcua.server_of(
+            served, host, port, self._allow, self._security, opcua.cache_dir()
+        )
+        opcua.quiet_asyncua()
+        try:
+            await server.start()
+        except OSError as error:
+            raise OSError(f"cannot serve OPC UA on {host}:{port} (is the port taken?)") from error
+        self._ua_stop = asyncio.Event()
+        self._ua = server
+        self._started.set()
+        try:
+            await self._ua_stop.wait()
+        finally:
+            await server.stop()
 
     async def _listen(self) -> None:
         self._loop = asyncio.get_running_loop()
@@ -89,16 +166,32 @@ class ExternalPlc:
 
     def close(self) -> None:
         """Stop the server (its connections close)."""
-        loop, server = self._loop, self._server
-        if loop is not None and server is not None and loop.is_running():
+        loop, server, stop = self._loop, self._server, self._ua_stop
+        if loop is None or not loop.is_running():
+            return
+        if server is not None:
             asyncio.run_coroutine_threadsafe(server.shutdown(), loop)
-            self._thread.join(2.0)
+        elif stop is not None:
+            loop.call_soon_threadsafe(stop.set)
+        self._thread.join(2.0)
+
+    @property
+    def banner(self) -> str:
+        """What the viewer prints at start: the entry and how the tables are addressed."""
+        if self.protocol == "opcua":
+            from scenes.bridge.opcua_nodes import NAMESPACE
+
+            return f"{self.label}, namespace {NAMESPACE}"
+        units = ", ".join(f"{t.unit_id} {t.machine}" for t in self.tables)
+        return f"{self.label}, unit id {units}"
 
     @property
     def connections(self) -> int:
         """Clients connected now."""
-        server = self._server
-        return len(server.active_connections) if server is not None else 0
+        if self._server is not None:
+            return len(self._server.active_connections)
+        bserver = self._ua.bserver if self._ua is not None else None
+        return len(bserver.clients) if bserver is not None else 0
 
     # ------------------------------------------------------------------------- simulation thread
 
@@ -134,6 +227,14 @@ class ExternalPlc:
             for table in self.tables:
                 table.in_control = commanding
         program()
+        nodes = self._ua.bridge_nodes if self._ua is not None else None
+        if nodes is not None and program.cycles % self._publish_every(program) == 0:
+            nodes.published(program.cycles)  # the OPC UA variables follow
+
+    @staticmethod
+    def _publish_every(program: BridgeProgram) -> int:
+        """PLC cycles between two refreshes of the OPC UA variables (10 ms of the machine)."""
+        return max(1, round(CHUNK / program.scene.runtime.plc_period))
 
     @property
     def commanding(self) -> bool:

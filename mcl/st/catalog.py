@@ -84,7 +84,14 @@ def mcl_enums() -> dict[str, EnumType]:
     """mcl's enumerations (MC_BufferMode, MC_Direction, MC_SwitchMode, MC_ExecutionMode) by
     upper-case name."""
     found: dict[str, EnumType] = {}
-    for name in ("MC_BufferMode", "MC_Direction", "MC_SwitchMode", "MC_ExecutionMode"):
+    for name in (
+        "MC_BufferMode",
+        "MC_Direction",
+        "MC_SwitchMode",
+        "MC_ExecutionMode",
+        "MC_StartMode",
+        "CamLaw",
+    ):
         cls = getattr(mcl, name)
         if isinstance(cls, type) and issubclass(cls, enum.IntEnum):
             found[name.upper()] = EnumType(name, {m.name: int(m.value) for m in cls})

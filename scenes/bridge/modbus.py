@@ -6,9 +6,10 @@ thread: free at a speed (1×: real time) or in lockstep with the client
 Function codes 3 and 4 read the table, 6, 16, 22 and 23 write its command fields; a read
 outside the table or a write to a read-only or unmapped register gets the exception
 ILLEGAL_ADDRESS, coil and discrete-input codes ILLEGAL_FUNCTION, a write while an operator of the
-viewer is in control (``sim.control`` 0) DEVICE_BUSY. In lockstep, the answer to a
-write of ``sim.target`` comes when the scene has run to it (at most :data:`ACK_TIMEOUT`): one
-request per PLC cycle (FC 23 also reads the status back in it).
+viewer is in control (``sim.control`` 0) DEVICE_BUSY. In lockstep, the answer to a write of
+``sim.target`` comes when the scene has run to it (at most
+:data:`scenes.bridge.serving.ACK_TIMEOUT`): one request per PLC cycle (FC 23 also reads the
+status back in it).
 
 The server binds loopback. Modbus has no security of its own: another address needs
 ``allow`` (the client addresses accepted; every other connection is closed at once) and prints
@@ -18,9 +19,7 @@ a warning.
 from __future__ import annotations
 
 import asyncio
-import ipaddress
 import logging
-import signal
 from collections.abc import Sequence
 
 from pymodbus.constants import ExcCodes
@@ -30,6 +29,15 @@ from pymodbus.simulator import DataType, SimData, SimDevice
 
 from scenes.bridge.machine import Bridge, check_speed
 from scenes.bridge.pacing import LockstepRun
+from scenes.bridge.serving import (
+    acknowledge,
+    admitted,
+    allowed,
+    check_host,
+    is_loopback,
+    run_command,
+    stop_on_signals,
+)
 from scenes.bridge.table import NotInControl, SignalTable, WriteRefused
 
 log = logging.getLogger(__name__)
@@ -37,10 +45,6 @@ log = logging.getLogger(__name__)
 REGISTER_CODES = (3, 4, 6, 16, 22, 23)
 """Function codes on registers: read, write single and multiple, mask write, read/write (a
 write is read back after it is done)."""
-
-ACK_TIMEOUT = 2.0
-"""Longest wall time [s] the answer to a lockstep target waits for the scene to get there (a
-client then reads ``sim.cycle`` until it does)."""
 
 
 def device(table: SignalTable, lockstep: LockstepRun | None = None) -> SimDevice:
@@ -62,8 +66,7 @@ def device(table: SignalTable, lockstep: LockstepRun | None = None) -> SimDevice
             if values is not None:
                 table.write(address, [int(v) for v in values])
                 if lockstep is not None and address <= target.address < address + len(values):
-                    cycle = int(table.get("sim.target"))
-                    await asyncio.to_thread(lockstep.wait, cycle, ACK_TIMEOUT)
+                    await acknowledge(lockstep, int(table.get("sim.target")))
             else:
                 offset = address - start_address
                 registers[offset : offset + count] = table.read(address, count)
@@ -79,33 +82,6 @@ def device(table: SignalTable, lockstep: LockstepRun | None = None) -> SimDevice
     return SimDevice(id=table.unit_id, simdata=[data], action=action)
 
 
-def is_loopback(host: str) -> bool:
-    """Whether ``host`` is a loopback address (or ``localhost``)."""
-    try:
-        return ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return host == "localhost"
-
-
-def check_host(host: str, allow: Sequence[str] = (), flag: str = "--allow") -> None:
-    """Refuse an address beyond loopback without an allow-list of client addresses (given
-    with the command-line option ``flag``).
-
-    Raises:
-        ValueError: says what is wrong and what would be right.
-    """
-    if not is_loopback(host) and not allow:
-        raise ValueError(
-            f"the Modbus server binds loopback only, got {host!r}: Modbus has no security of "
-            f"its own; to serve another address, name the PLC's address with {flag} ADDRESS"
-        )
-    for address in allow:
-        try:
-            ipaddress.ip_address(address)
-        except ValueError:
-            raise ValueError(f"{flag} takes IP addresses, got {address!r}") from None
-
-
 class Server(ModbusTcpServer):
     """A Modbus TCP server that closes every connection from an address not allowed.
 
@@ -119,7 +95,7 @@ class Server(ModbusTcpServer):
         self, devices: list[SimDevice], address: tuple[str, int], allow: Sequence[str] = ()
     ) -> None:
         super().__init__(devices, address=address)
-        self.allowed = frozenset(str(ipaddress.ip_address(a)) for a in allow)
+        self.allowed = allowed(allow)
 
     def callback_new_connection(self) -> ServerRequestHandler:
         """A handler that checks its peer first."""
@@ -130,11 +106,9 @@ class _Guarded(ServerRequestHandler):
     """The request handler of a connection: closed at once when its peer is not allowed."""
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        peer = transport.get_extra_info("peername")
-        host = str(peer[0]) if peer else ""
-        allowed = self.server.allowed
-        if not (is_loopback(host) or host in allowed):
-            log.warning("refused a Modbus connection from %s (not in --allow)", host or "?")
+        served, host = admitted(transport.get_extra_info("peername"), self.server.allowed)
+        if not served:
+            log.warning("refused a Modbus connection from %s (not in --allow)", host)
             transport.close()
             return
         super().connection_made(transport)
@@ -164,9 +138,7 @@ async def serve(
     and serve its tables until SIGTERM/SIGINT."""
     bridge = Bridge(machine, speed)
     server = server_of(bridge, host, port, allow)
-    loop = asyncio.get_running_loop()
-    for number in (signal.SIGTERM, signal.SIGINT):
-        loop.add_signal_handler(number, lambda: asyncio.ensure_future(server.shutdown()))
+    stop_on_signals(server.shutdown)
     bridge.start()
     try:
         await server.serve_forever(background=True)  # listening once this returns
@@ -186,11 +158,9 @@ def main(
     machine: str, host: str, port: int, speed: float | None = 1.0, allow: Sequence[str] = ()
 ) -> int:
     """The ``bridge modbus`` command: serve until stopped; 2 for a refused host or speed."""
-    try:
+
+    def checks() -> None:
         check_host(host, allow)
         check_speed(speed)
-    except ValueError as error:
-        print(error)
-        return 2
-    asyncio.run(serve(machine, host, port, speed, allow))
-    return 0
+
+    return run_command(checks, lambda: serve(machine, host, port, speed, allow))

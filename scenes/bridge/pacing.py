@@ -23,7 +23,8 @@ IDLE_WAIT = 0.05
 
 
 class Run:
-    """The simulation thread of ``program``'s scene (a daemon); subclasses advance it."""
+    """The simulation thread of ``program``'s scene (a daemon); subclasses advance it and
+    publish the status after each run of scans (:meth:`_publish`)."""
 
     def __init__(self, program: BridgeProgram) -> None:
         self.program = program
@@ -33,6 +34,55 @@ class Run:
         self._thread = threading.Thread(target=self._guarded, name="bridge-sim", daemon=True)
         self.error = ""
         """Why the simulation stopped on its own (empty: it runs or was stopped)."""
+        self.on_publish: list[Callable[[int], None]] = []
+        """Called in the simulation thread after each publish with the PLC cycle published (a
+        server mirrors the tables there; keep them short: the scene waits)."""
+        self._reached = threading.Condition()
+        self._published = program.cycles
+        """The cycle whose status the tables show (a client reads it once :meth:`wait` says so)."""
+        self._waiters: list[tuple[int, Callable[[], None]]] = []
+
+    def wait(self, cycle: int, timeout: float) -> bool:
+        """Wait until the tables show PLC cycle ``cycle`` or a later one (or the run stops)
+        [timeout: wall s]; whether they do."""
+        with self._reached:
+            return self._reached.wait_for(
+                lambda: self._published >= cycle or self._stop.is_set(), timeout
+            )
+
+    def when_published(self, cycle: int, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` once the tables show PLC cycle ``cycle`` or a later one, or the
+        run stops: at once if they do, else in the simulation thread after that publish."""
+        with self._reached:
+            if not (self._published >= cycle or self._stop.is_set()):
+                self._waiters.append((cycle, callback))
+                return
+        callback()
+
+    def forget(self, callback: Callable[[], None]) -> None:
+        """No longer call ``callback`` (of :meth:`when_published`; one that timed out)."""
+        with self._reached:
+            self._waiters = [w for w in self._waiters if w[1] is not callback]
+
+    @property
+    def published(self) -> int:
+        """The PLC cycle whose status the tables show."""
+        with self._reached:
+            return self._published
+
+    def _publish(self) -> None:
+        """Publish the status, then tell the hooks and whoever waits."""
+        self.program.publish()
+        cycle = self.program.cycles
+        for hook in self.on_publish:
+            hook(cycle)
+        with self._reached:
+            self._published = cycle
+            self._reached.notify_all()
+            due = [w for w in self._waiters if w[0] <= cycle]
+            self._waiters = [w for w in self._waiters if w[0] > cycle]
+        for _, callback in due:
+            callback()
 
     def start(self) -> None:
         """Start the thread."""
@@ -43,6 +93,7 @@ class Run:
         self._stop.set()
         if self._thread.is_alive():
             self._thread.join(timeout)
+        self._release()
 
     def _guarded(self) -> None:
         try:
@@ -50,6 +101,16 @@ class Run:
         except Exception as error:  # the thread reports and ends; the server stays up
             self.error = f"{type(error).__name__}: {error}"
             log.exception("simulation stopped")
+        finally:
+            self._release()
+
+    def _release(self) -> None:
+        """Wake whoever waits: the run stops."""
+        with self._reached:
+            self._reached.notify_all()
+            due, self._waiters = self._waiters, []
+        for _, callback in due:
+            callback()
 
     def _run(self) -> None:
         raise NotImplementedError
@@ -82,7 +143,7 @@ class PacedRun(Run):
         scene, start_wall, start_sim = self.scene, self._clock(), self.scene.time
         while not self._stop.is_set():
             scene.run(self.program, timeout=self.chunk)
-            self.program.publish()
+            self._publish()
             ahead = (scene.time - start_sim) / self.speed - (self._clock() - start_wall)
             if ahead > 0:
                 self._stop.wait(ahead)
@@ -103,17 +164,6 @@ class LockstepRun(Run):
         for table in program.tables:
             table.set("sim.mode", 1)
             table.written = self.written
-        self._reached = threading.Condition()
-        self._published = program.cycles
-        """The cycle whose status the tables show (a client reads it once :meth:`wait` says so)."""
-
-    def wait(self, cycle: int, timeout: float) -> bool:
-        """Wait until the scene has run ``cycle`` PLC cycles (or the run stops) [timeout: wall
-        s]; whether it has."""
-        with self._reached:
-            return self._reached.wait_for(
-                lambda: self._published >= cycle or self._stop.is_set(), timeout
-            )
 
     def _run(self) -> None:
         plc = self.scene.runtime.plc_period
@@ -122,11 +172,6 @@ class LockstepRun(Run):
             due = self.program.target - self.program.cycles
             if due > 0:
                 self.scene.run(self.program, timeout=due * plc)
-                self.program.publish()
-                with self._reached:
-                    self._published = self.program.cycles
-                    self._reached.notify_all()
+                self._publish()
             else:
                 self.written.wait(IDLE_WAIT)
-        with self._reached:
-            self._reached.notify_all()

@@ -110,6 +110,12 @@ class AxisBridge:
         self._serial = -1
         self._calls = self._commands()
 
+    @property
+    def commands(self) -> tuple[str, ...]:
+        """The Execute commands (control bits) the axis takes; the others are refused with
+        EParam."""
+        return tuple(self._calls)
+
     def _param(self, name: str) -> float:
         return self.table.get(self.prefix + name) if name in self.fields else 0.0
 

@@ -380,13 +380,62 @@ class SignalTable:
                 for k in range(f.width):
                     if address <= lo + k < end:
                         image[k] = values[lo + k - address]
-                value = decode(f.kind, image)
-                if f.name.endswith(".control"):
-                    axis = f.name[: -len(".control")]
-                    self._rose[axis] |= int(value) & ~int(self._values[f.name])
-                self._values[f.name] = value
+                self._store(f, decode(f.kind, image))
                 a = lo + f.width
         self.written.set()
+
+    def put(self, name: str, value: float) -> None:
+        """Write field ``name`` from a client by name (an OPC UA write): as :meth:`write` does
+        its registers; an integer field takes what its register would hold.
+
+        Raises:
+            WriteRefused: not a writable field; NotInControl: the PLC is not in control.
+        """
+        f = self._writable(name)
+        with self._lock:
+            self._store(f, value if f.kind == "f32" else _integer(f.kind, value))
+        self.written.set()
+
+    def put_bit(self, name: str, bit: int, on: bool) -> None:
+        """Set or clear bit ``bit`` of the writable word field ``name`` from a client (a control
+        or output bit), leaving its other bits as they are.
+
+        Raises:
+            WriteRefused: not a writable word field, or no bit of one; NotInControl: the PLC is
+                not in control.
+        """
+        f = self._writable(name)
+        if f.kind != "u16" or not 0 <= bit < 16:
+            raise WriteRefused(f"{name} has no bit {bit}")
+        with self._lock:
+            word = int(self._values[name])
+            self._store(f, float(word | 1 << bit if on else word & ~(1 << bit)))
+        self.written.set()
+
+    def _writable(self, name: str) -> Field:
+        """Field ``name`` if a client may write it now.
+
+        Raises:
+            WriteRefused: not a writable field; NotInControl: the PLC is not in control.
+        """
+        f = self.by_name.get(name)
+        if f is None or f.access != "rw":
+            raise WriteRefused(f"{name} is not a writable field")
+        self._check_control()
+        return f
+
+    def _store(self, f: Field, value: float) -> None:
+        """Store a client's value of ``f`` (lock held); a control word's rising bits are kept
+        for the next scan."""
+        if f.name.endswith(".control"):
+            axis = f.name[: -len(".control")]
+            self._rose[axis] |= int(value) & ~int(self._values[f.name])
+        self._values[f.name] = value
+
+    def snapshot(self) -> dict[str, float]:
+        """Every field's value at one instant, by name."""
+        with self._lock:
+            return dict(self._values)
 
     def take_control(self, axis: str) -> int:
         """The control word of ``axis`` for this scan: the bits set now and those that rose
@@ -405,14 +454,7 @@ class SignalTable:
         """
         if axis not in self._rose or bit not in CONTROL_BITS:
             raise WriteRefused(f"no control bit {axis}.{bit}")
-        self._check_control()
-        name, mask = f"{axis}.control", 1 << CONTROL_BITS.index(bit)
-        with self._lock:
-            word = int(self._values[name])
-            new = word | mask if on else word & ~mask
-            self._values[name] = float(new)
-            self._rose[axis] |= new & ~word
-        self.written.set()
+        self.put_bit(f"{axis}.control", CONTROL_BITS.index(bit), on)
 
     def request(self, axis: str, command: str, params: Mapping[str, float] | None = None) -> None:
         """Issue Execute command ``command`` of ``axis`` as a method call does: ``params``

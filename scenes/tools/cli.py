@@ -2,8 +2,9 @@
 a machine's demo program headless and prints every FB edge, the positions and states;
 ``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
 ``python -m scenes sweep FILE.toml`` runs a parameter sweep (see :mod:`scenes.tools.sweep`);
-``python -m scenes bridge map NAME`` prints a machine's register map and ``python -m scenes bridge
-modbus NAME`` runs it with its Modbus TCP server (docs/bridge.md).
+``python -m scenes bridge map NAME`` prints a machine's register map, ``python -m scenes bridge
+modbus NAME`` runs it with its Modbus TCP server and ``python -m scenes bridge opcua NAME`` with
+its OPC UA server (docs/bridge.md).
 
 A mistake in a file or a value given here is one line on standard error, ``file:line: key: what
 is wrong; expected ...``, and the exit status 2."""
@@ -217,24 +218,50 @@ def _command(args: argparse.Namespace) -> int:
 
 
 def _bridge_parser(sub: Any) -> None:
-    """``bridge map NAME [--csv]`` and ``bridge modbus NAME [--host H] [--port P]``."""
-    bridge = sub.add_parser("bridge", help="an external PLC drives a machine (Modbus TCP)")
+    """``bridge map NAME [--csv]``, ``bridge modbus NAME [--host H] [--port P] …`` and
+    ``bridge opcua NAME [--host H] [--port P] … [--secure] [--certs DIR]``."""
+    bridge = sub.add_parser("bridge", help="an external PLC drives a machine (Modbus TCP, OPC UA)")
     what = bridge.add_subparsers(dest="bridge", required=True)
     map_parser = what.add_parser("map", help="print the machine's register map (Markdown)")
     map_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
     map_parser.add_argument("--csv", action="store_true", help="print CSV instead")
     modbus = what.add_parser("modbus", help="run the machine with its Modbus TCP server")
-    modbus.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
-    modbus.add_argument("--host", default="127.0.0.1", help="loopback address to bind")
-    modbus.add_argument("--port", type=int, default=5020, help="TCP port")
-    modbus.add_argument("--speed", type=float, default=1.0, help="free-running: × real time")
-    modbus.add_argument("--lockstep", action="store_true", help="advance on sim.target only")
-    modbus.add_argument(
-        "--allow",
-        action="append",
-        default=[],
-        metavar="ADDRESS",
-        help="a PLC's IP address accepted when --host is beyond loopback (repeat for more)",
+    opcua = what.add_parser("opcua", help="run the machine with its OPC UA server")
+    modbus_help = (
+        "loopback address to bind (another one needs --allow)",
+        "a PLC's IP address accepted when --host is beyond loopback (repeat for more)",
+    )
+    opcua_help = (
+        "address to bind (beyond loopback: encrypted sessions of user plc only)",
+        "serve only this client IP address beyond loopback (repeat for more)",
+    )
+    for server, port, (host_help, allow_help) in (
+        (modbus, 5020, modbus_help),
+        (opcua, 4840, opcua_help),
+    ):
+        server.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+        server.add_argument("--host", default="127.0.0.1", help=host_help)
+        server.add_argument("--port", type=int, default=port, help="TCP port")
+        server.add_argument("--speed", type=float, default=1.0, help="free-running: × real time")
+        server.add_argument("--lockstep", action="store_true", help="advance on sim.target only")
+        server.add_argument(
+            "--allow", action="append", default=[], metavar="ADDRESS", help=allow_help
+        )
+    opcua.add_argument(
+        "--secure",
+        action="store_true",
+        help="encrypted sessions of user plc only, also on loopback (password: MCL_OPCUA_PASSWORD)",
+    )
+    opcua.add_argument(
+        "--certs",
+        metavar="DIR",
+        help="where the server's self-signed certificate is made and kept, a directory of mode "
+        "0700 (~/.mcl-testbench/opcua)",
+    )
+    opcua.add_argument(
+        "--password-file",
+        metavar="FILE",
+        help="the password of user plc in a file of mode 0600 (else MCL_OPCUA_PASSWORD)",
     )
 
 
@@ -246,9 +273,17 @@ def _bridge(args: argparse.Namespace) -> int:
         tables = tables_of(scenes.definition(args.name))
         print("\n\n".join(t.csv() if args.csv else t.markdown() for t in tables))
         return 0
+    speed = None if args.lockstep else args.speed
+    if args.bridge == "opcua":
+        from scenes.bridge import opcua
+
+        certs = Path(args.certs) if args.certs else opcua.CERTS
+        password = Path(args.password_file) if args.password_file else None
+        return opcua.main(
+            args.name, args.host, args.port, speed, args.allow, args.secure, certs, password
+        )
     from scenes.bridge.modbus import main as modbus
 
-    speed = None if args.lockstep else args.speed
     return modbus(args.name, args.host, args.port, speed, args.allow)
 
 

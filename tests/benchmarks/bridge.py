@@ -1,14 +1,20 @@
-"""Benchmark: the Modbus bridge on loopback.
+"""Benchmark: the bridge's servers on loopback, Modbus TCP and OPC UA.
 
-Starts ``python -m scenes bridge modbus gantry`` free-running at 1× and measures, over 2000
-requests each, the median and p99 latency of reading X's status block (14 registers) and of
+Modbus: starts ``python -m scenes bridge modbus gantry`` free-running at 1× and measures, over
+2000 requests each, the median and p99 latency of reading X's status block (14 registers) and of
 writing its control word; then starts it in lockstep and runs the gantry demo from a PLC with a
 10 ms cycle (5 scans of the gantry's 2 ms; :func:`gantry_demo`): one read/write request per cycle
 writes the target and is answered with X's status when the scene is there, one more reads Y's
 and Z's status words (one request of 101 registers); the real-time factor of the whole demo,
 against the gantry's bare physics (MuJoCo with its
-devices, a servo period per call) over the same simulated time in this process. Prints JSON
-(the server in the mode of this process: MCL_PURE_PYTHON passes on).
+devices, a servo period per call) over the same simulated time in this process.
+
+OPC UA (:mod:`tests.benchmarks.bridge_opcua`): the same with ``python -m scenes bridge opcua
+gantry`` and an asyncua client: reading X's status variables (one Read of ten), writing its
+control word, calling MC_Reset; the demo in lockstep with one Advance call and one Read of the
+three status words per 10 ms cycle.
+
+Prints JSON (the servers in the mode of this process: MCL_PURE_PYTHON passes on).
 
 Run: ``python -m tests.benchmarks.bridge``.
 """
@@ -24,6 +30,7 @@ import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from typing import Protocol
 
 from pymodbus.client import ModbusTcpClient
 
@@ -129,7 +136,19 @@ def bits(*names: str) -> int:
     return sum(1 << CONTROL_BITS.index(n) for n in names)
 
 
-def gantry_demo(plc: LockstepPlc) -> None:
+class DemoPlc(Protocol):
+    """What :func:`gantry_demo` needs of a PLC with a 10 ms cycle."""
+
+    cycles: int
+
+    def command(self, axis: str, word: int, **params: float) -> None: ...
+
+    def bit(self, axis: str, name: str) -> bool: ...
+
+    def until(self, condition: Callable[[], bool], limit: int = 20000) -> None: ...
+
+
+def gantry_demo(plc: DemoPlc) -> None:
     """Power and home X, Y, Z with their recipes, then move through four corners of a
     rectangle, each axis on its own (MC_MoveAbsolute), as a PLC program of 10 ms would."""
     axes = ("X", "Y", "Z")
@@ -148,10 +167,9 @@ def gantry_demo(plc: LockstepPlc) -> None:
         plc.until(lambda: plc.bit("X", "done") and plc.bit("Y", "done"))
 
 
-def lockstep(client: ModbusTcpClient) -> dict[str, float]:
-    """The gantry demo through the lockstep server: PLC cycles, simulated seconds, wall
-    seconds and their ratio (the real-time factor)."""
-    plc = LockstepPlc(client)
+def lockstep(plc: DemoPlc) -> dict[str, float]:
+    """The gantry demo through a lockstep server: PLC cycles, simulated seconds, wall seconds
+    and their ratio (the real-time factor)."""
     start = time.perf_counter()
     gantry_demo(plc)
     wall = time.perf_counter() - start
@@ -180,16 +198,20 @@ def bare_physics(simulated: float) -> float:
 
 def main() -> None:
     """Print the measurements as JSON."""
+    from tests.benchmarks import bridge_opcua
+
     with server() as client:
         read = latency(lambda: client.read_holding_registers(STATUS, count=14))
         write = latency(lambda: client.write_register(CONTROL, 0))
     with server("--lockstep") as client:
-        factor = lockstep(client)
+        factor = lockstep(LockstepPlc(client))
+    opcua = bridge_opcua.measure()
     bare = bare_physics(factor["simulated_s"])
-    factor |= {"bare_physics_real_time_factor": bare, "ratio": factor["real_time_factor"] / bare}
+    for demo in (factor, opcua["lockstep_gantry_demo_10ms"]):
+        demo |= {"bare_physics_real_time_factor": bare, "ratio": demo["real_time_factor"] / bare}
     pure = os.environ.get("MCL_PURE_PYTHON") == "1"
-    report = {"pure_python": pure, "read_status": read, "write_command": write}
-    print(json.dumps({**report, "lockstep_gantry_demo_10ms": factor}, indent=2))
+    modbus = {"read_status": read, "write_command": write, "lockstep_gantry_demo_10ms": factor}
+    print(json.dumps({"pure_python": pure, "modbus": modbus, "opcua": opcua}, indent=2))
 
 
 if __name__ == "__main__":
