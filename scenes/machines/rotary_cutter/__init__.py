@@ -6,9 +6,11 @@ measuring wheel (encoder only: the drum's master, its touch probe wired to the m
 run before every physics step: the measuring wheel's errors (the flying shear's wheel, measurement
 only) and :class:`KnifeDrum` (:mod:`.devices`): the blades in the web (cutting force, grip along
 the web) and every cut taken from the physics (a piece is cut when a blade's tip has gone through
-the web). :class:`Demo` (:mod:`.demo`) is the PLC program: the drum geared to the wheel with
-MC_GearIn, tip speed = web speed, so each piece is one blade pitch long. :mod:`.definition` is
-the machine in the registry.
+the web). Two PLC programs: :class:`CamDemo` (:mod:`.cam_demo`, the machine's demo) cuts to
+length on ``mcl.rotary_knife`` cams, pieces shorter and longer than the tip circle, a length
+change on the fly, registration to the print marks; :class:`Demo` (:mod:`.demo`) gears the drum
+to the wheel with MC_GearIn, tip speed = web speed, so each piece is one blade pitch long.
+:mod:`.definition` is the machine in the registry.
 """
 
 from scenes.machines.rotary_cutter.axes import (
@@ -21,6 +23,7 @@ from scenes.machines.rotary_cutter.axes import (
     TIP_CIRCUMFERENCE,
     WHEEL_RADIUS,
 )
+from scenes.machines.rotary_cutter.cam_demo import Batch, CamDemo, CamJob
 from scenes.machines.rotary_cutter.definition import DEVICES, MACHINE
 from scenes.machines.rotary_cutter.demo import DRUM_SPEED_LIMIT, CutterJob, Demo
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
@@ -45,6 +48,9 @@ __all__ = [
     "SENSOR_DELAY",
     "TIP_CIRCUMFERENCE",
     "WHEEL_RADIUS",
+    "Batch",
+    "CamDemo",
+    "CamJob",
     "Cut",
     "CutterJob",
     "Demo",

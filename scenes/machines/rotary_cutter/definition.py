@@ -8,7 +8,7 @@ import math
 from scenes.definition import MachineDef, Signal
 from scenes.machines.flying_shear.devices import MeasuringWheel
 from scenes.machines.rotary_cutter.axes import AXES, PREFIX
-from scenes.machines.rotary_cutter.demo import Demo
+from scenes.machines.rotary_cutter.cam_demo import CamDemo
 from scenes.machines.rotary_cutter.devices import KnifeDrum
 from scenes.scene import Scene
 
@@ -60,11 +60,11 @@ def _signal_angle(scene: Scene) -> float:
 
 MACHINE = MachineDef(
     name="rotary_cutter",
-    description="rotary cross cutter: web line, measuring wheel, knife drum geared to the web",
+    description="rotary cross cutter: web line, measuring wheel, knife drum on a cam",
     model="rotary_cutter.xml",
     axes=AXES,
     devices=DEVICES,
-    demo=Demo,
+    demo=CamDemo,
     signals={
         "web_speed": Signal("m/min", _signal_speed, "web speed"),
         "drum_angle": Signal("deg", _signal_angle, "drum angle"),
