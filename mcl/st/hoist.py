@@ -107,7 +107,11 @@ def _calls(x: Expressions, body: Any) -> Iterator[tuple[Var, dict[str, Any]]]:
 
 
 def hoisted(
-    x: Expressions, body: Any, convert: Any, fixed: frozenset[str] = frozenset()
+    x: Expressions,
+    body: Any,
+    convert: Any,
+    fixed: frozenset[str] = frozenset(),
+    self_written: dict[str, set[str]] | None = None,
 ) -> tuple[dict[Slot, str], set[Slot]]:
     """The inputs set once: (instance code, input) → the code of its value; and every slot a
     call passes or a statement writes.
@@ -118,6 +122,8 @@ def hoisted(
         convert: ``(member, value E, node) -> code`` as a call passes the input.
         fixed: the codes of the POU's own fixed inputs (``self.SetPosition``): a value that is
             one of them counts as constant.
+        self_written: per user block type (upper name), the inputs its own statements write
+            (:func:`self_written`): a call sets those every time.
     """
     first: dict[Slot, str] = {}
     varying: set[Slot] = set()
@@ -130,10 +136,13 @@ def hoisted(
     touched |= varying
     for var, given in _calls(x, body):
         assert isinstance(var.type, BlockType)
+        own_writes = (self_written or {}).get(var.type.name.upper(), set())
         for key, member in var.type.members.items():
             slot = (var.code, member.python)
             p = given.get(key)
             code = None
+            if member.python in own_writes:
+                varying.add(slot)
             if p is not None and not isinstance(p, tf.OutputParameterAssignment):
                 touched.add(slot)
                 code = _constant(x, member, p, convert, fixed)
@@ -173,8 +182,20 @@ def _blocks_in(t: Type) -> Iterator[BlockType]:
             yield from _blocks_in(field_type)
 
 
+def self_written(blocks: Iterable[tuple[str, Expressions, Any]]) -> dict[str, set[str]]:
+    """Per user block type (upper name; its expressions and statements given): the members
+    (Python names) its own statements write."""
+    found: dict[str, set[str]] = {}
+    for name, x, body in blocks:
+        codes = [c[5:] for c in written(x, body) if c.startswith("self.")]
+        found[name.upper()] = {c for c in codes if "." not in c}
+    return found
+
+
 def fixed_inputs(
-    pous: Iterable[tuple[Expressions, Any, bool]], globals_: Iterable[Var]
+    pous: Iterable[tuple[Expressions, Any, bool]],
+    globals_: Iterable[Var],
+    self_written: dict[str, set[str]],
 ) -> dict[str, set[str]]:
     """Per user block type (upper name): its inputs (Python names) that every instance holds
     fixed from when its owner made it: every instance is a plain VAR of a PROGRAM or block
@@ -184,6 +205,7 @@ def fixed_inputs(
         pous: per PROGRAM, FUNCTION_BLOCK and FUNCTION: its expressions, its statements, and
             whether it is a FUNCTION.
         globals_: the global variables.
+        self_written: the members each user block type writes itself (:func:`self_written`).
     """
     fixed: dict[str, set[str]] = {}
     analysed = list(pous)
@@ -201,7 +223,7 @@ def fixed_inputs(
             fixed[block.name.upper()] = set()
     for x, body, function in analysed:
         try:
-            once, touched = hoisted(x, body, lambda m, v, p: v.code)
+            once, touched = hoisted(x, body, lambda m, v, p: v.code, self_written=self_written)
         except STError:  # reported where the statement is translated
             return {}
         passed_on = _passed_on(x, body)

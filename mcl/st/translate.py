@@ -12,7 +12,7 @@ import blark.transform as tf
 from mcl.st.catalog import python_name
 from mcl.st.declarations import STErrorAt, constant_of, declare_type, initial, spec_type
 from mcl.st.expressions import Expressions
-from mcl.st.hoist import BIND, fixed_inputs, own_fixed, uncopied
+from mcl.st.hoist import BIND, fixed_inputs, own_fixed, self_written, uncopied
 from mcl.st.hoist import hoisted as hoisted_inputs
 from mcl.st.scope import Callable_, Scope, Unit, Var
 from mcl.st.statements import Emitter, Statements
@@ -175,9 +175,9 @@ class POU:
             block = BlockType(self.name, "user", self.members, self.python)
             self.unit.types[self.name.upper()] = block
 
-    def body(self, out: Emitter, fixed: dict[str, set[str]]) -> None:
+    def body(self, out: Emitter, fixed: dict[str, set[str]], written: dict[str, set[str]]) -> None:
         """The Python of the POU into ``out``; ``fixed``: the fixed inputs of every user block
-        type (:func:`mcl.st.hoist.fixed_inputs`)."""
+        type (:func:`mcl.st.hoist.fixed_inputs`), ``written``: the members each writes itself."""
         out.st_line = self.unit.line(self.node)
         x = Expressions(self.unit, self.scope)
         if self.function:
@@ -194,7 +194,7 @@ class POU:
             block = isinstance(self.node, tf.FunctionBlock)
             own = own_fixed(x, self.node.body, self.name, fixed) if block else frozenset()
             hoisted, _ = hoisted_inputs(
-                x, self.node.body, lambda m, v, p: x.convert(v, m.type, p), own
+                x, self.node.body, lambda m, v, p: x.convert(v, m.type, p), own, written
             )
             once = [f"{i}.{m} = {c}" for (i, m), c in hoisted.items()]
             bind = [line for line in once if "self." in line.split(" = ", 1)[1]] if block else []
@@ -378,9 +378,14 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
         if isinstance(pou.node, tf.Program):
             pou.declare()
     analysed = [(Expressions(unit, p.scope), p.node.body, p.function) for p in pous]
-    fixed = fixed_inputs(analysed, unit.globals.vars.values())
+    writes = self_written(
+        (pou.name, x, b)
+        for pou, (x, b, _) in zip(pous, analysed, strict=True)
+        if isinstance(pou.node, tf.FunctionBlock)
+    )
+    fixed = fixed_inputs(analysed, unit.globals.vars.values(), writes)
     for pou in pous:
-        pou.body(body, fixed)
+        pou.body(body, fixed, writes)
     out.emit(f"_BOUND = {dict(unit.bound)!r}")
     out.emit("")
     lines = out.lines + body.lines
