@@ -458,6 +458,10 @@ ERROR_TEXTS: dict[int, tuple[str, str]] = {
     20: ("parameter is read-only", "parametr je jen pro čtení"),
     21: ("axis has no absolute encoder", "osa nemá absolutní snímač"),
     22: ("absolute encoder frame error", "chyba rámce absolutního snímače"),
+    23: (
+        "cam needs more than the slave's maximum velocity or acceleration",
+        "vačka vyžaduje víc než maximální rychlost nebo zrychlení slave osy",
+    ),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

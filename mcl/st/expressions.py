@@ -4,6 +4,7 @@ constants are folded so that a literal costs nothing at run time."""
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -42,6 +43,18 @@ def literal_code(value: Any) -> str:
 def const(value: Any, t: Type) -> E:
     """A constant expression."""
     return E(literal_code(value), t, value)
+
+
+_STRINGS = re.compile(r"'(?:[^'\\]|\\.)*'|\"(?:[^\"\\]|\\.)*\"")
+_IMPURE = re.compile(r"[\w\])]\(|\[|/|%|\*\*|@|:=|\blambda\b")
+"""What may have an effect or fault when evaluated: a call, an index, a division, a power."""
+_OPERATOR_WORDS = re.compile(r"\b(?:not|and|or)\s*\(")
+
+
+def _plain(code: str) -> bool:
+    """The expression only reads variables and members, compares and combines them: evaluating
+    it has no effect and cannot fault, so AND/OR may skip it (the value is the same)."""
+    return not _IMPURE.search(_OPERATOR_WORDS.sub(" (", _STRINGS.sub("''", code)))
 
 
 _COMPARE = {"=": "==", "<>": "!=", "<": "<", ">": ">", "<=": "<=", ">=": ">="}
@@ -299,6 +312,8 @@ class Expressions:
         if a.const and b.const:
             value = eval(f"{a.value!r} {py} {b.value!r}")
             return const(bool(value) if t is T.BOOL else T.wrap_value(value, t), t)
+        if t is T.BOOL and py != "^" and _plain(b.code):  # the same value, b read only if needed
+            py = "and" if py == "&" else "or"
         return E(f"({a.code} {py} {b.code})", t)
 
     # ------------------------------------------------------------------ conversion

@@ -51,7 +51,8 @@ def invoke(st: Statements, s: tf.FunctionCallStatement) -> None:
         if member.direction == "output":
             raise x.error(p, f"{member.python} is an output", f"{member.python} => variable")
         value = x.expr(p.value)
-        inputs.append((member, _input(st, member, value, p)))
+        copy = (inst.code, member.python) not in st.uncopied
+        inputs.append((member, _input(st, member, value, p, copy)))
         if member.direction == "in_out" and block.origin == "user" and member.type.kind != "axis":
             in_outs.append((member, st.target(p.value)))
     ref = inst.code
@@ -62,7 +63,8 @@ def invoke(st: Statements, s: tf.FunctionCallStatement) -> None:
         ref = temp
     for member, code in inputs:
         st.out.emit(f"{ref}.{member.python} = {code}")
-    st.out.emit(f"{ref}()")
+    # a Python class's scan as a method call: in the interpreter cheaper than calling the instance
+    st.out.emit(f"{ref}.__call__()" if block.origin in ("user", "std") else f"{ref}()")
     for member, target in [*outputs, *in_outs]:
         value = E(f"{ref}.{member.python}", member.type)
         st.out.emit(f"{target.code} = {x.convert(value, target.type, s)}")
@@ -82,8 +84,9 @@ def _member(st: Statements, block: BlockType, p: Any) -> Member:
     return member
 
 
-def _input(st: Statements, member: Member, value: E, p: Any) -> str:
-    """The code of an input value (a group block's per-member values as a tuple)."""
+def _input(st: Statements, member: Member, value: E, p: Any, copy: bool) -> str:
+    """The code of an input value (a group block's per-member values as a tuple, or the array
+    itself where ``copy`` is not needed)."""
     if member.type is T.SEQUENCE and isinstance(value.type, T.ArrayType):
-        return f"tuple({value.code})"
+        return f"tuple({value.code})" if copy else value.code
     return st.x.convert(value, member.type, p)

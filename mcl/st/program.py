@@ -91,8 +91,9 @@ class STProgram:
         namespace = self._namespace
         namespace["_g"] = namespace["_Globals"]()
         own = self.__dict__
-        own["_instance"] = namespace[_python(self.module, self.name)]()
+        own["_instance"] = instance = namespace[_python(self.module, self.name)]()
         own["fault"], own["_calls"] = "", 0
+        own["_tick"] = _ticker(own, instance.__call__, self.every, self._stop)
 
     @property
     def stopped(self) -> bool:
@@ -127,17 +128,7 @@ class STProgram:
     def __call__(self) -> None:
         """One PLC scan (nothing once a fault stopped the program); the program runs every
         :attr:`every`-th scan (its TASK's INTERVAL)."""
-        if self.fault:
-            return
-        if self.every > 1:
-            calls = self.__dict__["_calls"] = self._calls + 1
-            if (calls - 1) % self.every:
-                return
-        try:
-            self._instance()
-        except Exception as fault:  # any fault stops the PLC, never a traceback
-            self._stop(fault, sys.exc_info()[2])
-        self.__dict__["scans"] += 1
+        self._tick()
 
     def _stop(self, fault: Exception, tb: TracebackType | None) -> None:
         """Stop the PLC: the error names file:line; every axis ramps down and is disabled."""
@@ -184,6 +175,34 @@ class STProgram:
     def variables(self) -> dict[str, Any]:
         """Every variable of the program and the globals, by name, with its value now."""
         return {v.name: self._read(v) for v in self._vars.values()}
+
+
+def _ticker(
+    own: dict[str, Any],
+    scan: Callable[[], None],
+    every: int,
+    stop: Callable[[Exception, TracebackType | None], None],
+) -> Callable[[], None]:
+    """One PLC scan of a program whose attributes are ``own``: ``scan()`` every ``every``-th
+    call, none once ``own["fault"]`` is set, a fault to ``stop``. A closure over the
+    attributes: an attribute read of :class:`STProgram` (which has ``__getattr__``) costs
+    more than the dictionary's."""
+
+    def tick() -> None:
+        if own["fault"]:
+            return
+        try:
+            scan()
+        except Exception as fault:  # any fault stops the PLC, never a traceback
+            stop(fault, sys.exc_info()[2])
+        own["scans"] += 1
+
+    def tick_every() -> None:
+        calls = own["_calls"] = own["_calls"] + 1
+        if not (calls - 1) % every:
+            tick()
+
+    return tick if every == 1 else tick_every
 
 
 def stored(value: Any, var: Var) -> Any:

@@ -38,6 +38,8 @@ class Statements:
         self.temps = 0
         self.hoisted: dict[tuple[str, str], str] = {}
         """Block inputs set once when the instance is made (:mod:`mcl.st.hoist`)."""
+        self.uncopied: set[tuple[str, str]] = set()
+        """Array inputs passed without a copy (:func:`mcl.st.hoist.uncopied`)."""
 
     def block(self, statements: Any) -> None:
         """A statement list (``pass`` when empty)."""
@@ -122,7 +124,7 @@ class Statements:
         if selector.type.kind not in ("int", "bits", "enum"):
             raise self.x.error(s.expression, f"CASE on {selector.type.name}", "an integer")
         code = selector.code
-        if not code.replace(".", "").replace("_", "").isalnum():
+        if not code.replace("_", "").isalnum():  # evaluated once, as IEC reads it
             temp = self.temp()
             self.out.emit(f"{temp} = {code}")
             code = temp

@@ -12,6 +12,7 @@ import blark.transform as tf
 from mcl.st.catalog import python_name
 from mcl.st.declarations import STErrorAt, constant_of, declare_type, initial, spec_type
 from mcl.st.expressions import Expressions
+from mcl.st.hoist import BIND, fixed_inputs, own_fixed, self_written, uncopied
 from mcl.st.hoist import hoisted as hoisted_inputs
 from mcl.st.scope import Callable_, Scope, Unit, Var
 from mcl.st.statements import Emitter, Statements
@@ -174,8 +175,9 @@ class POU:
             block = BlockType(self.name, "user", self.members, self.python)
             self.unit.types[self.name.upper()] = block
 
-    def body(self, out: Emitter) -> None:
-        """The Python of the POU into ``out``."""
+    def body(self, out: Emitter, fixed: dict[str, set[str]], written: dict[str, set[str]]) -> None:
+        """The Python of the POU into ``out``; ``fixed``: the fixed inputs of every user block
+        type (:func:`mcl.st.hoist.fixed_inputs`), ``written``: the members each writes itself."""
         out.st_line = self.unit.line(self.node)
         x = Expressions(self.unit, self.scope)
         if self.function:
@@ -189,17 +191,37 @@ class POU:
             out.emit("return _r")
             out.depth -= 1
         else:
-            hoisted = hoisted_inputs(x, self.node.body, lambda m, v, p: x.convert(v, m.type, p))
+            block = isinstance(self.node, tf.FunctionBlock)
+            own = own_fixed(x, self.node.body, self.name, fixed) if block else frozenset()
+            hoisted, _ = hoisted_inputs(
+                x, self.node.body, lambda m, v, p: x.convert(v, m.type, p), own, written
+            )
+            once = [f"{i}.{m} = {c}" for (i, m), c in hoisted.items()]
+            bind = [line for line in once if "self." in line.split(" = ", 1)[1]] if block else []
+            children = [
+                f"{v.code}.{BIND}()"
+                for v in self.scope.vars.values()
+                if isinstance(v.type, BlockType)
+                and v.type.origin == "user"
+                and v.section == "local"
+                and v.code == f"self.{python_name(v.name)}"
+            ]
             out.emit(f"class {self.python}:")
             out.depth += 1
             out.emit("def __init__(self):")
             out.depth += 1
-            for line in [*self.init, *(f"{i}.{m} = {c}" for (i, m), c in hoisted.items())]:
+            lines = [*self.init, *(line for line in once if line not in bind)]
+            for line in [*lines, f"self.{BIND}()"] if block else [*lines, *children]:
                 out.emit(line)
-            if not self.init:
+            if not lines and not block:
                 out.emit("pass")
             out.depth -= 1
             out.emit("")
+            if block:  # the inner blocks' inputs fixed by this block's own fixed inputs
+                out.emit(f"def {BIND}(self):")
+                for line in [*bind, *children] or ["pass"]:
+                    out.emit(f"    {line}")
+                out.emit("")
             reads, writes = self.unit.reads + self.reads, self.unit.writes + self.writes
             if isinstance(self.node, tf.Program) and (reads or writes):
                 out.emit("def __call__(self):")  # the process image around the scan
@@ -214,6 +236,7 @@ class POU:
                 out.emit(line)
             statements = Statements(x, out)
             statements.hoisted = hoisted
+            statements.uncopied = uncopied(x, self.node.body)
             statements.block(self.node.body)
             out.depth -= 2
         out.emit("")
@@ -354,8 +377,15 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     for pou in pous:
         if isinstance(pou.node, tf.Program):
             pou.declare()
+    analysed = [(Expressions(unit, p.scope), p.node.body, p.function) for p in pous]
+    writes = self_written(
+        (pou.name, x, b)
+        for pou, (x, b, _) in zip(pous, analysed, strict=True)
+        if isinstance(pou.node, tf.FunctionBlock)
+    )
+    fixed = fixed_inputs(analysed, unit.globals.vars.values(), writes)
     for pou in pous:
-        pou.body(body)
+        pou.body(body, fixed, writes)
     out.emit(f"_BOUND = {dict(unit.bound)!r}")
     out.emit("")
     lines = out.lines + body.lines
