@@ -124,8 +124,14 @@ class CamSelection:
         slave: AxisRef,
         master_absolute: bool,
         slave_absolute: bool,
+        table_id: int,
+        name: str,
     ) -> None:
         self.cam = cam
+        self.table_id = table_id
+        """The CamTableID it was selected under."""
+        self.name = name
+        """The table's ``Name`` ("": none)."""
         self.master = master
         self.slave = slave
         self.master_absolute = master_absolute
@@ -451,6 +457,10 @@ class CamIn(Command):
             self.shift_job.owner = self
         previous.successor = None
 
+    def coupled(self) -> bool:
+        """The cam drives the slave (it is not waiting for a boundary or a ramp-in's start)."""
+        return self.phase == _COUPLED
+
     def running(self) -> bool:
         """The cam drives the slave: active, or continued by a successor waiting for its
         boundary."""
@@ -546,7 +556,13 @@ class MC_CamTableSelect(ExecuteFB):
         if not self._id:
             self._id = _SELECTED.new_id()
         _SELECTED.tables[self._id] = CamSelection(
-            cam, master, slave, self.MasterAbsolute, self.SlaveAbsolute
+            cam,
+            master,
+            slave,
+            self.MasterAbsolute,
+            self.SlaveAbsolute,
+            self._id,
+            str(getattr(self.CamTable, "Name", "") or ""),
         )
         self.CamTableID = self._id
         return 0
