@@ -13,45 +13,13 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-import numpy as np
-import numpy.typing as npt
-
 import mcl
 from mcl.cam import CamIn
-from mcl.cam_table import Cam, CamLaw
-
-PROFILE_POINTS = 1001
-"""Points the profile is sampled at over one period (the table's points added)."""
+from mcl.cam_table import Cam
+from scenes.tools.cam_profile import CamProfile, sample
 
 TABLES_KEPT = 16
 """Sampled profiles a cache keeps (the least recently used dropped)."""
-
-
-@dataclass(frozen=True, slots=True)
-class CamProfile:
-    """A cam table sampled over one period, in table units (before the MC_CamIn's scalings).
-
-    Attributes:
-        master: Table master coordinate τ, increasing [master u].
-        slave: Table value CAM(τ) [slave u].
-        velocity: Slope ds/dτ [slave u / master u].
-        acceleration: Curvature d²s/dτ² [slave u / master u²].
-        points: The table's master points (segment boundaries) [master u].
-        laws: The law of each segment (``CamLaw`` names), one fewer than ``points``.
-        periodic: The table repeats (its slave advancing ``rise`` each period).
-        period: Master length of the table [master u].
-        rise: What the slave advances per period [slave u].
-    """
-
-    master: npt.NDArray[np.float64]
-    slave: npt.NDArray[np.float64]
-    velocity: npt.NDArray[np.float64]
-    acceleration: npt.NDArray[np.float64]
-    points: tuple[float, ...]
-    laws: tuple[str, ...]
-    periodic: bool
-    period: float
-    rise: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -101,26 +69,6 @@ class CamView:
     master_scaling: float
     slave_scaling: float
     phase_shift: float
-
-
-def sample(cam: Cam, count: int = PROFILE_POINTS) -> CamProfile:
-    """``cam`` over one period at ``count`` evenly spaced master positions and its own points."""
-    grid = np.linspace(cam.start, cam.start + cam.period, count)
-    master = np.union1d(grid, np.asarray(cam.masters, dtype=np.float64))
-    values = np.array([cam.at(float(m)) for m in master[:-1]]).reshape(-1, 3)
-    end = cam.segment(len(cam.kinds) - 1, cam.masters[-1] - cam.masters[-2])
-    values = np.vstack([values, end])
-    return CamProfile(
-        master=master,
-        slave=values[:, 0].copy(),
-        velocity=values[:, 1].copy(),
-        acceleration=values[:, 2].copy(),
-        points=tuple(cam.masters),
-        laws=tuple(CamLaw(law).name for law in cam.laws),
-        periodic=cam.periodic,
-        period=cam.period,
-        rise=cam.rise,
-    )
 
 
 class ProfileCache:
