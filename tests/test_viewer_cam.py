@@ -9,6 +9,7 @@ import pytest
 import mcl
 from scenes.scene import Scene
 from tests.test_viewer_session import FakeClock, run
+from viewer.cam_panel import info_html, plot_data
 from viewer.cam_view import CamView
 from viewer.session import Session
 
@@ -89,7 +90,7 @@ def test_a_cammed_slave_publishes_its_profile_and_an_operating_point_on_its_set_
     views = sess.snapshot.cams
     assert [v.slave for v in views] == ["Y"]
     view = views[0]
-    assert (view.master, view.name, view.table_id) == ("X", "lift 5 mm", 1)
+    assert (view.master, view.name) == ("X", "lift 5 mm")
     assert view.profile.laws == ("Polynomial5", "ModifiedSine")
     assert view.profile.period == 20.0 and view.profile.periodic
     # the profile: rest at both ends, the 5 mm lift at the middle point
@@ -101,6 +102,7 @@ def test_a_cammed_slave_publishes_its_profile_and_an_operating_point_on_its_set_
     assert abs(profile.velocity[0]) < 1e-12 and abs(profile.velocity[-1]) < 1e-12
     demo = sess._demo
     assert isinstance(demo, CamDemo) and demo.coupled_at is not None
+    assert view.table_id == demo.select.CamTableID > 0
     x0, y0 = demo.coupled_at
     points: list[CamView] = []
     for _ in range(12):  # X moves 30 mm: one period boundary passed
@@ -123,3 +125,26 @@ def test_a_cammed_slave_publishes_its_profile_and_an_operating_point_on_its_set_
         assert abs(p.actual_slave - p.set_slave) < 0.5  # the servo's following error
     moved = [p.table_master for p in points]
     assert max(moved) - min(moved) > 10.0, "the operating point moves along the profile"
+    last = points[-1]
+    # what the page's cam view draws of it: the markers on the profile at the operating point
+    grid, position, velocity, acceleration, *markers = plot_data(last)
+    assert grid.size == position.size == velocity.size == acceleration.size
+    at = int(np.nanargmax(markers[1]))
+    assert abs(grid[at] - last.table_master) <= 20.0 / 1000
+    assert markers[0][at] == last.table_slave and markers[1][at] == last.set_slave
+    assert np.isnan(markers[1]).sum() == grid.size - 1
+    text = info_html(last, ())
+    assert f"table {last.table_id}" in text and "lift 5 mm" in text and "InSync" in text
+    assert "Polynomial5, ModifiedSine" in text and "period 20 mm" in text
+
+
+def test_the_cam_view_is_gone_once_the_slave_is_uncoupled(
+    session: tuple[Session, FakeClock],
+) -> None:
+    sess, clock = session
+    sess.start_demo()
+    run(sess, clock, 0.3)
+    assert sess.snapshot.cams
+    sess.stop_all()
+    run(sess, clock, 0.3)
+    assert not sess.snapshot.cams
