@@ -33,7 +33,8 @@ value that is not finite, the master not increasing, an unknown law, a modified 
 slopes differ or whose points carry an acceleration, a jump of the slope at a point next to a
 segment that is not Linear, a jump of the curvature between two motion-law segments, and, for a
 periodic table, the same across the period boundary; the slave position is continuous by
-construction.
+construction. ``Name`` (optional) is what the viewer's cam view and ``python -m scenes cam`` call
+the table.
 
 ``mcl.rotary_knife(cut_length, circumference, blades, sync_angle, law)`` builds the cam of a
 rotary cross cutter: master = web position over one cut length [mm], slave = drum angle over
