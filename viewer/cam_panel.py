@@ -7,6 +7,7 @@ is cammed (:attr:`viewer.snapshot.Snapshot.cams`)."""
 from __future__ import annotations
 
 import html
+import itertools
 import math
 
 import numpy as np
@@ -26,10 +27,13 @@ POINT_COLORS = {"operating point": "#d62728", "set point": "#000000", "actual": 
 
 
 def info_html(view: CamView, others: tuple[str, ...]) -> str:
-    """The line under the plot: table, laws, InSync, period, offsets, scalings."""
+    """The line under the plot: table, laws (runs of the same law counted, the first 12 runs),
+    InSync, period, offsets, scalings."""
     p = view.profile
     name = f" “{html.escape(view.name)}”" if view.name else ""
-    laws = ", ".join(html.escape(law) for law in p.laws)
+    runs = [(law, len(list(group))) for law, group in itertools.groupby(p.laws)]
+    laws = ", ".join(html.escape(law) + (f" ×{n}" if n > 1 else "") for law, n in runs[:12])
+    laws += ", …" if len(runs) > 12 else ""
     sync = "InSync" if view.in_sync else ("blending in" if view.coupled else "waiting")
     also = f"<br>also cammed: {html.escape(', '.join(others))}" if others else ""
     return (

@@ -12,7 +12,8 @@ import numpy.typing as npt
 from mcl.cam_table import Cam, CamLaw
 
 PROFILE_POINTS = 1001
-"""Points the profile is sampled at over one period (the table's own points added)."""
+"""Points the profile is sampled at over one period (the table's own points added when it has
+no more than these)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -43,9 +44,12 @@ class CamProfile:
 
 
 def sample(cam: Cam, count: int = PROFILE_POINTS) -> CamProfile:
-    """``cam`` over one period at ``count`` evenly spaced master positions and its own points."""
+    """``cam`` over one period at ``count`` evenly spaced master positions, and at its own
+    points when it has no more than ``count``."""
     grid = np.linspace(cam.start, cam.start + cam.period, count)
-    master = np.union1d(grid, np.asarray(cam.masters, dtype=np.float64))
+    master = grid
+    if len(cam.masters) <= count:  # a long table: the grid alone (its points are that dense)
+        master = np.union1d(grid, np.asarray(cam.masters, dtype=np.float64))
     values = np.array([cam.at(float(m)) for m in master[:-1]]).reshape(-1, 3)
     end = cam.segment(len(cam.kinds) - 1, cam.masters[-1] - cam.masters[-2])
     values = np.vstack([values, end])
