@@ -33,7 +33,8 @@ value that is not finite, the master not increasing, an unknown law, a modified 
 slopes differ or whose points carry an acceleration, a jump of the slope at a point next to a
 segment that is not Linear, a jump of the curvature between two motion-law segments, and, for a
 periodic table, the same across the period boundary; the slave position is continuous by
-construction.
+construction. ``Name`` (optional) is what the viewer's cam view and ``python -m scenes cam`` call
+the table.
 
 ``mcl.rotary_knife(cut_length, circumference, blades, sync_angle, law)`` builds the cam of a
 rotary cross cutter: master = web position over one cut length [mm], slave = drum angle over
@@ -124,8 +125,14 @@ class CamSelection:
         slave: AxisRef,
         master_absolute: bool,
         slave_absolute: bool,
+        table_id: int,
+        name: str,
     ) -> None:
         self.cam = cam
+        self.table_id = table_id
+        """The CamTableID it was selected under."""
+        self.name = name
+        """The table's ``Name`` ("": none)."""
         self.master = master
         self.slave = slave
         self.master_absolute = master_absolute
@@ -451,6 +458,10 @@ class CamIn(Command):
             self.shift_job.owner = self
         previous.successor = None
 
+    def coupled(self) -> bool:
+        """The cam drives the slave (it is not waiting for a boundary or a ramp-in's start)."""
+        return self.phase == _COUPLED
+
     def running(self) -> bool:
         """The cam drives the slave: active, or continued by a successor waiting for its
         boundary."""
@@ -546,7 +557,13 @@ class MC_CamTableSelect(ExecuteFB):
         if not self._id:
             self._id = _SELECTED.new_id()
         _SELECTED.tables[self._id] = CamSelection(
-            cam, master, slave, self.MasterAbsolute, self.SlaveAbsolute
+            cam,
+            master,
+            slave,
+            self.MasterAbsolute,
+            self.SlaveAbsolute,
+            self._id,
+            str(getattr(self.CamTable, "Name", "") or ""),
         )
         self.CamTableID = self._id
         return 0

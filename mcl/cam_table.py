@@ -97,6 +97,7 @@ class MC_CAM_REF:
             Acceleration[, Law]]])``).
         NumberOfPoints: how many of them the table uses; None: all.
         Problem: why the table cannot be run ("" when it can).
+        Name: what the table is called where it is shown ("": nothing).
     """
 
     Points: Sequence[Any] = ()
@@ -104,6 +105,8 @@ class MC_CAM_REF:
     Problem: str = ""
     """Why a table built by a helper (:func:`rotary_knife`) cannot be run; MC_CamTableSelect
     refuses a table with a Problem (``EParam``)."""
+    Name: str = ""
+    """What the table is called where it is shown (the viewer's cam view, the cam plot)."""
 
 
 # ------------------------------------------------------------------------------ motion laws
@@ -197,8 +200,11 @@ class Cam:
         kinds: list[int],
         coefficients: list[list[float]],
         periodic: bool,
+        laws: list[int],
     ) -> None:
         self.masters = masters
+        self.laws = laws
+        """The :class:`CamLaw` of each segment, as the table gives it."""
         self.kinds = kinds
         self.coefficients = coefficients
         self.periodic = periodic
@@ -502,7 +508,7 @@ def compile_cam(table: Any, periodic: bool) -> Cam | str:
                     return f"segment {i} ({name}): Acceleration at point {j} must be 0 or NaN"
             kinds.append(_SINE if law == CamLaw.ModifiedSine else _TRAP)
             coefficients.append([s0, v, h, ds - v * h])
-    cam = Cam([p[0] for p in pts], kinds, coefficients, periodic)
+    cam = Cam([p[0] for p in pts], kinds, coefficients, periodic, [p[4] for p in pts[:n]])
     return _check_junctions(cam, [p[4] for p in pts[:n]]) or cam
 
 
@@ -564,6 +570,10 @@ def rotary_knife(
     problem = knife_problem(cut_length, circumference, blades, sync_angle, law)
     if problem:
         return MC_CAM_REF(Points=(), NumberOfPoints=None, Problem=problem)
+    name = (
+        f"rotary knife {cut_length:g} mm, {circumference:g} mm drum, {blades} blade"
+        f"{'s' if blades > 1 else ''}, sync {sync_angle:g}°"
+    )
     pitch = 360.0 / blades
     k = 360.0 / circumference
     half = 0.5 * sync_angle
@@ -575,6 +585,7 @@ def rotary_knife(
                 MC_CamPoint(cut_length, pitch, k, 0.0, CamLaw.Linear),
             ],
             NumberOfPoints=None,
+            Name=name,
         )
     return MC_CAM_REF(
         Points=[
@@ -584,6 +595,7 @@ def rotary_knife(
             MC_CamPoint(cut_length, pitch, k, math.nan, CamLaw.Linear),
         ],
         NumberOfPoints=None,
+        Name=name,
     )
 
 

@@ -1,6 +1,7 @@
 """The layout of each page (each browser tab): a wide panel of its own on the left, the all-axes
-overview on top and the scope below it, the control panel on the right and the 3-D canvas
-between them. What a page does there (its scope's settings) is its own."""
+overview on top, the scope below it and the cam view under that (while an axis is cammed), the
+control panel on the right and the 3-D canvas between them. What a page does there (its scope's
+settings) is its own."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from collections.abc import Callable
 
 import viser
 
+from viewer.cam_panel import CamPanel
 from viewer.overview import Overview
 from viewer.scope import PageScope
 from viewer.security import GuiGate
@@ -48,6 +50,7 @@ class Page:
         with self._panel.add_tab("Axes and scope", icon=viser.Icon.CHART_LINE):
             self._axes = gui.add_folder("All axes")
             self._scope = gui.add_folder("Scope")
+            self._cam = gui.add_folder("Cam")
         with self._panel.add_tab("Watch", icon=viser.Icon.LIST_DETAILS):
             self.watch = WatchPanel(gui, gate, session)
             """The running ST program's variables, and forcing them."""
@@ -55,6 +58,8 @@ class Page:
         self._reset_peaks: viser.GuiButtonHandle | None = None
         self.scope: PageScope | None = None
         """The page's scope (None until built)."""
+        self.cam: CamPanel | None = None
+        """The cam view (None until built; hidden while no axis is cammed)."""
         self.generation = -1
         """Generation of the scene the panels show."""
         self.build(session.snapshot)
@@ -77,6 +82,7 @@ class Page:
             self.scope = PageScope(
                 gui, self._gate, self.session, snapshot, self.client.atomic, self._redraw
             )
+        self.cam = CamPanel(gui, self._cam)
         self.generation = snapshot.generation
 
     def clear(self) -> None:
@@ -89,7 +95,9 @@ class Page:
             self._reset_peaks = None
         if self.scope is not None:
             self.scope.remove()
-        self.overview = self.scope = None
+        if self.cam is not None:
+            self.cam.remove()
+        self.overview = self.scope = self.cam = None
 
 
 class Pages:
@@ -153,6 +161,8 @@ class Pages:
             page.watch.update(rows)
             if page.overview is not None and page.generation == snapshot.generation:
                 page.overview.update(snapshot)
+            if page.cam is not None and page.generation == snapshot.generation:
+                page.cam.update(snapshot)
 
     def update_plots(self) -> None:
         """Every page's scope (the update thread, at the plot rate)."""

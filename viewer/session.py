@@ -32,6 +32,7 @@ import mcl.st
 import scenes
 from scenes import DemoProgram, MachineDef
 from scenes.scene import Scene
+from viewer.cam_view import ProfileCache, cam_views
 from viewer.operator import AxisRequests, Clock, OperatorProgram
 from viewer.overlays import constraint_forces, contact_forces
 from viewer.peaks import PeakHold
@@ -212,6 +213,7 @@ class Session:
         )
         self._axis_errors = {name: axis.AxErrorID for name, axis in scene.axes.items()}
         self._peaks = PeakHold(scene.axes)
+        self._profiles = ProfileCache()
         self._results = ((), ())
         self._generation += 1
         self._fault = ""
@@ -789,6 +791,7 @@ class Session:
             groups=tuple(g.name for g in self._operator.groups()),
             contacts=None if model is None or data is None else contact_forces(model, data),
             constraints=None if model is None or data is None else constraint_forces(model, data),
+            cams=cam_views(scene.axes, self._profiles),
         )
 
     def _signal_view(self, name: str) -> SignalView:

@@ -17,6 +17,7 @@ from scenes import DemoProgram, MachineDef
 from scenes.plant.mujoco import MujocoAxisIO
 from scenes.scene import Scene
 from viewer.axis_commissioning import CommissioningView
+from viewer.cam_view import CamView
 from viewer.operator import AxisOperator
 
 log = logging.getLogger(__name__)
@@ -231,6 +232,8 @@ class Snapshot:
             normal force [N]); None without a model.
         constraints: Hard-stop and tendon forces of the physics
             (``viewer.overlays.constraint_forces``: point [m], force [N]); None without a model.
+        cams: The cammed axes with their table's profile and operating point
+            (:class:`~viewer.cam_view.CamView`); empty when no axis is cammed.
     """
 
     generation: int
@@ -255,6 +258,7 @@ class Snapshot:
     groups: tuple[str, ...] = ()
     contacts: npt.NDArray[np.float64] | None = None
     constraints: npt.NDArray[np.float64] | None = None
+    cams: tuple[CamView, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

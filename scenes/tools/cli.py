@@ -1,6 +1,8 @@
 """Command line: ``python -m scenes list`` lists the machines; ``python -m scenes run NAME`` runs
 a machine's demo program headless and prints every FB edge, the positions and states;
 ``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
+``python -m scenes cam TABLE.csv`` (or ``--cut-length L --circumference C``, the rotary knife's
+cam) plots a cam table's profile as PNG (see :mod:`scenes.tools.cam_plot`);
 ``python -m scenes sweep FILE.toml`` runs a parameter sweep (see :mod:`scenes.tools.sweep`);
 ``python -m scenes bridge map NAME`` prints a machine's register map, ``python -m scenes bridge
 modbus NAME`` runs it with its Modbus TCP server and ``python -m scenes bridge opcua NAME`` with
@@ -164,6 +166,7 @@ def main(argv: list[str] | None = None) -> int:
     plot_parser = sub.add_parser("plot", help="plot a trace file as PNG and HTML")
     plot_parser.add_argument("trace", help="a trace written by trace.to_csv or streamed (.npy)")
     plot_parser.add_argument("--out", help="output path without suffix (default: next to it)")
+    _cam_parser(sub)
     sweep_parser = sub.add_parser("sweep", help="run a parameter sweep described in TOML")
     sweep_parser.add_argument("file", help="the sweep (scenario, grid, random, samples, seed)")
     sweep_parser.add_argument("--workers", type=int, help="local workers (0 = serial)")
@@ -204,6 +207,8 @@ def _command(args: argparse.Namespace) -> int:
         for path in plot(trace, Path(args.out) if args.out else trace.with_suffix("")):
             print(path)
         return 0
+    if args.command == "cam":
+        return _cam(args)
     if args.command == "sweep":
         grid = [_listed(g) for g in args.grid]
         return sweep(args.file, args.workers, args.address, args.out, [*args.set, *grid])
@@ -215,6 +220,56 @@ def _command(args: argparse.Namespace) -> int:
             print(f"{name:<{width}}  {scenes.MACHINES[name].description}")
         return 0
     return run(args.name, args.timeout, args.program, args.map)
+
+
+def _cam_parser(sub: Any) -> None:
+    cam = sub.add_parser(
+        "cam",
+        help="plot a cam table's profile as PNG: a table file, or the rotary knife's arguments",
+    )
+    cam.add_argument("table", nargs="?", help="a CSV cam table (master,slave[,velocity,...])")
+    cam.add_argument("--not-periodic", action="store_true", help="the table does not repeat")
+    cam.add_argument("--cut-length", type=float, help="rotary knife: piece length [mm]")
+    cam.add_argument("--circumference", type=float, help="rotary knife: blade circle [mm]")
+    cam.add_argument("--blades", type=int, default=1, help="rotary knife: blades (default 1)")
+    cam.add_argument(
+        "--sync-angle", type=float, default=0.0, help="rotary knife: drum angle in sync [°]"
+    )
+    cam.add_argument("--law", default="ModifiedSine", help="rotary knife: the law between cuts")
+    cam.add_argument("--out", help="output path without suffix (default: next to the table)")
+
+
+def _cam(args: argparse.Namespace) -> int:
+    """Plot a table file or the rotary knife's cam."""
+    from scenes.tools.cam_plot import checked, knife_table, plot_cam, read_table
+
+    knife = args.cut_length is not None or args.circumference is not None
+    if (args.table is not None) == knife:
+        raise UserError.at(
+            "python -m scenes cam",
+            "",
+            "a table file and the rotary knife's arguments" if knife else "nothing to plot",
+            "a table file, or --cut-length and --circumference (--blades, --sync-angle, --law)",
+        )
+    if args.table is not None:
+        table, lines = read_table(args.table)
+        cam = checked(table, not args.not_periodic, args.table, lines)
+        out = Path(args.out) if args.out else Path(args.table).with_suffix("")
+    else:
+        if args.cut_length is None or args.circumference is None:
+            raise UserError.at(
+                "python -m scenes cam",
+                "",
+                "the rotary knife needs both",
+                "--cut-length and --circumference",
+            )
+        table = knife_table(
+            args.cut_length, args.circumference, args.blades, args.sync_angle, args.law
+        )
+        cam = checked(table, True, "rotary knife", [])
+        out = Path(args.out) if args.out else Path("rotary_knife")
+    print(plot_cam(table, cam, out))
+    return 0
 
 
 def _bridge_parser(sub: Any) -> None:
