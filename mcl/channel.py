@@ -70,8 +70,10 @@ class Marks:
         return max(0, math.floor((q - self.first) / self.pitch))
 
     def level(self, q: float) -> bool:
-        """The probe input at coordinate ``q``."""
-        for k in (self._near(q) - 1, self._near(q)):
+        """The probe input at coordinate ``q`` (a mark displaced by its error below its place
+        ``first + k·pitch`` is looked for too)."""
+        near = self._near(q)
+        for k in (near - 1, near, near + 1):
             if k >= 0 and self._start(k) <= q <= self._start(k) + self.width:
                 return True
         return False
@@ -84,7 +86,7 @@ class Marks:
             return None
         lo, hi = (q0, q1) if q1 > q0 else (q1, q0)
         found: float | None = None
-        for k in range(max(0, self._near(lo) - 1), self._near(hi) + 1):
+        for k in range(max(0, self._near(lo) - 1), self._near(hi) + 2):
             edge = self._start(k) if q1 > q0 else self._start(k) + self.width
             if lo < edge <= hi if q1 > q0 else lo <= edge < hi:
                 f = (edge - q0) / (q1 - q0)

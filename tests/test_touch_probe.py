@@ -121,3 +121,12 @@ def test_marks_report_their_rising_edges_exactly():
     assert marks.level(1.05) and not marks.level(1.2)
     with pytest.raises(ValueError, match="pitch"):
         mcl.Marks(first=0.0, pitch=0.1, width=0.2)
+
+
+def test_a_mark_printed_early_is_seen_as_every_other():
+    """A mark displaced below its place (a negative print error) rises and is high like any
+    other: between two samples that both lie below its place, and on the level."""
+    marks = mcl.Marks(first=1.0, pitch=0.5, width=0.004, errors=(0.0, -0.0002))
+    assert marks.rising(1.4990, 1.4999) == pytest.approx((1.4998 - 1.4990) / 0.0009)
+    assert marks.level(1.4999) and not marks.level(1.4997)
+    assert marks.rising(1.4990, 1.4997) is None

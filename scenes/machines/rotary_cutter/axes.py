@@ -77,7 +77,7 @@ AXES = {
             modulo=360.0,
         ),
         constants=mcl.ServoConstants(
-            Kp=0.4, Ki=20.0, Ff=1.0, Kc=50.0, Vmax=3600.0, Filter=2.0, Ka=0.0051
+            Kp=0.4, Ki=20.0, Ff=1.0, Kc=50.0, Vmax=3600.0, Filter=2.0, Ka=0.0031
         ),
         switches=("ref",),
         homing=HOMING["D"],
