@@ -7,18 +7,29 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import mcl
 import scenes
 from scenes.machines.flying_shear import MeasuringWheel
 from scenes.machines.rotary_cutter.cam_demo import Batch, CamDemo, CamJob
 
 
-def run(job: CamJob, slip: float | None = None) -> CamDemo:
-    """The cam demo with the model's wheel (``slip``: its constant slip instead)."""
+def start(job: CamJob, slip: float | None = None, ideal: bool = False) -> CamDemo:
+    """The cam demo run to its end or its first error, with the model's wheel (``slip``: its
+    constant slip instead; ``ideal``: a perfect wheel)."""
     scene = scenes.load("rotary_cutter", trace_every=0)
+    wheel = scene.device("wheel", MeasuringWheel)
+    if ideal:
+        wheel.ideal()
     if slip is not None:
-        scene.device("wheel", MeasuringWheel).slip = slip
+        wheel.slip = slip
     demo = CamDemo(scene, job)
     scene.run(demo, until=lambda: demo.done or bool(demo.error), timeout=60.0)
+    return demo
+
+
+def run(job: CamJob, slip: float | None = None) -> CamDemo:
+    """The cam demo run to its end (see :func:`start`)."""
+    demo = start(job, slip)
     assert demo.done, demo.step
     return demo
 
@@ -28,7 +39,7 @@ def test_short_and_long_pieces_with_a_length_change_on_the_fly(slip: float | Non
     """0.6 × and 1.8 × the 500 mm tip circle, one blade: the scale learned over the print
     pitch corrects the wheel; every piece after the run-in is 300 or 900 mm (mean within
     0.2 mm, worst within 0.5 mm), the change to 900 mm takes over at a period boundary without
-    a wrong piece, no blade misses, the tips run within 1.5 % of the web in it and the motor
+    a wrong piece, no blade misses, the tips run within 1 % of the web in it and the motor
     stays below its catalogue peak current."""
     demo = run(CamJob(), slip)
     pieces = demo.pieces()
@@ -40,16 +51,43 @@ def test_short_and_long_pieces_with_a_length_change_on_the_fly(slip: float | Non
         assert abs(errors.mean()) < 0.2 and np.abs(errors).max() < 0.5, (length, errors)
     drum = demo.drum
     assert not drum.misses
-    assert max(c.mismatch for c, _ in pieces) < 0.015
+    assert max(c.mismatch for c, _ in pieces) < 0.01
     assert max(c.current for c, _ in pieces) < drum.peak_current
 
 
 def test_registration_to_the_print_marks_with_slip() -> None:
     """Two blades, 500 mm pieces (the print pitch) at −0.3 % slip: MC_Phasing from the marks
-    the probe latched puts the cuts at the printed marks: after the first registered piece
-    most within 0.1 mm, all within 0.5 mm (measured against where each mark is printed)."""
+    the probe latched puts the cuts at the printed marks (±0.2 mm print error, seen with
+    ±25 µm jitter): after the first registered piece every cut within 0.3 mm of its mark, most
+    within 0.1 mm (measured against where each mark is printed), and no mark unseen."""
     demo = run(CamJob(batches=(Batch(500.0, 8),), blades=2, register=True), slip=-0.003)
     marks = np.array([demo.from_mark(c) for c, _ in demo.pieces()][1:])
-    assert np.abs(marks).max() < 0.5, marks
+    assert np.abs(marks).max() < 0.3, marks
     assert np.median(np.abs(marks)) < 0.1, marks
-    assert len(demo.shifts) >= 8
+    latched = np.diff(demo.latches)
+    assert np.all(np.abs(latched / demo.scale - 500.0) < 1.0), latched
+
+
+@pytest.mark.parametrize(
+    ("length", "error_id", "why"),
+    [(100.0, mcl.ErrorID.ECamLimit, "cam 2 error 23"), (1500.0, mcl.ErrorID.EParam, "backwards")],
+    ids=["beyond the motor", "the drum would turn back"],
+)
+def test_a_length_the_drum_cannot_cut_is_refused_and_the_running_one_goes_on(
+    length: float, error_id: int, why: str
+) -> None:
+    """At 60 m/min a change to 100 mm pieces would need more than the drum's acceleration
+    (MC_CamIn: ECamLimit) and one to 1500 mm would turn the drum backwards (the table: EParam
+    with the reason); either is refused while the blade is clear of the web, and the drum goes
+    on cutting the 300 mm pieces, every one right, none missed."""
+    job = CamJob(batches=(Batch(300.0, 3), Batch(length, 3)), learn_scale=False)
+    demo = start(job, ideal=True)
+    failed = demo.cams[2] if error_id == mcl.ErrorID.ECamLimit else demo.selects[2]
+    assert failed.Error and failed.ErrorID == error_id, demo.step
+    assert why in demo.error
+    assert not demo.drum.engaged, "refused while the blade is clear of the web"
+    refused = demo.scene.time
+    demo.scene.run(demo, until=lambda: demo.scene.time > refused + 1.5, timeout=2.0)
+    later = [c for c in demo.drum.cuts if c.time > refused]
+    assert len(later) >= 4 and not demo.drum.misses
+    assert all(abs(c.length - 300.0) < 0.2 for c in later if c.length is not None), later

@@ -3,7 +3,7 @@
 drum (a modulo-360° hinge axis, homed on its REF cam and the motor's index).
 
 Commissioning data: drum Kv = Kp·Vmax/10 = 0.4·3600/10 = 144 1/s, acceleration feed-forward
-Ka = J_eff/Kamp + current lag + half a servo period = 0.1598/45 + 1 ms + 0.5 ms = 5.1 ms; web
+Ka = J_eff/Kamp + current lag + half a servo period = 0.1598/100 + 1 ms + 0.5 ms = 3.1 ms; web
 feed Kv = 30 1/s, Ka = J_eff/Kamp + 1.5 ms = 0.118/12 + 1.5 ms = 11.3 ms.
 """
 

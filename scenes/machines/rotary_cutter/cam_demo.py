@@ -9,6 +9,7 @@ what it cuts.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -98,7 +99,9 @@ class CamDemo(StepSequence):
     period, couple it to the measuring wheel (MC_CamIn, mcAbsolute, the table started half a
     piece before its first cut), run the web up, learn the wheel's scale over the print marks,
     then cut each batch at ``MasterScaling = 1/scale``; a batch's table is selected and its
-    MC_CamIn issued right after a period boundary, so it takes over at the next one. Finally
+    MC_CamIn issued half a piece after a period boundary, the blade clear of the web, so it
+    takes over at the next one (a table or cam refused leaves the running one cutting: no
+    wrong cut). Finally
     the web stops with the blades clear of it (the stop planned to end half a piece after a
     cut).
 
@@ -200,6 +203,9 @@ class CamDemo(StepSequence):
         self.boundaries: list[tuple[float, int]] = []
         """Per period boundary: when [s] and the cam that ended its piece."""
         self._boundary_master = 0.0
+        self._issue_at = math.inf
+        """Master position at which the next cam is issued: half a piece after a boundary,
+        the blade clear of the web (a refused cam leaves the running one cutting) [master mm]."""
         self._in_sync = [False] * len(self.cams)
         self._rearm = False
         self._shift_pending = False
@@ -287,7 +293,7 @@ class CamDemo(StepSequence):
         self.periods += 1
         batch = self.job.batches[self.running - 1]
         if self.periods == batch.cuts and self.running + 1 < len(self.cams):
-            self._issue()
+            self._issue_at = self._boundary_master + 0.5 * self._period(self.running)
 
     def _period(self, cam: int) -> float:
         """The master travel of one period of cam ``cam`` [master mm]."""
@@ -420,6 +426,9 @@ class CamDemo(StepSequence):
             boundary = boundary or cam.EndOfProfile or took_over
         if boundary:
             self._boundary()
+        if self.W.POS >= self._issue_at:
+            self._issue_at = math.inf
+            self._issue()
         probing = stage in ("measure the print pitch", "cut", "stop the web")
         probe = self.probe
         probe(Execute=probing and not self._rearm)
