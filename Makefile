@@ -57,6 +57,7 @@ bench: setup
 	$(PY) -m tests.benchmarks.trace
 	$(PY) -m tests.benchmarks.st
 	$(PY) -m tests.benchmarks.bridge
+	$(PY) -m tests.benchmarks.cam_table
 
 clean:
 	-@$(PY) -m mcl.build --clean 2>/dev/null

@@ -426,7 +426,7 @@ class CamDemo(StepSequence):
             boundary = boundary or cam.EndOfProfile or took_over
         if boundary:
             self._boundary()
-        if self.W.POS >= self._issue_at:
+        if self._issue_at <= self.W.POS:
             self._issue_at = math.inf
             self._issue()
         probing = stage in ("measure the print pitch", "cut", "stop the web")
