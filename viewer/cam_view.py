@@ -1,8 +1,9 @@
 """What the cam view shows of a cammed axis: its table's profile over one period and the
 operating point moving along it, copied by the simulation thread between two PLC cycles.
 
-A slave is cammed when its active command is an MC_CamIn's (:class:`mcl.cam.CamIn`); while a
-new MC_CamIn waits for the running cam's period boundary, the running one is shown. The profile
+A slave is cammed when its active command is an MC_CamIn's
+(:class:`mcl.cam_coupling.CamIn`); while a new MC_CamIn waits for the running cam's period
+boundary, the running one is shown. The profile
 is sampled once per selected table (:class:`ProfileCache`), not per snapshot: the simulation
 thread only reads the operating point every snapshot.
 """
@@ -14,7 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import mcl
-from mcl.cam import CamIn
+from mcl.cam_coupling import CamIn
 from mcl.cam_table import Cam
 from scenes.tools.cam_profile import CamProfile, sample
 
