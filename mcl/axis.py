@@ -29,6 +29,7 @@ from mcl.command import (
 )
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
 from mcl.errors import ErrorID
+from mcl.probe_latch import ProbeLatch
 from mcl.servo import Regulator, ServoConstants
 from mcl.time_scale import TimeScale
 from mcl.trajectory import Limits, PlanningError
@@ -112,13 +113,8 @@ class Axis:
         self.captured = 0.0
         """Position captured at InSync [u] (GT_SInfo 24)."""
 
-        self.probe_position: float | None = None
-        """Position [u] the armed touch probe recorded (None: not yet, or not armed)."""
-        self.probe_generation = 0
-        """Counts arm and abort requests; a waiting MC_TouchProbe sees its own generation."""
-        self._probe_armed = False
-        self._probe_seq = 0
-        self._probe_window: tuple[float, float] | None = None
+        self.probe = ProbeLatch()
+        """The touch-probe latch (MC_TouchProbe, MC_GearInPos' zeroing)."""
         self.flying: FlyingReference | None = None
         """The armed flying reference (MC_StepRefFlying*), watched every servo cycle."""
 
@@ -402,9 +398,7 @@ class Axis:
                 break
             cmd.rebase(delta)
         self.captured += delta
-        window = self._probe_window
-        if window is not None:
-            self._probe_window = (window[0] + delta, window[1] + delta)
+        self.probe.shift(delta)
         return 0
 
     def submit_deferred(self, cmd: Deferred) -> None:
@@ -732,8 +726,9 @@ class Axis:
         self.VEL += ((actual - self._pos_prev) / self.servo_period - self.VEL) * self._vel_alpha
         self._pos_prev = actual
         self.POS = actual % config.modulo if config.modulo else actual
-        if self._probe_armed and io.tp_seq != self._probe_seq:
-            self._probe_latched()
+        probe = self.probe
+        if probe.armed and io.tp_seq != probe.seq:
+            probe.latched(io.tp_seq, self._wrap(io.tp_count * config.resolution + self.offset))
         flying = self.flying
         if flying is not None and flying.watch(self, t):
             self.flying = None
@@ -754,28 +749,9 @@ class Axis:
 
     # ------------------------------------------------------------------ touch probe
     def arm_probe(self, window: tuple[float, float] | None = None) -> int:
-        """Arm the touch-probe latch: the next TP edge (within ``window`` [u], if given) records
-        the position in :attr:`probe_position`. Returns the arming's generation."""
-        self.probe_generation += 1
-        self.probe_position = None
-        self._probe_armed = True
-        self._probe_seq = self.io.tp_seq
-        self._probe_window = window
-        return self.probe_generation
-
-    def abort_probe(self) -> None:
-        """Cancel a waiting touch probe (MC_AbortTrigger)."""
-        self.probe_generation += 1
-        self._probe_armed = False
-
-    def _probe_latched(self) -> None:
-        io = self.io
-        self._probe_seq = io.tp_seq
-        position = self._wrap(io.tp_count * self.config.resolution + self.offset)
-        window = self._probe_window
-        if window is None or window[0] <= position <= window[1]:
-            self.probe_position = position
-            self._probe_armed = False
+        """Arm the touch-probe latch for the next TP edge (within ``window`` [u], if given);
+        returns the arming's generation (:class:`mcl.probe_latch.ProbeLatch`)."""
+        return self.probe.arm(self.io.tp_seq, window)
 
     def update_setpoint(self, t: float) -> None:
         """Phase 2: the model state (``sp_pos``, ``sp_vel``, ``sp_acc``) at time ``t`` [s].

@@ -130,7 +130,7 @@ def take(axis: Axis) -> AxisSnapshot:
         quick_stop_until=axis._quick_stop_until,
         following_error=axis.following_error,
         captured=axis.captured,
-        probe_position=axis.probe_position,
+        probe_position=axis.probe.position,
         hold=(hold.position, hold.t0) if isinstance(hold, Hold) else None,
         estop_latched=axis.estop_latched,
         pos_prev=axis._pos_prev,
@@ -183,11 +183,7 @@ def restore(axis: Axis, snapshot: AxisSnapshot) -> None:
             group._abort_tickets()  # its blocks show CommandAborted
             group.ungroup()
         axis.group = None
-    axis.probe_generation += 1  # a waiting MC_TouchProbe sees CommandAborted
-    axis._probe_armed = False
-    axis._probe_window = None
-    axis.probe_position = s.probe_position
-    axis._probe_seq = s.channel.tp_seq
+    axis.probe.restore(s.probe_position, s.channel.tp_seq)  # a waiting block: CommandAborted
     axis.disarm_flying(axis.flying)  # a waiting flying reference sees CommandAborted
     axis.io.restore(s.channel)
     if s.constants is not None:

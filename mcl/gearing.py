@@ -375,8 +375,8 @@ class GearInPos(Command):
         """Zeroing 2: once the probe latched, set the master coordinate to 0 at the mark."""
         master, reader = self.master, self.reader
         assert reader is not None
-        latched = master.probe_position
-        if latched is None or master.probe_generation != self.generation:
+        latched = master.probe.position
+        if latched is None or master.probe.generation != self.generation:
             return
         period = master.config.modulo
         if period:

@@ -57,15 +57,15 @@ class MC_TouchProbe(ExecuteFB):
 
     def _poll(self) -> Status | None:
         axis = self.axis
-        if axis.probe_generation != self._generation:
+        if axis.probe.generation != self._generation:
             return Status.Aborted
-        if axis.probe_position is None:
+        if axis.probe.position is None:
             return None
-        self.RecordedPosition = axis.probe_position
+        self.RecordedPosition = axis.probe.position
         return Status.Done
 
     def _withdraw(self) -> None:
-        self.axis.abort_probe()
+        self.axis.probe.abort()
 
     def _show_more(self, visible: bool, final: Status | None) -> None:
         self.CommandAborted = visible and final == Status.Aborted
@@ -83,5 +83,5 @@ class MC_AbortTrigger(ExecuteFB):
     def _begin(self) -> int:
         if number(self.TriggerInput) != 0.0:
             return ErrorID.EParam
-        self.axis.abort_probe()
+        self.axis.probe.abort()
         return 0

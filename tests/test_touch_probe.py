@@ -109,7 +109,7 @@ def test_bad_inputs_give_eparam_and_arm_nothing(inputs: dict[str, object]):
     probe = mcl.MC_TouchProbe()
     probe(Axis=X, Execute=True, **inputs)
     assert probe.Error and probe.ErrorID == mcl.ErrorID.EParam
-    assert X.probe_position is None and X.state == mcl.AxisState.StandStill
+    assert X.probe.position is None and X.state == mcl.AxisState.StandStill
 
 
 def test_marks_report_their_rising_edges_exactly():

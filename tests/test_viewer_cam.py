@@ -100,7 +100,7 @@ def test_a_cammed_slave_publishes_its_profile_and_an_operating_point_on_its_set_
     middle = int(np.argmin(np.abs(profile.master - 10.0)))
     assert profile.master[middle] == 10.0 and profile.slave[middle] == pytest.approx(5.0)
     assert abs(profile.velocity[0]) < 1e-12 and abs(profile.velocity[-1]) < 1e-12
-    demo = sess._demo
+    demo = sess._demo.program
     assert isinstance(demo, CamDemo) and demo.coupled_at is not None
     assert view.table_id == demo.select.CamTableID > 0
     x0, y0 = demo.coupled_at

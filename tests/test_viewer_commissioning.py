@@ -20,10 +20,11 @@ from tests.helpers import run_coroutine
 from tests.test_viewer_browser import browser, page, viewer, wait_for
 from viewer.app import ViewerApp
 from viewer.commissioning import JOG_SPEEDS
+from viewer.demo_run import REPEAT_PAUSE
 from viewer.operator import Move
 from viewer.reversing import Reversing
 from viewer.server import Viewer
-from viewer.session import REPEAT_PAUSE, Session
+from viewer.session import Session
 from viewer.step_test import STEP_WINDOW, step_response
 
 if TYPE_CHECKING:

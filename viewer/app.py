@@ -44,6 +44,7 @@ from viewer.axis_panel import AxisPanel, add_hotkeys
 from viewer.commissioning import CommissioningPanel
 from viewer.control import Control, Hold, Operators
 from viewer.control_page import ControlPages
+from viewer.demo_run import REPEAT_PAUSE
 from viewer.faults_panel import build_faults
 from viewer.legend import LAMP_LIMIT as LAMP_LIMIT  # the lamps' colours, under their old home
 from viewer.legend import LAMP_REF as LAMP_REF
@@ -62,7 +63,7 @@ from viewer.panels import (
     status_html,
 )
 from viewer.security import BoundedLog, GuiGate, choice_of, harden
-from viewer.session import REPEAT_PAUSE, Session, choices
+from viewer.session import Session, choices
 from viewer.snapshot import Snapshot
 from viewer.st_programs import ProgramChoice
 from viewer.views import OFF, ON, SWITCH_CHOICES, Views

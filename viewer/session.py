@@ -28,17 +28,16 @@ from typing import Any
 
 import mcl
 import mcl.faults
-import mcl.st
 import scenes
 from scenes import DemoProgram, MachineDef
 from scenes.scene import Scene
 from viewer.cam_view import ProfileCache, cam_views
+from viewer.demo_run import DemoRun
 from viewer.operator import AxisRequests, Clock, OperatorProgram
 from viewer.overlays import constraint_forces, contact_forces
 from viewer.peaks import PeakHold
 from viewer.recorder import Recorder
 from viewer.snapshot import (
-    DemoView,
     Event,
     SignalView,
     Snapshot,
@@ -46,7 +45,6 @@ from viewer.snapshot import (
     axis_view,
     copy_array,
     mujoco_of,
-    results_of,
 )
 from viewer.st_programs import ProgramCatalog, ProgramSelection
 from viewer.step_test import StepListener
@@ -73,9 +71,6 @@ SCOPE_SECONDS = 60.0
 
 EVENTS_KEPT = 200
 """Entries of the error history kept (oldest dropped)."""
-
-REPEAT_PAUSE = 1.0
-"""Simulated time [s] between the end of a demo and its repeat (with Repeat demo on)."""
 
 
 def choices() -> list[str]:
@@ -142,20 +137,13 @@ class Session:
         self._scene_name = scene
         self._definition = scenes.definition(scene)
         self._scene, self._operator = self._build(scene)
-        self._demo: DemoProgram | None = None
-        self._demo_done_seen = False
-        self._demo_step = ""
-        self._demo_error = ""
         self._events: deque[Event] = deque(maxlen=EVENTS_KEPT)
-        self._results: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]] = ((), ())
+        self._demo = DemoRun(self.record_event)
         self._saved: dict[str, mcl.MachineState] = {}
         """The state saved with :meth:`save_state`, by machine name."""
         self.on_step: StepListener | None = None
         """Hears that a step test starts: (client id, axis, start, length [s] of simulated
         time); called in the simulation thread (None: nobody listens)."""
-        self._repeat = False
-        self._repeat_at: float | None = None
-        self._demo_runs = 0
         self.programs = ProgramSelection(programs or ProgramCatalog(), self.record_event)
         """The Program choice: what Run demo runs (``programs.choose(label)``)."""
         self._plc = self.programs.catalog.external
@@ -200,11 +188,7 @@ class Session:
         self._model, self._data = mujoco_of(scene)
         self.programs.install(scene, self._demo_factory is not None or definition.demo is not None)
         self._has_demo = bool(self.programs.choices)
-        self._demo = None
-        self._demo_step = self._demo_error = ""
-        self._demo_done_seen = False
-        self._repeat_at = None
-        self._demo_runs = 0
+        self._demo.clear()
         plc = scene.runtime.plc_period
         self._record_every = max(1, round(HISTORY_SAMPLE / plc))
         self._scan_count = 0
@@ -214,7 +198,6 @@ class Session:
         self._axis_errors = {name: axis.AxErrorID for name, axis in scene.axes.items()}
         self._peaks = PeakHold(scene.axes)
         self._profiles = ProfileCache()
-        self._results = ((), ())
         self._generation += 1
         self._fault = ""
         self._rebase = True
@@ -291,7 +274,7 @@ class Session:
         """Force variable ``name`` of the running ST program to ``value`` (None: unforce it);
         a refusal (no ST program runs, no such variable, a wrong value) is logged in the error
         history. Whether it was done."""
-        demo = self._demo
+        demo = self._demo.program
         try:
             if not isinstance(demo, WatchedProgram):
                 raise ValueError("no ST program runs")
@@ -463,7 +446,7 @@ class Session:
         def apply() -> None:
             if generation != self._generation:
                 return  # the scene was replaced meanwhile
-            self._demo_runs = 0
+            self._demo.runs = 0
             self._begin_demo()
 
         self._post(apply)
@@ -472,36 +455,24 @@ class Session:
     def repeat_demo(self) -> bool:
         """Repeat demo: a demo that ends successfully starts again after :data:`REPEAT_PAUSE`
         (a fresh program from the demo factory); a failed demo does not repeat."""
-        return self._repeat
+        return self._demo.repeat
 
     @repeat_demo.setter
     def repeat_demo(self, repeat: bool) -> None:
-        self._repeat = bool(repeat)
+        self._demo.repeat = bool(repeat)
 
     def _begin_demo(self) -> None:
         """Make a fresh demo program and run it (simulation thread)."""
         factory = self.programs.factory(self._demo_factory)
-        self._demo_step = self._demo_error = ""
-        self._demo_done_seen = False
-        self._repeat_at = None
-        try:
-            self._demo = factory(self._scene)
-        except Exception as exc:  # a bug in a user program must not kill the viewer
-            log.exception("demo program of scene %r failed to start", self._scene_name)
-            self._demo = None
-            text = f"{type(exc).__name__}: {exc}"
-            self._demo_error = str(exc) if isinstance(exc, mcl.st.STError) else text
-            self.record_event("demo", self._demo_error)
-            return
-        self._demo_runs += 1
-        self._operator.release_power()
+        if self._demo.begin(factory, self._scene, self._scene_name):
+            self._operator.release_power()
 
     def end_demo(self) -> None:
         """Stop calling the demo program and take its axes groups apart, so that every axis
         can be homed, jogged and moved again (the axes keep power and reference)."""
 
         def apply() -> None:
-            self._demo = None
+            self._demo.program = None
             self._operator.release_groups()
 
         self._post(apply)
@@ -515,7 +486,7 @@ class Session:
         down), MC_Stop on every other driven axis."""
 
         def apply() -> None:
-            self._demo = None
+            self._demo.program = None
             self._operator.stop_all()
 
         self.record_event("viewer", "STOP all axes")
@@ -571,7 +542,7 @@ class Session:
         requests = self.requests(axis)
 
         def apply() -> None:
-            self._demo = None
+            self._demo.program = None
             requests.toggle_power()
 
         self._post(apply)
@@ -580,27 +551,13 @@ class Session:
 
     def _scan(self) -> None:
         """One PLC scan: demo program (while it runs), operator program, scope channels."""
-        demo = self._demo
-        if demo is not None and not demo.done:
-            try:
-                demo()
-                error = str(getattr(demo, "error", "") or "")
-            except Exception as exc:  # a bug in a user program must not kill the viewer
-                log.exception("demo program of scene %r failed", self._scene_name)
-                error = f"{type(exc).__name__}: {exc}"
-            if error:  # it failed (or reported an error, like ``python -m scenes run``): it ends
-                self._demo_step = str(getattr(demo, "step", self._demo_step))
-                self._demo = None
-                self._demo_error = error
-                self.record_event("demo", error)
-                self._operator.release_groups()
-            elif demo.done:
-                self._operator.release_groups()
-                self._repeat_at = self._scene.time + REPEAT_PAUSE
-        elif demo is not None and self._repeat_at is not None:
-            self._scan_repeat()
+        outcome = self._demo.scan(self._scene.time, self._scene_name)
+        if outcome == "ended":
+            self._operator.release_groups()
+        elif outcome == "repeat":
+            self._begin_demo()
         if self._plc is not None:
-            self._plc.scan(self._demo)
+            self._plc.scan(self._demo.program)
         self._operator()
         self._peaks.sample()
         errors = self._axis_errors
@@ -615,13 +572,6 @@ class Session:
             self._scan_count = 0
             t = self._scene.runtime.time
             self._recorder.record(t)
-
-    def _scan_repeat(self) -> None:
-        """The ended demo starts again once the repeat pause is over (if Repeat demo is on)."""
-        if not self._repeat:
-            self._repeat_at = None
-        elif self._repeat_at is not None and self._scene.time >= self._repeat_at - 1e-9:
-            self._begin_demo()
 
     def _run_cycles(self, cycles: int) -> None:
         """Run ``cycles`` PLC cycles; an exception pauses the simulation and is reported."""
@@ -748,11 +698,9 @@ class Session:
         span = rate[-1][0] - rate[0][0]
         factor = (rate[-1][1] - rate[0][1]) / span if span > 0.0 else 0.0
         demo = self._demo
-        if demo is not None:
-            self._demo_step = str(demo.step)
-            self._demo_done_seen = bool(demo.done)
-            self._results = results_of(demo)
-        self._watch = demo.rows() if isinstance(demo, WatchedProgram) else ()
+        demo.sample()
+        program = demo.program
+        self._watch = program.rows() if isinstance(program, WatchedProgram) else ()
         operators, info = self._operator.axes, self._axis_info
         peak = self._peaks.peak
         views = {
@@ -775,18 +723,10 @@ class Session:
             paused=self._paused,
             speed=self._speed,
             realtime_factor=0.0 if self._paused else factor,
-            demo=DemoView(
-                available=self.demo_available(),
-                running=demo is not None and not self._demo_done_seen,
-                done=self._demo_done_seen,
-                step=self._demo_step,
-                error=self._demo_error,
-                runs=self._demo_runs,
-                repeat=self._repeat,
-            ),
+            demo=demo.view(self.demo_available()),
             fault=self._fault,
             events=tuple(self._events),
-            results=self._results,
+            results=demo.results,
             channels=self._recorder.channels,
             groups=tuple(g.name for g in self._operator.groups()),
             contacts=None if model is None or data is None else contact_forces(model, data),
