@@ -23,6 +23,8 @@ from scenes.bridge.program import BridgeProgram
 from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable, decode, encode
 from tests.bridge_clients import SCENARIO, WATCHED
 
+pytestmark = pytest.mark.once  # see the marker in pyproject.toml
+
 TABLE = SignalTable(scenes.definition("gantry"))
 FLOAT = ModbusTcpClient.DATATYPE.FLOAT32
 

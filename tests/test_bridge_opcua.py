@@ -41,6 +41,8 @@ from tests.bridge_clients import (
     shear_cuts,
 )
 
+pytestmark = pytest.mark.once  # see the marker in pyproject.toml
+
 TABLE = SignalTable(scenes.definition("gantry"))
 D = ua.VariantType.Double
 

@@ -15,6 +15,8 @@ import pytest
 
 from mcl import native
 
+pytestmark = pytest.mark.once  # see the marker in pyproject.toml
+
 ROOT = Path(__file__).resolve().parent.parent
 FRESH = native.stale_sources() == [] and not native.forced_pure()
 MODES = [

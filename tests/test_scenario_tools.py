@@ -72,6 +72,7 @@ def test_plot_command_draws_a_trace_file(tmp_path, capsys):
     assert str(png) in capsys.readouterr().out
 
 
+@pytest.mark.once  # the workers are processes of their own: see the marker
 def test_a_sweep_on_two_dask_workers_equals_the_serial_run_row_for_row():
     sweep = Sweep(
         "scenes.tools.examples:payload_following_error",

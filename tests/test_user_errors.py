@@ -16,6 +16,8 @@ import pytest
 import mcl
 import scenes
 
+pytestmark = pytest.mark.once  # see the marker in pyproject.toml
+
 PAYLOAD = 'scenario = "scenes.tools.examples:payload_following_error"\n'
 
 

@@ -27,7 +27,7 @@ from viewer.security import MAX_MESSAGE
 from viewer.server import Viewer
 from viewer.session import Session
 
-"""The camera message a viser page sends first (viser counts the page as connected then)."""
+pytestmark = pytest.mark.once  # see the marker in pyproject.toml
 
 
 @pytest.fixture(scope="module")
