@@ -85,6 +85,18 @@ class StepSequence:
             raise ValueError(f"the steps {names} are not STEPS {self.STEPS}")
         self.table = steps
 
+    @staticmethod
+    def watching(blocks: Mapping[str, Block]) -> Callable[..., Step]:
+        """A maker of steps that all watch ``blocks``: ``step(name, complete, then=None)``
+        gives ``Step(name, complete, blocks, then)``."""
+
+        def step(
+            name: str, complete: Callable[[], bool], then: Callable[[], str] | None = None
+        ) -> Step:
+            return Step(name, complete, blocks, then)
+
+        return step
+
     def advance(self, now: float = 0.0) -> None:
         """After the scan's blocks: stop on an error of a block the step watches (``error``
         from :meth:`failure`), else go to the following step once this one is complete;

@@ -5,7 +5,6 @@ register that learns the wheel's scale from the print pitch); :class:`CutJob` sa
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -14,7 +13,7 @@ from mcl.errors import check_finite
 from scenes.machines.flying_shear.axes import HOMING, SENSOR_DELAY
 from scenes.machines.flying_shear.devices import MARK_PITCH, Cut, CutRecorder
 from scenes.procedures import HomeAxis
-from scenes.program import Block, Step, StepSequence, never
+from scenes.program import Block, StepSequence, never
 from scenes.scene import Scene
 
 
@@ -218,11 +217,7 @@ class Demo(StepSequence):
             "power S": self.power[1],
         }
 
-        def step(
-            name: str, complete: Callable[[], bool], then: Callable[[], str] | None = None
-        ) -> Step:
-            return Step(name, complete, watched, then)
-
+        step = self.watching(watched)
         self.declare(
             step("power on", lambda: all(p.Status for p in self.power)),
             step("home the carriage", lambda: self.home.Done),

@@ -10,7 +10,6 @@ what it cuts.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -20,7 +19,7 @@ from scenes.machines.rotary_cutter.axes import HOMING, SENSOR_DELAY, TIP_CIRCUMF
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.machines.rotary_cutter.marks import MARK_FIRST, MARK_PITCH, PRINT_MARKS, PrintMarks
 from scenes.procedures import HomeAxis
-from scenes.program import Block, Step, StepSequence, never
+from scenes.program import Block, StepSequence, never
 from scenes.scene import Scene
 
 CUT_ANGLE = 90.0
@@ -223,11 +222,7 @@ class CamDemo(StepSequence):
             **{f"cam {k}": c for k, c in enumerate(self.cams)},
         }
 
-        def step(
-            name: str, complete: Callable[[], bool], then: Callable[[], str] | None = None
-        ) -> Step:
-            return Step(name, complete, watched, then)
-
+        step = self.watching(watched)
         self.declare(
             step("power on", lambda: all(p.Status for p in self.power)),
             step("home the drum", lambda: self.home.Done),

@@ -6,7 +6,6 @@ blade pitch long (tip circumference / blades). :class:`CutterJob` says what it c
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -15,7 +14,7 @@ from mcl.errors import check_finite
 from scenes.machines.rotary_cutter.axes import GEAR_RATIO, HOMING, TIP_CIRCUMFERENCE
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.procedures import HomeAxis
-from scenes.program import Block, Step, StepSequence, never
+from scenes.program import Block, StepSequence, never
 from scenes.scene import Scene
 
 DRUM_SPEED_LIMIT = 3000.0 / 5.0
@@ -115,11 +114,7 @@ class Demo(StepSequence):
             "power D": self.power[1],
         }
 
-        def step(
-            name: str, complete: Callable[[], bool], then: Callable[[], str] | None = None
-        ) -> Step:
-            return Step(name, complete, watched, then)
-
+        step = self.watching(watched)
         self.declare(
             step("power on", lambda: all(p.Status for p in self.power)),
             step("home the drum", lambda: self.home.Done),
