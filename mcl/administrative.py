@@ -290,10 +290,13 @@ class GT_SWLim(ExecuteFB):
     limits anew from its own LimPos/LimNeg. Allowed in every axis state (it is no motion
     command); needs the constants of GT_SetConstant (``Econst`` 12).
 
-    A new limit that the axis already stands beyond, or that the running or a queued move's
-    target lies beyond, is refused: ``Ecil`` 8 and nothing changes, the move goes on to its
-    target (rather than the module's software-limit stop halting it halfway with an axis
-    error; a refused call leaves the axis as it was, as every parameter error does). Motion
+    A new limit (switched on, or moved while on) that the axis already stands beyond, or that
+    the running or a queued move's target lies beyond, is refused: ``Ecil`` 8 and nothing
+    changes, the move goes on to its target (rather than the module's software-limit stop
+    halting it halfway with an axis error; a refused call leaves the axis as it was, as every
+    parameter error does). A limit left on where it was is not checked again: after a
+    software-limit stop, which leaves the axis just beyond the limit, the other limit may be
+    switched off or moved, and a move back inward is allowed. Motion
     without a target (MC_MoveVelocity, GT_Jog, a geared slave) heading for the new limit is
     stopped there by the supervision, ERRSWP / ERRSWN on the maximum ramp, as by a limit set
     before it started. Not finite values, or both limits on with LimPos <= LimNeg:

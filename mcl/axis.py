@@ -217,10 +217,11 @@ class Axis:
         from the next servo cycle. Values must be finite.
 
         Refused, nothing changed: ``EParam`` when both limits are on and ``pos`` <= ``neg``;
-        ``Ecil`` when (with Ref, on a linear axis) a limit that is on would lie behind the axis
-        (its set point, or its actual position by more than the following-error budget
+        ``Ecil`` when (with Ref, on a linear axis) a limit switched on or moved would lie behind
+        the axis (its set point, or its actual position by more than the following-error budget
         MaxPositionLag) or before the target of the running or a queued command, so a move that
-        would cross the new limit is never stopped by it halfway. A velocity motion (no
+        would cross the new limit is never stopped by it halfway; a limit left as it is is not
+        checked again (:func:`mcl.software_limits.change_refused`). A velocity motion (no
         target) heading for a new limit is stopped there by the supervision (ERRSWP / ERRSWN on
         the maximum ramp), as by a limit set before it started.
         """

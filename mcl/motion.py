@@ -324,7 +324,7 @@ class _MoveContinuousFB(_MoveFB):
         end = number(self.EndVelocity)
         if not math.isfinite(end):
             return ErrorID.EParam
-        vmax = self.axis.constants.Vmax if self.axis.constants is not None else abs(end)
+        vmax = self.axis.max_velocity()  # Vmax, or MaxVelocityAppl below it
         return MoveContinuous(mode, limits, target, math.copysign(min(abs(end), vmax), end))
 
     def _show_more(self, visible: bool, final: Status | None) -> None:
@@ -343,12 +343,13 @@ class MC_MoveContinuousAbsolute(_MoveContinuousFB):
     target ``InEndVelocity`` rises and the axis runs on at ``EndVelocity`` until another command
     takes over (the block then reports CommandAborted); ``Done`` never rises. ``EndVelocity``
     0 stops at the target and holds it, still in ContinuousMotion. ``|EndVelocity|`` may exceed
-    ``Velocity`` (the axis speeds up just before the target) and is clamped to Vmax. Only the
-    target is checked against the SW limits; beyond it the supervision stops the axis at a
-    limit, as for MC_MoveVelocity. All buffer modes: it takes over like MC_MoveAbsolute, and a
-    Buffered or blending successor starts at ``InEndVelocity``, from the end velocity (its own
-    end velocity is not changed by a blending successor). ``Direction`` as for MC_MoveAbsolute
-    (modulo axes only). PLCopen's ``ContinuousUpdate`` is not implemented.
+    ``Velocity`` (the axis speeds up just before the target) and is clamped, as ``Velocity``,
+    to Vmax and to MaxVelocityAppl (MC_WriteParameter 9) below it. Only the target is checked
+    against the SW limits; beyond it the supervision stops the axis at a limit, as for
+    MC_MoveVelocity. All buffer modes: it takes over like MC_MoveAbsolute, and a Buffered or
+    blending successor starts at ``InEndVelocity``, from the end velocity (its own end velocity
+    is not changed by a blending successor). ``Direction`` as for MC_MoveAbsolute (modulo axes
+    only). PLCopen's ``ContinuousUpdate`` is not implemented.
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("Position", "Direction")

@@ -12,11 +12,13 @@ MaxDecelerationAppl and MaxJerk limit the motion commands given afterwards (a co
 limits at its Execute edge, so the running and the already queued ones keep theirs), also the
 stop ramps of MC_Stop and MC_Halt; the axis' error and power-off stops keep the machine data's
 ramp. An application maximum above the system's is clamped to it (read it back to see the
-value in force). Writing a software limit behaves as GT_SWLim (a limit that the axis or a
-commanded target lies beyond is refused with `Ecil` 8; both on with SWLimitPos <= SWLimitNeg is
-`EParam`). Writing a constant 1001–1014 is GT_SetConstant with that one value changed (1007 and
-1008 set both software limits and switch them on when LimPos > LimNeg, as GT_SetConstant
-does); GT_SetConstant itself sets the software limits anew from its LimPos/LimNeg.
+value in force); MaxJerk 0 means the machine data's `max_jerk` (no limit where that is 0 too).
+Writing a software limit behaves as GT_SWLim (switching a limit on or moving it where the axis
+or a commanded target lies beyond it is refused with `Ecil` 8, switching one off never is; both
+on with SWLimitPos <= SWLimitNeg is `EParam`). Writing a constant 1001–1014 is GT_SetConstant
+with that one value changed (1007 and 1008 set both software limits and switch them on when
+LimPos > LimNeg, as GT_SetConstant does); GT_SetConstant itself sets the software limits anew
+from its LimPos/LimNeg.
 
 Errors: an unknown number, or a BOOL parameter given to a REAL block and the other way round:
 `ENoParameter` 19; a write to a read-only parameter: `EReadOnly` 20; a value out of range, NaN
@@ -59,7 +61,7 @@ PARAMETERS: Final[tuple[tuple[int, str, bool, bool, str], ...]] = (
     (13, "MaxAccelerationAppl", False, True, "acceleration limit of commanded motion [u/s²]"),
     (14, "MaxDecelerationSystem", False, False, "machine data max_deceleration [u/s²]"),
     (15, "MaxDecelerationAppl", False, True, "deceleration limit of commanded motion [u/s²]"),
-    (16, "MaxJerk", False, True, "jerk limit of commanded motion [u/s³], >= 0 (0: none)"),
+    (16, "MaxJerk", False, True, "jerk limit of commanded motion [u/s³], >= 0, at most max_jerk"),
     (VENDOR, "AxisErrorID", False, False, "the axis error AxErrorID, as MC_ReadAxisError"),
     *(
         (VENDOR + i, name, False, True, "servo constant, checked as by GT_SetConstant")
@@ -370,7 +372,8 @@ class MC_WriteParameter(_WriteFB):
 class MC_WriteBoolParameter(_WriteFB):
     """Writes ``Value`` to the BOOL parameter ``ParameterNumber`` of the axis (PLCopen Part 1
     v2.0 MC_WriteBoolParameter): 4 EnableLimitPos, 5 EnableLimitNeg (switching a limit on is
-    refused with ``Ecil`` 8 while the axis or a commanded target lies beyond it), 6
+    refused with ``Ecil`` 8 while the axis or a commanded target lies beyond it; switching one
+    off is always allowed, also while the axis stands beyond the other), 6
     EnablePosLagMonitoring (FALSE: the following error no longer stops the axis with ERRPOS
     2001; the software limits still allow the actual position MaxPositionLag beyond them).
     Otherwise as MC_WriteParameter."""

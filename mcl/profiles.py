@@ -16,13 +16,17 @@ the rising edge of ``Execute`` (a later change of the table does not touch the r
 
 Each table becomes a :class:`~mcl.trajectory.Profile` (phases of constant jerk) and is checked
 as a whole before the axis is touched: velocity within the axis' Vmax, acceleration within its
-``max_acceleration`` (speeding up) and ``max_deceleration`` (slowing down), and, on a referenced
-axis with software limits, every position the table passes within them. A table outside the
-axis' maxima is refused with ``EParam`` 5, one crossing a software limit with ``Ecil`` 8; in both
-cases the axis goes on as it was. The jerk is not limited: the table sets it. Where the start
-state is known only when the profile takes over (queued behind a motion that does not end at
-rest), the check is repeated then; a table that fails it ends with ``EParam`` 5 and the axis
-stops on its maximum ramp.
+``max_acceleration`` (speeding up) and ``max_deceleration`` (slowing down), each lowered by the
+application maximum written with MC_WriteParameter (MaxVelocityAppl 9, MaxAccelerationAppl 13,
+MaxDecelerationAppl 15) as for every motion command, and, on a referenced axis, every position
+the table passes within the software limits in force (as GT_SetConstant, GT_SWLim or
+MC_WriteParameter 2–5 left them). A table outside the maxima is refused with ``EParam`` 5, one
+crossing a software limit with ``Ecil`` 8; in both cases the axis goes on as it was. The jerk is
+not limited (MaxJerk does not apply): the table sets it. The maxima are those in force at the
+Execute edge; where the start state is known only when the profile takes over (queued behind
+a motion that does not end at rest), the check is repeated then, against the software limits
+in force then; a table that fails it ends with ``EParam`` 5 and the axis stops on its maximum
+ramp.
 """
 
 from __future__ import annotations
@@ -247,15 +251,29 @@ def _quadratic_roots(c0: float, c1: float, c2: float) -> tuple[float, ...]:
     return ((-c1 - root) / (2.0 * c2), (-c1 + root) / (2.0 * c2))
 
 
-def check_limits(profile: Profile, axis: Axis) -> int:
-    """``EParam`` when the profile leaves the axis' velocity (Vmax) or acceleration maxima
-    (``max_acceleration`` speeding up, ``max_deceleration`` slowing down), ``Ecil`` when it
-    passes an active software limit of a referenced axis, else 0. Exact for phases of constant
+def table_limits(axis: Axis) -> Limits:
+    """The most a table may ask of ``axis`` now: velocity, acceleration (speeding up) and
+    deceleration (slowing down) within the system's maxima (Vmax, ``max_acceleration``,
+    ``max_deceleration``) and the application's below them (MaxVelocityAppl 9,
+    MaxAccelerationAppl 13, MaxDecelerationAppl 15 of MC_WriteParameter); the jerk is the
+    table's own."""
+    p, c = axis.parameters, axis.config
+    return Limits(
+        axis.max_velocity(),
+        min(c.max_acceleration, p.max_acceleration_appl),
+        min(c.max_deceleration, p.max_deceleration_appl),
+    )
+
+
+def check_limits(profile: Profile, axis: Axis, limits: Limits) -> int:
+    """``EParam`` when the profile leaves ``limits`` (the velocity; the acceleration speeding
+    up, the deceleration slowing down), ``Ecil`` when it passes a software limit in force now
+    (with Ref; :meth:`~mcl.axis.Axis.sw_limit_range`), else 0. Exact for phases of constant
     jerk: the extremes lie at the phase ends or where the derivative vanishes."""
-    constants, config = axis.constants, axis.config
-    vmax = constants.Vmax if constants is not None else math.inf
-    sw = constants is not None and axis.Ref and constants.sw_limits_active and not config.modulo
-    margin = 0.5 * config.resolution
+    low, high = axis.sw_limit_range()
+    low -= 0.5 * axis.config.resolution
+    high += 0.5 * axis.config.resolution
+    vmax = limits.velocity * (1.0 + 1e-9)
     segments = profile.segments
     for k in range(len(segments) - 1):
         t0, p, v, a, j = segments[k]
@@ -263,19 +281,16 @@ def check_limits(profile: Profile, axis: Axis) -> int:
         v_zero = _inside(0.0, h, _quadratic_roots(v, a, j / 2.0))
         a_zero = _inside(0.0, h, (-a / j,) if j != 0.0 else ())
         for tau in (0.0, h, *a_zero):
-            if abs(v + tau * (a + tau * j / 2.0)) > vmax * (1.0 + 1e-9):
+            if abs(v + tau * (a + tau * j / 2.0)) > vmax:
                 return ErrorID.EParam
-        if sw:
-            assert constants is not None
-            for tau in (0.0, h, *v_zero):
-                x = p + tau * (v + tau * (a / 2.0 + tau * j / 6.0))
-                if not constants.LimNeg - margin <= x <= constants.LimPos + margin:
-                    return ErrorID.Ecil
+        for tau in (0.0, h, *v_zero):
+            if not low <= p + tau * (v + tau * (a / 2.0 + tau * j / 6.0)) <= high:
+                return ErrorID.Ecil
         cuts = sorted((0.0, h, *v_zero, *a_zero))
         for lo, hi in itertools.pairwise(cuts):
             mid = 0.5 * (lo + hi)
             speeding = (v + mid * (a + mid * j / 2.0)) * (a + mid * j) > 0.0
-            limit = config.max_acceleration if speeding else config.max_deceleration
+            limit = limits.acceleration if speeding else limits.deceleration
             if max(abs(a + lo * j), abs(a + hi * j)) > limit * (1.0 + 1e-9):
                 return ErrorID.EParam
     return 0
@@ -291,7 +306,8 @@ class TableMotion(ProfileCommand):
 
     Args:
         buffer_mode: Aborting or Buffered.
-        limits: the axis' maxima (for the record; the table is checked by :func:`check_limits`).
+        limits: what the table may ask of the axis (:func:`table_limits` at the Execute edge;
+            checked by :func:`check_limits`).
         kind: :data:`POSITION`, :data:`VELOCITY` or :data:`ACCELERATION`.
         deltas: the delta times, already scaled by TimeScale [s].
         values: the values, already scaled and offset.
@@ -330,7 +346,7 @@ class TableMotion(ProfileCommand):
             profile = ramps(self.times, [v, *self.values], p, v, 1)
         else:
             profile = ramps(self.times, [a, *self.values], p, v, 2)
-        error = check_limits(profile, axis)
+        error = check_limits(profile, axis, self.limits)
         return error if error else profile
 
     def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
@@ -380,11 +396,9 @@ class _ProfileFB(MotionFB):
             return ErrorID.Ehome
         if mode >= MC_BufferMode.BlendingLow:
             mode = MC_BufferMode.Buffered  # a time-locked table has no blending velocity
-        ramp = axis.max_ramp()
-        limits = Limits(ramp.velocity, axis.config.max_acceleration, ramp.deceleration)
         cmd = TableMotion(
             mode,
-            limits,
+            table_limits(axis),
             self.KIND,
             [time_scale * dt for dt in deltas],
             [scale * x + offset for x in values],
@@ -420,12 +434,13 @@ class MC_PositionProfile(_ProfileFB):
 
     A table that is missing, empty, longer than 256 points, not strictly increasing in time or
     not finite, a ``TimeScale`` not > 0, a scale or offset not finite → ``EParam`` 5; a spline
-    beyond the axis' Vmax or maximum acceleration/deceleration → ``EParam`` 5 (the table is
-    refused, not slowed down); beyond an active SW limit (with Ref) → ``Ecil`` 8. The axis then
-    goes on as it was. BufferMode Aborting or Buffered; the Blending modes act as Buffered (a
-    time-locked table has no velocity to blend at). MC_SetOverride does not act on it.
-    PLCopen's ``ContinuousUpdate`` is not implemented, and the table is an input here, not an
-    in-out, read on the rising edge.
+    beyond the axis' Vmax or maximum acceleration/deceleration (or the application maxima
+    MaxVelocityAppl, MaxAccelerationAppl, MaxDecelerationAppl below them) → ``EParam`` 5 (the
+    table is refused, not slowed down); beyond an active SW limit (with Ref) → ``Ecil`` 8. The
+    axis then goes on as it was. BufferMode Aborting or Buffered; the Blending modes act as
+    Buffered (a time-locked table has no velocity to blend at). MC_SetOverride does not act on
+    it. PLCopen's ``ContinuousUpdate`` is not implemented, and the table is an input here, not
+    an in-out, read on the rising edge.
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("TimePosition", "PositionScale", "Offset")
@@ -450,7 +465,8 @@ class MC_VelocityProfile(_ProfileFB):
 
     Errors and modes as for MC_PositionProfile: an invalid table or input → ``EParam`` 5; a
     velocity above Vmax or a slope beyond the maximum acceleration/deceleration → ``EParam``
-    5; a position the table passes beyond an active SW limit (with Ref) → ``Ecil`` 8 (after
+    5 (the application maxima as for MC_PositionProfile); a position the table passes beyond an
+    active SW limit (with Ref) → ``Ecil`` 8 (after
     the table the SW limit supervision stops the axis, as for MC_MoveVelocity). A Buffered
     successor starts at ``Done``, from the last velocity.
     """

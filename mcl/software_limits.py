@@ -32,15 +32,20 @@ def allowed_range(axis: Axis) -> tuple[float, float]:
 def change_refused(axis: Axis, pos: float, neg: float, enable_pos: bool, enable_neg: bool) -> int:
     """Why the limits (``pos``, ``neg`` [u], each on or off) cannot be set now, else 0:
     ``EParam`` when both are on and ``pos`` <= ``neg``; ``Ecil`` when (with Ref, on a linear
-    axis) a limit that is on would lie behind the axis (its set point, or its actual position by
-    more than the following-error budget MaxPositionLag) or before the end of the running or a
-    queued command, so that a move crossing the new limit is never stopped by it halfway."""
+    axis) a limit that changes (switched on, or moved while on) would lie behind the axis (its
+    set point, or its actual position by more than the following-error budget MaxPositionLag)
+    or before the end of the running or a queued command, so that a move crossing the new limit
+    is never stopped by it halfway. A limit that stays on where it is is not checked again:
+    after a software-limit stop beyond it the other limit may still be switched or moved."""
     if enable_pos and enable_neg and pos <= neg:
         return ErrorID.EParam
-    if not axis.Ref or axis.config.modulo or not (enable_pos or enable_neg):
+    p = axis.parameters
+    new_pos = enable_pos and not (p.sw_enable_pos and p.sw_limit_pos == pos)
+    new_neg = enable_neg and not (p.sw_enable_neg and p.sw_limit_neg == neg)
+    if not axis.Ref or axis.config.modulo or not (new_pos or new_neg):
         return 0
-    high = pos if enable_pos else math.inf
-    low = neg if enable_neg else -math.inf
+    high = pos if new_pos else math.inf
+    low = neg if new_neg else -math.inf
     margin = 0.5 * axis.config.resolution
     budget = axis.parameters.max_position_lag
     if not low - margin <= axis.sp_pos <= high + margin:

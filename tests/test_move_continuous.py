@@ -113,6 +113,28 @@ def test_an_end_velocity_above_vmax_is_clamped_to_vmax():
     assert passing(fb)[1] == pytest.approx(500.0)  # Vmax of the simulated axis
 
 
+@pytest.mark.parametrize(
+    ("fb_type", "inputs"),
+    [
+        (mcl.MC_MoveContinuousAbsolute, {"Position": 50.0}),
+        (mcl.MC_MoveContinuousRelative, {"Distance": -50.0}),
+    ],
+)
+def test_an_end_velocity_above_max_velocity_appl_is_clamped_to_it(fb_type, inputs):
+    """MaxVelocityAppl (MC_WriteParameter 9) limits EndVelocity as it limits Velocity: the
+    carriage runs on at 80 mm/s, not at the 100 asked for."""
+    machine, X = fresh_axis()
+    write = mcl.MC_WriteParameter(Axis=X, Execute=True, ParameterNumber=9, Value=80.0)
+    write()
+    assert write.Done
+    sign = math.copysign(1.0, next(iter(inputs.values())))
+    fb = fb_type(Axis=X, Velocity=60.0, EndVelocity=100.0 * sign, **inputs)
+    run_to_end_velocity(machine, fb)
+    machine.run(lambda: fb(Execute=True), timeout=0.3)
+    assert fb.InEndVelocity and X.sp_vel == pytest.approx(80.0 * sign)
+    assert carriage_mm_s(machine) == pytest.approx(80.0 * sign, abs=1.0)
+
+
 def test_end_velocity_zero_stops_at_the_target_still_in_continuous_motion():
     machine, X = fresh_axis()
     fb = mcl.MC_MoveContinuousAbsolute(Axis=X, Position=40.0, Velocity=200.0, EndVelocity=0.0)

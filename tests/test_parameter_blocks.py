@@ -19,8 +19,10 @@ from tests.helpers import (
     PLC,
     carriage_mm,
     carriage_mm_s,
+    configure,
     fresh_axis,
     make_machine,
+    power_on,
     tick,
 )
 from tests.test_fb_rules import exclusive
@@ -229,6 +231,36 @@ def test_max_jerk_limits_the_next_move(machine, X):
 
     machine.run(program, until=lambda: move.Done, timeout=5.0)
     assert worst <= 20000.0 * 1.01
+
+
+def test_max_jerk_is_at_most_the_machines_and_zero_means_the_machines():
+    """On a machine of max_jerk 100000 mm/s³ MaxJerk may be lowered, but a value above it, or
+    0, gives the machine's: it reads back and a move asked for more runs with it."""
+    config = mcl.AxisConfig(max_jerk=1e5)
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)}, config=config)
+    X = machine.axes["X"]
+    configure(X)
+    power_on(machine, X)
+    assert read(X, 16) == 1e5
+    assert write(X, 16, 5e4).Done and read(X, 16) == 5e4
+    assert write(X, 16, 1e7).Done and read(X, 16) == 1e5
+    assert write(X, 16, 5e4).Done and write(X, 16, 0.0).Done and read(X, 16) == 1e5
+    move = mcl.MC_MoveRelative(Axis=X, Distance=50.0, Velocity=200.0, Acceleration=5000.0)
+    worst, last = 0.0, 0.0
+
+    def program() -> None:
+        nonlocal worst, last
+        move(Execute=True, Jerk=1e7)
+        worst, last = max(worst, abs(X.sp_acc - last) / PLC), X.sp_acc
+
+    machine.run(program, until=lambda: move.Done, timeout=5.0)
+    assert 0.9e5 <= worst <= 1e5 * (1.0 + 1e-9)
+    assert carriage_mm(machine) == pytest.approx(50.0, abs=0.05)
+    # a machine without a jerk limit: 0 is none
+    machine, X = fresh_axis()
+    assert X.config.max_jerk == 0.0
+    assert write(X, 16, 1e7).Done and read(X, 16) == 1e7
+    assert write(X, 16, 0.0).Done and read(X, 16) == 0.0
 
 
 def test_software_limits_written_act_at_once_and_refuse_what_would_cross_them(machine, X):

@@ -14,7 +14,16 @@ import pytest
 
 import mcl
 from mcl.profiles import MAX_PAIRS, TableMotion
-from tests.helpers import PLC, assert_at, carriage_mm_s, configure, fresh_axis, power_on, tick
+from tests.helpers import (
+    PLC,
+    assert_at,
+    carriage_mm,
+    carriage_mm_s,
+    configure,
+    fresh_axis,
+    power_on,
+    tick,
+)
 from tests.test_fb_rules import exclusive
 
 Sample = tuple[float, float, float, float, mcl.AxisState]
@@ -613,3 +622,112 @@ def test_on_a_modulo_axis_absolute_positions_count_from_the_period_the_axis_is_i
     run_until(machine, lambda: fb(Execute=True), lambda: fb.Done)
     assert R.sp_pos == pytest.approx(360.0 + 90.0)  # 40° → 90° forward, not a turn back
     assert abs(R.POS - 90.0) <= 0.05
+
+
+# ------------------------------------------------------------------------------ limits of run time
+def _write(axis: mcl.Axis, number: int, value: float | bool) -> None:
+    fb = mcl.MC_WriteBoolParameter() if isinstance(value, bool) else mcl.MC_WriteParameter()
+    fb(Axis=axis, Execute=True, ParameterNumber=number, Value=value)
+    assert fb.Done, fb.ErrorID
+
+
+def _refused(fb: Any, error_id: int) -> None:
+    """One scan of ``fb``: refused with ``error_id``, the axis stands untouched."""
+    axis = fb.Axis
+    fb(Execute=True)
+    assert fb.Error and fb.ErrorID == error_id
+    assert axis.state == mcl.AxisState.StandStill and axis.active is None
+
+
+def _peak_speed(machine: mcl.SimMachine, fb: Any) -> float:
+    """Run ``fb`` to Done; the carriage's highest speed [mm/s]."""
+    peak = 0.0
+
+    def scan() -> None:
+        nonlocal peak
+        fb(Execute=True)
+        assert not fb.Error, fb.ErrorID
+        peak = max(peak, abs(carriage_mm_s(machine)))
+
+    run_until(machine, scan, lambda: fb.Done)
+    return peak
+
+
+def test_the_software_limits_set_at_run_time_are_the_ones_checked():
+    """GT_SetConstant sets no limits (LimPos = LimNeg = 0); GT_SWLim sets them at run time."""
+    machine, X = fresh_axis()
+    swlim = mcl.GT_SWLim(Axis=X, Execute=True, LimPos=30.0, LimNeg=-500.0)
+    swlim()
+    assert swlim.Done
+    _refused(mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(1.0, 100.0)])), 8)
+    # 50 mm at up to 100 mm/s: beyond LimPos 30 on the way
+    table = mcl.MC_TV_REF([(0.5, 100.0), (0.5, 0.0)])
+    _refused(mcl.MC_VelocityProfile(Axis=X, TimeVelocity=table), 8)
+    tick(machine, 50)
+    assert X.AxErrorID == 0
+    assert carriage_mm(machine) == pytest.approx(0.0, abs=0.05)
+
+
+def test_a_software_limit_switched_off_no_longer_refuses_a_table():
+    """GT_SetConstant's LimPos 30 switched off by MC_WriteBoolParameter 4: the table to +100
+    runs as MC_MoveAbsolute(100) would, and the carriage gets there."""
+    machine, X = fresh_axis(LimPos=30.0, LimNeg=-500.0)
+    _write(X, 4, False)
+    fb = mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(1.0, 100.0)]))
+    run_until(machine, lambda: fb(Execute=True), lambda: fb.Done or fb.Error)
+    assert fb.Done and X.AxErrorID == 0
+    tick(machine, 100)
+    assert carriage_mm(machine) == pytest.approx(100.0, abs=0.05)
+    # the negative limit is still on
+    _refused(mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(2.0, -650.0)])), 8)
+
+
+def test_the_application_maxima_limit_the_tables():
+    """MaxVelocityAppl 80 mm/s (9), MaxAccelerationAppl 200 mm/s² (13), MaxDecelerationAppl
+    100 mm/s² (15): a table beyond them is refused as one beyond the system's maxima (EParam);
+    one within them runs, and the carriage stays within MaxVelocityAppl."""
+    machine, X = fresh_axis()
+    _write(X, 9, 80.0)
+    _refused(mcl.MC_VelocityProfile(Axis=X, TimeVelocity=mcl.MC_TV_REF([(0.5, 100.0)])), 5)
+    # the spline from rest to rest peaks at 1.5 × 60 mm / 0.5 s = 180 mm/s
+    _refused(mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(0.5, 60.0)])), 5)
+    # the spline peaks at 1.5 × 40 mm / 1 s = 60 mm/s
+    fine = mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(1.0, 40.0)]))
+    assert _peak_speed(machine, fine) == pytest.approx(60.0, rel=0.03)
+    _write(X, 13, 200.0)
+    _write(X, 15, 100.0)
+    _refused(mcl.MC_AccelerationProfile(Axis=X, TimeAcceleration=mcl.MC_TA_REF([(0.2, 500.0)])), 5)
+    # speeding up at 160 mm/s² is within MaxAccelerationAppl, slowing down at 160 beyond
+    # MaxDecelerationAppl
+    _refused(
+        mcl.MC_VelocityProfile(Axis=X, TimeVelocity=mcl.MC_TV_REF([(0.25, 40.0), (0.25, 0.0)])), 5
+    )
+    up = mcl.MC_VelocityProfile(Axis=X, TimeVelocity=mcl.MC_TV_REF([(0.25, 40.0), (0.5, 0.0)]))
+    assert _peak_speed(machine, up) == pytest.approx(40.0, rel=0.03)
+
+
+def test_a_queued_table_keeps_the_maxima_of_its_execute_edge():
+    """MaxVelocityAppl lowered while a table waits behind a move: the table runs as accepted
+    (a command samples its limits at its Execute edge)."""
+    machine, X = fresh_axis()
+    move = mcl.MC_MoveRelative(Axis=X, Distance=20.0, Velocity=100.0)
+    table = mcl.MC_TP_REF([(1.0, 40.0)])  # peaks at 60 mm/s
+    fb = mcl.MC_PositionProfile(Axis=X, TimePosition=table, BufferMode=mcl.MC_BufferMode.Buffered)
+    move(Execute=True)
+    fb(Execute=True)
+    assert fb.Busy and not fb.Active
+    _write(X, 9, 50.0)
+    peak = 0.0
+
+    def scan() -> None:
+        nonlocal peak
+        move(Execute=True)
+        fb(Execute=True)
+        assert not fb.Error, fb.ErrorID
+        if fb.Active:
+            peak = max(peak, abs(carriage_mm_s(machine)))
+
+    run_until(machine, scan, lambda: fb.Done)
+    assert peak == pytest.approx(60.0, rel=0.03)
+    tick(machine, 100)
+    assert carriage_mm(machine) == pytest.approx(60.0, abs=0.05)

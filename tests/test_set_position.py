@@ -185,6 +185,21 @@ def test_a_running_move_goes_on_physically_undisturbed_and_its_target_moves_alon
     assert pytest.approx(150.0 + seen["shift"], abs=POS_TOL) == X.POS
 
 
+def test_on_an_accelerating_axis_the_actual_position_becomes_position_not_the_set_point():
+    """Without feed-forward the loop lags some 0.13 mm while the axis speeds up: the actual
+    position reads Position exactly, the set point stays that lag ahead of it."""
+    machine, X = fresh_axis(Ff=0.0, Ka=0.0)
+    vel, sp = mcl.MC_MoveVelocity(Axis=X), mcl.MC_SetPosition(Axis=X)
+    machine.run(lambda: vel(Execute=True, Velocity=200.0, Acceleration=1000.0), timeout=0.1)
+    assert X.sp_acc == pytest.approx(1000.0) and not vel.InVelocity
+    lag = X.following_error
+    assert lag > 0.05
+    sp(Execute=True, Position=500.0)
+    assert sp.Done
+    assert pytest.approx(500.0, abs=1e-9) == X.POS
+    assert X.sp_pos - X.POS == pytest.approx(lag, abs=1e-9)
+
+
 def test_a_velocity_motion_keeps_its_speed_and_a_sw_limit_acts_in_the_new_coordinate():
     machine, X = fresh_axis(LimPos=400.0, LimNeg=-400.0)
     vel, sp = mcl.MC_MoveVelocity(), mcl.MC_SetPosition()
@@ -253,6 +268,20 @@ def test_queued_behind_a_velocity_motion_applies_at_invelocity_and_the_motion_go
     assert vel.Busy and X.state == AxisState.ContinuousMotion
     assert carriage_mm_s(machine) == pytest.approx(150.0, rel=0.02)
     assert positions[0] == pytest.approx(-100.0, abs=0.01)
+
+
+def test_queued_the_actual_position_becomes_position_where_it_is_applied():
+    """Applied at InVelocity, while the loop still lags the set point (no feed-forward): in
+    that servo cycle the actual position reads Position exactly."""
+    machine, X = fresh_axis(Ff=0.0, Ka=0.0)
+    vel = mcl.MC_MoveVelocity(Axis=X, Velocity=200.0, Acceleration=1000.0)
+    sp = mcl.MC_SetPosition(Axis=X, Position=500.0, ExecutionMode=QUEUED)
+    cycles: list[tuple[float, float, float]] = []
+    machine.runtime.observers.append(lambda t: cycles.append((X.offset, X.POS, X.sp_pos - X.POS)))
+    machine.run(scan(lambda: vel(Execute=True), lambda: sp(Execute=True)), until=lambda: sp.Done)
+    _, position, lag = next(c for c in cycles if c[0] != cycles[0][0])
+    assert lag > 0.05
+    assert position == pytest.approx(500.0, abs=1e-9)
 
 
 def test_queued_on_an_idle_axis_is_done_at_once(machine, X):

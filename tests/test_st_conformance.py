@@ -34,6 +34,11 @@ CASES = [
     ("x : UDINT", "x := 0; x := x - 1;", "x", 4294967295),
     ("x : LINT", "x := 9223372036854775807; x := x + 1;", "x", -(2**63)),
     ("x : ULINT", "x := 0; x := x - 1;", "x", 2**64 - 1),
+    # a mixed operation takes the wider type: DINT + LINT is LINT and does not wrap at 32 bits
+    ("x : LINT; a : DINT := 2147483647; b : LINT := 1", "x := a + b;", "x", 2**31),
+    ("x : LINT; a : DINT := 2147483647; b : LINT := 1", "x := b + a;", "x", 2**31),
+    ("x : LINT", "x := 2147483647 + LINT#1;", "x", 2**31),
+    ("x : LINT; a : DINT := -2147483648; b : LINT := 2", "x := a * b;", "x", -(2**32)),
     ("x : BYTE", "x := 16#FF; x := x + 1;", "x", 0),
     ("x : WORD", "x := 16#FFFF; x := x + 2;", "x", 1),
     ("x : INT", "x := 300 * 300;", "x", 90000 - 65536),
@@ -102,6 +107,9 @@ CASES = [
     ("x : BOOL", "x := INT_TO_BOOL(0);", "x", False),
     ("x : DINT", "x := TIME_TO_DINT(T#1s);", "x", 1000),
     ("x : TIME", "x := DINT_TO_TIME(2500);", "x", 2500),
+    ("x : TIME", "x := LREAL_TO_TIME(2.7);", "x", 3),
+    ("x : TIME; r : LREAL := 2.7", "x := LREAL_TO_TIME(r);", "x", 3),
+    ("x : TIME; r : REAL := -2.7", "x := REAL_TO_TIME(r);", "x", -3),
     ("x : LREAL", "x := DINT_TO_LREAL(7);", "x", 7.0),
     ("x : STRING", "x := INT_TO_STRING(-42);", "x", "-42"),
     ("x : STRING", "x := BOOL_TO_STRING(TRUE);", "x", "TRUE"),
@@ -138,6 +146,10 @@ CASES = [
     ("x : LREAL", "x := ABS(-2.5);", "x", 2.5),
     ("x : LREAL", "x := SQRT(16.0);", "x", 4.0),
     ("x : LREAL", "x := SQRT(-1.0);", "x", math.nan),
+    # of a REAL: a REAL (rounded to 32 bits), also when stored into an LREAL
+    ("x : LREAL; r : REAL := 2.0", "x := SQRT(r);", "x", 1.4142135381698608),
+    ("x : LREAL", "x := SQRT(REAL#2.0);", "x", 1.4142135381698608),
+    ("x : LREAL; r : LREAL := 2.0", "x := SQRT(r);", "x", math.sqrt(2.0)),
     ("x : INT", "x := MIN(3, 7, -2);", "x", -2),
     ("x : INT", "x := MAX(3, 7, -2);", "x", 7),
     ("x : INT; a : INT := 15", "x := LIMIT(0, a, 10);", "x", 10),
@@ -339,6 +351,31 @@ def test_statement_gives_the_iec_value(decls, body, name, expected):
 
 def test_the_table_has_at_least_150_cases():
     assert len(CASES) + len(TIMED) >= 150
+
+
+VAR_TEMP_SOURCE = """
+FUNCTION_BLOCK FB_Temp
+VAR_OUTPUT o : INT; END_VAR
+VAR_TEMP t : INT; u : INT := 5; END_VAR
+t := t + 1; u := u + 1; o := t * 100 + u;
+END_FUNCTION_BLOCK
+PROGRAM t
+VAR n : INT; f : FB_Temp; r : INT; END_VAR
+VAR_TEMP k : INT; m : INT := 3; END_VAR
+k := k + 1; m := m + 1; n := k * 10 + m;
+f(); r := f.o;
+END_PROGRAM
+"""
+
+
+def test_var_temp_starts_fresh_every_scan():
+    """A VAR_TEMP of a PROGRAM or FUNCTION_BLOCK holds its initial value (or 0) at the start of
+    every call; a VAR keeps its value across scans."""
+    prog = mcl.st.from_source(VAR_TEMP_SOURCE, filename="case.st", period=0.01)
+    for _ in range(3):
+        prog()
+        assert not prog.error, prog.error
+        assert (prog.n, prog.r) == (14, 106)
 
 
 TIMED = [

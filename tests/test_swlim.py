@@ -11,7 +11,7 @@ import pytest
 
 import mcl
 from mcl import AxisState, ErrorID, MC_BufferMode
-from tests.helpers import CONSTANTS, POS_TOL, carriage_mm, make_machine, tick
+from tests.helpers import CONSTANTS, POS_TOL, carriage_mm, fresh_axis, make_machine, tick
 from tests.test_fb_rules import exclusive
 
 
@@ -145,3 +145,34 @@ def test_gt_setconstant_sets_the_limits_anew(machine, X):
     constants = mcl.GT_SetConstant(Axis=X)
     constants(Execute=True, **{**CONSTANTS, "LimPos": 400.0, "LimNeg": -400.0})
     assert constants.Done and X.sw_limit_range() == (-400.0, 400.0)
+
+
+def test_after_a_software_limit_stop_the_other_limit_may_be_switched_off_or_moved():
+    """The axis stopped just beyond SWLimitNeg (ERRSWN): switching the positive limit off or
+    moving it is allowed (only a limit switched on or moved is checked against the axis), the
+    negative one still refuses a target beyond it, and the axis moves back inward."""
+    machine, X = fresh_axis()
+    assert swlim(X, LimPos=150.0, LimNeg=-20.0).Done
+    vel = mcl.MC_MoveVelocity(Axis=X, Velocity=100.0, Direction=mcl.MC_Direction.MC_Negative)
+    machine.run(lambda: vel(Execute=True), until=lambda: vel.Error, timeout=3.0)
+    assert vel.ErrorID == ErrorID.ERRSWN
+    tick(machine, 100)
+    assert X.POS < -20.0 and carriage_mm(machine) < -20.0
+    reset = mcl.MC_Reset(Axis=X)
+    machine.run(lambda: reset(Execute=True), until=lambda: reset.Done, timeout=1.0)
+    assert X.state == AxisState.StandStill
+    off = mcl.MC_WriteBoolParameter(Axis=X, Execute=True, ParameterNumber=4, Value=False)
+    off()
+    assert off.Done and not off.Error
+    assert X.sw_limit_range() == (-20.0, math.inf)
+    assert swlim(X, LimPos=300.0, LimNeg=-20.0).Done
+    assert X.sw_limit_range() == (-20.0, 300.0)
+    # the negative limit is still on: moving it further in, or a target beyond it, is refused
+    assert swlim(X, LimPos=300.0, LimNeg=-19.0).ErrorID == ErrorID.Ecil
+    move = mcl.MC_MoveAbsolute(Axis=X, Velocity=100.0, Position=-30.0)
+    move(Execute=True)
+    assert move.ErrorID == ErrorID.Ecil
+    move(Execute=False)
+    machine.run(lambda: move(Execute=True, Position=250.0), until=lambda: move.Done, timeout=5.0)
+    assert X.AxErrorID == 0
+    assert carriage_mm(machine) == pytest.approx(250.0, abs=POS_TOL)
