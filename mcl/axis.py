@@ -616,6 +616,7 @@ class Axis:
 
     def fault(self, code: int, open_loop: bool = False, stop_pushing: bool = False) -> None:
         """Axis error: latch ``code`` in AxErrorID, end all commands with it, go to ErrorStop.
+        In ErrorStop only an error that opens a closed loop is taken (it replaces the code).
 
         Args:
             code: the error (2001 following error, 2004/2005 limit switches, ...).
@@ -623,7 +624,10 @@ class Axis:
             stop_pushing: hold the actual position with a cleared integrator instead of a ramp
                 (the axis is pressing against something, e.g. a homing TorqueLimit error).
         """
-        if self.state in (AxisState.ErrorStop, AxisState.Disabled):
+        state = self.state
+        if state == AxisState.Disabled or (
+            state == AxisState.ErrorStop and not (open_loop and self.loop_closed)
+        ):
             return
         self.AxErrorID = int(code)
         self._stops.clear()
@@ -904,15 +908,16 @@ class Axis:
         axis_state.restore(self, snapshot)
 
     def _supervise(self, e: float, v: float, actual: float, lim_pos: bool, lim_neg: bool) -> None:
-        """Following error, limit switches and software limits: the servo core's supervision."""
+        """Following error, limit switches and software limits: the servo core's supervision.
+        Following error and encoder in every state with the loop closed, ErrorStop included."""
         prev_pos, prev_neg = self._lim_prev or (False, False)
         self._lim_prev = (lim_pos, lim_neg) if lim_pos or lim_neg else ()
-        if self.state == AxisState.ErrorStop:
-            return
         p = self.parameters
         lag = p.lag_monitoring and abs(e) > p.max_position_lag and not self.speed_mode
         if not self.io.encoder_ok or lag:
             self.fault(ErrorID.ERRPOS, open_loop=True)
+            return
+        if self.state == AxisState.ErrorStop:
             return
         active = self.active
         homing = self.state == AxisState.Homing  # not referenced: the search handles switches
