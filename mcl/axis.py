@@ -601,10 +601,8 @@ class Axis:
         self.sp_vel = self.sp_acc = 0.0
 
     def _hold(self, state: AxisState) -> None:
-        hold = Hold(self.sp_pos, state)
-        hold.t0 = self.t_sp
-        hold.status = Status.Active
-        self.active = hold
+        hold = self.active = Hold(self.sp_pos, state)
+        hold.t0, hold.status = self.t_sp, Status.Active
 
     def _ramp_down(self, state: AxisState) -> Halt:
         """Stop on the maximum ramp from the model state; the ramp becomes the active command."""
@@ -617,6 +615,7 @@ class Axis:
 
     def fault(self, code: int, open_loop: bool = False, stop_pushing: bool = False) -> None:
         """Axis error: latch ``code`` in AxErrorID, end all commands with it, go to ErrorStop.
+        In ErrorStop only an error that opens the loop is taken (it replaces the code).
 
         Args:
             code: the error (2001 following error, 2004/2005 limit switches, ...).
@@ -624,7 +623,8 @@ class Axis:
             stop_pushing: hold the actual position with a cleared integrator instead of a ramp
                 (the axis is pressing against something, e.g. a homing TorqueLimit error).
         """
-        if self.state in (AxisState.ErrorStop, AxisState.Disabled):
+        state = self.state  # the supervision's open_loop error comes with the loop closed
+        if state == AxisState.Disabled or (state == AxisState.ErrorStop and not open_loop):
             return
         self.AxErrorID = int(code)
         self._stops.clear()
@@ -908,12 +908,12 @@ class Axis:
         """Following error, limit switches and software limits: the servo core's supervision."""
         prev_pos, prev_neg = self._lim_prev or (False, False)
         self._lim_prev = (lim_pos, lim_neg) if lim_pos or lim_neg else ()
-        if self.state == AxisState.ErrorStop:
-            return
         p = self.parameters
         lag = p.lag_monitoring and abs(e) > p.max_position_lag and not self.speed_mode
         if not self.io.encoder_ok or lag:
             self.fault(ErrorID.ERRPOS, open_loop=True)
+            return
+        if self.state == AxisState.ErrorStop:  # stopped already: only the loop is supervised
             return
         active = self.active
         homing = self.state == AxisState.Homing  # not referenced: the search handles switches

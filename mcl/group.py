@@ -105,7 +105,8 @@ class AxesGroup:
     - GroupDisabled until MC_GroupEnable and after MC_GroupDisable / MC_UngroupAllAxes;
     - GroupErrorStop while a member is in ErrorStop or :attr:`GroupErrorID` is set (a member
       fault during a group motion latches ERRPOSG 8001 for a following error 2001, else the
-      member's error); left only through MC_GroupReset;
+      member's error; a member's 2001 in the error stop replaces it by 8001); left only
+      through MC_GroupReset;
     - GroupStopping from MC_GroupStop until its Done AND NOT Execute (or a member in Stopping);
     - GroupHoming while a member is homing;
     - GroupMoving while a group command runs or a member moves by a command;
@@ -240,7 +241,8 @@ class AxesGroup:
 
     def update(self) -> None:
         """Act on member faults: a member whose group command ended by an error or power-off
-        stops the group (module docstring); a member in ErrorStop latches :attr:`GroupErrorID`.
+        stops the group (module docstring); a member in ErrorStop latches :attr:`GroupErrorID`,
+        and a member's following error (2001, its loop opened) replaces it by ERRPOSG 8001.
 
         Runs with every path evaluation (each servo cycle while the group moves) and in the
         group blocks before they look at the state or act on the group.
@@ -251,9 +253,11 @@ class AxesGroup:
                 if member is not None and member in lost:
                     self._members[i] = None
             self._lose(lost)
-        if self.enabled and not self.GroupErrorID:
-            for axis in self.axes:
-                if axis.state == AxisState.ErrorStop:
+        if self.enabled and self.GroupErrorID != ErrorID.ERRPOSG:
+            for axis in self.axes:  # a member's following error replaces an earlier error
+                if axis.state == AxisState.ErrorStop and (
+                    not self.GroupErrorID or axis.AxErrorID == ErrorID.ERRPOS
+                ):
                     self.GroupErrorID = self._group_error(axis.AxErrorID)
                     break
 

@@ -139,14 +139,27 @@ MC_StepRefFlyingRefPulse: they set the coordinate and `Ref` at an edge while ano
 the axis) and GT_Analog (Disabled only) do not change the state; an override of 0 holds a moving
 axis on its path in its motion state.
 
+Supervision: in every state in which the position loop is closed (StandStill, the motion states,
+Homing, Stopping, and ErrorStop after an error that keeps the loop closed: a limit switch, a SW
+limit, a cam's or gearing's error, a homing supervision error, MC_Power on with an error pending)
+every servo cycle checks the following error (beyond MaxPositionLag, DevMax, while
+EnablePosLagMonitoring is TRUE) and the encoder line. Either gives ERRPOS 2001 as described
+above: the loop opens, the amplifier stops the axis at 0 V for `quick_stop_time`, then the enable
+drops. In ErrorStop 2001 replaces the error the axis stopped with (MC_Reset then leaves it
+Disabled); other errors are not taken there, the axis is stopping already. An error stop holds
+the axis where its ramp ended (on a modulo axis too: the hold is the model position, not
+wrapped); when something drags it from there beyond DevMax (a knife drum's blade stopped in a
+running web), the loop opens and the drive lets go instead of fighting it.
+
 ## Axes groups
 An axes group (`mcl.AxesGroup`, the AXES_GROUP_REF) holds up to three axes in the order they were
 added and is in one state of `mcl.GroupState`: GroupDisabled until MC_GroupEnable and after
 MC_GroupDisable or MC_UngroupAllAxes; GroupMoving while a group command runs (its members are in
 SynchronizedMotion); GroupStopping from MC_GroupStop until its `Done` AND NOT `Execute`;
 GroupHoming while a member is homing; GroupErrorStop while a member is in ErrorStop or the group
-error is set (8001 when a member exceeded its following error during a group motion), left only
-through MC_GroupReset; GroupStandby otherwise. Single-axis motion commands on a member are refused
+error is set (8001 when a member exceeded its following error during a group motion or in the
+group's error stop; a member's 2001 replaces an earlier group error), left only through
+MC_GroupReset; GroupStandby otherwise. Single-axis motion commands on a member are refused
 with 1000.
 """
 
@@ -173,7 +186,8 @@ AXIS_TRANSITIONS: tuple[tuple[str, str, str], ...] = (
         "homing supervision (1/2/3)",
         "ErrorStop; the axis stops on its maximum ramp (2001 opens the loop and the drive "
         "stays enabled at 0 V for `quick_stop_time`, MC_Power's `Status` TRUE until the enable "
-        "drops; a homing TorqueLimit error 3 stops pushing at once)",
+        "drops; a homing TorqueLimit error 3 stops pushing at once); in ErrorStop only 2001 is "
+        "taken, it replaces the error (Supervision, below)",
     ),
     (
         "ErrorStop",

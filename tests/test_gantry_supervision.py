@@ -14,6 +14,7 @@ import pytest
 
 import mcl
 from mcl import AxisState, MC_Direction
+from mcl import faults as flt
 from scenes.machines import gantry
 from scenes.scene import Scene
 from tests.helpers import scan
@@ -221,3 +222,66 @@ def test_z_held_after_a_move_when_disabled():
     scene.run(lambda: power(Axis=Z, Enable=False), timeout=2.0)
     assert Z.state == AxisState.Disabled
     assert off.max_deviation < 50e-6, f"drop on disable {off.max_deviation * 1e6:.1f} µm"
+
+
+# ----------------------------------------------------------------------------- group error stop
+
+
+@pytest.mark.parametrize("member", ["X", "Y"], ids=["X in ErrorStop on LIM+", "Y standing"])
+def test_a_member_of_a_group_in_its_error_stop_is_supervised(member):
+    """X and Y in a group; the group's line runs X onto LIM+: X stops in ErrorStop 2004 with
+    its loop closed, Y is stopped along the line and stands, the group is in GroupErrorStop.
+    An encoder cable of either member then breaks: 2001 at once, 0 V, the amplifier stops the
+    joint, the enable drops after quick_stop_time, and the group error becomes 8001."""
+    scene = build(X=0.9)
+    axes = [scene.axes["X"], scene.axes["Y"]]
+    group = mcl.AxesGroup()
+    powers = [mcl.MC_Power(Axis=a) for a in axes]
+    adds = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=a) for a in axes]
+    enable = mcl.MC_GroupEnable(AxesGroup=group)
+    move = mcl.MC_MoveLinearRelative(AxesGroup=group, Distance=[200.0, 100.0], Velocity=200.0)
+    status, error = mcl.MC_GroupReadStatus(AxesGroup=group), mcl.MC_GroupReadError(AxesGroup=group)
+
+    def program() -> None:
+        for power, add in zip(powers, adds, strict=True):
+            power(Enable=True)
+            add(Execute=power.Status)
+        enable(Execute=all(add.Done for add in adds))
+        move(Execute=enable.Done)
+        status(Enable=True)
+        error(Enable=True)
+
+    X, Y = axes
+    scene.run(program, until=lambda: X.state == AxisState.ErrorStop, timeout=5)
+    scene.run(program, timeout=0.5)
+    assert X.AxErrorID == mcl.ErrorID.ERRLIP and X.loop_closed
+    assert Y.state == AxisState.StandStill and abs(velocity(scene, "Y")) < 1e-4
+    assert status.GroupErrorStop and error.GroupErrorID == mcl.ErrorID.ERRLIP
+
+    axis, io = scene.axes[member], scene.io(member)
+    rows: list[tuple[float, int, float, bool, float, float]] = []
+    scene.runtime.observers.append(
+        lambda t: rows.append(
+            (
+                t,
+                axis.AxErrorID,
+                io.volts,
+                io.enabled,
+                scene.joint_position(member),
+                velocity(scene, member),
+            )
+        )
+    )
+    t0 = scene.time
+    scene.faults.set(member, flt.EncoderWireBreak())
+    scene.run(program, timeout=0.4)
+    t_error = next((t for t, code, *_ in rows if code == mcl.ErrorID.ERRPOS), None)
+    assert t_error is not None, f"no 2001: AxErrorID {axis.AxErrorID}"
+    assert t_error - t0 <= 0.001
+    later = [r for r in rows if r[0] > t_error + 0.001]
+    assert all(code == mcl.ErrorID.ERRPOS and volts == 0.0 for _, code, volts, *_ in later)
+    on = [t for t, _, _, enabled, *_ in later if enabled]
+    assert max(on) == pytest.approx(t_error + axis.config.quick_stop_time, abs=0.002)
+    q = [r[4] for r in rows]
+    assert max(q) - min(q) < 1e-4 and abs(rows[-1][5]) < 1e-4, "at rest, no runaway"
+    assert status.GroupErrorStop and error.GroupErrorID == mcl.ErrorID.ERRPOSG
