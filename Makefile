@@ -63,10 +63,10 @@ bench: setup
 
 # mutation testing of the modules a change touched (against the merge base with main, or BASE),
 # or of MODULES whole; the tests that exercise them, or TESTS; JOBS mutants at once (all cores)
+MUTATE := $(if $(BASE),--base $(BASE)) $(if $(MODULES),--modules $(MODULES)) \
+	$(if $(TESTS),--tests $(TESTS)) $(if $(JOBS),--jobs $(JOBS))
 mutate: $(VENV)/.installed
-	$(PY) -m tests.mutate $(if $(BASE),--base $(BASE)) \
-		$(if $(MODULES),--modules $(MODULES)) $(if $(TESTS),--tests $(TESTS)) \
-		$(if $(JOBS),--jobs $(JOBS))
+	$(PY) -m tests.mutate $(strip $(MUTATE))
 
 clean:
 	-@$(PY) -m mcl.build --clean 2>/dev/null

@@ -339,7 +339,7 @@ def main(argv: Sequence[str] | None = None, root: Path | None = None) -> int:
     found_tests = select_tests(root, lines, find_test_files(root, TEST_DIRS), packages, touched)
     for module in lines:
         tests = args.tests or found_tests[module]
-        print(f"  {module}: tests {' '.join(tests) or '(none: give TESTS=...)'}")
+        print(f"  {module}: tests {' '.join(tests) or '(none names it: TESTS=... names some)'}")
     tests = args.tests or sorted({t for ts in found_tests.values() for t in ts})
     if not tests:
         raise SystemExit("no test exercises these modules; name the tests with TESTS=...")
