@@ -2,12 +2,11 @@
 
 It finds the modules of ``mcl``, ``scenes`` and ``viewer`` the change touched and their changed
 lines (``git diff`` of the working tree against the merge base with ``main``, or against
-``--base``), the test files that exercise each module (they import it or name one of its
-top-level names, and every test file the change touched) and lets mutmut mutate the changed
-lines; for each mutant mutmut runs those of the tests that call the mutated function (its
-per-test record of the calls, taken in one run of the tests first). Browser tests are left out.
-The report gives, per module and in total, the killed / survived / timeout / no-test counts,
-the kill rate and every surviving mutant as ``file:line: before → after``.
+``--base``), the test files that exercise each module (:func:`select_tests`) and lets mutmut
+mutate the changed lines; mutmut runs the chosen tests once to record which tests call which
+function, then each mutant against those that call its function. Browser tests are left out.
+The report gives, per module and in total, the killed / survived / no-test / timeout counts,
+the kill rate and every mutant not caught, as ``file:line: before → after``.
 
     python -m tests.mutate [--base REV] [--modules FILE ...] [--tests FILE ...] [--jobs N]
 
@@ -369,7 +368,8 @@ def changed_modules(
     base = base or git(root, "merge-base", "main", "HEAD").strip()
     changes = changed_lines(root, base)
     print(f"changes against {base[:12]}: {', '.join(changes) or 'none'}")
-    lines: dict[str, set[int] | None] = {m: changes[m] for m in module_paths(changes, packages)}
+    modules = [m for m in module_paths(changes, packages) if changes[m]]  # not deletions only
+    lines: dict[str, set[int] | None] = {m: changes[m] for m in modules}
     return lines, [t for t in find_test_files(root, TEST_DIRS) if t in changes]
 
 

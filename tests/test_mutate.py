@@ -55,13 +55,14 @@ def git(root: Path, *args: str) -> str:
 
 @pytest.fixture
 def project(tmp_path: Path) -> Path:
-    """A committed project: package ``pkg`` (``calc``, ``gone``), its tests and a pyproject."""
+    """A committed project: package ``pkg`` (``calc`` and two more), its tests, a pyproject."""
     write(
         tmp_path,
         {
             "pkg/__init__.py": "",
             "pkg/calc.py": CALC,
             "pkg/gone.py": "X = 1\n",
+            "pkg/shrunk.py": "A = 1\nB = 2\n",
             "tests/__init__.py": "",
             "tests/test_calc.py": TEST_CALC,
             "pyproject.toml": '[tool.pytest.ini_options]\nmarkers = ["browser: a page"]\n',
@@ -77,15 +78,18 @@ def test_a_change_names_its_modules_with_the_lines_it_changed_or_added(project):
     calc = project / "pkg/calc.py"
     calc.write_text(CALC.replace("return low\n", "return low  # the floor\n") + "\n\nY = 2\n")
     (project / "pkg/gone.py").unlink()
-    write(project, {"pkg/new.py": "a = 1\nb = 2\n", "notes.txt": "x\n"})
+    write(project, {"pkg/shrunk.py": "A = 1\n", "pkg/new.py": "a = 1\nb = 2\n", "notes.txt": "x\n"})
+    write(project, {"tests/test_new.py": "import pkg\n", "tests/test_helper.py": "import os\n"})
 
     changes = mutate.changed_lines(project, "HEAD")
+    lines, touched = mutate.changed_modules(project, "HEAD", None, ["pkg"])
 
-    assert changes == {"pkg/calc.py": {4, 12, 13, 14}, "pkg/new.py": {1, 2}}
-    assert mutate.module_paths([*changes, "tests/test_calc.py", "setup.py"], ["pkg"]) == [
-        "pkg/calc.py",
-        "pkg/new.py",
-    ]
+    assert changes["pkg/calc.py"] == {4, 12, 13, 14}
+    assert changes["pkg/new.py"] == {1, 2}
+    assert changes["pkg/shrunk.py"] == set()  # a line deleted: nothing to mutate
+    assert "pkg/gone.py" not in changes
+    assert lines == {"pkg/calc.py": {4, 12, 13, 14}, "pkg/new.py": {1, 2}}
+    assert touched == ["tests/test_helper.py", "tests/test_new.py"]
 
 
 def test_a_module_s_tests_import_it_or_name_what_it_defines_or_its_docstring_mentions(tmp_path):
