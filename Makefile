@@ -1,4 +1,5 @@
-# The two commands of the README: `make run` (the viewer) and `make test`.
+# The two commands of the README: `make run` (the viewer) and `make test`; `make mutate` tests
+# the tests of a change (mutation testing, see the README).
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 UV     := python3 -m uv
@@ -6,7 +7,7 @@ SCENE  ?= gantry
 HOST   ?= 127.0.0.1
 PORT   ?= 8080
 
-.PHONY: setup run demo test lint typecheck pytest bench clean
+.PHONY: setup run demo test lint typecheck pytest bench mutate clean
 
 $(VENV)/.installed: pyproject.toml
 	@$(UV) --version >/dev/null 2>&1 || python3 -m pip install --quiet --disable-pip-version-check uv
@@ -59,6 +60,13 @@ bench: setup
 	$(PY) -m tests.benchmarks.st
 	$(PY) -m tests.benchmarks.bridge
 	$(PY) -m tests.benchmarks.cam_table
+
+# mutation testing of the modules a change touched (against the merge base with main, or BASE),
+# or of MODULES whole; the tests that exercise them, or TESTS; JOBS mutants at once (all cores)
+MUTATE := $(if $(BASE),--base $(BASE)) $(if $(MODULES),--modules $(MODULES)) \
+	$(if $(TESTS),--tests $(TESTS)) $(if $(JOBS),--jobs $(JOBS))
+mutate: $(VENV)/.installed
+	$(PY) -m tests.mutate $(strip $(MUTATE))
 
 clean:
 	-@$(PY) -m mcl.build --clean 2>/dev/null
