@@ -516,31 +516,16 @@ class SignalTable:
             return self._requests[axis]
 
     def markdown(self) -> str:
-        """The register map as a Markdown table."""
-        lines = [
-            f"# Register map of {self.machine}",
-            "",
-            f"Holding registers of unit id {self.unit_id}, PDU addresses from 0; u32 and f32 in "
-            "two registers, high word first; u: the axis' user unit (mm on a slide, deg on a "
-            "hinge).",
-            "",
-            "| address | name | type | access | unit | description |",
-            "|---:|---|---|---|---|---|",
-        ]
-        lines += [
-            f"| {f.address} | {f.name} | {f.kind} | {f.access} | {f.unit} | {f.description} |"
-            for f in self.fields
-        ]
-        return "\n".join(lines)
+        """The register map as Markdown (:mod:`scenes.bridge.register_map`)."""
+        from scenes.bridge import register_map
+
+        return register_map.markdown(self)
 
     def csv(self) -> str:
-        """The register map as CSV."""
-        rows = ["address,name,type,access,unit,description"]
-        rows += [
-            f'{f.address},{f.name},{f.kind},{f.access},{f.unit},"{f.description}"'
-            for f in self.fields
-        ]
-        return "\n".join(rows)
+        """The registers as CSV."""
+        from scenes.bridge import register_map
+
+        return register_map.csv(self)
 
 
 def tables_of(machine: MachineDef) -> list[SignalTable]:
