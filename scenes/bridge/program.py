@@ -109,7 +109,6 @@ class AxisBridge:
         self._last_word = 0
         self._last_client = 0
         self._serial = -1
-        self._pulsed = -1
         self._deferred = -1
         self._held: dict[str, bool] = dict.fromkeys(RESULTS, False)
         """The current command's result bits held until acknowledged."""
@@ -131,18 +130,17 @@ class AxisBridge:
 
     def _request_pulse(self) -> int:
         """This scan's Execute of the command last requested (a method call): one scan high,
-        after one scan low when the last scan gave the same command its pulse."""
+        after one scan low when its bit was high in the last scan."""
         bit, serial = self.table.requested(self.name)
         due = -1
         if serial != self._serial:
             self._serial = serial
-            if bit == self._pulsed:
+            if self._last_word >> bit & 1:
                 self._deferred = bit
             else:
                 due, self._deferred = bit, -1
         elif self._deferred >= 0:
             due, self._deferred = self._deferred, -1
-        self._pulsed = due
         return 1 << due if due >= 0 else 0
 
     def _commands(self) -> dict[str, tuple[Command, Callable[[bool], None]]]:

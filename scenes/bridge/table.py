@@ -487,9 +487,11 @@ class SignalTable:
 
     def request(self, axis: str, command: str, params: Mapping[str, float] | None = None) -> None:
         """Issue Execute command ``command`` of ``axis`` as a method call does: ``params``
-        (field name → value) are set at once; the program gives the command's Execute one scan
-        high at its next scan (its result stays in the status until another command starts);
-        the same command requested again gets a fresh rising edge.
+        (field name → value) are set at once and the command's bit of the control word is
+        cleared (the call takes the command over); the program gives the command's Execute one
+        scan high at its next scan (after one scan low if its bit was set), and its result stays
+        in the status until another command starts; the same command requested again gets a
+        fresh rising edge.
 
         Raises:
             WriteRefused: an unknown axis, a level or unknown command, a field that is not a
@@ -506,8 +508,13 @@ class SignalTable:
                 raise WriteRefused(f"{axis} has no parameter {name!r}")
             fields[f.name] = value
         self.update(fields.items())
-        with self._lock:
-            self._requests[axis] = (CONTROL_BITS.index(command), self._requests[axis][1] + 1)
+        bit = CONTROL_BITS.index(command)
+        with self._lock:  # the call takes the command over from the control word's bit
+            self._values[f"{axis}.control"] = float(
+                int(self._values[f"{axis}.control"]) & ~(1 << bit)
+            )
+            self._rose[axis] &= ~(1 << bit)
+            self._requests[axis] = (bit, self._requests[axis][1] + 1)
         self.written.set()
 
     def requested(self, axis: str) -> tuple[int, int]:
