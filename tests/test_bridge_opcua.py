@@ -124,13 +124,15 @@ def test_power_home_move_to_300_mm_limit_and_reset(free_server: int) -> None:
         changes = Changes()
         subscription = await g.client.create_subscription(20, changes)
         await subscription.subscribe_data_change(g.node("X.actual_position"))
+        await asyncio.sleep(0.5)  # standing at the index (120 mm): the encoder may flip a count
+        start = await g.value("X.actual_position")
         await g.move("X", 300.0)
         await g.until(lambda: g.finished("X", "move_absolute"), 15.0)
         assert await g.value("X.actual_position") == pytest.approx(300.0, abs=0.02)
         assert await g.value("sim.time") > 3.0
         await asyncio.sleep(0.1)
         await subscription.delete()
-        moving = [v for v in changes.values if 1.0 < v < 299.0]
+        moving = [v for v in changes.values if start + 1.0 < v < 299.0]  # not standing
         assert len(moving) > 15  # notified all along the move (0.75 s wall at 20 ms)
         assert moving == sorted(moving)
         assert changes.values[-1] == pytest.approx(300.0, abs=0.02)
@@ -418,6 +420,7 @@ def test_beyond_loopback_only_encrypted_sessions_of_the_user(tmp_path: Path) -> 
     [
         (["--host", "0.0.0.0"], "needs the password of user 'plc'"),
         (["--host", "0.0.0.0", "--password-file", "{loose}"], "expected mode 600"),
+        (["--host", "0.0.0.0", "--password-file", "{group}"], "expected mode 600"),
         (["--allow", "somewhere"], "--allow takes IP addresses"),
         (["--secure", "--password-file", "{tight}", "--certs", "{open}"], "expected mode 700"),
     ],
@@ -429,12 +432,13 @@ def test_a_refused_security_setting_is_one_line(
     monkeypatch: pytest.MonkeyPatch,
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    for name, mode in (("loose", 0o644), ("tight", 0o600)):
+    for name, mode in (("loose", 0o644), ("group", 0o640), ("tight", 0o600)):
         (tmp_path / name).write_text("pw\n")
         (tmp_path / name).chmod(mode)
     (tmp_path / "open").mkdir(mode=0o755)
     (tmp_path / "open").chmod(0o755)
-    args = [o.format(**{n: str(tmp_path / n) for n in ("loose", "tight", "open")}) for o in options]
+    names = ("loose", "group", "tight", "open")
+    args = [o.format(**{n: str(tmp_path / n) for n in names}) for o in options]
     monkeypatch.delenv("MCL_OPCUA_PASSWORD", raising=False)
     assert cli.main(["bridge", "opcua", "gantry", *args]) == 2
     stderr = capsys.readouterr().err
