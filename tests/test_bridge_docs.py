@@ -70,8 +70,8 @@ def test_the_docs_settings_command_every_axis(machine: str, tmp_path: Path) -> N
         target = 0
         for table in tables_of(scenes.definition(machine)):
             unit = table.unit_id
-            kinds = zip(table.axes, table.definition.axes.values(), strict=True)
-            drives = {a: d.drive != "encoder" for a, d in kinds}
+            axes = scenes.definition(machine).scene_axes
+            drives = {a: axes[a].drive != "encoder" for a in table.axes}
             for i, axis in enumerate(table.axes):
                 shift = AXIS_STRIDE * i
                 block = [bits("enable")] + [0] * (write_size - 1)

@@ -49,6 +49,11 @@ class Axis:
         ``command_count`` has passed the count read before it)."""
         await until(lambda: self._done_after(count), seconds, f"{self.name}: command after {count}")
 
+    async def at(self, position: float) -> bool:
+        """The axis stands at ``position`` [mm]."""
+        actual = await self.value("actual_position")
+        return abs(actual - position) < 0.02 and abs(await self.value("actual_velocity")) < 0.5
+
     async def _done_after(self, count: int) -> bool:
         return await self.value("command_count") != count and bool(await self.value("status.done"))
 
@@ -67,7 +72,34 @@ def relative(distance: float) -> list[ua.Variant]:
     return [*ramp, ua.Variant(0, ua.VariantType.UInt16)]
 
 
-def test_commands_by_method_and_by_control_word_each_have_their_number(tmp_path: Path) -> None:
+def test_a_control_word_command_after_a_method_call_is_taken(tmp_path: Path) -> None:
+    """MC_MoveRelative(20 mm), then the control word with move_relative and 30 mm: X moves on
+    by 30 mm (measured at the actual position)."""
+
+    async def body(port: int) -> None:
+        async with Client(f"opc.tcp://127.0.0.1:{port}/", timeout=10) as client:
+            x = Axis(client, await client.get_namespace_index(NAMESPACE), "X")
+            await x.call("MC_Power", ua.Variant(True, ua.VariantType.Boolean))
+            await until(lambda: x.value("status.power"), 5.0, "power")
+            start = await x.value("actual_position")
+            await x.call("MC_MoveRelative", *relative(20.0))
+            await until(lambda: x.at(start + 20.0), 5.0, "the first move")
+            await client.write_values(
+                [x.node("distance"), x.node("control")],
+                [ua.Variant(30.0, D), ua.Variant(9, ua.VariantType.UInt16)],  # enable, move
+            )
+            await until(lambda: x.at(start + 50.0), 5.0, "the move of the control word")
+            assert await x.value("command") == MOVE_RELATIVE
+
+    with opcua_server("gantry", tmp_path / "stderr.txt") as port:
+        asyncio.run(body(port))
+
+
+def test_each_command_has_its_number(tmp_path: Path) -> None:
+    """Commands by method and by control word, each judged once ``command_count`` has passed
+    the number read before it: the Done judged is always the new command's (the same call
+    again included), measured at the actual position."""
+
     async def body(port: int) -> None:
         async with Client(f"opc.tcp://127.0.0.1:{port}/", timeout=10) as client:
             x = Axis(client, await client.get_namespace_index(NAMESPACE), "X")
@@ -84,14 +116,14 @@ def test_commands_by_method_and_by_control_word_each_have_their_number(tmp_path:
                 [ua.Variant(30.0, D), ua.Variant(9, ua.VariantType.UInt16)],
             )
             await x.done_after(count)
-            assert await x.value("command") == MOVE_RELATIVE
             assert await x.value("actual_position") == pytest.approx(start + 50.0, abs=0.02)
-            for k in range(3):  # the same call again: its Done is its own
+            for k in range(3):  # the same call again (the control word's bit still set)
                 count = await x.value("command_count")
                 await x.call("MC_MoveRelative", *relative(20.0))
                 await x.done_after(count)
                 expected = start + 70.0 + 20.0 * k
                 assert await x.value("actual_position") == pytest.approx(expected, abs=0.02)
+            assert await x.value("command_count") == count + 1
 
     with opcua_server("gantry", tmp_path / "stderr.txt") as port:
         asyncio.run(body(port))
