@@ -34,6 +34,7 @@ from tests.bridge_clients import (
     PRESS_FORCE,
     InProcess,
     OpcuaLockstep,
+    free_port,
     gantry_lockstep,
     opcua_client,
     opcua_server,
@@ -420,7 +421,6 @@ def test_beyond_loopback_only_encrypted_sessions_of_the_user(tmp_path: Path) -> 
     [
         (["--host", "0.0.0.0"], "needs the password of user 'plc'"),
         (["--host", "0.0.0.0", "--password-file", "{loose}"], "expected mode 600"),
-        (["--host", "0.0.0.0", "--password-file", "{group}"], "expected mode 600"),
         (["--allow", "somewhere"], "--allow takes IP addresses"),
         (["--secure", "--password-file", "{tight}", "--certs", "{open}"], "expected mode 700"),
     ],
@@ -432,14 +432,32 @@ def test_a_refused_security_setting_is_one_line(
     monkeypatch: pytest.MonkeyPatch,
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    for name, mode in (("loose", 0o644), ("group", 0o640), ("tight", 0o600)):
+    for name, mode in (("loose", 0o644), ("tight", 0o600)):
         (tmp_path / name).write_text("pw\n")
         (tmp_path / name).chmod(mode)
     (tmp_path / "open").mkdir(mode=0o755)
     (tmp_path / "open").chmod(0o755)
-    names = ("loose", "group", "tight", "open")
+    names = ("loose", "tight", "open")
     args = [o.format(**{n: str(tmp_path / n) for n in names}) for o in options]
     monkeypatch.delenv("MCL_OPCUA_PASSWORD", raising=False)
     assert cli.main(["bridge", "opcua", "gantry", *args]) == 2
     stderr = capsys.readouterr().err
     assert message in stderr and len(stderr.strip().splitlines()) == 1
+
+
+def test_a_group_readable_password_file_is_refused(tmp_path: Path) -> None:
+    """Mode 640 lets the file's group read the password: the server does not start (one line
+    on standard error, exit status 2)."""
+    password = tmp_path / "password"
+    password.write_text("s3cret-for-the-test\n")
+    password.chmod(0o640)
+    command = [sys.executable, "-m", "scenes", "bridge", "opcua", "gantry", "--host", "0.0.0.0"]
+    options = ["--port", str(free_port()), "--password-file", str(password)]
+    options += ["--certs", str(tmp_path / "certs")]
+    try:
+        done = subprocess.run([*command, *options], capture_output=True, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail("the server started with a group-readable password file")
+    assert done.returncode == 2
+    assert "others may read or write it (mode 640)" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1
