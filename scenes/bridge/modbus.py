@@ -28,6 +28,7 @@ from typing import Any
 
 from pymodbus.constants import ExcCodes
 from pymodbus.pdu import ExceptionResponse, ModbusPDU
+from pymodbus.pdu.register_message import ReadWriteMultipleRegistersRequest
 from pymodbus.server import ModbusTcpServer
 from pymodbus.server.requesthandler import ServerRequestHandler
 from pymodbus.simulator import DataType, SimData, SimDevice
@@ -202,17 +203,28 @@ class _Connection(ServerRequestHandler):
             return ExceptionResponse(code, ExcCodes.GATEWAY_PATH_UNAVIABLE)
         context: Any = self.server.context
         try:
-            if code == 23 and 1 <= request.read_count <= 125:  # the read checked before the write
-                read = await context.async_getValues(
-                    request.dev_id, code, request.read_address, request.read_count
-                )
-                if isinstance(read, ExcCodes):
-                    return ExceptionResponse(code, read)
+            if isinstance(request, ReadWriteMultipleRegistersRequest):
+                refused = await _read_refused(context, request)  # checked before the write
+                if refused is not None:
+                    return ExceptionResponse(code, refused)
             response: ModbusPDU = await request.datastore_update(context, request.dev_id)
         except Exception as error:  # the server stays up; the client gets an exception
             log.error("function %d failed: %s: %s", code, type(error).__name__, error)
             return ExceptionResponse(code, ExcCodes.DEVICE_FAILURE)
         return response
+
+
+async def _read_refused(
+    context: Any, request: ReadWriteMultipleRegistersRequest
+) -> ExcCodes | None:
+    """The exception the read of an FC 23 request gets, if any (None: it may be done; a count
+    beyond 1 … 125 is left to the request's own check)."""
+    if not 1 <= request.read_count <= 125:
+        return None
+    read = await context.async_getValues(
+        request.dev_id, 23, request.read_address, request.read_count
+    )
+    return read if isinstance(read, ExcCodes) else None
 
 
 def server_of(

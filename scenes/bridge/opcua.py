@@ -33,7 +33,7 @@ import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from asyncua import Server as UaServer
 from asyncua import ua
@@ -365,10 +365,13 @@ class _Processor(UaProcessor):
         except (ua.UaError, _ChannelRefused) as error:
             if header.MessageType != ua.MessageType.SecureOpen:
                 raise
-            code = getattr(error, "code", ua.StatusCodes.BadSecurityPolicyRejected)
-            log.warning("refused an OPC UA secure channel: %s", ua.StatusCode(code).name)
-            message = ua.ErrorMessage(ua.StatusCode(code), "no endpoint with this security")
-            self._transport.write(uatcp_to_binary(ua.MessageType.Error, message))
+            status = ua.StatusCode(
+                ua.UInt32(getattr(error, "code", ua.StatusCodes.BadSecurityPolicyRejected))
+            )
+            log.warning("refused an OPC UA secure channel: %s", status.name)
+            message = ua.ErrorMessage(status, ua.String("no endpoint with this security"))
+            error_type = cast(ua.MessageType, ua.MessageType.Error)
+            self._transport.write(uatcp_to_binary(error_type, message))
             return False
 
     def open_secure_channel(self, algohdr: Any, seqhdr: Any, body: Any) -> None:

@@ -220,7 +220,7 @@ class AxisBridge:
             if getattr(current, output, False):
                 self._held[name] = True
         if getattr(current, "Error", False):
-            self._held_error = int(current.ErrorID)
+            self._held_error = int(getattr(current, "ErrorID", 0))
 
     def _release(self) -> None:
         """Forget the held result (acknowledged, or another command started)."""
