@@ -14,9 +14,12 @@ directory only its owner may enter. A client's certificate is accepted as it com
 says who may command). ``allow`` (optional) restricts the client addresses further: every other
 connection is closed at once.
 
-Bounded: at most :data:`MAX_CONNECTIONS` connections and :data:`MAX_SUBSCRIPTIONS`
-subscriptions, messages of :data:`MAX_MESSAGE` bytes; a session must be activated within
-:data:`ACTIVATION` s.
+Bounded: at most :data:`MAX_CONNECTIONS` connections (when all are taken, the oldest one without
+an activated session gives way to a new one) and :data:`MAX_SUBSCRIPTIONS` subscriptions,
+messages of :data:`MAX_MESSAGE` bytes; a session must be activated within :data:`ACTIVATION` s.
+A secure channel the server has no endpoint for is refused at once (BadSecurityModeRejected,
+BadSecurityPolicyRejected); while a write or call waits for the scene (lockstep), the
+connection's reads are answered (:class:`_Processor`).
 """
 
 from __future__ import annotations

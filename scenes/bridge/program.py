@@ -26,13 +26,13 @@ A command the axis cannot take (home without a recipe, gearing on an axis withou
 fields) is refused: the status shows Error with ErrorID EParam (5).
 
 An Execute bit is passed as the block's Execute every scan: its rising edge starts the command,
-the block's outputs follow the PLCopen rules. A method call (:meth:`SignalTable.request`) gives
-its command's Execute one scan high. The status word shows the outputs of the current command,
-the one last started, and ``command_count`` counts the commands started. A result of the current
-command (Done, Error with its ErrorID, CommandAborted) is held in the status until the master
-acknowledges it — it clears the command's bit after the result was published while the bit was
-set — or starts another command: a master that polls slowly, or clears the bit early, still
-sees it.
+the block's outputs follow the PLCopen rules. A method call (:meth:`SignalTable.request`) sets
+its command's Execute at the next scan and holds it until the axis' next command. The status
+word shows the outputs of the current command, the one last started, and ``command_count``
+counts the commands started. A result of the current command (Done, Error with its ErrorID,
+CommandAborted) is held in the status until the master acknowledges it — it clears the
+command's bit after the result was published while the bit was set — or starts another
+command: a master that polls slowly, or clears the bit early, still sees it.
 """
 
 from __future__ import annotations
@@ -109,7 +109,9 @@ class AxisBridge:
         self._last_word = 0
         self._last_client = 0
         self._serial = -1
+        self._requested = -1
         self._deferred = -1
+        self._pending = 0
         self._held: dict[str, bool] = dict.fromkeys(RESULTS, False)
         """The current command's result bits held until acknowledged."""
         self._held_error = 0
@@ -128,20 +130,31 @@ class AxisBridge:
     def _param(self, name: str) -> float:
         return self.table.get(self.prefix + name) if name in self.fields else 0.0
 
-    def _request_pulse(self) -> int:
-        """This scan's Execute of the command last requested (a method call): one scan high,
-        after one scan low when its bit was high in the last scan."""
+    def _words(self) -> tuple[int, int]:
+        """This scan's control word of the client and the whole control word: the client's
+        with the Execute of the command last requested (a method call), held until the axis'
+        next command. A request whose bit was high in the last scan, or a client's command
+        on the bit a request holds, first gets one scan low (a fresh rising edge)."""
+        client = self.table.take_control(self.name) | self._pending
+        self._pending = 0
         bit, serial = self.table.requested(self.name)
-        due = -1
         if serial != self._serial:
             self._serial = serial
+            self._requested = -1
             if self._last_word >> bit & 1:
                 self._deferred = bit
             else:
-                due, self._deferred = bit, -1
+                self._requested, self._deferred = bit, -1
         elif self._deferred >= 0:
-            due, self._deferred = self._deferred, -1
-        return 1 << due if due >= 0 else 0
+            self._requested, self._deferred = self._deferred, -1
+        elif self._requested >= 0 and client & ~self._last_client & ~1:
+            held = 1 << self._requested  # the control word starts a command: the call's ends
+            if client & ~self._last_client & held:
+                client &= ~held
+                self._pending = held
+            self._requested = -1
+        requested = 1 << self._requested if self._requested >= 0 else 0
+        return client, client | requested
 
     def _commands(self) -> dict[str, tuple[Command, Callable[[bool], None]]]:
         """The Execute commands the axis can take, by control bit: the block (its outputs are
@@ -172,8 +185,7 @@ class AxisBridge:
     def __call__(self) -> None:
         """One PLC scan: control word → blocks. A block is called while its Execute is set,
         in the scan it falls, and while it is busy or shows an output; an idle one is not."""
-        client = self.table.take_control(self.name)
-        word = client | self._request_pulse()
+        client, word = self._words()
         last, self._last_word = self._last_word, word
         rising = word & ~last
         axis = self.axis
@@ -231,8 +243,7 @@ class AxisBridge:
     def observe(self) -> None:
         """A scan while the PLC is not in control: the blocks are not called; the control
         word's edges and requests are taken so that none fires later."""
-        client = self.table.take_control(self.name)
-        self._last_word = client | self._request_pulse()
+        client, self._last_word = self._words()
         self._last_client = client
 
     def _ramp(self) -> dict[str, float]:

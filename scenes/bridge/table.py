@@ -488,10 +488,10 @@ class SignalTable:
     def request(self, axis: str, command: str, params: Mapping[str, float] | None = None) -> None:
         """Issue Execute command ``command`` of ``axis`` as a method call does: ``params``
         (field name → value) are set at once and the command's bit of the control word is
-        cleared (the call takes the command over); the program gives the command's Execute one
-        scan high at its next scan (after one scan low if its bit was set), and its result stays
-        in the status until another command starts; the same command requested again gets a
-        fresh rising edge.
+        cleared (the call takes the command over); the program raises the command's Execute at
+        its next scan (after one scan low if its bit was set) and holds it until the axis' next
+        command, so that its Done, Error, InVelocity and the like stay visible; the same command
+        requested again gets a fresh rising edge.
 
         Raises:
             WriteRefused: an unknown axis, a level or unknown command, a field that is not a
