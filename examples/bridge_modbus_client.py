@@ -42,14 +42,23 @@ def read_float(client: ModbusTcpClient, name: str) -> float:
     return float(client.convert_from_registers(registers, FLOAT, word_order="big"))  # type: ignore[arg-type]
 
 
-def done(client: ModbusTcpClient, bit: str) -> bool:
-    """The command of control bit ``bit`` is the current one and Done (Error raises)."""
+def started(client: ModbusTcpClient) -> int:
+    """X's ``command_count``: the commands started so far."""
+    return int(client.read_holding_registers(at("X.command_count"), count=1).registers[0])
+
+
+def done(client: ModbusTcpClient, bit: str, before: int) -> bool:
+    """The command of control bit ``bit``, started after number ``before``, is Done (its
+    Error raises): the handshake of docs/bridge.md."""
+    if started(client) == before:
+        return False  # not started yet: the status is still the last command's
+    block = client.read_holding_registers(at("X.status"), count=3).registers  # … error_id
     current = client.read_holding_registers(at("X.command"), count=1).registers[0]
-    status = client.read_holding_registers(at("X.status"), count=1).registers[0]
-    if current == CONTROL_BITS.index(bit) + 1 and status >> STATUS_BITS.index("error") & 1:
-        error_id = client.read_holding_registers(at("X.error_id"), count=1).registers[0]
-        raise RuntimeError(f"{bit}: error {error_id}")
-    return current == CONTROL_BITS.index(bit) + 1 and bool(status & 1)
+    if current != CONTROL_BITS.index(bit) + 1:
+        raise RuntimeError(f"{bit}: another command started")
+    if block[0] >> STATUS_BITS.index("error") & 1:
+        raise RuntimeError(f"{bit}: error {block[2]}")
+    return bool(block[0] >> STATUS_BITS.index("done") & 1)
 
 
 def powered(client: ModbusTcpClient) -> bool:
@@ -75,15 +84,18 @@ def home_and_move(port: int, target: float = 300.0) -> float:
     try:
         command(client, "enable")
         wait(lambda: powered(client), 5.0)
+        before = started(client)
         command(client, "enable", "home")
-        wait(lambda: done(client, "home"), 30.0)
-        command(client, "enable")
+        wait(lambda: done(client, "home", before), 30.0)
+        command(client, "enable")  # the bit cleared: the result acknowledged
         for name, value in (("position", target), ("velocity", 200.0)):
             write_float(client, f"X.{name}", value)
         write_float(client, "X.acceleration", 1000.0)
         write_float(client, "X.deceleration", 1000.0)
+        before = started(client)
         command(client, "enable", "move_absolute")
-        wait(lambda: done(client, "move_absolute"), 15.0)
+        wait(lambda: done(client, "move_absolute", before), 15.0)
+        command(client, "enable")
         return read_float(client, "X.actual_position")
     finally:
         client.close()

@@ -37,10 +37,13 @@ class Axis:
         """Call the PLCopen method ``method`` of the axis."""
         await self.object.call_method(f"{self.ns}:{method}", *args)
 
-    async def done(self, command: str) -> bool:
-        """``command`` is the current command and Done (its Error raises)."""
+    async def done(self, command: str, before: int) -> bool:
+        """``command``, started after number ``before`` of ``command_count``, is Done (its
+        Error raises): the handshake of docs/bridge.md."""
+        if await self.value("command_count") == before:
+            return False  # not started yet: the status is still the last command's
         if await self.value("command") != COMMANDS[command]:
-            return False
+            raise RuntimeError(f"{command}: another command started")
         if await self.value("status.error"):
             raise RuntimeError(f"{command}: ErrorID {await self.value('error_id')}")
         return bool(await self.value("status.done"))
@@ -61,12 +64,14 @@ async def home_and_move(port: int, target: float = 300.0) -> float:
         x = Axis(client, await client.get_namespace_index(NAMESPACE), "X")
         await x.call("MC_Power", ua.Variant(True, ua.VariantType.Boolean))
         await wait(lambda: x.value("status.power"), 5.0)
+        before = await x.value("command_count")
         await x.call("MC_Home")
-        await wait(lambda: x.done("home"), 30.0)
+        await wait(lambda: x.done("home", before), 30.0)
         # MC_MoveAbsolute(Position, Velocity, Acceleration, Deceleration, Jerk, BufferMode)
         ramp = [ua.Variant(v, ua.VariantType.Double) for v in (target, 200.0, 1000.0, 1000.0, 0.0)]
+        before = await x.value("command_count")
         await x.call("MC_MoveAbsolute", *ramp, ua.Variant(0, ua.VariantType.UInt16))
-        await wait(lambda: x.done("move_absolute"), 15.0)
+        await wait(lambda: x.done("move_absolute", before), 15.0)
         return float(await x.value("actual_position"))
 
 

@@ -34,6 +34,7 @@ from tests.bridge_clients import (
     PRESS_FORCE,
     InProcess,
     OpcuaLockstep,
+    free_port,
     gantry_lockstep,
     opcua_client,
     opcua_server,
@@ -124,13 +125,15 @@ def test_power_home_move_to_300_mm_limit_and_reset(free_server: int) -> None:
         changes = Changes()
         subscription = await g.client.create_subscription(20, changes)
         await subscription.subscribe_data_change(g.node("X.actual_position"))
+        await asyncio.sleep(0.5)  # standing at the index (120 mm): the encoder may flip a count
+        start = await g.value("X.actual_position")
         await g.move("X", 300.0)
         await g.until(lambda: g.finished("X", "move_absolute"), 15.0)
         assert await g.value("X.actual_position") == pytest.approx(300.0, abs=0.02)
         assert await g.value("sim.time") > 3.0
         await asyncio.sleep(0.1)
         await subscription.delete()
-        moving = [v for v in changes.values if 1.0 < v < 299.0]
+        moving = [v for v in changes.values if start + 1.0 < v < 299.0]  # not standing
         assert len(moving) > 15  # notified all along the move (0.75 s wall at 20 ms)
         assert moving == sorted(moving)
         assert changes.values[-1] == pytest.approx(300.0, abs=0.02)
@@ -434,8 +437,27 @@ def test_a_refused_security_setting_is_one_line(
         (tmp_path / name).chmod(mode)
     (tmp_path / "open").mkdir(mode=0o755)
     (tmp_path / "open").chmod(0o755)
-    args = [o.format(**{n: str(tmp_path / n) for n in ("loose", "tight", "open")}) for o in options]
+    names = ("loose", "tight", "open")
+    args = [o.format(**{n: str(tmp_path / n) for n in names}) for o in options]
     monkeypatch.delenv("MCL_OPCUA_PASSWORD", raising=False)
     assert cli.main(["bridge", "opcua", "gantry", *args]) == 2
     stderr = capsys.readouterr().err
     assert message in stderr and len(stderr.strip().splitlines()) == 1
+
+
+def test_a_group_readable_password_file_is_refused(tmp_path: Path) -> None:
+    """Mode 640 lets the file's group read the password: the server does not start (one line
+    on standard error, exit status 2)."""
+    password = tmp_path / "password"
+    password.write_text("s3cret-for-the-test\n")
+    password.chmod(0o640)
+    command = [sys.executable, "-m", "scenes", "bridge", "opcua", "gantry", "--host", "0.0.0.0"]
+    options = ["--port", str(free_port()), "--password-file", str(password)]
+    options += ["--certs", str(tmp_path / "certs")]
+    try:
+        done = subprocess.run([*command, *options], capture_output=True, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail("the server started with a group-readable password file")
+    assert done.returncode == 2
+    assert "others may read or write it (mode 640)" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1

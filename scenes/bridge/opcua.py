@@ -14,9 +14,12 @@ directory only its owner may enter. A client's certificate is accepted as it com
 says who may command). ``allow`` (optional) restricts the client addresses further: every other
 connection is closed at once.
 
-Bounded: at most :data:`MAX_CONNECTIONS` connections and :data:`MAX_SUBSCRIPTIONS`
-subscriptions, messages of :data:`MAX_MESSAGE` bytes; a session must be activated within
-:data:`ACTIVATION` s.
+Bounded: at most :data:`MAX_CONNECTIONS` connections (when all are taken, the oldest one without
+an activated session gives way to a new one) and :data:`MAX_SUBSCRIPTIONS` subscriptions,
+messages of :data:`MAX_MESSAGE` bytes; a session must be activated within :data:`ACTIVATION` s.
+A secure channel the server has no endpoint for is refused at once (BadSecurityModeRejected,
+BadSecurityPolicyRejected); while a write or call waits for the scene (lockstep), the
+connection's reads are answered (:class:`_Processor`).
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from asyncua import Server as UaServer
 from asyncua import ua
@@ -46,6 +49,7 @@ from asyncua.server.binary_server_asyncio import BinaryServer, OPCUAProtocol
 from asyncua.server.internal_server import InternalServer
 from asyncua.server.uaprocessor import UaProcessor
 from asyncua.server.user_managers import UserManager
+from asyncua.ua.ua_binary import nodeid_from_binary, uatcp_to_binary
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
 from scenes.bridge.machine import Bridge, check_speed
@@ -269,7 +273,8 @@ class _Guarded(BinaryServer):
 
 class _Protocol(OPCUAProtocol):
     """A connection: closed at once when its peer is not allowed (``allow`` None: every peer
-    is); ``secure``, its messages go to a :class:`_SecureProcessor`."""
+    is); when the server is full, the oldest connection without an activated session gives way
+    to it; its messages go to a :class:`_Processor`."""
 
     def __init__(
         self, *args: Any, allow: frozenset[str] | None, secure: bool, **kwargs: Any
@@ -285,10 +290,25 @@ class _Protocol(OPCUAProtocol):
             log.warning("refused an OPC UA connection from %s (not in --allow)", host)
             transport.close()
             return
+        if len(self.clients) >= self.iserver.max_connections:
+            self._make_room()
         super().connection_made(transport)
-        if self.secure and self.processor is not None:
-            self.processor = _SecureProcessor(self.iserver, self.transport, self.limits)
+        if self.processor is not None:
+            self.processor = _Processor(self.iserver, self.transport, self.limits, self.secure)
             self.processor.set_policies(self.policies)
+
+    def _make_room(self) -> None:
+        """Close the oldest connection that has no activated session (one that connected and
+        said nothing, or never finished its handshake), so that a client gets in."""
+        for client in self.clients:
+            processor = client.processor
+            session = processor.session if processor is not None else None
+            if session is None or not session.is_activated():
+                log.warning("closed an idle OPC UA connection from %s: full", client.peer_name)
+                self.clients.remove(client)
+                if client.transport is not None:
+                    client.transport.abort()
+                return
 
 
 SESSION_REQUESTS = frozenset(
@@ -300,19 +320,97 @@ SESSION_REQUESTS = frozenset(
 )
 """The requests that open a session."""
 
+IN_TURN = frozenset(
+    ua.NodeId(ua.Int32(code))
+    for code in (
+        ua.ObjectIds.WriteRequest_Encoding_DefaultBinary,
+        ua.ObjectIds.CallRequest_Encoding_DefaultBinary,
+    )
+)
+"""The requests that may wait for the scene (a lockstep target written, Advance called): taken
+in turn, while reads are answered at once."""
 
-class _SecureProcessor(UaProcessor):
-    """A secure server's processor of a connection's messages: a session on a channel without
-    encryption is refused (BadSecurityModeRejected) — asyncua would open it with a valid
-    password sent in the clear; the endpoints (GetEndpoints, FindServers) stay readable to
-    find the secure ones."""
+READ = ua.NodeId(ua.Int32(ua.ObjectIds.ReadRequest_Encoding_DefaultBinary))
+
+
+class _ChannelRefused(Exception):
+    """A secure channel the server has no endpoint for (the status code says why)."""
+
+    def __init__(self, code: int) -> None:
+        super().__init__(code)
+        self.code = code
+
+
+class _Processor(UaProcessor):
+    """The processor of a connection's messages.
+
+    - A secure channel with a security policy or mode the server has no endpoint for is
+      answered with an error message, BadSecurityPolicyRejected or BadSecurityModeRejected,
+      and closed (asyncua would leave the client waiting).
+    - ``secure``: a session on a channel without encryption is refused (BadSecurityModeRejected)
+      — asyncua would open it with a valid password sent in the clear; the endpoints
+      (GetEndpoints, FindServers) stay readable to find the secure ones.
+    - Writes and calls are taken in turn, one after the other; while one waits for the scene
+      (lockstep), the connection's reads — a client's keep-alive — are answered at once, and its
+      other requests wait their turn.
+    """
+
+    def __init__(
+        self, iserver: InternalServer, transport: Any, limits: TransportLimits, secure: bool
+    ) -> None:
+        super().__init__(iserver, transport, limits)
+        self.secure = secure
+        self._turn: asyncio.Task[None] | None = None
+
+    async def process(self, header: Any, body: Any) -> bool:
+        try:
+            return bool(await super().process(header, body))
+        except (ua.UaError, _ChannelRefused) as error:
+            if header.MessageType != ua.MessageType.SecureOpen:
+                raise
+            status = ua.StatusCode(
+                ua.UInt32(getattr(error, "code", ua.StatusCodes.BadSecurityPolicyRejected))
+            )
+            log.warning("refused an OPC UA secure channel: %s", status.name)
+            message = ua.ErrorMessage(status, ua.String("no endpoint with this security"))
+            error_type = cast(ua.MessageType, ua.MessageType.Error)
+            self._transport.write(uatcp_to_binary(error_type, message))
+            return False
+
+    def open_secure_channel(self, algohdr: Any, seqhdr: Any, body: Any) -> None:
+        try:
+            super().open_secure_channel(algohdr, seqhdr, body)
+        except ua.UaError:  # the policy is served, not with this mode
+            raise _ChannelRefused(ua.StatusCodes.BadSecurityModeRejected) from None
+
+    async def process_message(self, seqhdr: Any, body: Any) -> Any:
+        typeid = nodeid_from_binary(body.copy())
+        idle = self._turn is None or self._turn.done()
+        if typeid == READ or (idle and typeid not in IN_TURN):
+            return await super().process_message(seqhdr, body)
+        self._turn = asyncio.create_task(self._in_turn(self._turn, seqhdr, body))
+        return True
+
+    async def _in_turn(self, before: asyncio.Task[None] | None, seqhdr: Any, body: Any) -> None:
+        """Process a message once the one before it is done; close the connection when the
+        message says so."""
+        if before is not None:
+            await asyncio.wait({before})
+        if not await super().process_message(seqhdr, body):
+            self._transport.close()
 
     async def _process_message(self, typeid: Any, requesthdr: Any, seqhdr: Any, body: Any) -> Any:
         encrypted = self._connection.security_policy.Mode == ua.MessageSecurityMode.SignAndEncrypt
-        if typeid in SESSION_REQUESTS and not encrypted:
+        if self.secure and typeid in SESSION_REQUESTS and not encrypted:
             log.warning("refused an OPC UA session on a channel without encryption")
             raise ServiceError(ua.StatusCodes.BadSecurityModeRejected)
         return await super()._process_message(typeid, requesthdr, seqhdr, body)
+
+    async def close(self) -> None:
+        """The connection is lost: a message waiting its turn is dropped."""
+        if self._turn is not None:
+            self._turn.cancel()
+        await super().close()
 
 
 def cache_dir() -> Path:

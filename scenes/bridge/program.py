@@ -26,8 +26,13 @@ A command the axis cannot take (home without a recipe, gearing on an axis withou
 fields) is refused: the status shows Error with ErrorID EParam (5).
 
 An Execute bit is passed as the block's Execute every scan: its rising edge starts the command,
-the block's outputs follow the PLCopen rules. The status word shows the outputs of the current
-command, the one last started.
+the block's outputs follow the PLCopen rules. A method call (:meth:`SignalTable.request`) sets
+its command's Execute at the next scan and holds it until the axis' next command. The status
+word shows the outputs of the current command, the one last started, and ``command_count``
+counts the commands started. A result of the current command (Done, Error with its ErrorID,
+CommandAborted) is held in the status until the master acknowledges it — it clears the
+command's bit after the result was published while the bit was set — or starts another
+command: a master that polls slowly, or clears the bit early, still sees it.
 """
 
 from __future__ import annotations
@@ -35,7 +40,6 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import mcl
@@ -51,12 +55,8 @@ Command = Any
 CommandAborted."""
 
 
-@dataclass
-class Refusal:
-    """A command the bridge refuses before any block (the outputs of a block that failed)."""
-
-    ErrorID: int
-    Error: bool = True
+RESULTS = ("done", "error", "command_aborted")
+"""The status bits of a command's result, held until the master acknowledges it."""
 
 
 def _int(value: float) -> int:
@@ -104,10 +104,21 @@ class AxisBridge:
         """The command last started by a rising edge (its outputs are the status)."""
         self.command = 0
         """The current command's control bit + 1 (0: none yet)."""
+        self.count = 0
+        """Commands started (``command_count``, modulo 65536)."""
         self._last_word = 0
-        self._held = -1
-        self._pending = -1
+        self._last_client = 0
         self._serial = -1
+        self._requested = -1
+        self._deferred = -1
+        self._pending = 0
+        self._held: dict[str, bool] = dict.fromkeys(RESULTS, False)
+        """The current command's result bits held until acknowledged."""
+        self._held_error = 0
+        """The ErrorID held with the error bit."""
+        self._armed = False
+        """The held result was published while the master's command bit was set: the bit's
+        fall acknowledges it."""
         self._calls = self._commands()
 
     @property
@@ -119,20 +130,31 @@ class AxisBridge:
     def _param(self, name: str) -> float:
         return self.table.get(self.prefix + name) if name in self.fields else 0.0
 
-    def _word(self) -> int:
-        """This scan's control word: the client's and the request held (one scan low first
-        when the same command is requested again)."""
-        word = self.table.take_control(self.name)
+    def _words(self) -> tuple[int, int]:
+        """This scan's control word of the client and the whole control word: the client's
+        with the Execute of the command last requested (a method call), held until the axis'
+        next command. A request whose bit was high in the last scan, or a client's command
+        on the bit a request holds, first gets one scan low (a fresh rising edge)."""
+        client = self.table.take_control(self.name) | self._pending
+        self._pending = 0
         bit, serial = self.table.requested(self.name)
         if serial != self._serial:
             self._serial = serial
-            if bit == self._held:
-                self._held, self._pending = -1, bit
+            self._requested = -1
+            if self._last_word >> bit & 1:
+                self._deferred = bit
             else:
-                self._held = bit
-        elif self._pending >= 0:
-            self._held, self._pending = self._pending, -1
-        return word | (1 << self._held if self._held >= 0 else 0)
+                self._requested, self._deferred = bit, -1
+        elif self._deferred >= 0:
+            self._requested, self._deferred = self._deferred, -1
+        elif self._requested >= 0 and client & ~self._last_client & ~1:
+            held = 1 << self._requested  # the control word starts a command: the call's ends
+            if client & ~self._last_client & held:
+                client &= ~held
+                self._pending = held
+            self._requested = -1
+        requested = 1 << self._requested if self._requested >= 0 else 0
+        return client, client | requested
 
     def _commands(self) -> dict[str, tuple[Command, Callable[[bool], None]]]:
         """The Execute commands the axis can take, by control bit: the block (its outputs are
@@ -163,7 +185,7 @@ class AxisBridge:
     def __call__(self) -> None:
         """One PLC scan: control word → blocks. A block is called while its Execute is set,
         in the scan it falls, and while it is busy or shows an output; an idle one is not."""
-        word = self._word()
+        client, word = self._words()
         last, self._last_word = self._last_word, word
         rising = word & ~last
         axis = self.axis
@@ -177,27 +199,52 @@ class AxisBridge:
         self._write_outputs()
         if rising & ~1:
             self._started(rising)
+        self._hold(client)
 
     def _started(self, rising: int) -> None:
-        """The commands whose bits rose: the last is the current one; a bit the axis has no
-        command for is refused with EParam."""
+        """The commands whose bits rose: the last is the current one (each counts); a bit the
+        axis has no command for is refused with EParam."""
         for i, name in enumerate(CONTROL_BITS):
             if rising >> i & 1 and name != "enable":
                 self.command = i + 1
+                self.count = (self.count + 1) & 0xFFFF
+                self._release()
                 if name in ("jog_pos", "jog_neg"):
                     self.current = self.jog
                 elif name in self._calls:
                     self.current = self._calls[name][0]
                 else:
-                    self.current = Refusal(ErrorID.EParam)
+                    self.current = None
+                    self._held["error"], self._held_error = True, ErrorID.EParam
                     log.warning(
                         "%s: %s refused: the axis has no %s", self.name, name, _MISSING[name]
                     )
 
+    def _hold(self, client: int) -> None:
+        """Hold the current command's result; release it when the master's bit falls after
+        the result was published while the bit was set (the acknowledgement)."""
+        bit = 1 << (self.command - 1) if self.command else 0
+        if self._armed and self._last_client & bit and not client & bit:
+            self._release()
+        self._last_client = client
+        current = self.current
+        for name, output in zip(RESULTS, ("Done", "Error", "CommandAborted"), strict=True):
+            if getattr(current, output, False):
+                self._held[name] = True
+        if getattr(current, "Error", False):
+            self._held_error = int(getattr(current, "ErrorID", 0))
+
+    def _release(self) -> None:
+        """Forget the held result (acknowledged, or another command started)."""
+        self._held = dict.fromkeys(RESULTS, False)
+        self._held_error = 0
+        self._armed = False
+
     def observe(self) -> None:
         """A scan while the PLC is not in control: the blocks are not called; the control
-        word's edges are taken so that none fires later."""
-        self._last_word = self._word()
+        word's edges and requests are taken so that none fires later."""
+        client, self._last_word = self._words()
+        self._last_client = client
 
     def _ramp(self) -> dict[str, float]:
         return {
@@ -277,10 +324,9 @@ class AxisBridge:
         )
 
     def _ramp_down(self, block: mcl.MC_Stop | mcl.MC_Halt, execute: bool) -> None:
-        """MC_Stop or MC_Halt; a deceleration of 0 keeps the block's default."""
-        deceleration = self._param("deceleration")
-        ramp = {"Deceleration": deceleration} if deceleration else {}
-        block(Axis=self.axis, Execute=execute, Jerk=self._param("jerk"), **ramp)
+        """MC_Stop or MC_Halt (a deceleration or jerk of 0: the axis' default ramp)."""
+        deceleration, jerk = self._param("deceleration"), self._param("jerk")
+        block(Axis=self.axis, Execute=execute, Deceleration=deceleration, Jerk=jerk)
 
     def _jog(self, jog_pos: bool, jog_neg: bool) -> None:
         """GT_Jog while a jog bit is set (and once more when it drops); |velocity| as JogVelo."""
@@ -309,13 +355,15 @@ class AxisBridge:
 
     def publish(self) -> None:
         """Write the axis' status and actual values into the table."""
-        axis, current, io = self.axis, self.current, self.axis.io
+        axis, current, io, held = self.axis, self.current, self.axis.io, self._held
+        if any(held.values()) and self.command:  # seen while the bit is set: its fall acks
+            self._armed |= bool(self._last_client >> (self.command - 1) & 1)
         flags = {
-            "done": bool(getattr(current, "Done", False)),
+            "done": held["done"],
             "busy": bool(getattr(current, "Busy", False)),
             "active": bool(getattr(current, "Active", False)),
-            "error": bool(getattr(current, "Error", False)),
-            "command_aborted": bool(getattr(current, "CommandAborted", False)),
+            "error": held["error"],
+            "command_aborted": held["command_aborted"],
             "homed": axis.Ref,
             "lim_neg": bool(io.lim_neg),
             "ref": bool(io.ref),
@@ -334,13 +382,14 @@ class AxisBridge:
         values = [
             (p + "status", status),
             (p + "state", int(axis.state)),
-            (p + "error_id", int(getattr(current, "ErrorID", 0))),
+            (p + "error_id", self._held_error if held["error"] else 0),
             (p + "axis_error_id", axis.AxErrorID),
             (p + "actual_position", axis.POS),
             (p + "actual_velocity", axis.VEL),
             (p + "following_error", axis.following_error),
             (p + "volts", axis.volts),
             (p + "command", self.command),
+            (p + "command_count", self.count),
             (p + "inputs", inputs),
         ]
         if "force" in self.fields:

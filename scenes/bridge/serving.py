@@ -71,14 +71,26 @@ def check_allow(allow: Sequence[str], flag: str = "--allow") -> None:
 
 def allowed(allow: Sequence[str]) -> frozenset[str]:
     """The allow-list as the addresses a peer name shows (checked by :func:`check_host`)."""
-    return frozenset(str(ipaddress.ip_address(a)) for a in allow)
+    return frozenset(_address(a) for a in allow)
+
+
+def _address(host: str) -> str:
+    """``host`` written as a peer name shows it (an IPv4 address mapped into IPv6 as IPv4);
+    itself when it is no IP address."""
+    try:
+        address = ipaddress.ip_address(host)
+    except ValueError:
+        return host
+    mapped = getattr(address, "ipv4_mapped", None)
+    return str(mapped or address)
 
 
 def admitted(peer: Any, allow: frozenset[str]) -> tuple[bool, str]:
-    """Whether a connection from ``peer`` (a socket's peer name) is served: loopback or in
-    ``allow``; and the peer's address (``?``: unknown)."""
-    host = str(peer[0]) if peer else ""
-    return is_loopback(host) or host in allow, host or "?"
+    """Whether a connection from ``peer`` (a socket's peer name) is served — with an
+    allow-list, exactly the addresses in it (loopback too only when named); without one,
+    loopback ones — and the peer's address (``?``: unknown)."""
+    host = _address(str(peer[0])) if peer else ""
+    return (host in allow if allow else is_loopback(host)), host or "?"
 
 
 async def acknowledge(run: Run, cycle: int) -> bool:

@@ -8,7 +8,10 @@ word order, "ABCD"; pymodbus: ``word_order="big"``). The layout is deterministic
 =========================  ======================================================================
 0 …                        simulation: time [s] (f32), PLC cycle counter (u32), mode, lockstep
                            target cycle (u32)
-100 + 100·i …              axis ``i`` in the definition's order (:data:`AXIS_FIELDS`)
+100 + 100·i …              axis ``i`` in the definition's order (:data:`AXIS_FIELDS`), a block of
+                           :data:`AXIS_BLOCK` registers of the same shape on every axis: the
+                           offsets that are no field of the axis are reserved (they read 0 and
+                           take 0)
 1000 + 2·k                 published signal ``k`` in the definition's order (f32, read-only)
 =========================  ======================================================================
 
@@ -120,8 +123,9 @@ AXIS_FIELDS = (
     FieldSpec("volts", 30, "f32", "r", "V", "drive command voltage"),
     FieldSpec("command", 32, "u16", "r", "", "current command: its control bit + 1 (0: none)"),
     FieldSpec("inputs", 33, "u16", "r", "bits", "digital inputs: LIM+, LIM−, REF, TP, further"),
+    FieldSpec("command_count", 49, "u16", "r", "", "commands started (+1 each; wraps at 65536)"),
 )
-"""The block of every axis."""
+"""The fields of every axis."""
 
 GEAR_FIELDS = (
     FieldSpec("master", 15, "u16", "rw", "", "gearing: the master's axis number in this table"),
@@ -156,6 +160,16 @@ ANALOG_OFFSET = 40
 """Offset of the first analog input of an axis (f32 each, at most :data:`MAX_ANALOG`)."""
 MAX_ANALOG = 4
 
+WIDTH = {"u16": 1, "i16": 1, "u32": 2, "f32": 2}
+"""Registers per kind."""
+
+AXIS_BLOCK = max(
+    f.offset + WIDTH[f.kind] for f in (*AXIS_FIELDS, *GEAR_FIELDS, *FORCE_FIELDS, OUTPUTS)
+)
+"""Registers of an axis' block (offsets 0 … 67), the same on every axis: the offsets that are
+no field of the axis (another axis' gearing, force or output fields, analog inputs it lacks)
+are reserved: they read 0 and take 0, so that one write block fits every axis."""
+
 
 def axis_specs(axis: AxisDef, can_gear: bool) -> list[FieldSpec]:
     """The fields of an axis' block: every axis' own, gearing where it can be a slave, its
@@ -172,10 +186,6 @@ def axis_specs(axis: AxisDef, can_gear: bool) -> list[FieldSpec]:
         for k, name in enumerate(axis.analog[:MAX_ANALOG])
     ]
     return sorted(specs, key=lambda spec: spec.offset)
-
-
-WIDTH = {"u16": 1, "i16": 1, "u32": 2, "f32": 2}
-"""Registers per kind."""
 
 
 @dataclass(frozen=True)
@@ -267,6 +277,10 @@ class WriteRefused(ValueError):
     """A write the table refuses (an address that is not a writable field)."""
 
 
+class ValueRefused(WriteRefused):
+    """A write the table refuses for its value (not 0 into a reserved register)."""
+
+
 class NotInControl(WriteRefused):
     """A write refused because the PLC is not in control (an operator of the viewer is)."""
 
@@ -282,13 +296,21 @@ class SignalTable:
 
     def __init__(self, machine: MachineDef, prefix: str = "", unit_id: int = 1) -> None:
         self.machine = machine.name
+        self.definition = machine
         self.unit_id = unit_id
         self.fields = machine_fields(machine, prefix)
         self.axes = [prefix + a for a in machine.scene_axes]
         self.signals = [prefix + s for s in published_signals(machine)]
         self.by_name = {f.name: f for f in self.fields}
-        self.size = max(f.address + f.width for f in self.fields)
         self._owner = {a: f for f in self.fields for a in range(f.address, f.address + f.width)}
+        blocks = [AXIS_BASE + AXIS_STRIDE * i for i in range(len(self.axes))]
+        self.reserved = frozenset(
+            a for b in blocks for a in range(b, b + AXIS_BLOCK) if a not in self._owner
+        )
+        """The reserved registers of the axes' blocks: they read 0 and take 0."""
+        self.size = max(
+            [f.address + f.width for f in self.fields] + [b + AXIS_BLOCK for b in blocks]
+        )
         self._values = dict.fromkeys(self.by_name, 0.0)
         """Every field's value: the truth; registers are encoded from it when a client reads
         and decoded into it when one writes (the scan's side never packs a register)."""
@@ -360,21 +382,28 @@ class SignalTable:
         """Write registers from a client: every one must belong to a writable field.
 
         Raises:
-            WriteRefused: an address outside every writable field (nothing is written).
-            NotInControl: the PLC is not in control.
+            WriteRefused: an address outside every writable field and reserved register.
+            ValueRefused: a value beyond 0…65535, or not 0 into a reserved register.
+            NotInControl: the PLC is not in control (in every case nothing is written).
         """
         self._check_control()
         for a in range(address, address + len(values)):
             f = self._owner.get(a)
-            if f is None or f.access != "rw":
+            if (f.access != "rw") if f is not None else (a not in self.reserved):
                 raise WriteRefused(f"register {a} is not writable")
-        if any(not 0 <= v <= 0xFFFF for v in values):
-            raise WriteRefused("a register holds 0…65535")
+        for a, v in enumerate(values, start=address):
+            if not 0 <= v <= 0xFFFF:
+                raise ValueRefused("a register holds 0…65535")
+            if v and a in self.reserved:
+                raise ValueRefused(f"register {a} is reserved: it takes 0 only")
         end = address + len(values)
         with self._lock:
             a = address
             while a < end:
-                f = self._owner[a]
+                f = self._owner.get(a)
+                if f is None:  # reserved: stays 0
+                    a += 1
+                    continue
                 lo = f.address
                 image = self._registers(lo, f.width)
                 for k in range(f.width):
@@ -458,9 +487,11 @@ class SignalTable:
 
     def request(self, axis: str, command: str, params: Mapping[str, float] | None = None) -> None:
         """Issue Execute command ``command`` of ``axis`` as a method call does: ``params``
-        (field name → value) are set at once; the program raises the command's Execute at its
-        next scan and holds it until the axis' next request, so that its Done, Error and the
-        like stay visible; the same command requested again gets a fresh rising edge.
+        (field name → value) are set at once and the command's bit of the control word is
+        cleared (the call takes the command over); the program raises the command's Execute at
+        its next scan (after one scan low if its bit was set) and holds it until the axis' next
+        command, so that its Done, Error, InVelocity and the like stay visible; the same command
+        requested again gets a fresh rising edge.
 
         Raises:
             WriteRefused: an unknown axis, a level or unknown command, a field that is not a
@@ -477,8 +508,13 @@ class SignalTable:
                 raise WriteRefused(f"{axis} has no parameter {name!r}")
             fields[f.name] = value
         self.update(fields.items())
-        with self._lock:
-            self._requests[axis] = (CONTROL_BITS.index(command), self._requests[axis][1] + 1)
+        bit = CONTROL_BITS.index(command)
+        with self._lock:  # the call takes the command over from the control word's bit
+            self._values[f"{axis}.control"] = float(
+                int(self._values[f"{axis}.control"]) & ~(1 << bit)
+            )
+            self._rose[axis] &= ~(1 << bit)
+            self._requests[axis] = (bit, self._requests[axis][1] + 1)
         self.written.set()
 
     def requested(self, axis: str) -> tuple[int, int]:
@@ -487,31 +523,16 @@ class SignalTable:
             return self._requests[axis]
 
     def markdown(self) -> str:
-        """The register map as a Markdown table."""
-        lines = [
-            f"# Register map of {self.machine}",
-            "",
-            f"Holding registers of unit id {self.unit_id}, PDU addresses from 0; u32 and f32 in "
-            "two registers, high word first; u: the axis' user unit (mm on a slide, deg on a "
-            "hinge).",
-            "",
-            "| address | name | type | access | unit | description |",
-            "|---:|---|---|---|---|---|",
-        ]
-        lines += [
-            f"| {f.address} | {f.name} | {f.kind} | {f.access} | {f.unit} | {f.description} |"
-            for f in self.fields
-        ]
-        return "\n".join(lines)
+        """The register map as Markdown (:mod:`scenes.bridge.register_map`)."""
+        from scenes.bridge import register_map
+
+        return register_map.markdown(self)
 
     def csv(self) -> str:
-        """The register map as CSV."""
-        rows = ["address,name,type,access,unit,description"]
-        rows += [
-            f'{f.address},{f.name},{f.kind},{f.access},{f.unit},"{f.description}"'
-            for f in self.fields
-        ]
-        return "\n".join(rows)
+        """The registers as CSV."""
+        from scenes.bridge import register_map
+
+        return register_map.csv(self)
 
 
 def tables_of(machine: MachineDef) -> list[SignalTable]:
