@@ -55,6 +55,33 @@ def test_short_and_long_pieces_with_a_length_change_on_the_fly(slip: float | Non
     assert max(c.current for c, _ in pieces) < drum.peak_current
 
 
+ALTERNATING = tuple(Batch(length, 1) for length in (400.0, 700.0) * 3)
+"""Six one-piece batches, 400 and 700 mm in turn."""
+
+
+@pytest.mark.parametrize(
+    ("batches", "tail"),
+    [(ALTERNATING, [700.0, 400.0, 700.0, 400.0, 700.0]), (CamJob().batches, [900.0] * 4)],
+    ids=["six one-piece batches", "6 x 300 then 4 x 900"],
+)
+def test_each_batch_cuts_exactly_its_pieces(batches: tuple[Batch, ...], tail: list[float]) -> None:
+    """Every batch cuts as many pieces as it asks, the next length taking over at its last
+    cut: from the physics, the pieces from the first of the second length on are exactly the
+    batches' (within 0.5 mm), and the web stands before another cut; the demo books each batch's
+    count."""
+    demo = run(CamJob(batches=batches))
+    lengths = [c.length for c in demo.drum.cuts if c.length is not None]
+    second = batches[1].length
+    first = next(k for k, x in enumerate(lengths) if abs(x - second) < 1.0)
+    assert len(lengths[first:]) == len(tail), lengths
+    assert np.abs(np.array(lengths[first:]) - tail).max() < 0.5, lengths
+    assert not demo.drum.misses
+    booked = [t for _, t in demo.pieces()]
+    for length in dict.fromkeys(b.length for b in batches):
+        asked = sum(b.cuts for b in batches if b.length == length)
+        assert booked.count(length) == asked, (length, booked)
+
+
 def test_registration_to_the_print_marks_with_slip() -> None:
     """Two blades, 500 mm pieces (the print pitch) at −0.3 % slip: MC_Phasing from the marks
     the probe latched puts the cuts at the printed marks (±0.2 mm print error, seen with

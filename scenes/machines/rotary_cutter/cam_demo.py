@@ -42,6 +42,13 @@ class Batch:
             raise ValueError(f"Batch.cuts must be >= 1, got {self.cuts}")
 
 
+def stopping_distance(speed: float, acceleration: float) -> float:
+    """The web's travel from MC_Stop at ``speed`` [mm/s] to a standstill, decelerating at
+    ``acceleration`` [mm/s²] with a jerk of 10 × it [mm]."""
+    jerk = 10.0 * acceleration
+    return speed * speed / (2.0 * acceleration) + speed * acceleration / (2.0 * jerk)
+
+
 def _short_and_long() -> tuple[Batch, ...]:
     return (Batch(0.6 * TIP_CIRCUMFERENCE, 6), Batch(1.8 * TIP_CIRCUMFERENCE, 4))
 
@@ -85,6 +92,14 @@ class CamJob:
             raise ValueError(
                 f"CamJob.scale must be within 0.5 … 2 (1: a perfect wheel), got {self.scale}"
             )
+        last = self.batches[-1]
+        stopping = stopping_distance(self.speed, self.acceleration)
+        if (last.cuts + 0.5) * last.length < stopping:
+            raise ValueError(
+                f"CamJob: the web needs {stopping:g} mm to stop from {self.speed:g} mm/s; the "
+                f"last batch ({last.cuts} × {last.length:g} mm) must be at least that long less "
+                f"half a piece: more pieces or a steeper acceleration"
+            )
         pitch = 1000.0 * MARK_PITCH
         if self.register and any(b.length != pitch for b in self.batches):
             raise ValueError(
@@ -97,12 +112,11 @@ class CamDemo(StepSequence):
     """Cut to length with the drum on a cam: power, home the drum, turn it to the middle of a
     period, couple it to the measuring wheel (MC_CamIn, mcAbsolute, the table started half a
     piece before its first cut), run the web up, learn the wheel's scale over the print marks,
-    then cut each batch at ``MasterScaling = 1/scale``; a batch's table is selected and its
-    MC_CamIn issued half a piece after a period boundary, the blade clear of the web, so it
-    takes over at the next one (a table or cam refused leaves the running one cutting: no
-    wrong cut). Finally
-    the web stops with the blades clear of it (the stop planned to end half a piece after a
-    cut).
+    then cut each batch at ``MasterScaling = 1/scale``; the next batch's table is selected and
+    its MC_CamIn issued half a piece before the running batch's last cut, the blade clear of
+    the web, so it takes over at that cut (a table or cam refused leaves the running one
+    cutting: no wrong cut). Finally the web stops with the blades clear of it (the stop
+    planned to end half a piece after the last batch's last cut).
 
     Args:
         scene: the rotary-cutter scene.
@@ -259,14 +273,18 @@ class CamDemo(StepSequence):
         self.cams[self.issued].MasterScaling = 1.0 / self.scale
 
     def _cut_done(self) -> bool:
-        """The last batch has cut its pieces: stop the web half a piece after the next cut."""
-        if self.running != len(self.cams) - 1 or self.periods < self.job.batches[-1].cuts:
+        """The last batch is cutting: stop the web so that it stands half a piece after the
+        batch's last cut (the blades clear of it)."""
+        if self.running != len(self.cams) - 1:
             return False
-        length = self.lengths[-1] * self.scale  # master mm
-        v, a, j = self.job.speed, self.job.acceleration, 10.0 * self.job.acceleration
-        stopping = v * v / (2.0 * a) + v * a / (2.0 * j)  # web to a standstill [mm]
-        trigger = (0.5 * length - stopping) % length
-        return (self.W.POS - self._boundary_master) % length >= trigger
+        period = self._period(self.running)
+        last_cut = self._boundary_master + (self.job.batches[-1].cuts - self.periods) * period
+        stop_at = (
+            last_cut
+            + 0.5 * period
+            - self.scale * stopping_distance(self.job.speed, self.job.acceleration)
+        )
+        return stop_at <= self.W.POS
 
     def failure(self, step: str, block: str, error_id: int) -> str:
         """The ``error`` text: the step, the block and its ErrorID (a table's reason too)."""
@@ -277,17 +295,17 @@ class CamDemo(StepSequence):
 
     def _boundary(self) -> None:
         """A period boundary passed: book the piece that ended; a cam issued before took over
-        here; after a batch's last piece, issue the next batch's cam."""
+        here; half a piece before the boundary that ends a batch's last piece, issue the next
+        batch's cam (it takes over at that boundary)."""
         self.boundaries.append((self.scene.time, self.running))
         self._boundary_master += self._period(self.running)
         if self.issued > self.running:  # the issued cam took over at this boundary
             self.running, self.periods = self.issued, 0
+        elif self.running > 0:
+            self.periods += 1
+        if self.running == 0 or self.running + 1 >= len(self.cams):
             return
-        if self.running == 0:
-            return
-        self.periods += 1
-        batch = self.job.batches[self.running - 1]
-        if self.periods == batch.cuts and self.running + 1 < len(self.cams):
+        if self.periods == self.job.batches[self.running - 1].cuts - 1:
             self._issue_at = self._boundary_master + 0.5 * self._period(self.running)
 
     def _period(self, cam: int) -> float:
