@@ -19,11 +19,13 @@ from scenes.machines.rotary_cutter.axes import HOMING, SENSOR_DELAY, TIP_CIRCUMF
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.machines.rotary_cutter.marks import MARK_FIRST, MARK_PITCH, PRINT_MARKS, PrintMarks
 from scenes.procedures import HomeAxis
-from scenes.program import Block, StepSequence, never
+from scenes.program import REST, Block, StepSequence, at_rest, never
 from scenes.scene import Scene
 
 CUT_ANGLE = 90.0
 """Drum angle at which blade 1 points down at the anvil [°] (the cam's slave 0)."""
+COUPLED = ("couple the cam", "start the web", "measure the print pitch", "cut", "stop the web")
+"""The steps in which the drum is on its cam."""
 REGISTER_MARKS = 5
 """Marks the scale is learned over (four print pitches: the print errors of the inner marks
 cancel)."""
@@ -116,7 +118,8 @@ class CamDemo(StepSequence):
     its MC_CamIn issued half a piece before the running batch's last cut, the blade clear of
     the web, so it takes over at that cut (a table or cam refused leaves the running one
     cutting: no wrong cut). Finally the web stops with the blades clear of it (the stop
-    planned to end half a piece after the last batch's last cut).
+    planned to end half a piece after the last batch's last cut) and MC_Halt ends the drum's
+    cam: every axis at rest, the demo may run again.
 
     Args:
         scene: the rotary-cutter scene.
@@ -133,6 +136,7 @@ class CamDemo(StepSequence):
         "measure the print pitch",
         "cut",
         "stop the web",
+        REST,
         "done",
     )
 
@@ -197,6 +201,8 @@ class CamDemo(StepSequence):
         self.line_stop = mcl.MC_Stop(
             Axis=L, Deceleration=job.acceleration, Jerk=10.0 * job.acceleration
         )
+        self.drum_halt = mcl.MC_Halt(Axis=D, Deceleration=10000.0)
+        """Ends the cam once the web stands (the drum stands with it)."""
         self.probe = mcl.MC_TouchProbe(Axis=W)
         self.phasing = mcl.MC_Phasing(
             Master=W, Slave=D, Velocity=500.0, Acceleration=5000.0, Deceleration=5000.0
@@ -230,6 +236,7 @@ class CamDemo(StepSequence):
             "web": self.line,
             "probe": self.probe,
             "phasing": self.phasing,
+            "halt": self.drum_halt,
             "power L": self.power[0],
             "power D": self.power[1],
             **{f"table {k}": s for k, s in enumerate(self.selects)},
@@ -250,6 +257,7 @@ class CamDemo(StepSequence):
             ),
             step("cut", self._cut_done),
             step("stop the web", lambda: self.line_stop.Done),
+            step(REST, lambda: self.drum_halt.Done and at_rest(scene.axes.values())),
             step("done", never),
         )
 
@@ -423,7 +431,7 @@ class CamDemo(StepSequence):
             power(Enable=True)
         self.home(Execute=stage == "home the drum")
         self.start(Execute=stage == "turn the drum to its start")
-        coupled = stage not in ("power on", "home the drum", "turn the drum to its start")
+        coupled = stage in COUPLED
         boundary = False
         for k, (select, cam) in enumerate(zip(self.selects, self.cams, strict=True)):
             issued = coupled and k <= self.issued
@@ -459,4 +467,5 @@ class CamDemo(StepSequence):
             self._shift_pending = False
         self.line(Execute=stage in ("start the web", "measure the print pitch", "cut"))
         self.line_stop(Execute=stage == "stop the web")
+        self.drum_halt(Execute=stage == REST)
         self.advance(self.scene.time)

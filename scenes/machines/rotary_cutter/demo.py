@@ -14,7 +14,7 @@ from mcl.errors import check_finite
 from scenes.machines.rotary_cutter.axes import GEAR_RATIO, HOMING, TIP_CIRCUMFERENCE
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.procedures import HomeAxis
-from scenes.program import Block, StepSequence, never
+from scenes.program import REST, Block, StepSequence, at_rest, never
 from scenes.scene import Scene
 
 DRUM_SPEED_LIMIT = 3000.0 / 5.0
@@ -62,7 +62,8 @@ class Demo(StepSequence):
     """The rotary cutter's program in geared mode: power the web feed and the drum, home the
     drum (REF cam + motor index), gear it to the measuring wheel with MC_GearIn at 18/25 °/mm
     (the tips' surface speed is the web's), run the web up to ``job.speed`` and let the blades
-    cut ``job.cuts`` times; then stop the web (the drum follows it down).
+    cut ``job.cuts`` times; then stop the web (the drum follows it down) and end the gearing
+    (MC_Halt): every axis at rest, the demo may run again.
 
     ``drum`` holds every cut measured from the physics; ``step`` names the cut and the last
     piece.
@@ -72,7 +73,16 @@ class Demo(StepSequence):
         job: what to cut (default: 9 cuts at 60 m/min).
     """
 
-    STEPS = ("power on", "home the drum", "gear in", "start the web", "cut", "stop the web", "done")
+    STEPS = (
+        "power on",
+        "home the drum",
+        "gear in",
+        "start the web",
+        "cut",
+        "stop the web",
+        REST,
+        "done",
+    )
 
     def __init__(self, scene: Scene, job: CutterJob | None = None) -> None:
         self.scene = scene
@@ -102,6 +112,10 @@ class Demo(StepSequence):
         self.line_stop = mcl.MC_Stop(
             Axis=L, Deceleration=job.acceleration, Jerk=10.0 * job.acceleration
         )
+        self.drum_halt = mcl.MC_Halt(Axis=D, Deceleration=10000.0)
+        """Ends the gearing once the web stands (the drum stands with it)."""
+        self.start = len(self.drum.cuts)
+        """Cuts recorded before this run (an earlier run's)."""
         self.first = 0
         """Cuts recorded before the cutting began."""
         self.blocks: dict[str, Any] = {"home": self.home, "gear": self.gear}
@@ -110,6 +124,7 @@ class Demo(StepSequence):
             "home": self.home,
             "gear": self.gear,
             "web": self.line,
+            "halt": self.drum_halt,
             "power L": self.power[0],
             "power D": self.power[1],
         }
@@ -122,6 +137,7 @@ class Demo(StepSequence):
             step("start the web", lambda: self.line.InVelocity, self._begin),
             step("cut", lambda: self.made() >= job.cuts),
             step("stop the web", lambda: self.line_stop.Done),
+            step(REST, lambda: self.drum_halt.Done and at_rest(scene.axes.values())),
             step("done", never),
         )
 
@@ -148,7 +164,7 @@ class Demo(StepSequence):
         """One row per cut, from the physics (shown by the viewer)."""
         drum = self.drum
         rows: list[dict[str, float | int | None]] = []
-        for k, cut in enumerate(drum.cuts):
+        for k, cut in enumerate(drum.cuts[self.start :]):
             rows.append(
                 {
                     "cut": k,
@@ -194,7 +210,8 @@ class Demo(StepSequence):
         for power in self.power:
             power(Enable=True)
         self.home(Execute=stage == "home the drum")
-        self.gear(Execute=stage not in ("power on", "home the drum"))
+        self.gear(Execute=stage in ("gear in", "start the web", "cut", "stop the web"))
         self.line(Execute=stage in ("start the web", "cut"))
         self.line_stop(Execute=stage == "stop the web")
+        self.drum_halt(Execute=stage == REST)
         self.advance(self.scene.time)
