@@ -27,15 +27,15 @@ class Block(Protocol):
 
 
 def at_rest(axes: Iterable[mcl.Axis]) -> bool:
-    """Every driven axis of ``axes`` stands ready for the next program: in StandStill (no motion,
-    no coupling, no MC_Stop held by its Execute), in no axes group, its set velocity 0. An
-    encoder-only axis has nothing to stand (it measures)."""
+    """Every driven axis of ``axes`` stands ready for the next program: in StandStill (no
+    motion, no coupling, no MC_Stop held by its Execute) or Disabled (not powered), in no axes
+    group, its set velocity 0. An encoder-only axis has nothing to stand (it measures)."""
     return all(not a.has_drive or not unrest(a) for a in axes)
 
 
 def unrest(axis: mcl.Axis) -> str:
     """Why a driven axis is not at rest ("" when it is): its state, its group."""
-    if axis.state != mcl.AxisState.StandStill:
+    if axis.state not in (mcl.AxisState.StandStill, mcl.AxisState.Disabled):
         return axis.state.name
     if axis.group is not None:
         return "in an axes group"

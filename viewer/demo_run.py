@@ -2,7 +2,7 @@
 error, done, runs), its results table and Repeat demo. The session's simulation thread starts it,
 scans it every PLC cycle and samples it for each snapshot; a program that raises or reports an
 error ends, and the viewer lives on. A program that finishes with an axis not at rest (in
-StandStill, outside a group) has failed: it could not run again.
+StandStill or Disabled, outside a group) has failed: it could not run again.
 """
 
 from __future__ import annotations
@@ -115,7 +115,7 @@ class DemoRun:
             return ""
         return (
             f"the demo finished with {', '.join(axes)}: it must leave every axis at rest "
-            f"(StandStill, outside any group) to run again"
+            f"(StandStill or Disabled, outside any group) to run again"
         )
 
     def sample(self) -> None:
