@@ -118,3 +118,32 @@ def test_a_length_the_drum_cannot_cut_is_refused_and_the_running_one_goes_on(
     later = [c for c in demo.drum.cuts if c.time > refused]
     assert len(later) >= 4 and not demo.drum.misses
     assert all(abs(c.length - 300.0) < 0.2 for c in later if c.length is not None), later
+
+
+@pytest.mark.parametrize("blades", [1, 2])
+def test_no_blade_passes_the_standing_web_and_a_second_run_cuts_alike(blades: int) -> None:
+    """Homing the drum from its power-up position, turning it to its start (the middle between
+    two cuts it stands between) and stopping it at the end: no blade goes through the web
+    while the web stands, in the first run nor in a second one on the same scene (which does
+    not home the referenced drum again); both runs cut their pieces right on a perfect wheel
+    (from the physics)."""
+    scene = scenes.load("rotary_cutter", trace_every=0)
+    scene.device("wheel", MeasuringWheel).ideal()
+    web = scene.joint("rotary_cutter/M")
+    standing: list[float] = []
+    for _ in range(2):
+        demo = CamDemo(scene, CamJob(batches=(Batch(400.0, 3),), blades=blades, learn_scale=False))
+        seen = [len(demo.drum.cuts)]
+
+        def program(demo: CamDemo = demo, seen: list[int] = seen) -> None:
+            demo()
+            if len(demo.drum.cuts) > seen[0]:
+                seen[0] = len(demo.drum.cuts)
+                if abs(web.velocity) < 0.01:  # [m/s]
+                    standing.append(scene.time)
+
+        scene.run(program, until=lambda d=demo: d.done or bool(d.error), timeout=60.0)
+        assert demo.done, demo.step
+        errors = demo.errors()
+        assert len(errors) == 3 and max(map(abs, errors)) < 0.5, errors
+    assert not standing, f"cuts into the standing web at {standing} s"

@@ -111,9 +111,10 @@ class CamJob:
 
 
 class CamDemo(StepSequence):
-    """Cut to length with the drum on a cam: power, home the drum, turn it to the middle of a
-    period, couple it to the measuring wheel (MC_CamIn, mcAbsolute, the table started half a
-    piece before its first cut), run the web up, learn the wheel's scale over the print marks,
+    """Cut to length with the drum on a cam: power, home the drum (unless a run before homed
+    it), turn it to the middle between two cuts without a blade passing the web, couple it to
+    the measuring wheel (MC_CamIn, mcAbsolute, the table started half a piece before its first
+    cut), run the web up, learn the wheel's scale over the print marks,
     then cut each batch at ``MasterScaling = 1/scale``; the next batch's table is selected and
     its MC_CamIn issued half a piece before the running batch's last cut, the blade clear of
     the web, so it takes over at that cut (a table or cam refused leaves the running one
@@ -183,14 +184,18 @@ class CamDemo(StepSequence):
         ]
         self.power = [mcl.MC_Power(Axis=L), mcl.MC_Power(Axis=D)]
         self.home = HomeAxis(D, HOMING["D"])
+        self.referenced = D.Ref
+        """The drum had its reference when the program began (a run before this one homed
+        it): it is not homed again."""
         self.start = mcl.MC_MoveAbsolute(
             Axis=D,
-            Position=(CUT_ANGLE + 0.5 * self.pitch) % 360.0,
             Velocity=180.0,
             Acceleration=2000.0,
             Deceleration=2000.0,
-            Direction=mcl.MC_Direction.MC_Positive,
+            Direction=mcl.MC_Direction.MC_Shortest,
         )
+        """Turns the drum to the middle between the cuts it stands between (no blade passes
+        the standing web); set once the drum is homed (:meth:`_after_homing`)."""
         self.line = mcl.MC_MoveVelocity(
             Axis=L,
             Velocity=job.speed,
@@ -246,7 +251,7 @@ class CamDemo(StepSequence):
         step = self.watching(watched)
         self.declare(
             step("power on", lambda: all(p.Status for p in self.power)),
-            step("home the drum", lambda: self.home.Done),
+            step("home the drum", lambda: self.referenced or self.home.Done, self._after_homing),
             step("turn the drum to its start", lambda: self.start.Done),
             step("couple the cam", lambda: self.cams[0].InSync),
             step("start the web", lambda: self.line.InVelocity, self._after_start),
@@ -262,6 +267,15 @@ class CamDemo(StepSequence):
         )
 
     # ------------------------------------------------------------------ sequence
+    def _after_homing(self) -> str:
+        """The drum knows its angle: its start is the middle between the two blade positions
+        at the web it stands between (half a pitch from each), reached without a blade
+        passing the standing web; the run-in cam is laid so that its cuts fall on them."""
+        between = math.floor((self.D.POS - CUT_ANGLE) / self.pitch)
+        self.start.Position = (CUT_ANGLE + (between + 0.5) * self.pitch) % 360.0
+        self.cams[0].SlaveOffset = (CUT_ANGLE + between * self.pitch) % 360.0
+        return "turn the drum to its start"
+
     def _after_start(self) -> str:
         if self.job.learn_scale:
             return "measure the print pitch"
@@ -429,7 +443,7 @@ class CamDemo(StepSequence):
         stage = self.STEPS[self.index]
         for power in self.power:
             power(Enable=True)
-        self.home(Execute=stage == "home the drum")
+        self.home(Execute=stage == "home the drum" and not self.referenced)
         self.start(Execute=stage == "turn the drum to its start")
         coupled = stage in COUPLED
         boundary = False

@@ -60,10 +60,11 @@ class CutterJob:
 
 class Demo(StepSequence):
     """The rotary cutter's program in geared mode: power the web feed and the drum, home the
-    drum (REF cam + motor index), gear it to the measuring wheel with MC_GearIn at 18/25 °/mm
-    (the tips' surface speed is the web's), run the web up to ``job.speed`` and let the blades
-    cut ``job.cuts`` times; then stop the web (the drum follows it down) and end the gearing
-    (MC_Halt): every axis at rest, the demo may run again.
+    drum (REF cam + motor index; not again when a run before homed it), gear it to the
+    measuring wheel with MC_GearIn at 18/25 °/mm (the tips' surface speed is the web's), run
+    the web up to ``job.speed`` and let the blades cut ``job.cuts`` times; then stop the web
+    (the drum follows it down) and end the gearing (MC_Halt): every axis at rest, the demo may
+    run again.
 
     ``drum`` holds every cut measured from the physics; ``step`` names the cut and the last
     piece.
@@ -94,6 +95,9 @@ class Demo(StepSequence):
             self.drum.blades = job.blades
         self.power = [mcl.MC_Power(Axis=L), mcl.MC_Power(Axis=D)]
         self.home = HomeAxis(D, HOMING["D"])
+        self.referenced = D.Ref
+        """The drum had its reference when the program began (a run before this one homed
+        it): it is not homed again."""
         self.gear = mcl.MC_GearIn(
             Master=W,
             Slave=D,
@@ -132,7 +136,7 @@ class Demo(StepSequence):
         step = self.watching(watched)
         self.declare(
             step("power on", lambda: all(p.Status for p in self.power)),
-            step("home the drum", lambda: self.home.Done),
+            step("home the drum", lambda: self.referenced or self.home.Done),
             step("gear in", lambda: self.gear.InGear),
             step("start the web", lambda: self.line.InVelocity, self._begin),
             step("cut", lambda: self.made() >= job.cuts),
@@ -209,7 +213,7 @@ class Demo(StepSequence):
         stage = self.STEPS[self.index]
         for power in self.power:
             power(Enable=True)
-        self.home(Execute=stage == "home the drum")
+        self.home(Execute=stage == "home the drum" and not self.referenced)
         self.gear(Execute=stage in ("gear in", "start the web", "cut", "stop the web"))
         self.line(Execute=stage in ("start the web", "cut"))
         self.line_stop(Execute=stage == "stop the web")
