@@ -15,7 +15,7 @@ from typing import Any
 
 import mcl
 from mcl.errors import check_finite
-from scenes.machines.rotary_cutter.axes import HOMING, SENSOR_DELAY, TIP_CIRCUMFERENCE
+from scenes.machines.rotary_cutter.axes import CUT_FORCE, HOMING, SENSOR_DELAY, TIP_CIRCUMFERENCE
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.machines.rotary_cutter.marks import MARK_FIRST, MARK_PITCH, PRINT_MARKS, PrintMarks
 from scenes.procedures import HomeAxis
@@ -73,6 +73,9 @@ class CamJob:
         register: cut at the print marks: every mark the probe latches gives the distance of
             its cut from the next period boundary, and MC_Phasing shifts the cam by it (every
             batch's length must then be the print pitch).
+        cut_force: the force the web resists the blade with, as the drive's cutting-force
+            feed-forward is set for [N] (:attr:`KnifeDrum.feed_forward`; 0: off); default the
+            board's 5 N/mm over its 400 mm width.
     """
 
     batches: tuple[Batch, ...] = field(default_factory=_short_and_long)
@@ -83,9 +86,11 @@ class CamJob:
     scale: float = 1.0
     learn_scale: bool = True
     register: bool = False
+    cut_force: float = CUT_FORCE
 
     def __post_init__(self) -> None:
         check_finite(self, ("speed", "sync_angle", "acceleration", "scale"), True)
+        check_finite(self, ("cut_force",), False)
         if not self.batches:
             raise ValueError("CamJob.batches must name at least one Batch(length, cuts)")
         if self.blades not in (None, 1, 2):
@@ -152,6 +157,7 @@ class CamDemo(StepSequence):
         self.drum = scene.device("drum", KnifeDrum)
         if job.blades is not None:
             self.drum.blades = job.blades
+        self.drum.feed_forward = job.cut_force
         blades = self.drum.blades
         self.pitch = 360.0 / blades
         """Drum angle per cut [°]."""

@@ -11,7 +11,7 @@ from typing import Any
 
 import mcl
 from mcl.errors import check_finite
-from scenes.machines.rotary_cutter.axes import GEAR_RATIO, HOMING, TIP_CIRCUMFERENCE
+from scenes.machines.rotary_cutter.axes import CUT_FORCE, GEAR_RATIO, HOMING, TIP_CIRCUMFERENCE
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.procedures import HomeAxis
 from scenes.program import REST, Block, StepSequence, at_rest, never
@@ -31,15 +31,19 @@ class CutterJob:
         cuts: cuts to make (the first is the head cut: ``cuts − 1`` pieces).
         blades: blades fitted (1 or 2; None: the model's ``D_blades``).
         acceleration: the web's ramp [mm/s²].
+        cut_force: the force the web resists the blade with, as the drive's cutting-force
+            feed-forward is set for [N] (:attr:`KnifeDrum.feed_forward`; 0: off).
     """
 
     speed: float = 1000.0
     cuts: int = 9
     blades: int | None = None
     acceleration: float = 2000.0
+    cut_force: float = CUT_FORCE
 
     def __post_init__(self) -> None:
         check_finite(self, ("speed", "acceleration"), True)
+        check_finite(self, ("cut_force",), False)
         if self.cuts < 1:
             raise ValueError(f"CutterJob.cuts must be >= 1, got {self.cuts}")
         if self.blades not in (None, 1, 2):
@@ -93,6 +97,7 @@ class Demo(StepSequence):
         self.drum = scene.device("drum", KnifeDrum)
         if job.blades is not None:
             self.drum.blades = job.blades
+        self.drum.feed_forward = job.cut_force
         self.power = [mcl.MC_Power(Axis=L), mcl.MC_Power(Axis=D)]
         self.home = HomeAxis(D, HOMING["D"])
         self.referenced = D.Ref
