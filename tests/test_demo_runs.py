@@ -4,7 +4,7 @@ A demo is done only once every driven axis stands in StandStill, outside any axe
 couplings ended, the Execute of its MC_Stop fallen), and the physics stands with it: run, end,
 run again on the same scene. In the viewer (:class:`viewer.session.Session`) Repeat demo then
 starts the demo afresh after each run, and a program that finishes with an axis not at rest is
-reported as failed. The tests iterate the registry (:data:`scenes.MACHINES`).
+reported and not repeated. The tests iterate the registry (:data:`scenes.MACHINES`).
 """
 
 from __future__ import annotations
@@ -123,12 +123,13 @@ class EndsInStopping:
             self.stop()
 
 
-def test_a_demo_that_finishes_with_an_axis_not_at_rest_is_reported() -> None:
+def test_a_demo_that_finishes_with_an_axis_not_at_rest_is_reported_and_not_repeated() -> None:
     clock = FakeClock()
     session = Session("single_axis", clock=clock, demo=EndsInStopping)
     session.repeat_demo = True
     session.start_demo()
-    run(session, clock, 2.0)
+    run(session, clock, 3.0)  # beyond the repeat's pause
     demo = session.snapshot.demo
-    assert not demo.running and not demo.done and demo.runs == 1
+    assert demo.done and not demo.running and demo.runs == 1
     assert "X Stopping" in demo.error and "at rest" in demo.error, demo.error
+    assert any("X Stopping" in e.text for e in session.snapshot.events)

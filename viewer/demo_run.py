@@ -2,7 +2,8 @@
 error, done, runs), its results table and Repeat demo. The session's simulation thread starts it,
 scans it every PLC cycle and samples it for each snapshot; a program that raises or reports an
 error ends, and the viewer lives on. A program that finishes with an axis not at rest (in
-StandStill or Disabled, outside a group) has failed: it could not run again.
+StandStill or Disabled, outside a group) is reported (its error, the history) and not repeated:
+it could not run again.
 """
 
 from __future__ import annotations
@@ -88,8 +89,6 @@ class DemoRun:
             except Exception as exc:  # a bug in a user program must not kill the viewer
                 log.exception("demo program of scene %r failed", name)
                 error = f"{type(exc).__name__}: {exc}"
-            if not error and program.done:
-                error = self._restless()
             if error:  # it failed (or reported an error, like ``python -m scenes run``): it ends
                 self.step = str(getattr(program, "step", self.step))
                 self.program = None
@@ -97,7 +96,12 @@ class DemoRun:
                 self._record_event("demo", error)
                 return "ended"
             if program.done:
-                self._repeat_at = now + REPEAT_PAUSE
+                restless = self._restless()
+                if restless:  # reported, and not repeated: it could not run again
+                    self.error = restless
+                    self._record_event("demo", restless)
+                else:
+                    self._repeat_at = now + REPEAT_PAUSE
                 return "ended"
         elif program is not None and self._repeat_at is not None:
             if not self.repeat:
