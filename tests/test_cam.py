@@ -539,6 +539,7 @@ def test_a_table_beyond_only_the_slaves_acceleration_is_refused_and_the_move_goe
     length = 2.0
     rise = share * S.config.max_acceleration / (10.0 / math.sqrt(3.0) / length**2 * SPEED**2)
     lift = _lift_and_return(rise, length)
+    assert S.constants is not None
     assert 1.875 * rise / length * SPEED < 0.5 * S.constants.Vmax, "the speed is not the limit"
     table_id = select(M, S, lift, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
     cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)

@@ -4,6 +4,8 @@ every length from the physics (the web joint M and the blade tip's depth)."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 
@@ -25,6 +27,11 @@ def start(job: CamJob, slip: float | None = None, ideal: bool = False) -> CamDem
     demo = CamDemo(scene, job)
     scene.run(demo, until=lambda: demo.done or bool(demo.error), timeout=60.0)
     return demo
+
+
+def finished(demo: CamDemo) -> bool:
+    """The demo is done or stopped on an error."""
+    return demo.done or bool(demo.error)
 
 
 def run(job: CamJob, slip: float | None = None) -> CamDemo:
@@ -142,7 +149,7 @@ def test_no_blade_passes_the_standing_web_and_a_second_run_cuts_alike(blades: in
                 if abs(web.velocity) < 0.01:  # [m/s]
                     standing.append(scene.time)
 
-        scene.run(program, until=lambda d=demo: d.done or bool(d.error), timeout=60.0)
+        scene.run(program, until=functools.partial(finished, demo), timeout=60.0)
         assert demo.done, demo.step
         errors = demo.errors()
         assert len(errors) == 3 and max(map(abs, errors)) < 0.5, errors

@@ -168,7 +168,8 @@ def test_a_modulo_slave_shows_its_actual_position_in_the_tables_period() -> None
     assert 0.0 <= view.set_slave <= 360.0
     assert abs(view.actual_slave - view.set_slave) < 1.0, (view.actual_slave, view.set_slave)
     _, _, scales = plot_style(view)
-    for name, scale in scales.items():
-        low, high = scale["range"]
+    ranges = {name: scale["range"] for name, scale in scales.items()}
+    for name, (low, high) in ranges.items():
         assert low is not None and high is not None and np.isfinite([low, high]).all(), name
-    assert scales["y0"]["range"][0] <= 0.0 and scales["y0"]["range"][1] >= 360.0
+    low, high = ranges["y0"]
+    assert low is not None and high is not None and low <= 0.0 and high >= 360.0

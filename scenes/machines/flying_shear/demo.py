@@ -330,7 +330,7 @@ class Demo(StepSequence):
             length = cut.length if k > 0 else None
             error = None
             if length is not None:
-                error = cut.mark if self.job.mode == "mark" else cut.length - self.job.length
+                error = cut.mark if self.job.mode == "mark" else length - self.job.length
             rows.append(
                 {
                     "cut": k,
