@@ -165,29 +165,7 @@ class CamDemo(StepSequence):
         lengths = [job.batches[0].length, *(b.length for b in job.batches)]
         self.lengths = lengths
         """The piece length of each cam [mm]."""
-        tables = [mcl.rotary_knife(x, TIP_CIRCUMFERENCE, blades, job.sync_angle) for x in lengths]
-        self.selects = [
-            mcl.MC_CamTableSelect(
-                Master=W,
-                Slave=D,
-                CamTable=t,
-                Periodic=True,
-                MasterAbsolute=False,
-                SlaveAbsolute=k == 0,
-            )
-            for k, t in enumerate(tables)
-        ]
-        self.cams = [
-            mcl.MC_CamIn(
-                Master=W,
-                Slave=D,
-                StartMode=mcl.MC_StartMode.mcAbsolute,
-                MasterOffset=0.5 * lengths[0] if k == 0 else 0.0,
-                SlaveOffset=CUT_ANGLE if k == 0 else 0.0,
-                MasterScaling=1.0 / job.scale,
-            )
-            for k in range(len(tables))
-        ]
+        self.selects, self.cams = self._cam_blocks(blades)
         self.power = [mcl.MC_Power(Axis=L), mcl.MC_Power(Axis=D)]
         self.home = HomeAxis(D, HOMING["D"])
         self.referenced = D.Ref
@@ -241,6 +219,10 @@ class CamDemo(StepSequence):
         self._shift_pending = False
         self._shift_from = 0.0
         self.blocks: dict[str, Any] = {"home": self.home, "cam": self.cams[0]}
+        self._declare_steps()
+
+    def _declare_steps(self) -> None:
+        """The step table: each step's end, what follows it; every step watches every block."""
         watched: dict[str, Block] = {
             "home": self.home,
             "start": self.start,
@@ -253,7 +235,6 @@ class CamDemo(StepSequence):
             **{f"table {k}": s for k, s in enumerate(self.selects)},
             **{f"cam {k}": c for k, c in enumerate(self.cams)},
         }
-
         step = self.watching(watched)
         self.declare(
             step("power on", lambda: all(p.Status for p in self.power)),
@@ -268,9 +249,40 @@ class CamDemo(StepSequence):
             ),
             step("cut", self._cut_done),
             step("stop the web", lambda: self.line_stop.Done),
-            step(REST, lambda: self.drum_halt.Done and at_rest(scene.axes.values())),
+            step(REST, lambda: self.drum_halt.Done and at_rest(self.scene.axes.values())),
             step("done", never),
         )
+
+    def _cam_blocks(self, blades: int) -> tuple[list[mcl.MC_CamTableSelect], list[mcl.MC_CamIn]]:
+        """Per cam its table's MC_CamTableSelect and its MC_CamIn: cam 0 absolute on the drum
+        (the run-in, started half a piece before its first cut), the others relative."""
+        job, W, D = self.job, self.W, self.D
+        tables = [
+            mcl.rotary_knife(x, TIP_CIRCUMFERENCE, blades, job.sync_angle) for x in self.lengths
+        ]
+        selects = [
+            mcl.MC_CamTableSelect(
+                Master=W,
+                Slave=D,
+                CamTable=t,
+                Periodic=True,
+                MasterAbsolute=False,
+                SlaveAbsolute=k == 0,
+            )
+            for k, t in enumerate(tables)
+        ]
+        cams = [
+            mcl.MC_CamIn(
+                Master=W,
+                Slave=D,
+                StartMode=mcl.MC_StartMode.mcAbsolute,
+                MasterOffset=0.5 * self.lengths[0] if k == 0 else 0.0,
+                SlaveOffset=CUT_ANGLE if k == 0 else 0.0,
+                MasterScaling=1.0 / job.scale,
+            )
+            for k in range(len(tables))
+        ]
+        return selects, cams
 
     # ------------------------------------------------------------------ sequence
     def _after_homing(self) -> str:
