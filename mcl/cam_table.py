@@ -52,9 +52,6 @@ MAX_POINTS: Final = 10000
 TOLERANCE: Final = 1e-6
 """Relative tolerance of the continuity checks (of the larger slope or curvature there)."""
 
-SAMPLES: Final = 16
-"""Intervals per segment at which the peaks of a table are sampled."""
-
 _POLY: Final = 0
 _SINE: Final = 1
 _TRAP: Final = 2
@@ -185,6 +182,81 @@ def polynomial(c: Sequence[float], u: float) -> tuple[float, float, float]:
     return p, v, a
 
 
+def _quadratic_roots(c0: float, c1: float, c2: float) -> list[float]:
+    """The real roots of ``c0 + c1·z + c2·z²`` (c2 ≠ 0), without cancellation."""
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return []
+    q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
+    return [q / c2] + ([c0 / q] if q != 0.0 else [])
+
+
+def _largest_cubic_root(c0: float, c1: float, c2: float, c3: float) -> float:
+    """The real root of largest magnitude of ``c0 + c1·z + c2·z² + c3·z³`` (c3 ≠ 0): Cardano's
+    formula, its trigonometric form when all three roots are real."""
+    a, b, d = c2 / c3, c1 / c3, c0 / c3
+    p = b - a * a / 3.0
+    q = 2.0 * a * a * a / 27.0 - a * b / 3.0 + d
+    disc = 0.25 * q * q + p * p * p / 27.0
+    if disc >= 0.0:
+        u = math.cbrt(-0.5 * q - math.copysign(math.sqrt(disc), q))
+        return (u - p / (3.0 * u) if u != 0.0 else 0.0) - a / 3.0
+    r = 2.0 * math.sqrt(-p / 3.0)
+    phi = math.acos(max(-1.0, min(1.0, 3.0 * q / (p * r))))
+    roots = [r * math.cos((phi - 2.0 * _PI * k) / 3.0) - a / 3.0 for k in range(3)]
+    return max(roots, key=abs)
+
+
+def real_roots(c: Sequence[float]) -> list[float]:
+    """The real roots in [0, 1] of ``Σ c[i] zⁱ`` (at most a cubic; leading coefficients that
+    vanish against the others are dropped), in closed form: a cubic's largest root by Cardano,
+    the other two from the quadratic left when it is divided out; each root polished by a
+    Newton step."""
+    coefficients = list(c)
+    size = max((abs(x) for x in coefficients), default=0.0)
+    while coefficients and abs(coefficients[-1]) <= 1e-14 * size:
+        coefficients.pop()
+    roots: list[float] = []
+    if len(coefficients) == 2:
+        roots = [-coefficients[0] / coefficients[1]]
+    elif len(coefficients) == 3:
+        roots = _quadratic_roots(coefficients[0], coefficients[1], coefficients[2])
+    elif len(coefficients) == 4:
+        c0, c1, c2, c3 = coefficients
+        z1 = _largest_cubic_root(c0, c1, c2, c3)
+        roots = [z1]
+        if z1 != 0.0:  # divide (z − z1) out from the low end: stable for the smaller roots
+            e0 = -c0 / z1
+            e1 = (e0 - c1) / z1
+            e2 = (e1 - c2) / z1
+            roots += _quadratic_roots(e0, e1, e2) if e2 != 0.0 else []
+        else:
+            roots += _quadratic_roots(c1, c2, c3)
+    polished = []
+    for z in roots:
+        value = slope = 0.0
+        for x in reversed(coefficients):
+            slope = slope * z + value
+            value = value * z + x
+        if slope != 0.0:
+            z -= value / slope
+        if 0.0 <= z <= 1.0:
+            polished.append(z)
+    return polished
+
+
+def polynomial_peaks(c: Sequence[float], h: float) -> tuple[float, float]:
+    """The largest |first| and |second derivative| of ``Σ c[i] uⁱ`` (six coefficients) on
+    [0, ``h``]: at the ends or where the next derivative is 0 (a cubic and a quadratic in
+    ``z = u/h``)."""
+    b = [c[k] * h**k for k in range(6)]  # the polynomial in z
+    turning_slope = real_roots([2.0 * b[2], 6.0 * b[3], 12.0 * b[4], 20.0 * b[5]])
+    turning_curvature = real_roots([6.0 * b[3], 24.0 * b[4], 60.0 * b[5]])
+    slope = max(abs(polynomial(c, h * z)[1]) for z in (0.0, 1.0, *turning_slope))
+    curvature = max(abs(polynomial(c, h * z)[2]) for z in (0.0, 1.0, *turning_curvature))
+    return slope, curvature
+
+
 # ------------------------------------------------------------------------------ the checked cam
 class Cam:
     """A checked cam table, ready to be evaluated every servo cycle (:func:`compile_cam`).
@@ -229,9 +301,9 @@ class Cam:
         """The largest |d²s/dm²| of the table."""
 
     def _peaks(self, i: int) -> tuple[float, float]:
-        """The largest |slope| and |curvature| of segment ``i``: exact for a line and the
-        modified laws (f′ runs from 0 to Cv, |f″| up to Ca), sampled at :data:`SAMPLES` + 1
-        points for a polynomial."""
+        """The largest |slope| and |curvature| of segment ``i``, exact: for a line and the
+        modified laws from their closed forms (f′ runs from 0 to Cv, |f″| up to Ca), for a
+        polynomial at its ends and where its next derivative is 0 (:func:`polynomial_peaks`)."""
         c = self.coefficients[i]
         kind = self.kinds[i]
         if kind != _POLY:
@@ -240,14 +312,7 @@ class Cam:
                 (4.0 * _PI * _MS_K, 4.0 * _PI * _PI * _MS_K) if kind == _SINE else (2.0, _TRAP_A)
             )
             return max(abs(v), abs(v + d / h * cv)), abs(d) / (h * h) * ca
-        if c[2] == 0.0 and c[3] == 0.0 and c[4] == 0.0 and c[5] == 0.0:
-            return abs(c[1]), 0.0
-        h = self.masters[i + 1] - self.masters[i]
-        slope = curvature = 0.0
-        for j in range(SAMPLES + 1):
-            _, v, a = polynomial(c, h * j / SAMPLES)
-            slope, curvature = max(slope, abs(v)), max(curvature, abs(a))
-        return slope, curvature
+        return polynomial_peaks(c, self.masters[i + 1] - self.masters[i])
 
     def segment(self, i: int, u: float) -> tuple[float, float, float]:
         """Slave position, slope and curvature in segment ``i`` at ``u`` from its start."""

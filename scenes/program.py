@@ -1,12 +1,15 @@
 """The shape of a PLC program as the demos and the viewer see it: :class:`StepSequence`, the step
 sequence the demos share (its steps declared as a table of :class:`Step`), and
-:class:`DemoProgram`, what a demo reports while it runs."""
+:class:`DemoProgram`, what a demo reports while it runs. A demo ends with its axes
+:func:`at_rest`, so that it can run again."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
+
+import mcl
 
 
 class Block(Protocol):
@@ -21,6 +24,29 @@ class Block(Protocol):
     def ErrorID(self) -> int:
         """Why it failed."""
         ...
+
+
+def at_rest(axes: Iterable[mcl.Axis]) -> bool:
+    """Every driven axis of ``axes`` stands ready for the next program: in StandStill (no
+    motion, no coupling, no MC_Stop held by its Execute) or Disabled (not powered), in no axes
+    group, its set velocity 0. An encoder-only axis has nothing to stand (it measures)."""
+    return all(not a.has_drive or not unrest(a) for a in axes)
+
+
+def unrest(axis: mcl.Axis) -> str:
+    """Why a driven axis is not at rest ("" when it is): its state, its group."""
+    if axis.state not in (mcl.AxisState.StandStill, mcl.AxisState.Disabled):
+        return axis.state.name
+    if axis.group is not None:
+        return "in an axes group"
+    if axis.sp_vel != 0.0:
+        return f"set velocity {axis.sp_vel:g}"
+    return ""
+
+
+REST = "come to rest"
+"""The step a demo's sequence ends with before its last: its Execute inputs fallen, couplings
+and groups ended, it is complete once the axes are :func:`at_rest`."""
 
 
 def never() -> bool:
@@ -53,7 +79,8 @@ class StepSequence:
 
     A subclass may declare its steps as a table (:meth:`declare`): then each scan runs its
     blocks and calls :meth:`advance`, which stops on an error of a block the step watches and
-    otherwise goes on once the step is complete.
+    otherwise goes on once the step is complete. A demo's sequence ends with :data:`REST`
+    before its last step, so that it is done with its axes at rest.
     """
 
     STEPS: ClassVar[tuple[str, ...]] = ("done",)
@@ -122,6 +149,9 @@ class StepSequence:
 
 class DemoProgram(Protocol):
     """A machine's demo: a PLC program (call once per PLC cycle) that reports its progress.
+    It is ``done`` only once every axis it drove is :func:`at_rest` (its couplings and groups
+    ended, the Execute of its MC_Stop fallen), so that the next program (or the same demo
+    again) finds the machine ready; a :class:`StepSequence` ends with a step that waits for it.
 
     A demo may also expose a results table (optional, not part of the protocol's required
     members): an attribute or property ``results``, a sequence of rows, oldest first, each a
@@ -133,7 +163,7 @@ class DemoProgram(Protocol):
 
     @property
     def done(self) -> bool:
-        """The demo has finished."""
+        """The demo has finished, its axes at rest."""
         ...
 
     @property

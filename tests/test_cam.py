@@ -515,3 +515,126 @@ def test_a_cam_waiting_for_the_boundary_is_replaced_and_a_phase_shift_carries_ov
     samples = [x for x in recorder.samples if x.master > m_c + 1.0]
     steps = [abs(b.slave_velocity - a.slave_velocity) for a, b in itertools.pairwise(samples)]
     assert max(steps) < 2.0, "no jump of the set-point velocity [mm/s per servo cycle]"
+
+
+def _lift_and_return(rise: float, length: float) -> mcl.MC_CAM_REF:
+    """A 3-4-5 lift of ``rise`` [mm] over ``length`` [mm] of master and the same return: its
+    steepest curvature is 10/√3 · rise/length² (VDI 2143), inside each segment."""
+    P5 = CamLaw.Polynomial5
+    return mcl.MC_CAM_REF(
+        Points=[(0.0, 0.0, 0.0, 0.0, P5), (length, rise, 0.0, 0.0, P5), (2.0 * length, 0.0)]
+    )
+
+
+@pytest.mark.parametrize("share", [1.005, 0.995], ids=["0.5 % beyond", "0.5 % within"])
+def test_a_table_beyond_only_the_slaves_acceleration_is_refused_and_the_move_goes_on(share):
+    """At 100 mm/s of master a lift needing ``share`` × the slave's maximum acceleration (its
+    speed well within Vmax): beyond it, MC_CamIn gives ECamLimit at the edge and the slave's
+    running MC_MoveVelocity goes on untouched; within it, the slave is cammed."""
+    machine = make_machine("MS")
+    master_running(machine)
+    M, S = machine.axes["M"], machine.axes["S"]
+    move = mcl.MC_MoveVelocity(Axis=S, Velocity=20.0)
+    machine.run(lambda: move(Execute=True), until=lambda: move.InVelocity, timeout=1.0)
+    length = 2.0
+    rise = share * S.config.max_acceleration / (10.0 / math.sqrt(3.0) / length**2 * SPEED**2)
+    lift = _lift_and_return(rise, length)
+    assert S.constants is not None
+    assert 1.875 * rise / length * SPEED < 0.5 * S.constants.Vmax, "the speed is not the limit"
+    table_id = select(M, S, lift, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
+    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    if share > 1.0:
+        _left_alone(machine, lambda: cam(Execute=True))
+        assert cam.Error and cam.ErrorID == mcl.ErrorID.ECamLimit and not cam.Active
+    else:
+        machine.run(lambda: cam(Execute=True), timeout=0.2)
+        assert cam.InSync and not cam.Error and S.state == mcl.AxisState.SynchronizedMotion
+
+
+def test_the_slaves_acceleration_set_point_adds_slope_times_the_masters_acceleration(machine):
+    """While the master speeds up from 100 to 400 mm/s at 500 mm/s², the slave's set point
+    acceleration is the chain rule at every servo instant: curvature · (MasterScaling·v)² +
+    slope · MasterScaling · a (table coordinate τ = MasterScaling · master travel)."""
+    M, S = machine.axes["M"], machine.axes["S"]
+    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
+    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id, MasterScaling=0.5)
+    faster = mcl.MC_MoveVelocity(Axis=M, Velocity=400.0, Acceleration=500.0)
+    start: list[float] = []
+    samples: list[tuple[float, float, float, float]] = []
+
+    def record(t: float) -> None:
+        if start:
+            samples.append((M.sp_pos, M.sp_vel, M.sp_acc, S.sp_acc))
+
+    def program() -> None:
+        if not start:
+            start.append(M.sp_pos)
+        cam(Execute=True)
+        faster(Execute=True)
+
+    machine.runtime.observers.append(record)
+    machine.run(program, until=lambda: faster.InVelocity, timeout=1.0)
+    ramp = [x for x in samples[1:] if x[2] > 400.0]
+    assert len(ramp) > 100 and cam.InSync and not cam.Error
+    for m, v, a, slave_acceleration in ramp:
+        _, slope, curvature = CAM.at(0.5 * (m - start[0]))
+        expected = curvature * (0.5 * v) ** 2 + slope * 0.5 * a
+        assert slave_acceleration == pytest.approx(expected, abs=1e-6)
+    assert max(abs(CAM.at(0.5 * (m - start[0]))[1] * 0.5 * a) for m, _, a, _ in ramp) > 100.0
+
+
+def test_slave_offset_shifts_a_relative_slave(machine):
+    """SlaveAbsolute FALSE: the slave follows the table from where it stood plus SlaveOffset
+    (ramped in over MasterStartDistance), s = s_c + SlaveOffset + CAM(τ)."""
+    M, S = machine.axes["M"], machine.axes["S"]
+    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
+    cam = mcl.MC_CamIn(
+        Master=M,
+        Slave=S,
+        CamTableID=table_id,
+        SlaveOffset=5.0,
+        StartMode=mcl.MC_StartMode.mcRampIn,
+        MasterStartDistance=20.0,
+    )
+    start: list[tuple[float, float]] = []
+
+    def program() -> None:
+        if not start:
+            start.append((M.sp_pos, S.sp_pos))
+        cam(Execute=True)
+
+    machine.run(program, timeout=0.5)
+    m_c, s_c = start[0]
+    assert M.sp_pos - m_c > 40.0 and cam.InSync
+    assert S.sp_pos == pytest.approx(s_c + 5.0 + CAM.at(M.sp_pos - m_c)[0], abs=1e-9)
+
+
+def test_in_sync_falls_with_execute_while_the_cam_stays_active(machine):
+    """InSync follows Execute: once shown it falls when Execute falls, the cam going on
+    (Active, the slave in SynchronizedMotion); a cam whose Execute fell before it was in sync
+    (the next one, waiting for the period boundary, then ramping in) shows InSync for one
+    scan."""
+    M, S = machine.axes["M"], machine.axes["S"]
+    inputs = dict(Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
+    table_id = select(M, S, LIFT, **inputs)
+    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    machine.run(lambda: cam(Execute=True), until=lambda: cam.InSync, timeout=0.1)
+    seen: list[tuple[bool, bool]] = []
+    machine.run(
+        scan(lambda: cam(Execute=False), lambda: seen.append((cam.Active, cam.InSync))),
+        timeout=5 * PLC,
+    )
+    assert seen and all(active and not in_sync for active, in_sync in seen), seen
+    assert S.state == mcl.AxisState.SynchronizedMotion
+    ramp = mcl.MC_CamIn(
+        Master=M,
+        Slave=S,
+        CamTableID=table_id,
+        StartMode=mcl.MC_StartMode.mcRampIn,
+        MasterStartDistance=20.0,
+    )
+    machine.run(lambda: ramp(Execute=True), timeout=PLC)
+    assert ramp.Active and not ramp.InSync
+    shown: list[bool] = []
+    machine.run(scan(lambda: ramp(Execute=False), lambda: shown.append(ramp.InSync)), timeout=3.0)
+    assert shown.count(True) == 1 and ramp.Active, shown

@@ -9,7 +9,7 @@ import pytest
 import mcl
 from scenes.scene import Scene
 from tests.test_viewer_session import FakeClock, run
-from viewer.cam_panel import info_html, plot_data
+from viewer.cam_panel import info_html, plot_data, plot_style
 from viewer.cam_view import CamView
 from viewer.session import Session
 
@@ -148,3 +148,28 @@ def test_the_cam_view_is_gone_once_the_slave_is_uncoupled(
     sess.stop_all()
     run(sess, clock, 0.3)
     assert not sess.snapshot.cams
+
+
+def test_a_modulo_slave_shows_its_actual_position_in_the_tables_period() -> None:
+    """The rotary cutter's drum (modulo 360°) on its cam: the actual position the view gives is
+    the set point's, within the servo's following error, in the same period (not the wrapped
+    axis position against a continuous set point), and the plot's scales are the profile's
+    (finite: the markers' rows, NaN but at the operating point, do not set them)."""
+    clock = FakeClock()
+    sess = Session("rotary_cutter", clock=clock)
+    sess.start_demo()
+    for _ in range(60):
+        run(sess, clock, 0.25)
+        if sess.snapshot.cams and sess.snapshot.demo.step.startswith("cut"):
+            break
+    views = sess.snapshot.cams
+    assert views and views[0].slave == "D" and views[0].in_sync, sess.snapshot.demo.step
+    view = views[0]
+    assert 0.0 <= view.set_slave <= 360.0
+    assert abs(view.actual_slave - view.set_slave) < 1.0, (view.actual_slave, view.set_slave)
+    _, _, scales = plot_style(view)
+    ranges = {name: scale["range"] for name, scale in scales.items()}
+    for name, (low, high) in ranges.items():
+        assert low is not None and high is not None and np.isfinite([low, high]).all(), name
+    low, high = ranges["y0"]
+    assert low is not None and high is not None and low <= 0.0 and high >= 360.0

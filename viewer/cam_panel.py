@@ -67,18 +67,37 @@ def plot_data(view: CamView) -> tuple[npt.NDArray[np.float64], ...]:
     return (p.master, p.slave, p.velocity, p.acceleration, *markers)
 
 
+def value_range(values: npt.NDArray[np.float64], margin: float = 0.05) -> tuple[float, float]:
+    """A y range holding ``values`` with ``margin`` of its span on either side; a flat trace
+    gets a span of a tenth of its size (or 1 at 0)."""
+    low, high = float(np.min(values)), float(np.max(values))
+    span = high - low
+    if span <= 1e-12 * max(abs(low), abs(high), 1.0):
+        span = 0.1 * max(abs(low), abs(high)) or 1.0
+        middle = 0.5 * (low + high)
+        low, high = middle - 0.5 * span, middle + 0.5 * span
+    return low - margin * span, high + margin * span
+
+
 def plot_style(
     view: CamView,
 ) -> tuple[
     tuple[viser.uplot.Series, ...], tuple[viser.uplot.Axis, ...], dict[str, viser.uplot.Scale]
 ]:
-    """Series, axes (one y axis per trace, in its unit and colour) and scales of the plot."""
+    """Series, axes (one y axis per trace, in its unit and colour) and scales of the plot: fixed
+    ranges from the profile (the master over one period, each trace with a margin), so that
+    the markers' rows, NaN but at the operating point, leave the scales alone."""
     su, mu = view.slave_unit, view.master_unit
+    p = view.profile
     labels = (f"slave [{su}]", f"ds/dm [{su}/{mu}]", f"d²s/dm² [{su}/{mu}²]")
+    traces = (p.slave, p.velocity, p.acceleration)
     series = [viser.uplot.Series(label=f"master [{mu}] (table)")]
     axes = [viser.uplot.Axis(label=series[0]["label"])]
-    scales: dict[str, viser.uplot.Scale] = {"x": viser.uplot.Scale(time=False, auto=True)}
-    for k, (label, color) in enumerate(zip(labels, COLORS, strict=True)):
+    x_range = (float(p.master[0]), float(p.master[-1]))
+    scales: dict[str, viser.uplot.Scale] = {
+        "x": viser.uplot.Scale(time=False, auto=False, range=x_range)
+    }
+    for k, (label, color, trace) in enumerate(zip(labels, COLORS, traces, strict=True)):
         series.append(viser.uplot.Series(label=label, stroke=color, width=1.5, scale=f"y{k}"))
         axes.append(
             viser.uplot.Axis(
@@ -90,7 +109,7 @@ def plot_style(
                 size=52.0,
             )
         )
-        scales[f"y{k}"] = viser.uplot.Scale(auto=True)
+        scales[f"y{k}"] = viser.uplot.Scale(auto=False, range=value_range(trace))
     for label, color in POINT_COLORS.items():
         series.append(
             viser.uplot.Series(

@@ -42,7 +42,8 @@ class CamView:
         table_slave: The table's value there, CAM(``table_master``) [slave u].
         set_slave: The slave's set point in table units, (set point − offset)/SlaveScaling,
             reduced to the same period [slave u].
-        actual_slave: The slave's actual position in table units, likewise [slave u].
+        actual_slave: The slave's actual position in table units, likewise (a modulo slave's
+            continuous position, not its wrapped POS) [slave u].
         cycle: The period number of the table coordinate.
         master_offset: MC_CamIn's MasterOffset [master u].
         slave_offset: MC_CamIn's SlaveOffset [slave u].
@@ -127,7 +128,7 @@ def _view(name: str, axis: mcl.Axis, cmd: CamIn, master: str, cache: ProfileCach
         table_slave = cam.at(tau_abs)[0] - base
         k = cmd.slave_scaling
         set_slave = (axis.sp_pos - cmd.base) / k - base
-        actual_slave = (axis.POS - cmd.base) / k - base
+        actual_slave = (axis.actual - cmd.base) / k - base  # continuous, as the set point
     return CamView(
         slave=name,
         master=master,

@@ -1,7 +1,9 @@
 """The demo program a viewer session runs (:class:`DemoRun`): the program, where it stands (step,
 error, done, runs), its results table and Repeat demo. The session's simulation thread starts it,
 scans it every PLC cycle and samples it for each snapshot; a program that raises or reports an
-error ends, and the viewer lives on.
+error ends, and the viewer lives on. A program that finishes with an axis not at rest (in
+StandStill or Disabled, outside a group) is reported (its error, the history) and not repeated:
+it could not run again.
 """
 
 from __future__ import annotations
@@ -9,8 +11,10 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 
+import mcl
 import mcl.st
 from scenes import DemoProgram
+from scenes.program import unrest
 from scenes.scene import Scene
 from viewer.snapshot import DemoView, results_of
 
@@ -53,6 +57,7 @@ class DemoRun:
         self.results: Results = ((), ())
         """The program's results table, as last sampled."""
         self._repeat_at: float | None = None
+        self._axes: dict[str, mcl.Axis] = {}
 
     def begin(self, factory: Callable[[Scene], DemoProgram], scene: Scene, name: str) -> bool:
         """Make a fresh program with ``factory`` for ``scene`` (named ``name``) and run it;
@@ -70,6 +75,7 @@ class DemoRun:
             self._record_event("demo", self.error)
             return False
         self.runs += 1
+        self._axes = dict(scene.axes)
         return True
 
     def scan(self, now: float, name: str) -> str:
@@ -90,7 +96,12 @@ class DemoRun:
                 self._record_event("demo", error)
                 return "ended"
             if program.done:
-                self._repeat_at = now + REPEAT_PAUSE
+                restless = self._restless()
+                if restless:  # reported, and not repeated: it could not run again
+                    self.error = restless
+                    self._record_event("demo", restless)
+                else:
+                    self._repeat_at = now + REPEAT_PAUSE
                 return "ended"
         elif program is not None and self._repeat_at is not None:
             if not self.repeat:
@@ -98,6 +109,18 @@ class DemoRun:
             elif now >= self._repeat_at - 1e-9:
                 return "repeat"
         return ""
+
+    def _restless(self) -> str:
+        """Why the finished program left the machine unable to run again ("": it did not)."""
+        axes = [
+            f"{name} {unrest(a)}" for name, a in self._axes.items() if a.has_drive and unrest(a)
+        ]
+        if not axes:
+            return ""
+        return (
+            f"the demo finished with {', '.join(axes)}: it must leave every axis at rest "
+            f"(StandStill or Disabled, outside any group) to run again"
+        )
 
     def sample(self) -> None:
         """Take the program's step, done and results for a snapshot."""

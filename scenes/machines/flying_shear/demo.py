@@ -13,7 +13,7 @@ from mcl.errors import check_finite
 from scenes.machines.flying_shear.axes import HOMING, SENSOR_DELAY
 from scenes.machines.flying_shear.devices import MARK_PITCH, Cut, CutRecorder
 from scenes.procedures import HomeAxis
-from scenes.program import Block, StepSequence, never
+from scenes.program import REST, Block, StepSequence, at_rest, never
 from scenes.scene import Scene
 
 
@@ -122,7 +122,8 @@ class Demo(StepSequence):
     """The flying-shear program: power the line and the carriage, home the carriage, bring the
     line to speed, then cut ``job.cuts`` times with MC_GearInPos (length: Zeroing 1, the next
     cut ``length`` after the last; mark: Zeroing 2, the cut at each print mark), the knife down
-    only when InSync, the carriage back with an Aborting MC_MoveAbsolute; finally stop the line.
+    only when InSync, the carriage back with an Aborting MC_MoveAbsolute; finally stop the line
+    (its MC_Stop released: every axis at rest, the demo may run again).
 
     ``recorder`` holds every cut measured from the physics; ``step`` names the cut, its phase
     and the last piece's length and error.
@@ -139,6 +140,7 @@ class Demo(StepSequence):
         "measure the print pitch",
         *PHASES,
         "stop the line",
+        REST,
         "done",
     )
 
@@ -148,6 +150,8 @@ class Demo(StepSequence):
         L, W, S = (scene.axes[n] for n in ("L", "W", "S"))
         self.L, self.W, self.S = L, W, S
         self.recorder = scene.device("cuts", CutRecorder)
+        self.first = len(self.recorder.cuts)
+        """Cuts the recorder held before this run (an earlier run's)."""
         self.power = [mcl.MC_Power(Axis=L), mcl.MC_Power(Axis=S)]
         self.home = HomeAxis(S, HOMING["S"])
         self.park = mcl.MC_MoveAbsolute(
@@ -232,6 +236,7 @@ class Demo(StepSequence):
             step(PHASES[2], lambda: self._elapsed() >= job.knife_up),
             step(PHASES[3], lambda: self.back.Done, self._after_cut),
             step("stop the line", lambda: self.line_stop.Done),
+            step(REST, lambda: at_rest(self.scene.axes.values())),
             step("done", never),
         )
 
@@ -292,15 +297,26 @@ class Demo(StepSequence):
         if self.stage != "cut":
             return self.stage
         text = f"cut {self.cut} of {self.job.cuts}: {PHASES[self.phase]}"
-        last = self.recorder.cuts[-1] if self.recorder.cuts else None
+        cuts = self.cuts
+        last = cuts[-1] if len(cuts) > 1 else None
         if self.phase == 0 and last is not None and last.length is not None:
-            text += f"  (piece {len(self.recorder.cuts) - 1}: {self._piece(last)})"
+            text += f"  (piece {len(cuts) - 1}: {self._piece(last)})"
         return text
+
+    @property
+    def cuts(self) -> list[Cut]:
+        """This run's cuts, from the physics; the first is its head cut (the length the
+        recorder gives it runs from an earlier run's last cut, not a piece)."""
+        return self.recorder.cuts[self.first :]
+
+    def pieces(self) -> list[Cut]:
+        """This run's cuts that end a piece (all but its head cut)."""
+        return [c for c in self.cuts[1:] if c.length is not None]
 
     def errors(self) -> list[float]:
         """Per piece the error [mm]: its length minus ``job.length`` (length mode) or the
         cut's distance from its mark (mark mode), from the physics."""
-        cuts = [c for c in self.recorder.cuts if c.length is not None]
+        cuts = self.pieces()
         if self.job.mode == "mark":
             return [c.mark for c in cuts]
         return [c.length - self.job.length for c in cuts if c.length is not None]
@@ -310,14 +326,15 @@ class Demo(StepSequence):
         """One row per cut, from the physics: its length and error, its distance from the print
         mark, the carriage/strip speed mismatch and the blade's drag (shown by the viewer)."""
         rows: list[dict[str, float | int | None]] = []
-        for k, cut in enumerate(self.recorder.cuts):
+        for k, cut in enumerate(self.cuts):
+            length = cut.length if k > 0 else None
             error = None
-            if cut.length is not None:
-                error = cut.mark if self.job.mode == "mark" else cut.length - self.job.length
+            if length is not None:
+                error = cut.mark if self.job.mode == "mark" else length - self.job.length
             rows.append(
                 {
                     "cut": k,
-                    "length [mm]": cut.length,
+                    "length [mm]": length,
                     "error [mm]": error,
                     "from mark [mm]": cut.mark,
                     "mismatch [%]": 100.0 * cut.speed_mismatch,
@@ -368,7 +385,7 @@ class Demo(StepSequence):
         """Cut-length correction: the pieces the gauge measured since the last cut give the
         wheel's scale (master travel per piece over its measured length)."""
         job = self.job
-        cuts = self.recorder.cuts
+        cuts = self.cuts
         for k in range(len(self.scales) + 1, min(len(cuts), len(self.travels))):
             length = cuts[k].length
             assert length is not None

@@ -12,7 +12,8 @@ from scenes.scene import Scene
 
 
 class CutGauge:
-    """FS_CutGauge: the cuts the machine made so far, measured from the physics.
+    """FS_CutGauge: the cuts the machine made since the program started, measured from the
+    physics (a program run again counts its own cuts).
 
     Inputs: Index (the cut, from 0). Outputs: Count (cuts so far), Valid (cut Index has a
     piece length), Length (that length [mm]: from the previous cut; 0 when not Valid).
@@ -27,6 +28,8 @@ class CutGauge:
 
     def __init__(self, recorder: CutRecorder) -> None:
         self.recorder = recorder
+        self.first = len(recorder.cuts)
+        """Cuts made before the program started."""
         self.Index = 0
         self.Count = 0
         self.Valid = False
@@ -35,8 +38,9 @@ class CutGauge:
     def __call__(self) -> None:
         """One scan: the outputs of cut ``Index`` now."""
         cuts = self.recorder.cuts
-        self.Count = len(cuts)
-        length = cuts[self.Index].length if 0 <= self.Index < len(cuts) else None
+        self.Count = len(cuts) - self.first
+        index = self.first + self.Index
+        length = cuts[index].length if 0 <= self.Index < self.Count else None
         self.Valid = length is not None
         self.Length = length if length is not None else 0.0
 

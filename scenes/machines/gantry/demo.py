@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 import mcl
 from scenes.machines.gantry.axes import HOMING
 from scenes.procedures import HomeAxis
-from scenes.program import Step, StepSequence
+from scenes.program import REST, Step, StepSequence, at_rest
 from scenes.scene import Scene
 
 B = mcl.MC_BufferMode
@@ -36,7 +36,8 @@ DWELL = 0.3
 
 class Demo(StepSequence):
     """The gantry demo: power, home Z then X and Y (REF + index), group the axes, then a
-    pick-and-place cycle along straight lines (MC_MoveLinearAbsolute) with blended corners.
+    pick-and-place cycle along straight lines (MC_MoveLinearAbsolute) with blended corners;
+    finally the group is disabled and taken apart (every axis at rest, single again).
 
     Call once per PLC cycle; ``step`` says what it is doing, ``done`` when finished.
     """
@@ -51,6 +52,7 @@ class Demo(StepSequence):
         "carry to the place position",
         "release",
         "return to park",
+        REST,
         "done",
     )
     BATCH_OF: ClassVar[dict[str, int]] = {
@@ -69,6 +71,8 @@ class Demo(StepSequence):
         self.home = {n: HomeAxis(scene.axes[n], HOMING[n]) for n in ("X", "Y", "Z")}
         self.add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=axis) for axis in self.axes]
         self.enable = mcl.MC_GroupEnable(AxesGroup=group)
+        self.disable = mcl.MC_GroupDisable(AxesGroup=group)
+        self.ungroup = mcl.MC_UngroupAllAxes(AxesGroup=group)
         self.moves = [
             [
                 mcl.MC_MoveLinearAbsolute(
@@ -106,6 +110,11 @@ class Demo(StepSequence):
             self._batch("carry to the place position"),
             Step("release", self._dwelt),
             self._batch("return to park"),
+            Step(
+                REST,
+                lambda: self.ungroup.Done and at_rest(self.axes),
+                {"disable": self.disable, "ungroup": self.ungroup},
+            ),
             Step("done"),
         )
 
@@ -137,6 +146,10 @@ class Demo(StepSequence):
             add()
         self.enable.Execute = grouping and self.add[-1].Done
         self.enable()
+        self.disable.Execute = step == REST
+        self.disable()
+        self.ungroup.Execute = self.disable.Done
+        self.ungroup()
         batch_of = self.BATCH_OF
         for b, moves in enumerate(self.moves):
             start = batch_of.get(step) == b

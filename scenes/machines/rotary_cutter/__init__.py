@@ -15,6 +15,7 @@ to the wheel with MC_GearIn, tip speed = web speed, so each piece is one blade p
 
 from scenes.machines.rotary_cutter.axes import (
     AXES,
+    CUT_FORCE,
     GEAR_RATIO,
     HOMING,
     PREFIX,
@@ -35,6 +36,7 @@ step)."""
 
 __all__ = [
     "AXES",
+    "CUT_FORCE",
     "DEVICES",
     "DRUM_SPEED_LIMIT",
     "GEAR_RATIO",

@@ -27,6 +27,9 @@ TIP_CIRCUMFERENCE = 500.0
 """The blades' tip circle [mm] (r = 79.577 mm)."""
 SENSOR_DELAY = 0.0005
 """Mark sensor delay [s] (contrast scanner and input filter)."""
+CUT_FORCE = 2000.0
+"""The force the web resists a blade with [N]: the board's 5 N/mm (its data) over the 400 mm
+width; what the demos set the drive's cutting-force feed-forward for."""
 GEAR_RATIO = (18, 25)
 """Drum degrees per mm of web at tip speed = web speed: 360/500 = 18/25 (MC_GearIn's INTs)."""
 

@@ -15,15 +15,17 @@ from typing import Any
 
 import mcl
 from mcl.errors import check_finite
-from scenes.machines.rotary_cutter.axes import HOMING, SENSOR_DELAY, TIP_CIRCUMFERENCE
+from scenes.machines.rotary_cutter.axes import CUT_FORCE, HOMING, SENSOR_DELAY, TIP_CIRCUMFERENCE
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.machines.rotary_cutter.marks import MARK_FIRST, MARK_PITCH, PRINT_MARKS, PrintMarks
 from scenes.procedures import HomeAxis
-from scenes.program import Block, StepSequence, never
+from scenes.program import REST, Block, StepSequence, at_rest, never
 from scenes.scene import Scene
 
 CUT_ANGLE = 90.0
 """Drum angle at which blade 1 points down at the anvil [°] (the cam's slave 0)."""
+COUPLED = ("couple the cam", "start the web", "measure the print pitch", "cut", "stop the web")
+"""The steps in which the drum is on its cam."""
 REGISTER_MARKS = 5
 """Marks the scale is learned over (four print pitches: the print errors of the inner marks
 cancel)."""
@@ -40,6 +42,13 @@ class Batch:
         check_finite(self, ("length",), True)
         if self.cuts < 1:
             raise ValueError(f"Batch.cuts must be >= 1, got {self.cuts}")
+
+
+def stopping_distance(speed: float, acceleration: float) -> float:
+    """The web's travel from MC_Stop at ``speed`` [mm/s] to a standstill, decelerating at
+    ``acceleration`` [mm/s²] with a jerk of 10 × it [mm]."""
+    jerk = 10.0 * acceleration
+    return speed * speed / (2.0 * acceleration) + speed * acceleration / (2.0 * jerk)
 
 
 def _short_and_long() -> tuple[Batch, ...]:
@@ -64,6 +73,9 @@ class CamJob:
         register: cut at the print marks: every mark the probe latches gives the distance of
             its cut from the next period boundary, and MC_Phasing shifts the cam by it (every
             batch's length must then be the print pitch).
+        cut_force: the force the web resists the blade with, as the drive's cutting-force
+            feed-forward is set for [N] (:attr:`KnifeDrum.feed_forward`; 0: off); default the
+            board's 5 N/mm over its 400 mm width.
     """
 
     batches: tuple[Batch, ...] = field(default_factory=_short_and_long)
@@ -74,9 +86,11 @@ class CamJob:
     scale: float = 1.0
     learn_scale: bool = True
     register: bool = False
+    cut_force: float = CUT_FORCE
 
     def __post_init__(self) -> None:
         check_finite(self, ("speed", "sync_angle", "acceleration", "scale"), True)
+        check_finite(self, ("cut_force",), False)
         if not self.batches:
             raise ValueError("CamJob.batches must name at least one Batch(length, cuts)")
         if self.blades not in (None, 1, 2):
@@ -84,6 +98,14 @@ class CamJob:
         if not 0.5 <= self.scale <= 2.0:
             raise ValueError(
                 f"CamJob.scale must be within 0.5 … 2 (1: a perfect wheel), got {self.scale}"
+            )
+        last = self.batches[-1]
+        stopping = stopping_distance(self.speed, self.acceleration)
+        if (last.cuts + 0.5) * last.length < stopping:
+            raise ValueError(
+                f"CamJob: the web needs {stopping:g} mm to stop from {self.speed:g} mm/s; the "
+                f"last batch ({last.cuts} × {last.length:g} mm) must be at least that long less "
+                f"half a piece: more pieces or a steeper acceleration"
             )
         pitch = 1000.0 * MARK_PITCH
         if self.register and any(b.length != pitch for b in self.batches):
@@ -94,15 +116,16 @@ class CamJob:
 
 
 class CamDemo(StepSequence):
-    """Cut to length with the drum on a cam: power, home the drum, turn it to the middle of a
-    period, couple it to the measuring wheel (MC_CamIn, mcAbsolute, the table started half a
-    piece before its first cut), run the web up, learn the wheel's scale over the print marks,
-    then cut each batch at ``MasterScaling = 1/scale``; a batch's table is selected and its
-    MC_CamIn issued half a piece after a period boundary, the blade clear of the web, so it
-    takes over at the next one (a table or cam refused leaves the running one cutting: no
-    wrong cut). Finally
-    the web stops with the blades clear of it (the stop planned to end half a piece after a
-    cut).
+    """Cut to length with the drum on a cam: power, home the drum (unless a run before homed
+    it), turn it to the middle between two cuts without a blade passing the web, couple it to
+    the measuring wheel (MC_CamIn, mcAbsolute, the table started half a piece before its first
+    cut), run the web up, learn the wheel's scale over the print marks,
+    then cut each batch at ``MasterScaling = 1/scale``; the next batch's table is selected and
+    its MC_CamIn issued half a piece before the running batch's last cut, the blade clear of
+    the web, so it takes over at that cut (a table or cam refused leaves the running one
+    cutting: no wrong cut). Finally the web stops with the blades clear of it (the stop
+    planned to end half a piece after the last batch's last cut) and MC_Halt ends the drum's
+    cam: every axis at rest, the demo may run again.
 
     Args:
         scene: the rotary-cutter scene.
@@ -119,6 +142,7 @@ class CamDemo(StepSequence):
         "measure the print pitch",
         "cut",
         "stop the web",
+        REST,
         "done",
     )
 
@@ -133,6 +157,7 @@ class CamDemo(StepSequence):
         self.drum = scene.device("drum", KnifeDrum)
         if job.blades is not None:
             self.drum.blades = job.blades
+        self.drum.feed_forward = job.cut_force
         blades = self.drum.blades
         self.pitch = 360.0 / blades
         """Drum angle per cut [°]."""
@@ -140,39 +165,21 @@ class CamDemo(StepSequence):
         lengths = [job.batches[0].length, *(b.length for b in job.batches)]
         self.lengths = lengths
         """The piece length of each cam [mm]."""
-        tables = [mcl.rotary_knife(x, TIP_CIRCUMFERENCE, blades, job.sync_angle) for x in lengths]
-        self.selects = [
-            mcl.MC_CamTableSelect(
-                Master=W,
-                Slave=D,
-                CamTable=t,
-                Periodic=True,
-                MasterAbsolute=False,
-                SlaveAbsolute=k == 0,
-            )
-            for k, t in enumerate(tables)
-        ]
-        self.cams = [
-            mcl.MC_CamIn(
-                Master=W,
-                Slave=D,
-                StartMode=mcl.MC_StartMode.mcAbsolute,
-                MasterOffset=0.5 * lengths[0] if k == 0 else 0.0,
-                SlaveOffset=CUT_ANGLE if k == 0 else 0.0,
-                MasterScaling=1.0 / job.scale,
-            )
-            for k in range(len(tables))
-        ]
+        self.selects, self.cams = self._cam_blocks(blades)
         self.power = [mcl.MC_Power(Axis=L), mcl.MC_Power(Axis=D)]
         self.home = HomeAxis(D, HOMING["D"])
+        self.referenced = D.Ref
+        """The drum had its reference when the program began (a run before this one homed
+        it): it is not homed again."""
         self.start = mcl.MC_MoveAbsolute(
             Axis=D,
-            Position=(CUT_ANGLE + 0.5 * self.pitch) % 360.0,
             Velocity=180.0,
             Acceleration=2000.0,
             Deceleration=2000.0,
-            Direction=mcl.MC_Direction.MC_Positive,
+            Direction=mcl.MC_Direction.MC_Shortest,
         )
+        """Turns the drum to the middle between the cuts it stands between (no blade passes
+        the standing web); set once the drum is homed (:meth:`_after_homing`)."""
         self.line = mcl.MC_MoveVelocity(
             Axis=L,
             Velocity=job.speed,
@@ -183,6 +190,8 @@ class CamDemo(StepSequence):
         self.line_stop = mcl.MC_Stop(
             Axis=L, Deceleration=job.acceleration, Jerk=10.0 * job.acceleration
         )
+        self.drum_halt = mcl.MC_Halt(Axis=D, Deceleration=10000.0)
+        """Ends the cam once the web stands (the drum stands with it)."""
         self.probe = mcl.MC_TouchProbe(Axis=W)
         self.phasing = mcl.MC_Phasing(
             Master=W, Slave=D, Velocity=500.0, Acceleration=5000.0, Deceleration=5000.0
@@ -210,22 +219,26 @@ class CamDemo(StepSequence):
         self._shift_pending = False
         self._shift_from = 0.0
         self.blocks: dict[str, Any] = {"home": self.home, "cam": self.cams[0]}
+        self._declare_steps()
+
+    def _declare_steps(self) -> None:
+        """The step table: each step's end, what follows it; every step watches every block."""
         watched: dict[str, Block] = {
             "home": self.home,
             "start": self.start,
             "web": self.line,
             "probe": self.probe,
             "phasing": self.phasing,
+            "halt": self.drum_halt,
             "power L": self.power[0],
             "power D": self.power[1],
             **{f"table {k}": s for k, s in enumerate(self.selects)},
             **{f"cam {k}": c for k, c in enumerate(self.cams)},
         }
-
         step = self.watching(watched)
         self.declare(
             step("power on", lambda: all(p.Status for p in self.power)),
-            step("home the drum", lambda: self.home.Done),
+            step("home the drum", lambda: self.referenced or self.home.Done, self._after_homing),
             step("turn the drum to its start", lambda: self.start.Done),
             step("couple the cam", lambda: self.cams[0].InSync),
             step("start the web", lambda: self.line.InVelocity, self._after_start),
@@ -236,10 +249,51 @@ class CamDemo(StepSequence):
             ),
             step("cut", self._cut_done),
             step("stop the web", lambda: self.line_stop.Done),
+            step(REST, lambda: self.drum_halt.Done and at_rest(self.scene.axes.values())),
             step("done", never),
         )
 
+    def _cam_blocks(self, blades: int) -> tuple[list[mcl.MC_CamTableSelect], list[mcl.MC_CamIn]]:
+        """Per cam its table's MC_CamTableSelect and its MC_CamIn: cam 0 absolute on the drum
+        (the run-in, started half a piece before its first cut), the others relative."""
+        job, W, D = self.job, self.W, self.D
+        tables = [
+            mcl.rotary_knife(x, TIP_CIRCUMFERENCE, blades, job.sync_angle) for x in self.lengths
+        ]
+        selects = [
+            mcl.MC_CamTableSelect(
+                Master=W,
+                Slave=D,
+                CamTable=t,
+                Periodic=True,
+                MasterAbsolute=False,
+                SlaveAbsolute=k == 0,
+            )
+            for k, t in enumerate(tables)
+        ]
+        cams = [
+            mcl.MC_CamIn(
+                Master=W,
+                Slave=D,
+                StartMode=mcl.MC_StartMode.mcAbsolute,
+                MasterOffset=0.5 * self.lengths[0] if k == 0 else 0.0,
+                SlaveOffset=CUT_ANGLE if k == 0 else 0.0,
+                MasterScaling=1.0 / job.scale,
+            )
+            for k in range(len(tables))
+        ]
+        return selects, cams
+
     # ------------------------------------------------------------------ sequence
+    def _after_homing(self) -> str:
+        """The drum knows its angle: its start is the middle between the two blade positions
+        at the web it stands between (half a pitch from each), reached without a blade
+        passing the standing web; the run-in cam is laid so that its cuts fall on them."""
+        between = math.floor((self.D.POS - CUT_ANGLE) / self.pitch)
+        self.start.Position = (CUT_ANGLE + (between + 0.5) * self.pitch) % 360.0
+        self.cams[0].SlaveOffset = (CUT_ANGLE + between * self.pitch) % 360.0
+        return "turn the drum to its start"
+
     def _after_start(self) -> str:
         if self.job.learn_scale:
             return "measure the print pitch"
@@ -259,14 +313,18 @@ class CamDemo(StepSequence):
         self.cams[self.issued].MasterScaling = 1.0 / self.scale
 
     def _cut_done(self) -> bool:
-        """The last batch has cut its pieces: stop the web half a piece after the next cut."""
-        if self.running != len(self.cams) - 1 or self.periods < self.job.batches[-1].cuts:
+        """The last batch is cutting: stop the web so that it stands half a piece after the
+        batch's last cut (the blades clear of it)."""
+        if self.running != len(self.cams) - 1:
             return False
-        length = self.lengths[-1] * self.scale  # master mm
-        v, a, j = self.job.speed, self.job.acceleration, 10.0 * self.job.acceleration
-        stopping = v * v / (2.0 * a) + v * a / (2.0 * j)  # web to a standstill [mm]
-        trigger = (0.5 * length - stopping) % length
-        return (self.W.POS - self._boundary_master) % length >= trigger
+        period = self._period(self.running)
+        last_cut = self._boundary_master + (self.job.batches[-1].cuts - self.periods) * period
+        stop_at = (
+            last_cut
+            + 0.5 * period
+            - self.scale * stopping_distance(self.job.speed, self.job.acceleration)
+        )
+        return stop_at <= self.W.POS
 
     def failure(self, step: str, block: str, error_id: int) -> str:
         """The ``error`` text: the step, the block and its ErrorID (a table's reason too)."""
@@ -277,17 +335,17 @@ class CamDemo(StepSequence):
 
     def _boundary(self) -> None:
         """A period boundary passed: book the piece that ended; a cam issued before took over
-        here; after a batch's last piece, issue the next batch's cam."""
+        here; half a piece before the boundary that ends a batch's last piece, issue the next
+        batch's cam (it takes over at that boundary)."""
         self.boundaries.append((self.scene.time, self.running))
         self._boundary_master += self._period(self.running)
         if self.issued > self.running:  # the issued cam took over at this boundary
             self.running, self.periods = self.issued, 0
+        elif self.running > 0:
+            self.periods += 1
+        if self.running == 0 or self.running + 1 >= len(self.cams):
             return
-        if self.running == 0:
-            return
-        self.periods += 1
-        batch = self.job.batches[self.running - 1]
-        if self.periods == batch.cuts and self.running + 1 < len(self.cams):
+        if self.periods == self.job.batches[self.running - 1].cuts - 1:
             self._issue_at = self._boundary_master + 0.5 * self._period(self.running)
 
     def _period(self, cam: int) -> float:
@@ -403,9 +461,9 @@ class CamDemo(StepSequence):
         stage = self.STEPS[self.index]
         for power in self.power:
             power(Enable=True)
-        self.home(Execute=stage == "home the drum")
+        self.home(Execute=stage == "home the drum" and not self.referenced)
         self.start(Execute=stage == "turn the drum to its start")
-        coupled = stage not in ("power on", "home the drum", "turn the drum to its start")
+        coupled = stage in COUPLED
         boundary = False
         for k, (select, cam) in enumerate(zip(self.selects, self.cams, strict=True)):
             issued = coupled and k <= self.issued
@@ -441,4 +499,5 @@ class CamDemo(StepSequence):
             self._shift_pending = False
         self.line(Execute=stage in ("start the web", "measure the print pitch", "cut"))
         self.line_stop(Execute=stage == "stop the web")
+        self.drum_halt(Execute=stage == REST)
         self.advance(self.scene.time)

@@ -44,8 +44,9 @@ def _signal_piece(scene: Scene) -> float:
 
 
 def _signal_torque(scene: Scene) -> float:
-    """The drum amplifier's torque at the drum [N·m]."""
-    return float(scene.data.actuator(f"{PREFIX}D_amp").force[0])
+    """The drum amplifier's torque at the drum, its cutting-force feed-forward included [N·m]."""
+    amplifier = float(scene.data.actuator(f"{PREFIX}D_amp").force[0])
+    return amplifier + _drum(scene).feed_torque
 
 
 def _signal_current(scene: Scene) -> float:

@@ -11,10 +11,10 @@ from typing import Any
 
 import mcl
 from mcl.errors import check_finite
-from scenes.machines.rotary_cutter.axes import GEAR_RATIO, HOMING, TIP_CIRCUMFERENCE
+from scenes.machines.rotary_cutter.axes import CUT_FORCE, GEAR_RATIO, HOMING, TIP_CIRCUMFERENCE
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.procedures import HomeAxis
-from scenes.program import Block, StepSequence, never
+from scenes.program import REST, Block, StepSequence, at_rest, never
 from scenes.scene import Scene
 
 DRUM_SPEED_LIMIT = 3000.0 / 5.0
@@ -31,15 +31,19 @@ class CutterJob:
         cuts: cuts to make (the first is the head cut: ``cuts − 1`` pieces).
         blades: blades fitted (1 or 2; None: the model's ``D_blades``).
         acceleration: the web's ramp [mm/s²].
+        cut_force: the force the web resists the blade with, as the drive's cutting-force
+            feed-forward is set for [N] (:attr:`KnifeDrum.feed_forward`; 0: off).
     """
 
     speed: float = 1000.0
     cuts: int = 9
     blades: int | None = None
     acceleration: float = 2000.0
+    cut_force: float = CUT_FORCE
 
     def __post_init__(self) -> None:
         check_finite(self, ("speed", "acceleration"), True)
+        check_finite(self, ("cut_force",), False)
         if self.cuts < 1:
             raise ValueError(f"CutterJob.cuts must be >= 1, got {self.cuts}")
         if self.blades not in (None, 1, 2):
@@ -60,9 +64,11 @@ class CutterJob:
 
 class Demo(StepSequence):
     """The rotary cutter's program in geared mode: power the web feed and the drum, home the
-    drum (REF cam + motor index), gear it to the measuring wheel with MC_GearIn at 18/25 °/mm
-    (the tips' surface speed is the web's), run the web up to ``job.speed`` and let the blades
-    cut ``job.cuts`` times; then stop the web (the drum follows it down).
+    drum (REF cam + motor index; not again when a run before homed it), gear it to the
+    measuring wheel with MC_GearIn at 18/25 °/mm (the tips' surface speed is the web's), run
+    the web up to ``job.speed`` and let the blades cut ``job.cuts`` times; then stop the web
+    (the drum follows it down) and end the gearing (MC_Halt): every axis at rest, the demo may
+    run again.
 
     ``drum`` holds every cut measured from the physics; ``step`` names the cut and the last
     piece.
@@ -72,7 +78,16 @@ class Demo(StepSequence):
         job: what to cut (default: 9 cuts at 60 m/min).
     """
 
-    STEPS = ("power on", "home the drum", "gear in", "start the web", "cut", "stop the web", "done")
+    STEPS = (
+        "power on",
+        "home the drum",
+        "gear in",
+        "start the web",
+        "cut",
+        "stop the web",
+        REST,
+        "done",
+    )
 
     def __init__(self, scene: Scene, job: CutterJob | None = None) -> None:
         self.scene = scene
@@ -82,8 +97,12 @@ class Demo(StepSequence):
         self.drum = scene.device("drum", KnifeDrum)
         if job.blades is not None:
             self.drum.blades = job.blades
+        self.drum.feed_forward = job.cut_force
         self.power = [mcl.MC_Power(Axis=L), mcl.MC_Power(Axis=D)]
         self.home = HomeAxis(D, HOMING["D"])
+        self.referenced = D.Ref
+        """The drum had its reference when the program began (a run before this one homed
+        it): it is not homed again."""
         self.gear = mcl.MC_GearIn(
             Master=W,
             Slave=D,
@@ -102,6 +121,10 @@ class Demo(StepSequence):
         self.line_stop = mcl.MC_Stop(
             Axis=L, Deceleration=job.acceleration, Jerk=10.0 * job.acceleration
         )
+        self.drum_halt = mcl.MC_Halt(Axis=D, Deceleration=10000.0)
+        """Ends the gearing once the web stands (the drum stands with it)."""
+        self.start = len(self.drum.cuts)
+        """Cuts recorded before this run (an earlier run's)."""
         self.first = 0
         """Cuts recorded before the cutting began."""
         self.blocks: dict[str, Any] = {"home": self.home, "gear": self.gear}
@@ -110,6 +133,7 @@ class Demo(StepSequence):
             "home": self.home,
             "gear": self.gear,
             "web": self.line,
+            "halt": self.drum_halt,
             "power L": self.power[0],
             "power D": self.power[1],
         }
@@ -117,11 +141,12 @@ class Demo(StepSequence):
         step = self.watching(watched)
         self.declare(
             step("power on", lambda: all(p.Status for p in self.power)),
-            step("home the drum", lambda: self.home.Done),
+            step("home the drum", lambda: self.referenced or self.home.Done),
             step("gear in", lambda: self.gear.InGear),
             step("start the web", lambda: self.line.InVelocity, self._begin),
             step("cut", lambda: self.made() >= job.cuts),
             step("stop the web", lambda: self.line_stop.Done),
+            step(REST, lambda: self.drum_halt.Done and at_rest(scene.axes.values())),
             step("done", never),
         )
 
@@ -148,7 +173,7 @@ class Demo(StepSequence):
         """One row per cut, from the physics (shown by the viewer)."""
         drum = self.drum
         rows: list[dict[str, float | int | None]] = []
-        for k, cut in enumerate(drum.cuts):
+        for k, cut in enumerate(drum.cuts[self.start :]):
             rows.append(
                 {
                     "cut": k,
@@ -193,8 +218,9 @@ class Demo(StepSequence):
         stage = self.STEPS[self.index]
         for power in self.power:
             power(Enable=True)
-        self.home(Execute=stage == "home the drum")
-        self.gear(Execute=stage not in ("power on", "home the drum"))
+        self.home(Execute=stage == "home the drum" and not self.referenced)
+        self.gear(Execute=stage in ("gear in", "start the web", "cut", "stop the web"))
         self.line(Execute=stage in ("start the web", "cut"))
         self.line_stop(Execute=stage == "stop the web")
+        self.drum_halt(Execute=stage == REST)
         self.advance(self.scene.time)

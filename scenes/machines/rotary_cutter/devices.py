@@ -38,8 +38,8 @@ class Cut:
         mismatch: largest |tip − web velocity along the web| / web velocity while the tip was in
             the web [-].
         drag: largest |force of the blade on the web along it| [N].
-        torque: largest |drum torque| (the amplifier's, at the drum) since the previous cut
-            [N·m].
+        torque: largest |drum torque| (the amplifier's, its feed-forward included, at the
+            drum) since the previous cut [N·m].
         motor_torque: that torque at the motor, ``torque / (ratio·efficiency)`` [N·m].
         current: the motor current for it, ``motor_torque / Kt`` [A].
         rms_current: the rms motor current since the previous cut [A].
@@ -123,6 +123,13 @@ class KnifeDrum:
 
     ``blades`` (1 or 2) may change at rest; ``ideal()`` removes the drum's runout.
 
+    The drive's cutting-force feed-forward (``feed_forward``, the force it is told the web
+    resists with [N]; 0: off, the default): a torque feed-forward input of the amplifier, as a
+    servo drive takes one known from the process. From its own angle, 1 ms ahead along its
+    speed (its current loop's lag), and the nominal blade (no runout) it adds
+    ``feed_forward·r·sin β`` while a tip goes down through the web, through the current loop's
+    1 ms lag, within the amplifier's torque limit (:attr:`feed_torque`).
+
     Args:
         model, data: the compiled model and its data (positions current).
         prefix: the machine's name prefix in the model.
@@ -158,6 +165,14 @@ class KnifeDrum:
         self._d, self._d_dof = int(drum.qposadr[0]), int(drum.dofadr[0])
         self._m, self._m_dof = int(web.qposadr[0]), int(web.dofadr[0])
         self._amp = int(model.actuator(f"{prefix}D_amp").id)
+        self.torque_limit = float(model.actuator_forcerange[self._amp][1])
+        """The amplifier's torque limit at the drum [N·m]."""
+        self.lag = float(model.actuator_dynprm[self._amp][0])
+        """The amplifier's current-loop lag [s]."""
+        self.feed_forward = 0.0
+        """The cutting force the drive's torque feed-forward is set for [N] (0: off)."""
+        self.feed_torque = 0.0
+        """The feed-forward torque the amplifier adds now, at the drum [N·m]."""
         self._qpos: Any = memoryview(data.qpos)
         self._qvel: Any = memoryview(data.qvel)
         self._force: Any = memoryview(data.qfrc_applied)
@@ -232,12 +247,16 @@ class KnifeDrum:
     def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """The blades in the web for the coming step: forces, cuts."""
         qpos, qvel = self._qpos, self._qvel
-        torque: float = self._actuator[self._amp]
+        angle: float = qpos[self._d]
+        rate: float = qvel[self._d_dof]
+        amplifier: float = self._actuator[self._amp]
+        if self.feed_forward or self.feed_torque:
+            self._feed(angle, rate, amplifier, float(model.opt.timestep))
+        torque = amplifier + self.feed_torque
         self.peak = max(self.peak, abs(torque))
         self._square += torque * torque
         self._count += 1
-        angle: float = qpos[self._d]
-        rate: float = qvel[self._d_dof]
+        self._force[self._d_dof] = self.feed_torque
         reach = self.height / (self.radius + abs(self.runout))  # cos β where a tip may touch
         blade, beta, c = -1, 0.0, 0.0
         for k in range(self._blades):
@@ -280,7 +299,7 @@ class KnifeDrum:
         self.drag = drag
         torque_on_drum -= drag * r * c  # ∂x_tip/∂D = r·cos β
         self._force[self._m_dof] = drag
-        self._force[self._d_dof] = torque_on_drum
+        self._force[self._d_dof] = torque_on_drum + self.feed_torque
         self.deepest = max(self.deepest, depth)
         cut.depth = 1000.0 * self.deepest
         if v_web:
@@ -288,6 +307,22 @@ class KnifeDrum:
         cut.drag = max(cut.drag, abs(drag))
         if not cut.through and depth >= self.thickness:
             self._through(cut, t, web - x_tip)
+
+    def _feed(self, angle: float, rate: float, amplifier: float, dt: float) -> None:
+        """The drive's cutting-force feed-forward for the coming step (:attr:`feed_torque`):
+        its target from the angle a lag ahead, reached through the current loop's lag."""
+        ahead = angle + rate * self.lag
+        target = 0.0
+        for k in range(self._blades):
+            beta = _wrap(ahead - self.cut_angles[k])
+            depth = self.radius * math.cos(beta) - self.height
+            if 0.0 < depth < self.thickness and beta * rate < 0.0:  # on its way down
+                target = -self.feed_forward * self.radius * math.sin(beta)
+        lag = self.lag
+        follow = 1.0 - math.exp(-dt / lag) if lag > 0.0 else 1.0
+        torque = self.feed_torque + follow * (target - self.feed_torque)
+        limit = self.torque_limit
+        self.feed_torque = max(-limit - amplifier, min(limit - amplifier, torque))
 
     def _through(self, cut: Cut, t: float, travel: float) -> None:
         """The blade went through the web: a cut at web travel minus tip ``travel`` [m]."""
@@ -307,7 +342,8 @@ class KnifeDrum:
     def _leave(self, t: float) -> None:
         """The tip left the web: forces off; a pass that did not go through is a miss."""
         self.engaged, self.drag = False, 0.0
-        self._force[self._m_dof] = self._force[self._d_dof] = 0.0
+        self._force[self._m_dof] = 0.0
+        self._force[self._d_dof] = self.feed_torque
         cut = self.current
         self.current = None
         if cut is not None and not cut.through:
@@ -337,6 +373,8 @@ class KnifeDrum:
             float(len(self.cuts)),
             float(len(self.misses)),
             float(self.current is not None),
+            self.feed_forward,
+            self.feed_torque,
         ]
         rows = [x for c in [*self.cuts, *self.misses] for x in cut_values(c)]
         return np.array([*head, *current, *rows])
@@ -349,7 +387,8 @@ class KnifeDrum:
         self.engaged, self.anchor, self.deepest, self.peak = bool(v[3]), v[4], v[5], v[6]
         self._square, self._count = v[7], round(v[8])
         cuts, misses, has_current = round(v[9]), round(v[10]), bool(v[11])
-        i = 12
+        self.feed_forward, self.feed_torque = v[12], v[13]
+        i = 14
         self.current = None
         if has_current:
             self.current = cut_of(v[i : i + CUT_FIELDS])
