@@ -18,7 +18,7 @@ $(VENV)/.installed: pyproject.toml
 # the optional compiled build (mypyc), beside the sources, rebuilt when a compiled source
 # changed; pure Python where there is no C compiler
 setup: $(VENV)/.installed
-	@$(PY) -m mcl.build --if-stale mcl scenes
+	@$(PY) -m mcl.build --if-stale mcl plc scenes
 
 # the viewer starts at once: at 1x pure Python is fast enough, and a fresh compiled build is
 # used when there is one (make setup, make test and make bench build it)

@@ -11,15 +11,12 @@ from typing import Any
 
 from mcl import native
 
-COMPILED_MODULES = ("procedures",)
-"""This package's modules that the compiled build covers (run every PLC scan); its subpackages
-declare their own (see :mod:`mcl.native`)."""
 COMPILED = native.activate("scenes", __path__)
 """The per-physics-step modules (plant, drives, devices) run compiled (see :mod:`mcl.native`)."""
 
+from plc.procedures import Recipe
+from plc.sequence import DemoProgram, StepSequence
 from scenes.definition import AxisDef, MachineDef, Signal
-from scenes.procedures import Recipe
-from scenes.program import DemoProgram, StepSequence
 from scenes.registry import BUILTIN, Entry, Registry
 from scenes.scene import Scene
 

@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Literal
 import mujoco
 
 import mcl
+from plc.procedures import Recipe
+from plc.sequence import DemoProgram
 from scenes.plant.drives import Device
 from scenes.plant.mujoco import Probe
-from scenes.procedures import Recipe
-from scenes.program import DemoProgram
 
 if TYPE_CHECKING:
     from scenes.scene import Scene

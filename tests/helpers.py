@@ -8,9 +8,13 @@ from __future__ import annotations
 import asyncio
 import threading
 from collections.abc import Callable, Coroutine
+from pathlib import Path
 from typing import Any, TypeVar
 
 import mcl
+
+ROOT = Path(__file__).resolve().parent.parent
+"""The repository's root folder."""
 
 T = TypeVar("T")
 

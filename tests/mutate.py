@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TypeVar
 
-PACKAGES = ("mcl", "scenes", "viewer")
+PACKAGES = ("mcl", "plc", "scenes", "viewer")
 """The packages whose modules are mutated."""
 
 TEST_DIRS = ("tests", "examples")

@@ -18,10 +18,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from types import FrameType
 
-from viewer.external_plc import ExternalPlc
-from viewer.server import DEFAULT_HOST, DEFAULT_PORT, PortInUseError, Viewer
-from viewer.session import Session, choices
-from viewer.st_programs import ProgramCatalog
+from viewer.serving.server import DEFAULT_HOST, DEFAULT_PORT, PortInUseError, Viewer
+from viewer.sim.external_plc import ExternalPlc
+from viewer.sim.programs import ProgramCatalog
+from viewer.sim.session import Session, choices
 
 EXIT_PORT_IN_USE = 2
 """Exit status when the port is taken or the address cannot be served (also argparse's status

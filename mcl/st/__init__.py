@@ -1,23 +1,46 @@
-"""PLC programs in IEC 61131-3 Structured Text: parsed with blark, translated to Python that
-calls mcl's function blocks, compiled with ``compile()`` (see docs/st.md).
+"""Deprecated: Structured Text moved to :mod:`plc.st` (the PLC layer); ``mcl.st`` and its
+modules stay importable for one release and warn once.
 
-``mcl.st.load("prog.st", scene, mapping={"Pohon.Ax1": "X"})`` gives an :class:`STProgram`;
-``scene.run(prog)`` scans it, ``prog.Start = True`` writes a variable.
+Importing ``mcl.st`` needs what :mod:`plc.st` needs (the ``[st]`` extra).
 """
 
-from mcl.st.errors import PLCFault, STError
-from mcl.st.external import External
-from mcl.st.program import STProgram, compile_source, from_source, load
-from mcl.st.task import Task, declared_task
+import importlib
+import sys
+import warnings
 
-__all__ = [
-    "External",
-    "PLCFault",
-    "STError",
-    "STProgram",
-    "Task",
-    "compile_source",
-    "declared_task",
-    "from_source",
-    "load",
-]
+warnings.warn(
+    "mcl.st moved to plc.st: import plc.st (mcl.st goes away in the next release)",
+    DeprecationWarning,
+    stacklevel=2,
+)
+
+from plc.st import *  # noqa: F403
+from plc.st import __all__  # noqa: F401
+
+_MOVED = {
+    "arithmetic": "plc.st.codegen.arithmetic",
+    "blocks": "plc.st.runtime.blocks",
+    "calls": "plc.st.codegen.calls",
+    "catalog": "plc.st.semantics.catalog",
+    "declarations": "plc.st.semantics.declarations",
+    "errors": "plc.st.errors",
+    "expressions": "plc.st.codegen.expressions",
+    "external": "plc.st.runtime.external",
+    "functions": "plc.st.runtime.functions",
+    "hoist": "plc.st.codegen.hoist",
+    "invoke": "plc.st.codegen.invoke",
+    "io": "plc.st.runtime.io",
+    "parse": "plc.st.frontend.parse",
+    "program": "plc.st.runtime.program",
+    "scope": "plc.st.semantics.scope",
+    "standard": "plc.st.codegen.standard",
+    "statements": "plc.st.codegen.statements",
+    "task": "plc.st.runtime.task",
+    "translate": "plc.st.codegen.translate",
+    "tree_cache": "plc.st.frontend.tree_cache",
+    "types": "plc.st.semantics.types",
+}
+"""The old modules of mcl.st and where they are now."""
+
+for _old, _new in _MOVED.items():
+    sys.modules.setdefault(f"{__name__}.{_old}", importlib.import_module(_new))

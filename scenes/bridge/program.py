@@ -10,7 +10,7 @@ move_absolute   ``MC_MoveAbsolute`` Execute (position, velocity, acceleration, �
 move_relative   ``MC_MoveRelative`` Execute (distance, …)
 move_additive   ``MC_MoveAdditive`` Execute (distance, …)
 move_velocity   ``MC_MoveVelocity`` Execute (velocity; its sign gives the direction)
-home            the machine's homing recipe (``scenes.procedures.HomeAxis``) Execute
+home            the machine's homing recipe (``plc.procedures.HomeAxis``) Execute
 stop            ``MC_Stop`` Execute (deceleration; 0: the block's default)
 halt            ``MC_Halt`` Execute (deceleration; 0: the block's default)
 jog_pos/neg     ``GT_Jog`` JogPos / JogNeg (levels; |velocity| as JogVelo)
@@ -44,8 +44,8 @@ from typing import Any
 
 import mcl
 from mcl.errors import ErrorID
+from plc.procedures import HomeAxis, Recipe
 from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable
-from scenes.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
 
 log = logging.getLogger(__name__)

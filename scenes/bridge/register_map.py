@@ -8,9 +8,9 @@ import mujoco
 
 import mcl
 from mcl.errors import error_text
+from plc.procedures import BlockHoming, Recipe
 from scenes.bridge.table import AXIS_BASE, AXIS_BLOCK, AXIS_STRIDE, SignalTable
 from scenes.definition import AxisDef, MachineDef, unit_and_scale
-from scenes.procedures import BlockHoming, Recipe
 from scenes.scene import model_path
 
 SWITCHES = {"lim_neg": "LIM−", "lim_pos": "LIM+", "ref": "REF"}

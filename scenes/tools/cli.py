@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import mcl.st
+import plc.st
 import scenes
 from scenes.errors import UserError
 from scenes.tools.report import EdgeLog
@@ -43,11 +43,11 @@ def run(
     except ValueError as error:  # a TASK period the machine's servo cycle does not divide
         if task is None:
             raise
-        raise mcl.st.STError.at(task.where, f"TASK {task.name}: {error}", "") from None
+        raise plc.st.STError.at(task.where, f"TASK {task.name}: {error}", "") from None
     program: Any = (
         scenes.demo(scene)
         if st_program is None
-        else mcl.st.load(
+        else plc.st.load(
             st_program,
             scene,
             mapping=dict(m.partition("=")[::2] for m in maps),
@@ -76,7 +76,7 @@ def run(
     return 0
 
 
-def machine_blocks(scene: scenes.Scene) -> dict[str, mcl.st.External]:
+def machine_blocks(scene: scenes.Scene) -> dict[str, plc.st.External]:
     """The machine's own ST block types: ``blocks(scene)`` of its package's ``st_blocks``
     module (``scenes.machines.<name>.st_blocks``), if it has one."""
     import importlib
@@ -88,11 +88,11 @@ def machine_blocks(scene: scenes.Scene) -> dict[str, mcl.st.External]:
         if error.name not in (name, f"scenes.machines.{scene.name}"):
             raise
         return {}
-    blocks: dict[str, mcl.st.External] = module.blocks(scene)
+    blocks: dict[str, plc.st.External] = module.blocks(scene)
     return blocks
 
 
-def st_task(path: str) -> mcl.st.Task | None:
+def st_task(path: str) -> plc.st.Task | None:
     """The TASK an ST file declares (its INTERVAL is the PLC period of the scene built for it).
 
     Raises:
@@ -101,8 +101,8 @@ def st_task(path: str) -> mcl.st.Task | None:
     try:
         source = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
-        raise mcl.st.STError.at(path, f"cannot read it ({error})", "a UTF-8 ST file") from None
-    return mcl.st.declared_task(source, path)
+        raise plc.st.STError.at(path, f"cannot read it ({error})", "a UTF-8 ST file") from None
+    return plc.st.declared_task(source, path)
 
 
 def sweep(
@@ -192,7 +192,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return _command(args)
-    except (UserError, mcl.st.STError) as error:
+    except (UserError, plc.st.STError) as error:
         for line in error.lines:
             print(line, file=sys.stderr)
         return 2

@@ -15,7 +15,7 @@ import inspect
 from pathlib import Path
 from typing import Any
 
-from mcl.st.types import Elementary
+from plc.st.semantics.types import Elementary
 
 TIMEOUT = 60.0
 """Simulated seconds a run may take by default [s] (the ``timeout`` parameter)."""
@@ -38,13 +38,13 @@ class STScenario:
     """
 
     def __init__(self, target: str) -> None:
-        import mcl.st
+        import plc.st
         import scenes
 
         machine, _, path = target.partition(":")
         self.machine, self.path = machine, Path(path)
         scenes.definition(machine)  # an unknown machine: KeyError with the valid names
-        probe = mcl.st.load(self.path, scenes.load(machine, trace_every=0))
+        probe = plc.st.load(self.path, scenes.load(machine, trace_every=0))
         self.kinds: dict[str, type] = {}
         parameters = [inspect.Parameter("seed", inspect.Parameter.KEYWORD_ONLY, annotation=int)]
         for name, value in probe.variables().items():
@@ -70,11 +70,11 @@ class STScenario:
         Raises:
             RuntimeError: a run-time fault stopped the program (its ``file:line`` message).
         """
-        import mcl.st
+        import plc.st
         import scenes
 
         scene = scenes.load(self.machine, start=scenes.definition(self.machine).demo_start)
-        program = mcl.st.load(self.path, scene)
+        program = plc.st.load(self.path, scene)
         if "seed" in {n.lower() for n in program._vars}:
             program.seed = seed
         for name, value in parameters.items():

@@ -105,14 +105,14 @@ def _resolve(target: object) -> tuple[Callable[..., Mapping[str, float]] | None,
 def _st_scenario(target: str) -> tuple[Callable[..., Mapping[str, float]] | None, tuple[str, str]]:
     """The scenario of an ST program (:class:`scenes.tools.st_sweep.STScenario`), or None and
     why not."""
-    import mcl.st
+    import plc.st
     from scenes.tools.st_sweep import STScenario
 
     try:
         return STScenario(target), ("", "")
     except KeyError as error:
         return None, (str(error.args[0]), "'machine:file.st', e.g. 'gantry:examples/st/move.st'")
-    except mcl.st.STError as error:
+    except plc.st.STError as error:
         return None, (str(error), "an ST program that loads on the machine")
 
 

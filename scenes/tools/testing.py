@@ -7,7 +7,7 @@ Fixtures:
   ``--scene-plots`` (default ``scene-plots/``), named after the test.
 - ``scans``: a :class:`ScanLog` factory that records values once per PLC scan.
 - ``st_program``: a factory of IEC 61131-3 Structured Text programs for a scene,
-  ``st_program("move.st", gantry, mapping={"Pohon.Ax1": "X"})`` → :class:`mcl.st.STProgram`
+  ``st_program("move.st", gantry, mapping={"Pohon.Ax1": "X"})`` → :class:`plc.st.STProgram`
   (a relative path is found beside the test's file); its variables read and write as
   attributes (``prog.step``, ``prog.Start = True``, ``prog.Head_X.Done``), ``gantry.run(prog)``
   scans it. :func:`load_st` does the same outside a test.
@@ -51,9 +51,9 @@ from typing import Any
 import pytest
 
 import mcl
-import mcl.st
+import plc.st
 import scenes
-from scenes.procedures import HomeAxis, Recipe
+from plc.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
 
 
@@ -149,7 +149,7 @@ def max_following_error(
 
 def home(scene: Scene, *axes: str, timeout: float = 60.0, settle: float = 0.2) -> float:
     """Power and home axes of the scene with their machine's homing recipes
-    (:func:`scenes.homing`, :class:`scenes.procedures.HomeAxis`), one after the other in the
+    (:func:`scenes.homing`, :class:`plc.procedures.HomeAxis`), one after the other in the
     order given (default: every axis that has a recipe, in the machine's order). The axes stay
     powered, holding their recipes' set positions.
 
@@ -291,18 +291,18 @@ def load_st(
     path: str | Path,
     mapping: dict[str, str] | None = None,
     program: str | None = None,
-) -> mcl.st.STProgram:
-    """The ST program ``path`` loaded for ``scene`` (:func:`mcl.st.load`): AXIS_REFs bound by
+) -> plc.st.STProgram:
+    """The ST program ``path`` loaded for ``scene`` (:func:`plc.st.load`): AXIS_REFs bound by
     name or ``mapping``, I/O by address, timers on the scene's time.
 
     Raises:
         STError: the file is missing or has an error (``file:line:column: ...``).
     """
-    return mcl.st.load(path, scene, mapping=mapping, program=program)
+    return plc.st.load(path, scene, mapping=mapping, program=program)
 
 
 @pytest.fixture
-def st_program(request: pytest.FixtureRequest) -> Callable[..., mcl.st.STProgram]:
+def st_program(request: pytest.FixtureRequest) -> Callable[..., plc.st.STProgram]:
     """A factory of ST programs: ``st_program(path, scene, mapping=None, program=None)``; a
     relative ``path`` is found beside the test's file (see :func:`load_st`)."""
     here = Path(request.path).parent
@@ -312,7 +312,7 @@ def st_program(request: pytest.FixtureRequest) -> Callable[..., mcl.st.STProgram
         scene: mcl.Machine,
         mapping: dict[str, str] | None = None,
         program: str | None = None,
-    ) -> mcl.st.STProgram:
+    ) -> plc.st.STProgram:
         file = Path(path)
         return load_st(scene, file if file.is_absolute() else here / file, mapping, program)
 

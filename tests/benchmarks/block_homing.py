@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import json
 
-from tests.test_block_homing import (
+from tests.mcl.test_block_homing import (
     RELEASED_AFTER,
     SHARE,
     BlockRun,
@@ -39,7 +39,7 @@ def figures(run: BlockRun) -> dict[str, float]:
 
 
 def block_forces() -> dict[str, dict[str, float]]:
-    """Every case of tests/test_block_homing.py."""
+    """Every case of tests/mcl/test_block_homing.py."""
     return {
         "StepBlock+StepDirect X-": figures(home_to_block("X", -1)),
         "StepBlock, then StepDirect X-": figures(home_to_block("X", -1, buffered=False)),

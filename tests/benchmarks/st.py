@@ -1,5 +1,5 @@
 """Benchmark: the cost of one PLC scan of each machine's demo in Structured Text
-(examples/st/<machine>_demo.st, translated by mcl.st) against its Python version.
+(examples/st/<machine>_demo.st, translated by plc.st) against its Python version.
 
 Each demo runs from its demo start to its end; only the program's calls are timed (not the
 servo cycles or the physics between them), so the figure is what the program itself costs per
@@ -32,7 +32,7 @@ def side_by_side(machine: str) -> tuple[list[float], list[float]]:
     """Seconds of each PLC scan of the machine's ST demo and of its Python demo, run
     alternately one PLC cycle each, each to its end."""
     import scenes
-    from tests.test_st_demos import st_demo
+    from tests.plc.st.test_demos import st_demo
 
     clock = time.perf_counter
     runs = []

@@ -38,9 +38,9 @@ import time
 from contextlib import ExitStack
 from typing import TYPE_CHECKING, Any
 
-from viewer.operator import Move
-from viewer.server import Viewer
-from viewer.session import Session
+from plc.operator.hmi import Move
+from viewer.serving.server import Viewer
+from viewer.sim.session import Session
 
 if TYPE_CHECKING:
     from playwright.sync_api import Page

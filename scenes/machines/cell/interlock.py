@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from scenes.program import DemoProgram
+from plc.sequence import DemoProgram
 
 
 @dataclass

@@ -10,10 +10,10 @@ from typing import Any, Literal
 
 import mcl
 from mcl.errors import check_finite
+from plc.procedures import HomeAxis
+from plc.sequence import REST, Block, StepSequence, at_rest, never
 from scenes.machines.flying_shear.axes import HOMING, SENSOR_DELAY
 from scenes.machines.flying_shear.devices import MARK_PITCH, Cut, CutRecorder
-from scenes.procedures import HomeAxis
-from scenes.program import REST, Block, StepSequence, at_rest, never
 from scenes.scene import Scene
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-import mcl.st
+import plc.st
 from scenes.machines.flying_shear.devices import CutRecorder
 from scenes.scene import Scene
 
@@ -45,7 +45,7 @@ class CutGauge:
         self.Length = length if length is not None else 0.0
 
 
-def blocks(scene: Scene) -> dict[str, mcl.st.External]:
-    """The flying shear's own ST block types for ``scene`` (``mcl.st.load(..., blocks=...)``)."""
+def blocks(scene: Scene) -> dict[str, plc.st.External]:
+    """The flying shear's own ST block types for ``scene`` (``plc.st.load(..., blocks=...)``)."""
     recorder = scene.device("cuts", CutRecorder)
-    return {"FS_CutGauge": mcl.st.External(lambda: CutGauge(recorder), CutGauge.MEMBERS)}
+    return {"FS_CutGauge": plc.st.External(lambda: CutGauge(recorder), CutGauge.MEMBERS)}

@@ -12,8 +12,8 @@ Vmax the error-stop ramp (max_deceleration) ends before the hard stops.
 from __future__ import annotations
 
 import mcl
+from plc.procedures import HomingRecipe
 from scenes.definition import AxisDef
-from scenes.procedures import HomingRecipe
 
 
 def _spec(

@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 import mcl
+from plc.procedures import HomeAxis
+from plc.sequence import REST, Step, StepSequence, at_rest
 from scenes.machines.gantry.axes import HOMING
-from scenes.procedures import HomeAxis
-from scenes.program import REST, Step, StepSequence, at_rest
 from scenes.scene import Scene
 
 B = mcl.MC_BufferMode

@@ -10,7 +10,7 @@ import statistics
 
 import mcl
 import scenes
-from scenes.procedures import HomeAxis
+from plc.procedures import HomeAxis
 
 
 def homing_repeatability(

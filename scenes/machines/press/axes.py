@@ -11,9 +11,9 @@ delays (1.5 ms).
 from __future__ import annotations
 
 import mcl
+from plc.procedures import BlockHoming
 from scenes.definition import AxisDef
 from scenes.machines.press.devices import ANALOG_INPUTS
-from scenes.procedures import BlockHoming
 
 MODEL = "hydraulic_press.xml"
 """The press's MJCF model (in models/)."""

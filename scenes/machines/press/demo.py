@@ -18,11 +18,11 @@ from typing import Any
 import mujoco
 
 import mcl
+from plc.procedures import HomeAxis
+from plc.sequence import Step, StepSequence, never
 from scenes.machines.press.axes import BLOCK_HOMING, MODEL, WEIGHT
 from scenes.machines.press.devices import CylinderDevice, cylinder_data
 from scenes.machines.press.hydraulics import BAR, Cylinder
-from scenes.procedures import HomeAxis
-from scenes.program import Step, StepSequence, never
 from scenes.scene import Scene, model_path
 
 PART = 250.0

@@ -12,10 +12,10 @@ from __future__ import annotations
 import math
 
 import mcl
+from plc.procedures import HomingRecipe
 from scenes.definition import AxisDef
 from scenes.machines.rotary_cutter.marks import MARKS
 from scenes.plant.mujoco import Probe
-from scenes.procedures import HomingRecipe
 
 PREFIX = "rotary_cutter/"
 """The prefix of the machine's names in a scene's model."""

@@ -15,11 +15,11 @@ from typing import Any
 
 import mcl
 from mcl.errors import check_finite
+from plc.procedures import HomeAxis
+from plc.sequence import REST, Block, StepSequence, at_rest, never
 from scenes.machines.rotary_cutter.axes import CUT_FORCE, HOMING, SENSOR_DELAY, TIP_CIRCUMFERENCE
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
 from scenes.machines.rotary_cutter.marks import MARK_FIRST, MARK_PITCH, PRINT_MARKS, PrintMarks
-from scenes.procedures import HomeAxis
-from scenes.program import REST, Block, StepSequence, at_rest, never
 from scenes.scene import Scene
 
 CUT_ANGLE = 90.0

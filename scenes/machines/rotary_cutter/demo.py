@@ -11,10 +11,10 @@ from typing import Any
 
 import mcl
 from mcl.errors import check_finite
+from plc.procedures import HomeAxis
+from plc.sequence import REST, Block, StepSequence, at_rest, never
 from scenes.machines.rotary_cutter.axes import CUT_FORCE, GEAR_RATIO, HOMING, TIP_CIRCUMFERENCE
 from scenes.machines.rotary_cutter.devices import Cut, KnifeDrum
-from scenes.procedures import HomeAxis
-from scenes.program import REST, Block, StepSequence, at_rest, never
 from scenes.scene import Scene
 
 DRUM_SPEED_LIMIT = 3000.0 / 5.0

@@ -12,8 +12,8 @@ from __future__ import annotations
 from typing import Any
 
 import mcl
+from plc.sequence import Step, StepSequence, never
 from scenes.definition import AxisDef, MachineDef
-from scenes.program import Step, StepSequence, never
 from scenes.scene import Scene
 
 CONSTANTS = dict(Kp=3.0, Ki=150.0, Ff=1.0, Kc=50.0, Vmax=500.0, Filter=2.0, Ka=0.0065)

@@ -1,0 +1,2 @@
+"""The operator program: the requests of an HMI (the viewer's buttons) passed to the library's
+function blocks once per PLC scan (:mod:`~plc.operator.hmi`)."""

@@ -1,0 +1,160 @@
+"""Arithmetic with IEC types (``+ - * / MOD **`` on integers, reals and TIME) and the implicit
+conversion of a value stored into a variable (:func:`coerce`).
+
+Integers are exact within an expression up to 32 bits (as the 32-bit registers of CODESYS and
+TwinCAT targets), wider results wrap to their type; a store wraps to the target's width. A REAL
+operation rounds its result to 32 bits, so REAL arithmetic is IEEE single precision.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from plc.st.runtime import functions as F  # noqa: N812
+from plc.st.semantics import types as T  # noqa: N812
+from plc.st.semantics.types import Elementary, Type
+
+if TYPE_CHECKING:
+    from plc.st.codegen.expressions import E, Expressions
+
+
+def _fold(op: str, a: Any, b: Any, integral: bool) -> Any:
+    """``a op b`` of constants, IEC semantics."""
+    if op == "+":
+        return a + b
+    if op == "-":
+        return a - b
+    if op == "*":
+        return a * b
+    if op == "/":
+        return F.div(a, b) if integral else F.fdiv(a, b)
+    if op == "MOD":
+        return F.mod(a, b)
+    return F.expt(a, b)
+
+
+def result_type(x: Expressions, node: Any, op: str, a: E, b: E) -> Elementary:
+    """The type of ``a op b``, or a type error."""
+    ta, tb = a.type, b.type
+    if not (isinstance(ta, Elementary) and isinstance(tb, Elementary)):
+        raise x.error(node, f"{ta.name} {op} {tb.name}", "numbers")
+    if op == "**":
+        if ta.numeric and tb.numeric:
+            return T.REAL if ta is T.REAL else T.LREAL
+    elif ta.kind == "time" or tb.kind == "time":
+        if ta.kind == tb.kind == "time" and op in "+-":
+            return ta if ta is not T.TIME else tb
+        if ta.kind == "time" and tb.numeric and op in ("*", "/"):
+            return ta
+        if tb.kind == "time" and ta.numeric and op == "*":
+            return tb
+    elif op == "+" and ta.kind == tb.kind == "string":
+        raise x.error(node, "STRING + STRING", "CONCAT(a, b)")
+    elif ta.numeric and tb.numeric:
+        if op == "MOD" and not (ta.integral and tb.integral):
+            raise x.error(node, f"{ta.name} MOD {tb.name}", "integer operands")
+        if ta.kind == "real" or tb.kind == "real":
+            return T.real_of(ta, tb)
+        return T.wider(ta, tb)
+    raise x.error(node, f"{ta.name} {op} {tb.name}", "numeric operands")
+
+
+def arithmetic(x: Expressions, node: Any, op: str, a: E, b: E) -> E:
+    """``a op b`` translated."""
+    from plc.st.codegen.expressions import E, const
+
+    t = result_type(x, node, op, a, b)
+    integral = t.integral or t.kind == "time"
+    if a.const and b.const:
+        try:
+            value = _fold(op, a.value, b.value, integral and op != "**")
+        except F.STFault as fault:
+            raise x.error(node, str(fault), "a divisor other than 0") from None
+        if t.kind == "time":
+            value = int(value)
+        elif integral:
+            value = T.wrap_value(value, t)
+        return const(x.round_real(float(value), t) if t.kind == "real" else value, t)
+    ca, cb = a.code, b.code
+    if op == "**":
+        code = f"_f.expt({ca}, {cb})"
+    elif op == "MOD":
+        code = f"_f.mod({ca}, {cb})"
+    elif op == "/":
+        if integral:
+            code = f"_f.div({ca}, {cb})"
+            if t.kind == "time" and b.type.kind == "real":
+                code = f"_f.to_int(_f.fdiv({ca}, {cb}))"
+        else:
+            code = f"_f.fdiv({ca}, {cb})"
+    else:
+        code = f"({ca} {op} {cb})"
+        if t.kind == "time" and "real" in (a.type.kind, b.type.kind):
+            code = f"_f.to_int{code}"
+    if t is T.REAL:
+        code = f"_f.f32({code})"
+    elif t.integral and t.bits >= 32 and op in "+-*":
+        code = T.wrap_code(code, t)
+    elif t.integral and op in ("+", "-", "*"):
+        return E(code, t, wide=True)
+    return E(code, t)
+
+
+def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
+    """Python code of ``e`` stored into a variable of type ``to``."""
+    src = e.type
+    if src == to and isinstance(to, Elementary) and to.kind != "string" and not e.wide:
+        return e.code
+    if isinstance(to, Elementary) and isinstance(src, Elementary):
+        code = _elementary(x, e, src, to, node)
+        if code is not None:
+            return code
+    elif to.kind == src.kind and to.kind in ("axis", "group", "block"):
+        return e.code
+    elif isinstance(to, T.ArrayType) and isinstance(src, T.ArrayType):
+        if _shape(to) == _shape(src):
+            return f"_f.clone({e.code})"
+    elif isinstance(to, T.EnumType) and isinstance(src, T.EnumType) and to.name == src.name:
+        return e.code
+    elif to is T.ANY_STRUCT and src.kind == "struct":
+        return e.code  # a profile table: the block reads it on its rising edge
+    elif to.kind == "struct" and src.name == to.name:
+        return f"_f.clone({e.code})"
+    elif to.kind in ("int",) and src.kind == "enum":
+        return e.code
+    raise x.error(node, f"a {src.name} value where {to.name} is expected", f"a {to.name} value")
+
+
+def _elementary(x: Expressions, e: E, src: Elementary, to: Elementary, node: Any) -> str | None:
+    """The conversion between elementary types, or None where IEC allows none."""
+    if to.integral and src.integral:
+        if e.const:
+            return repr(T.wrap_value(e.value, to))
+        fits = src.bits and src.bits <= to.bits and (src.signed == to.signed or not src.signed)
+        if not e.wide and ((fits and src.bits < to.bits) or src == to):
+            return e.code
+        return T.wrap_code(e.code, to)
+    if to.kind == "real" and (src.integral or src.kind == "real"):
+        if e.const:
+            from plc.st.codegen.expressions import literal_code
+
+            return literal_code(x.round_real(float(e.value), to))
+        if to is T.REAL and src is not T.REAL:
+            return f"_f.f32({e.code})"
+        return e.code if src.kind == "real" else f"float({e.code})"
+    if to.kind == src.kind == "time":
+        return e.code
+    if to.kind == src.kind == "bool":
+        return e.code
+    if to.kind == src.kind == "string":
+        if e.const:
+            return repr(e.value[: to.bits])
+        return e.code if src.bits <= to.bits else f"{e.code}[:{to.bits}]"
+    if to.kind == "time" and src.integral and e.const:
+        return repr(e.value)
+    return None
+
+
+def _shape(t: T.ArrayType) -> tuple[Any, ...]:
+    """What two arrays must share to be assigned: the bounds and the element type."""
+    return (t.dims, t.element.name)

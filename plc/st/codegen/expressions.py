@@ -1,0 +1,367 @@
+"""ST expressions translated to Python expressions with their IEC types (:class:`Expressions`);
+constants are folded so that a literal costs nothing at run time."""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from typing import Any
+
+import blark.transform as tf
+
+from plc.st.errors import STError, nearest
+from plc.st.runtime.functions import f32
+from plc.st.semantics import types as T  # noqa: N812
+from plc.st.semantics.scope import Scope, Unit
+from plc.st.semantics.types import Elementary, Type
+
+
+@dataclass(frozen=True)
+class E:
+    """A translated expression: Python code, IEC type, the value when constant."""
+
+    code: str
+    type: Type
+    value: Any = None
+    wide: bool = False
+    """Integer arithmetic narrower than 32 bits, not yet wrapped (a store wraps it)."""
+
+    @property
+    def const(self) -> bool:
+        """Known at translation time."""
+        return self.value is not None
+
+
+def literal_code(value: Any) -> str:
+    """Python code of a constant (infinities and NaN included)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return "_m.nan" if math.isnan(value) else ("_m.inf" if value > 0 else "(-_m.inf)")
+    return repr(value)
+
+
+def const(value: Any, t: Type) -> E:
+    """A constant expression."""
+    return E(literal_code(value), t, value)
+
+
+_STRINGS = re.compile(r"'(?:[^'\\]|\\.)*'|\"(?:[^\"\\]|\\.)*\"")
+_IMPURE = re.compile(r"[\w\])]\(|\[|/|%|\*\*|@|:=|\blambda\b")
+"""What may have an effect or fault when evaluated: a call, an index, a division, a power."""
+_OPERATOR_WORDS = re.compile(r"\b(?:not|and|or)\s*\(")
+
+
+def _plain(code: str) -> bool:
+    """The expression only reads variables and members, compares and combines them: evaluating
+    it has no effect and cannot fault, so AND/OR may skip it (the value is the same)."""
+    return not _IMPURE.search(_OPERATOR_WORDS.sub(" (", _STRINGS.sub("''", code)))
+
+
+_COMPARE = {"=": "==", "<>": "!=", "<": "<", ">": ">", "<=": "<=", ">=": ">="}
+_LOGIC = {"AND": "&", "&": "&", "OR": "|", "XOR": "^"}
+
+
+class Expressions:
+    """Translates the expressions of one POU (its :class:`Scope`) in a :class:`Unit`."""
+
+    def __init__(self, unit: Unit, scope: Scope) -> None:
+        self.unit = unit
+        self.scope = scope
+        from plc.st.codegen.calls import Calls
+
+        self.calls = Calls(self)
+
+    def error(self, node: Any, problem: str, expected: str = "") -> STError:
+        """An :class:`STError` at ``node``."""
+        return STError.at(self.unit.where(node), problem, expected)
+
+    # ------------------------------------------------------------------ dispatch
+    def expr(self, node: Any) -> E:
+        """The translation of expression ``node``."""
+        if isinstance(node, tf.Literal):
+            return self.literal(node)
+        if isinstance(node, tf.ParenthesizedExpression):
+            return self.expr(node.expr)
+        if isinstance(node, tf.BinaryOperation):
+            return self.binary(node)
+        if isinstance(node, tf.UnaryOperation):
+            return self.unary(node)
+        if isinstance(node, tf.FunctionCall):
+            return self.calls.function(node)
+        if isinstance(node, tf.SimpleVariable | tf.MultiElementVariable):
+            return self.variable(node)
+        if isinstance(node, tf.EnumeratedValue):
+            return self.enum_literal(node)
+        raise self.error(node, f"{type(node).__name__} is not supported here", "an expression")
+
+    # ------------------------------------------------------------------ literals
+    def literal(self, node: Any) -> E:
+        """A literal: integer (any base), real, BOOL, TIME/LTIME, STRING."""
+        if isinstance(node, tf.Boolean):
+            return const(str(node.value).upper() in ("TRUE", "1"), T.BOOL)
+        if isinstance(node, tf.Integer | tf.BitString):
+            text = str(node.value).replace("_", "")
+            base = {tf.BinaryInteger: 2, tf.OctalInteger: 8, tf.HexInteger: 16}.get(type(node), 10)
+            for cls, b in ((tf.BinaryBitString, 2), (tf.OctalBitString, 8), (tf.HexBitString, 16)):
+                if isinstance(node, cls):
+                    base = b
+            value = int(text, base)
+            typed = getattr(node, "type_name", None)
+            t = self.unit.type_named(str(typed), node) if typed else T.ANY_INT
+            if isinstance(t, Elementary) and t.kind == "bool":
+                return const(bool(value), T.BOOL)
+            if isinstance(t, Elementary) and t.kind == "real":
+                return const(self.round_real(float(value), t), t)
+            return const(T.wrap_value(value, t) if isinstance(t, Elementary) else value, t)
+        if isinstance(node, tf.Real):
+            real = float(str(node.value).replace("_", ""))
+            typed = getattr(node, "type_name", None)
+            t = self.unit.type_named(str(typed), node) if typed else T.ANY_REAL
+            return const(self.round_real(real, t), t)
+        if isinstance(node, tf.Lduration):
+            return const(_duration(node, 1_000_000), T.LTIME)
+        if isinstance(node, tf.Duration):
+            return const(_duration(node, 1), T.TIME)
+        if isinstance(node, tf.String):
+            return const(_string(str(node.value)), T.STRING)
+        raise self.error(node, f"the literal {node} is not supported", "a number, TIME or STRING")
+
+    @staticmethod
+    def round_real(value: float, t: Type) -> float:
+        """A real constant as type ``t`` holds it (REAL: 32 bits)."""
+        return f32(value) if t is T.REAL else value
+
+    def enum_literal(self, node: tf.EnumeratedValue) -> E:
+        """``Type#Value`` (a bare value in a CASE label)."""
+        if node.type_name is None:
+            return self.name(tf.SimpleVariable(node.name, False))
+        t = self.unit.type_named(str(node.type_name), node)
+        if not isinstance(t, T.EnumType):
+            raise self.error(node, f"{t.name} is not an enumeration", "an enumeration type")
+        for name, value in t.values.items():
+            if name.lower() == str(node.name).lower():
+                return const(value, t)
+        raise self.error(node, f"{t.name} has no value {node.name!r}", ", ".join(t.values))
+
+    # ------------------------------------------------------------------ variables
+    def variable(self, node: Any) -> E:
+        """A variable read (or a target): a name, then field selections and subscripts."""
+        if isinstance(node, tf.SimpleVariable):
+            return self.name(node)
+        head = node.name
+        dotted = self._dotted(node)
+        if dotted is not None and self.scope.get(str(head.name)) is None:
+            axis = self.unit.axis(dotted)
+            if axis is not None:
+                return E(axis, T.AXIS)
+            t = self.unit.types.get(str(head.name).upper()) or None
+            if isinstance(t, T.EnumType):
+                return self.enum_literal(
+                    tf.EnumeratedValue(head.name, node.elements[0].field.name, None)
+                )
+        current = self.name(head)
+        for element in node.elements:
+            if isinstance(element, tf.FieldSelector):
+                current = self.field(current, element)
+            elif isinstance(element, tf.SubscriptList):
+                current = self.subscript(current, element)
+            else:
+                raise self.error(element, "a dereference is not supported", "a field or index")
+        return current
+
+    @staticmethod
+    def _dotted(node: tf.MultiElementVariable) -> str | None:
+        """``A.B.C`` when the variable is only field selections, else None."""
+        parts = [str(node.name.name)]
+        for element in node.elements:
+            if not isinstance(element, tf.FieldSelector):
+                return None
+            parts.append(str(element.field.name))
+        return ".".join(parts)
+
+    def name(self, node: tf.SimpleVariable) -> E:
+        """A simple name: a variable, a constant, an enumeration value or a bound axis."""
+        name = str(node.name)
+        var = self.scope.get(name)
+        if var is not None:
+            if var.constant is not None:
+                return E(literal_code(var.constant), var.type, var.constant)
+            return E(var.code, var.type)
+        found = self.unit.enum_value(name)
+        if found is not None:
+            return const(found[1], found[0])
+        axis = self.unit.axis(name)
+        if axis is not None:
+            return E(axis, T.AXIS)
+        close = nearest(name, self.scope.names())
+        hint = f" (did you mean {', '.join(close)}?)" if close else ""
+        raise self.error(node, f"unknown variable {name!r}{hint}", "a declared variable")
+
+    def field(self, base: E, element: tf.FieldSelector) -> E:
+        """``base.field`` of a STRUCT or a block's member."""
+        name = str(element.field.name)
+        t = base.type
+        if isinstance(t, T.StructType):
+            for field_name, field_type in t.fields.items():
+                if field_name.lower() == name.lower():
+                    return E(f"{base.code}.{field_name}", field_type)
+            raise self.error(element, f"{t.name} has no field {name!r}", ", ".join(t.fields))
+        if isinstance(t, T.BlockType):
+            member = t.members.get(name.upper())
+            if member is None:
+                close = nearest(name, [m.python for m in t.members.values()])
+                hint = f" (did you mean {', '.join(close)}?)" if close else ""
+                raise self.error(element, f"{t.name} has no member {name!r}{hint}", "its outputs")
+            return E(f"{base.code}.{member.python}", member.type)
+        raise self.error(element, f"{base.type.name} has no fields", "a STRUCT or a block")
+
+    def subscript(self, base: E, element: tf.SubscriptList) -> E:
+        """``base[i, j]``: every index checked against the bounds (a fault outside)."""
+        t = base.type
+        if not isinstance(t, T.ArrayType):
+            raise self.error(element, f"{t.name} is not an ARRAY", "an ARRAY variable")
+        if len(element.subscripts) > len(t.dims):
+            raise self.error(element, f"{len(element.subscripts)} indices", f"{len(t.dims)}")
+        code = base.code
+        for sub, (low, high) in zip(element.subscripts, t.dims, strict=False):
+            i = self.expr(sub)
+            if not (isinstance(i.type, Elementary) and i.type.integral):
+                raise self.error(sub, f"an index of type {i.type.name}", "an integer")
+            if i.const:
+                if not low <= i.value <= high:
+                    raise self.error(sub, f"index {i.value} outside {low}..{high}", "an index")
+                code = f"{code}[{i.value - low}]"
+            else:
+                code = f"{code}[_f.index({i.code}, {low}, {high - low + 1})]"
+        rest = t.dims[len(element.subscripts) :]
+        return E(code, T.ArrayType(t.name, t.element, rest) if rest else t.element)
+
+    # ------------------------------------------------------------------ operators
+    def unary(self, node: tf.UnaryOperation) -> E:
+        """``-x``, ``+x``, ``NOT x`` (bitwise on bit strings and integers)."""
+        e = self.expr(node.expr)
+        op = str(node.op).upper()
+        t = e.type
+        if not isinstance(t, Elementary):
+            raise self.error(node, f"{op} on {t.name}", "a number or BOOL")
+        if op == "NOT":
+            if t.kind == "bool":
+                return const(not e.value, t) if e.const else E(f"(not {e.code})", t)
+            if t.integral:
+                if e.const:
+                    return const(T.wrap_value(~e.value, t), t)
+                return E(f"({e.code} ^ {T.mask(t)})" if not t.signed else f"(~{e.code})", t)
+            raise self.error(node, f"NOT on {t.name}", "BOOL or a bit string")
+        if not (t.numeric or t.kind == "time"):
+            raise self.error(node, f"{op} on {t.name}", "a number")
+        if op == "+":
+            return e
+        if e.const:
+            value = -e.value
+            return const(T.wrap_value(value, t) if t.integral and t.bits else value, t)
+        return E(f"(-{e.code})", t, wide=t.integral)
+
+    def binary(self, node: tf.BinaryOperation) -> E:
+        """A binary operation with its IEC result type."""
+        op = str(node.op).upper()
+        a, b = self.expr(node.left), self.expr(node.right)
+        if op in _COMPARE:
+            return self.compare(node, op, a, b)
+        if op in _LOGIC:
+            return self.logic(node, op, a, b)
+        if op in ("AND_THEN", "OR_ELSE"):
+            self.require(node, a, "bool")
+            self.require(node, b, "bool")
+            word = "and" if op == "AND_THEN" else "or"
+            return E(f"({a.code} {word} {b.code})", T.BOOL)
+        from plc.st.codegen.arithmetic import arithmetic
+
+        return arithmetic(self, node, op, a, b)
+
+    def require(self, node: Any, e: E, kind: str) -> None:
+        """``e`` must be of ``kind`` (``bool``, ...)."""
+        if e.type.kind != kind:
+            raise self.error(node, f"a {e.type.name} operand", kind.upper())
+
+    def compare(self, node: Any, op: str, a: E, b: E) -> E:
+        """A comparison: numbers with numbers, else equal types."""
+        ta, tb = a.type, b.type
+        numeric = all(isinstance(t, Elementary) and t.numeric for t in (ta, tb))
+        same = ta.kind == tb.kind and (ta.kind not in ("enum", "struct", "array") or ta == tb)
+        if not (numeric or same) or ta.kind in ("block", "array", "struct"):
+            raise self.error(node, f"{ta.name} {op} {tb.name}", "operands of one type")
+        if a.const and b.const:
+            return const(bool(eval(f"{a.value!r} {_COMPARE[op]} {b.value!r}")), T.BOOL)
+        return E(f"({a.code} {_COMPARE[op]} {b.code})", T.BOOL)
+
+    def logic(self, node: Any, op: str, a: E, b: E) -> E:
+        """AND, OR, XOR: on BOOL, else bitwise on integers and bit strings."""
+        ta, tb = a.type, b.type
+        if ta.kind == "bool" and tb.kind == "bool":
+            t: Elementary = T.BOOL
+        elif (
+            isinstance(ta, Elementary)
+            and isinstance(tb, Elementary)
+            and ta.integral
+            and tb.integral
+        ):
+            t = T.wider(ta, tb)
+        else:
+            raise self.error(node, f"{ta.name} {op} {tb.name}", "BOOL or bit-string operands")
+        py = _LOGIC[op]
+        if a.const and b.const:
+            value = eval(f"{a.value!r} {py} {b.value!r}")
+            return const(bool(value) if t is T.BOOL else T.wrap_value(value, t), t)
+        if t is T.BOOL and py != "^" and _plain(b.code):  # the same value, b read only if needed
+            py = "and" if py == "&" else "or"
+        return E(f"({a.code} {py} {b.code})", t)
+
+    # ------------------------------------------------------------------ conversion
+    def convert(self, e: E, to: Type, node: Any) -> str:
+        """Python code storing ``e`` into a variable of type ``to`` (implicit conversion:
+        integers wrap to the target's width, integers become reals, LREAL rounds to REAL,
+        STRING is cut to its length); other mixes are a type error."""
+        from plc.st.codegen.arithmetic import coerce
+
+        return coerce(self, e, to, node)
+
+
+def _duration(node: Any, scale: int) -> int:
+    """A TIME literal in ms (``scale`` 1) or an LTIME literal in ns (``scale`` 10**6)."""
+    total = 0.0
+    for name, ms in (
+        ("days", 86_400_000.0),
+        ("hours", 3_600_000.0),
+        ("minutes", 60_000.0),
+        ("seconds", 1000.0),
+        ("milliseconds", 1.0),
+        ("microseconds", 1e-3),
+        ("nanoseconds", 1e-6),
+    ):
+        value = getattr(node, name, None)
+        if value is not None:
+            total += float(str(value).replace("_", "")) * ms
+    result = round(total * scale)
+    return -result if getattr(node, "negative", False) else result
+
+
+_ESCAPES = {"$$": "$", "$'": "'", '$"': '"', "$L": "\n", "$N": "\n", "$P": "\f", "$R": "\r"}
+
+
+def _string(text: str) -> str:
+    """A STRING literal's value: quotes removed, ``$`` escapes resolved."""
+    body = text[1:-1]
+    out: list[str] = []
+    i = 0
+    while i < len(body):
+        pair = body[i : i + 2].upper() if body[i] == "$" else ""
+        if pair in _ESCAPES or pair == "$T":
+            out.append("\t" if pair == "$T" else _ESCAPES[pair if pair in _ESCAPES else "$$"])
+            i += 2
+        elif body[i] == "$" and len(body) >= i + 3:
+            out.append(chr(int(body[i + 1 : i + 3], 16)))
+            i += 3
+        else:
+            out.append(body[i])
+            i += 1
+    return "".join(out)

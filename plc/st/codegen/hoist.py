@@ -1,0 +1,288 @@
+"""Block inputs set once (:func:`hoisted`), and what a call need not copy (:func:`uncopied`): what
+makes a translated scan cost what the same hand-written Python costs, which binds a block's
+constant inputs when it builds the block (``mcl.MC_MoveAbsolute(Axis=X, Velocity=200.0)``) and
+passes only what changes per scan.
+
+An input of a POU's own block instance is set once, when the instance is made, if every call of
+that instance in the POU passes it the same constant (or the same bound axis, or the POU's own
+axes group) and nothing writes it: a call sets it to the same value each scan, so setting it
+once changes nothing the program can see. Inside a FUNCTION_BLOCK, an input passed on unchanged
+to an inner block (``pulse(SetPosition := SetPosition)``) is set once too when the block's own
+input is *fixed* (:func:`fixed_inputs`): every instance of the block in the file is a plain
+variable whose calls pass that input a constant or never, and nothing writes it. Those are set
+in the block's ``_bind__`` method, which runs when the block is made and again once its owner
+has set the block's own constant inputs. Everything else is set at each call.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from collections.abc import Iterable, Iterator
+from typing import TYPE_CHECKING, Any
+
+import blark.transform as tf
+
+from plc.st.errors import STError
+from plc.st.semantics.types import ArrayType, BlockType, StructType, Type
+
+if TYPE_CHECKING:
+    from plc.st.codegen.expressions import Expressions
+    from plc.st.semantics.scope import Var
+
+BIND = "_bind__"
+"""The method of a user block's class that sets its inner blocks' fixed inputs (not an ST name:
+IEC identifiers have no double underscore)."""
+
+_OWN = re.compile(r"self\.\w+$")
+"""An instance of the POU itself (not an array element, not a global)."""
+
+Slot = tuple[str, str]
+"""(instance code, input's Python name)."""
+
+
+def _nodes(node: Any) -> Iterator[Any]:
+    """Every statement and parameter in a statement tree (depth first)."""
+    yield node
+    if isinstance(node, list | tuple):
+        for item in node:
+            yield from _nodes(item)
+    elif dataclasses.is_dataclass(node) and not isinstance(node, type):
+        for f in dataclasses.fields(node):
+            if f.name != "meta":
+                yield from _nodes(getattr(node, f.name))
+
+
+def _code(x: Expressions, node: Any) -> str | None:
+    """The Python code of a variable node, None where it does not translate (reported later)."""
+    try:
+        return x.variable(node).code
+    except (STError, AttributeError, TypeError):
+        return None
+
+
+def _instance(x: Expressions, node: tf.FunctionCallStatement) -> Var | None:
+    """The block instance a call statement calls (None: a function, an array element...)."""
+    name = node.name
+    var = x.scope.get(str(name.name)) if isinstance(name, tf.SimpleVariable) else None
+    return var if var is not None and isinstance(var.type, BlockType) else None
+
+
+def written(x: Expressions, body: Any) -> set[str]:
+    """The codes of everything a POU's statements write: assignment, S=/R= and FOR targets,
+    ``=>`` outputs, and what a user block's in-out copies back."""
+    codes: set[str | None] = set()
+    for node in _nodes(body):
+        if isinstance(node, tf.AssignmentStatement):
+            codes.update(_code(x, v) for v in node.variables)
+        elif isinstance(node, tf.SetStatement | tf.ResetStatement):
+            codes.add(_code(x, node.variable))
+        elif isinstance(node, tf.ForStatement):
+            codes.add(_code(x, node.control))
+        elif isinstance(node, tf.OutputParameterAssignment):
+            codes.add(_code(x, node.value))
+        elif isinstance(node, tf.FunctionCallStatement):
+            var = _instance(x, node)
+            block = var.type if var is not None else None
+            members = block.members if isinstance(block, BlockType) else {}
+            for p in node.parameters or []:
+                if not isinstance(p.value, tf.SimpleVariable | tf.MultiElementVariable):
+                    continue
+                member = members.get(str(p.name.name).upper()) if p.name else None
+                if member is None or (
+                    member.direction == "in_out" and member.type.kind not in ("axis", "group")
+                ):
+                    codes.add(_code(x, p.value))
+    return {c.split("[")[0] for c in codes if c is not None}  # an element: the whole array
+
+
+def _calls(x: Expressions, body: Any) -> Iterator[tuple[Var, dict[str, Any]]]:
+    """Every call of an own block instance: the instance and its parameters by upper name."""
+    for node in _nodes(body):
+        if isinstance(node, tf.FunctionCallStatement):
+            var = _instance(x, node)
+            if var is not None and _OWN.match(var.code):
+                params = node.parameters or []
+                yield var, {str(p.name.name).upper(): p for p in params if p.name is not None}
+
+
+def hoisted(
+    x: Expressions,
+    body: Any,
+    convert: Any,
+    fixed: frozenset[str] = frozenset(),
+    self_written: dict[str, set[str]] | None = None,
+) -> tuple[dict[Slot, str], set[Slot]]:
+    """The inputs set once: (instance code, input) → the code of its value; and every slot a
+    call passes or a statement writes.
+
+    Args:
+        x: the POU's expressions (its scope).
+        body: the POU's statements.
+        convert: ``(member, value E, node) -> code`` as a call passes the input.
+        fixed: the codes of the POU's own fixed inputs (``self.SetPosition``): a value that is
+            one of them counts as constant.
+        self_written: per user block type (upper name), the inputs its own statements write
+            (:func:`self_written`): a call sets those every time.
+    """
+    first: dict[Slot, str] = {}
+    varying: set[Slot] = set()
+    touched: set[Slot] = set()
+    for target in written(x, body):  # inst.Input := v: set where the program sets it
+        head, _, field = target.rpartition(".")
+        var = next((v for v in x.scope.vars.values() if v.code == head), None)
+        if var is not None and isinstance(var.type, BlockType):
+            varying.add((head, field))
+    touched |= varying
+    for var, given in _calls(x, body):
+        assert isinstance(var.type, BlockType)
+        own_writes = (self_written or {}).get(var.type.name.upper(), set())
+        for key, member in var.type.members.items():
+            slot = (var.code, member.python)
+            p = given.get(key)
+            code = None
+            if member.python in own_writes:
+                varying.add(slot)
+            if p is not None and not isinstance(p, tf.OutputParameterAssignment):
+                touched.add(slot)
+                code = _constant(x, member, p, convert, fixed)
+            if code is None or first.setdefault(slot, code) != code:  # a call without it too
+                varying.add(slot)
+    return {slot: code for slot, code in first.items() if slot not in varying}, touched
+
+
+def _constant(
+    x: Expressions, member: Any, p: Any, convert: Any, fixed: frozenset[str]
+) -> str | None:
+    """The code of an input value that is the same every scan, else None."""
+    if member.direction == "output" or (
+        member.direction == "in_out" and member.type.kind not in ("axis", "group")
+    ):
+        return None
+    value = x.expr(p.value)
+    if value.const:
+        return str(convert(member, value, p))
+    if value.type.kind == "axis" and value.code.startswith("_g."):
+        return value.code
+    if value.type.kind == "group" and _OWN.match(value.code):
+        return value.code
+    if value.code in fixed:
+        return str(convert(member, value, p))
+    return None
+
+
+def _blocks_in(t: Type) -> Iterator[BlockType]:
+    """The user block types a variable of type ``t`` holds (itself, an array's, a struct's)."""
+    if isinstance(t, BlockType) and t.origin == "user":
+        yield t
+    elif isinstance(t, ArrayType):
+        yield from _blocks_in(t.element)
+    elif isinstance(t, StructType):
+        for field_type in t.fields.values():
+            yield from _blocks_in(field_type)
+
+
+def self_written(blocks: Iterable[tuple[str, Expressions, Any]]) -> dict[str, set[str]]:
+    """Per user block type (upper name; its expressions and statements given): the members
+    (Python names) its own statements write."""
+    found: dict[str, set[str]] = {}
+    for name, x, body in blocks:
+        codes = [c[5:] for c in written(x, body) if c.startswith("self.")]
+        found[name.upper()] = {c for c in codes if "." not in c}
+    return found
+
+
+def fixed_inputs(
+    pous: Iterable[tuple[Expressions, Any, bool]],
+    globals_: Iterable[Var],
+    self_written: dict[str, set[str]],
+) -> dict[str, set[str]]:
+    """Per user block type (upper name): its inputs (Python names) that every instance holds
+    fixed from when its owner made it: every instance is a plain VAR of a PROGRAM or block
+    whose calls pass the input the same constant or never, and nothing writes it.
+
+    Args:
+        pous: per PROGRAM, FUNCTION_BLOCK and FUNCTION: its expressions, its statements, and
+            whether it is a FUNCTION.
+        globals_: the global variables.
+        self_written: the members each user block type writes itself (:func:`self_written`).
+    """
+    fixed: dict[str, set[str]] = {}
+    analysed = list(pous)
+    for x, _, _ in analysed:  # every user block type seen
+        for var in x.scope.vars.values():
+            for block in _blocks_in(var.type):
+                fixed.setdefault(block.name.upper(), set()).update(
+                    m.python
+                    for m in block.members.values()
+                    if m.direction == "input"
+                    or (m.direction == "in_out" and m.type.kind in ("axis", "group"))
+                )
+    for var in globals_:
+        for block in _blocks_in(var.type):
+            fixed[block.name.upper()] = set()
+    for x, body, function in analysed:
+        try:
+            once, touched = hoisted(x, body, lambda m, v, p: v.code, self_written=self_written)
+        except STError:  # reported where the statement is translated
+            return {}
+        passed_on = _passed_on(x, body)
+        for var in x.scope.vars.values():
+            for block in _blocks_in(var.type):
+                inputs = fixed.setdefault(block.name.upper(), set())
+                plain = var.type is block and var.section == "local" and not function
+                if not plain or not _OWN.match(var.code) or var.code in passed_on:
+                    inputs.clear()
+                    continue
+                inputs -= {m for m in set(inputs) if (var.code, m) in touched - once.keys()}
+    return fixed
+
+
+def _passed_on(x: Expressions, body: Any) -> set[str]:
+    """The codes of the variables a call passes as a value (an instance passed on may be
+    called elsewhere)."""
+    codes = {
+        _code(x, node.value)
+        for node in _nodes(body)
+        if isinstance(node, tf.ParameterAssignment)
+        and isinstance(node.value, tf.SimpleVariable | tf.MultiElementVariable)
+    }
+    return {c for c in codes if c is not None}
+
+
+def own_fixed(x: Expressions, body: Any, name: str, fixed: dict[str, set[str]]) -> frozenset[str]:
+    """The codes of block ``name``'s own fixed inputs that its own statements do not write."""
+    writes = written(x, body)
+    codes = {f"self.{m}" for m in fixed.get(name.upper(), set())}
+    return frozenset(codes - writes)
+
+
+def uncopied(x: Expressions, body: Any) -> set[Slot]:
+    """The array inputs a call may pass without a copy: an own instance's input (a group
+    block's ``Position``) that every call of the instance passes and that no statement reads
+    as ``inst.Input``. The block reads it only during its call (when every call has just set
+    it), so the copy IEC makes at the call is not needed."""
+    counts: dict[str, int] = {}
+    passed: dict[Slot, int] = {}
+    for var, given in _calls(x, body):
+        counts[var.code] = counts.get(var.code, 0) + 1
+        assert isinstance(var.type, BlockType)
+        for key, p in given.items():
+            member = var.type.members.get(key)
+            if member is not None and not isinstance(p, tf.OutputParameterAssignment):
+                slot = (var.code, member.python)
+                passed[slot] = passed.get(slot, 0) + 1
+    read: set[str] = set()
+    for node in _nodes(body):
+        if isinstance(node, tf.MultiElementVariable):
+            code = _code(x, node)
+            if code is not None:
+                read.add(code)
+    passed_on = _passed_on(x, body)
+    return {
+        slot
+        for slot, n in passed.items()
+        if n == counts[slot[0]]
+        and f"{slot[0]}.{slot[1]}" not in read | passed_on
+        and slot[0] not in passed_on
+    }

@@ -1,0 +1,400 @@
+"""An ST file translated to one Python module (:func:`translate`): a class per PROGRAM and
+FUNCTION_BLOCK (its variables are attributes, a call is one scan), a function per FUNCTION, a
+class per STRUCT, the globals in ``_g``. Every Python line knows its ST line (:class:`Module`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import blark.transform as tf
+
+from plc.st.codegen.expressions import Expressions
+from plc.st.codegen.hoist import BIND, fixed_inputs, own_fixed, self_written, uncopied
+from plc.st.codegen.hoist import hoisted as hoisted_inputs
+from plc.st.codegen.statements import Emitter, Statements
+from plc.st.runtime.task import Task, configurations, task_of
+from plc.st.semantics.catalog import python_name
+from plc.st.semantics.declarations import STErrorAt, constant_of, declare_type, initial, spec_type
+from plc.st.semantics.scope import Callable_, Scope, Unit, Var
+from plc.st.semantics.types import BlockType, Member, Type
+
+_SECTIONS = {
+    tf.InputDeclarations: "input",
+    tf.OutputDeclarations: "output",
+    tf.InputOutputDeclarations: "in_out",
+    tf.TemporaryVariableDeclarations: "temp",
+    tf.VariableDeclarations: "local",
+    tf.LocatedVariableDeclarations: "local",
+    tf.FunctionVariableDeclarations: "local",
+    tf.StaticDeclarations: "local",
+}
+
+
+@dataclass
+class Module:
+    """The translation of one file.
+
+    Attributes:
+        source: the Python module.
+        st_lines: the ST line of each Python line (index = Python line - 1).
+        programs: PROGRAM name (as declared) → its class's variables (ST name → Var).
+        globals: the global variables.
+        bound: the axes the program uses (name in ``_g`` → axis name).
+    """
+
+    source: str
+    st_lines: list[int]
+    programs: dict[str, dict[str, Var]] = field(default_factory=dict)
+    globals: dict[str, Var] = field(default_factory=dict)
+    bound: dict[str, str] = field(default_factory=dict)
+    task: Task | None = None
+    """The cyclic task the configuration runs the program in (None: none declared)."""
+
+
+def _variables(block: Any) -> list[tuple[str, Any, Any, Any]]:
+    """(name, type spec, initial value node, location node or None) of every variable a
+    declaration block declares."""
+    found = []
+    for item in block.items:
+        init = getattr(item, "init", None)
+        value = getattr(init, "value", None)
+        if isinstance(init, tf.InitializedStructure):
+            value = init.init
+        if isinstance(item, tf.LocatedVariableDeclaration):  # name AT %IX0.2 : BOOL
+            name = getattr(item.name, "name", item.name)
+            found.append((str(name), init, value, item.location))
+        for v in getattr(item, "variables", []):
+            name = getattr(getattr(v, "variable", v), "name", v)
+            found.append((str(name), init, value, getattr(v, "location", None)))
+    return found
+
+
+class POU:
+    """One PROGRAM, FUNCTION_BLOCK or FUNCTION being translated."""
+
+    def __init__(self, unit: Unit, node: Any) -> None:
+        self.unit = unit
+        self.node = node
+        self.name = str(node.name)
+        self.python = python_name(self.name)
+        self.function = isinstance(node, tf.Function)
+        self.scope = Scope(unit.globals)
+        self.init: list[str] = []
+        self.temps: list[str] = []
+        self.members: dict[str, Member] = {}
+        self.inputs: list[tuple[str, Type, str]] = []
+        self.reads: list[str] = []
+        """Lines reading the located inputs when a scan begins (a PROGRAM's)."""
+        self.writes: list[str] = []
+        """Lines writing the located outputs when a scan ends."""
+
+    def declare(self) -> None:
+        """Scope, members and initial values from the declaration blocks."""
+        owner = "" if self.function else "self."
+        for block in self.node.declarations or []:
+            if isinstance(block, tf.ExternalVariableDeclarations):
+                for item in block.items:
+                    var = self.unit.globals.get(str(item.name))
+                    if var is None:
+                        raise STErrorAt(self.unit, item, f"no VAR_GLOBAL {item.name}", "a global")
+                    self.scope.add(var, self.unit.where(item))
+                continue
+            section = _SECTIONS.get(type(block))
+            if section is None:
+                raise STErrorAt(self.unit, block, f"{type(block).__name__}", "a VAR section")
+            constant = "CONSTANT" in str(getattr(block, "attrs", "") or "").upper()
+            for name, spec, value, location in _variables(block):
+                self.variable(name, spec, value, section, constant, owner, block)
+                self.locate(name, location, block if location is None else location)
+
+    def variable(
+        self, name: str, spec: Any, value: Any, section: str, constant: bool, owner: str, at: Any
+    ) -> None:
+        """Declare one variable."""
+        t = spec_type(self.unit, spec, self.scope)
+        py = python_name(name)
+        local = self.function or section == "temp"
+        code = py if local else f"{owner}{py}"
+        where = self.unit.where(at)
+        if constant:
+            folded = constant_of(self.unit, value, self.scope).value if value is not None else 0
+            self.scope.add(Var(name, t, code, section, folded), where)
+            return
+        self.scope.add(Var(name, t, code, section), where)
+        if t.kind == "axis" and section not in ("in_out", "input"):
+            bound = self.unit.axis(name)
+            if bound is None:
+                raise STErrorAt(
+                    self.unit,
+                    at,
+                    f"AXIS_REF {name} is bound to no axis",
+                    f"an axis of the machine ({', '.join(self.unit.axes) or 'none'}) or a mapping",
+                )
+            lines = [f"{code} = {bound}"]
+        else:
+            lines = initial(self.unit, code, t, value, self.scope)
+        (self.temps if local else self.init).extend(lines)
+        if not self.function:
+            self.members[name.upper()] = Member(t, section, py)
+        elif section == "input":
+            default = lines[0].split(" = ", 1)[1] if len(lines) == 1 else "None"
+            self.inputs.append((name, t, default))
+
+    def locate(self, name: str, location: Any, at: Any) -> None:
+        """Bind variable ``name`` to the I/O point it is located at (or the mapping names)."""
+        var = self.scope.vars[name.lower()]
+        point = self.unit.io_point(name, location, self.unit.where(at))
+        if point is None:
+            return
+        problem = point.check_type(var.type)
+        if isinstance(self.node, tf.Program) and var.section == "local" and not problem:
+            io = point.code(self.unit.bind(point.axis))
+            if point.output:
+                self.writes.append(f"{io} = {var.code}")
+            else:
+                self.reads.append(f"{var.code} = {io}")
+            return
+        raise STErrorAt(
+            self.unit,
+            at,
+            f"{name} on {point.kind}{point.number} of axis {point.axis}",
+            problem or "a located variable in a PROGRAM's VAR or in VAR_GLOBAL",
+        )
+
+    def signature(self) -> None:
+        """Register the POU's type (a block) or signature (a function) in the unit."""
+        if self.function:
+            result = spec_type(self.unit, self.node.return_type, self.scope)
+            self.unit.functions[self.name.upper()] = Callable_(
+                self.name, self.python, self.inputs, result
+            )
+            self.scope.add(Var(self.name, result, "_r", "output"), self.unit.where(self.node))
+            self.result = result
+        elif isinstance(self.node, tf.FunctionBlock):
+            block = BlockType(self.name, "user", self.members, self.python)
+            self.unit.types[self.name.upper()] = block
+
+    def body(self, out: Emitter, fixed: dict[str, set[str]], written: dict[str, set[str]]) -> None:
+        """The Python of the POU into ``out``; ``fixed``: the fixed inputs of every user block
+        type (:func:`plc.st.codegen.hoist.fixed_inputs`), ``written``: the members each writes
+        itself."""
+        out.st_line = self.unit.line(self.node)
+        x = Expressions(self.unit, self.scope)
+        if self.function:
+            params = ", ".join(f"{python_name(n)}={d}" for n, _, d in self.inputs)
+            out.emit(f"def {self.python}({params}):")
+            out.depth += 1
+            out.emit(f"_r = {_default_code(self.unit, self.result)}")
+            for line in _non_input_lines(self.temps, self.inputs):
+                out.emit(line)
+            Statements(x, out, result="_r").block(self.node.body)
+            out.emit("return _r")
+            out.depth -= 1
+        else:
+            block = isinstance(self.node, tf.FunctionBlock)
+            own = own_fixed(x, self.node.body, self.name, fixed) if block else frozenset()
+            hoisted, _ = hoisted_inputs(
+                x, self.node.body, lambda m, v, p: x.convert(v, m.type, p), own, written
+            )
+            once = [f"{i}.{m} = {c}" for (i, m), c in hoisted.items()]
+            bind = [line for line in once if "self." in line.split(" = ", 1)[1]] if block else []
+            children = [
+                f"{v.code}.{BIND}()"
+                for v in self.scope.vars.values()
+                if isinstance(v.type, BlockType)
+                and v.type.origin == "user"
+                and v.section == "local"
+                and v.code == f"self.{python_name(v.name)}"
+            ]
+            out.emit(f"class {self.python}:")
+            out.depth += 1
+            out.emit("def __init__(self):")
+            out.depth += 1
+            lines = [*self.init, *(line for line in once if line not in bind)]
+            for line in [*lines, f"self.{BIND}()"] if block else [*lines, *children]:
+                out.emit(line)
+            if not lines and not block:
+                out.emit("pass")
+            out.depth -= 1
+            out.emit("")
+            if block:  # the inner blocks' inputs fixed by this block's own fixed inputs
+                out.emit(f"def {BIND}(self):")
+                for line in [*bind, *children] or ["pass"]:
+                    out.emit(f"    {line}")
+                out.emit("")
+            reads, writes = self.unit.reads + self.reads, self.unit.writes + self.writes
+            if isinstance(self.node, tf.Program) and (reads or writes):
+                out.emit("def __call__(self):")  # the process image around the scan
+                for line in [*reads, "self._scan()", *writes]:
+                    out.emit(f"    {line}")
+                out.emit("")
+                out.emit("def _scan(self):")
+            else:
+                out.emit("def __call__(self):")
+            out.depth += 1
+            for line in self.temps:
+                out.emit(line)
+            statements = Statements(x, out)
+            statements.hoisted = hoisted
+            statements.uncopied = uncopied(x, self.node.body)
+            statements.block(self.node.body)
+            out.depth -= 2
+        out.emit("")
+        out.emit("")
+
+
+def _default_code(unit: Unit, t: Type) -> str:
+    from plc.st.semantics.declarations import default
+
+    return default(unit, t)
+
+
+def _non_input_lines(lines: list[str], inputs: list[tuple[str, Type, str]]) -> list[str]:
+    """A function's local initial lines without those of its inputs (they are parameters)."""
+    names = {python_name(n) for n, _, _ in inputs}
+    return [line for line in lines if line.split(" = ", 1)[0].split("[")[0] not in names]
+
+
+def _globals(unit: Unit, blocks: list[tf.GlobalVariableDeclarations], out: Emitter) -> None:
+    """The class of the globals (``_g``): VAR_GLOBAL variables, the bound axes."""
+    init: list[str] = []
+    for block in blocks:
+        constant = "CONSTANT" in str(block.attrs or "").upper()
+        for item in block.items:
+            t = spec_type(unit, item.init)
+            value = getattr(item.init, "value", None)
+            for name in item.spec.variables:
+                py = python_name(str(name))
+                where = unit.where(item)
+                if constant:
+                    folded = constant_of(unit, value).value if value is not None else 0
+                    unit.globals.add(Var(str(name), t, f"_g.{py}", "global", folded), where)
+                    continue
+                unit.globals.add(Var(str(name), t, f"_g.{py}", "global"), where)
+                _locate_global(unit, str(name), t, item.spec.location, item)
+                if t.kind == "axis":
+                    bound = unit.axis(str(name))
+                    if bound is None:
+                        raise STErrorAt(
+                            unit,
+                            item,
+                            f"AXIS_REF {name} is bound to no axis",
+                            f"an axis ({', '.join(unit.axes) or 'none'}) or a mapping",
+                        )
+                    init.append(f"self.{py} = _axes[{unit.bound[bound[3:]]!r}]")
+                else:
+                    init += [
+                        line.replace("_g.", "self.", 1)
+                        for line in initial(unit, f"_g.{py}", t, value)
+                    ]
+    out.emit("class _Globals:")
+    out.emit("    def __init__(self):")
+    out.depth += 2
+    out.emit("for _name, _axis in _BOUND.items():")
+    out.emit("    setattr(self, _name, _axes[_axis])")
+    for line in init:
+        out.emit(line)
+    out.depth -= 2
+    out.emit("")
+    out.emit("")
+
+
+def _locate_global(unit: Unit, name: str, t: Type, location: Any, at: Any) -> None:
+    """Bind global ``name`` to its I/O point (read and written around every program's scan)."""
+    point = unit.io_point(name, location, unit.where(at))
+    if point is None:
+        return
+    problem = point.check_type(t)
+    if problem:
+        raise STErrorAt(unit, at, f"{name} on {point.kind}{point.number} of {point.axis}", problem)
+    io = point.code(unit.bind(point.axis))
+    (unit.writes if point.output else unit.reads).append(
+        f"{io} = _g.{python_name(name)}" if point.output else f"_g.{python_name(name)} = {io}"
+    )
+
+
+def translate(tree: tf.SourceCode, unit: Unit) -> Module:
+    """The Python module of an ST file.
+
+    Raises:
+        STError: a type error or an unknown name, at its ``file:line:column``.
+    """
+    out = Emitter()
+    for line in (
+        "import math as _m",
+        "",
+        "import mcl as _mcl",
+        "from plc.st.runtime import blocks as _std",
+    ):
+        out.emit(line)
+    out.emit("from plc.st.runtime import functions as _f")
+    out.emit("")
+    out.emit("")
+    items = list(tree.items)
+    for item in items:
+        if isinstance(item, tf.DataTypeDeclaration):
+            out.st_line = unit.line(item)
+            for line in declare_type(unit, item):
+                out.emit(line)
+    configs = configurations(items)
+    global_blocks = [i for i in items if isinstance(i, tf.GlobalVariableDeclarations)]
+    for config in configs:  # a configuration's and its resources' VAR_GLOBAL
+        for tree in [config, *config.find_data("resource_declaration")]:
+            global_blocks += [
+                c for c in tree.children if isinstance(c, tf.GlobalVariableDeclarations)
+            ]
+    pous = [
+        POU(unit, i) for i in items if isinstance(i, tf.Program | tf.FunctionBlock | tf.Function)
+    ]
+    if not any(p.node.__class__ is tf.Program for p in pous):
+        raise STErrorAt(unit, tree, "no PROGRAM in the file", "a PROGRAM ... END_PROGRAM")
+    known = [
+        i
+        for i in items
+        if i not in configs
+        and not isinstance(
+            i,
+            tf.DataTypeDeclaration
+            | tf.GlobalVariableDeclarations
+            | tf.Program
+            | tf.FunctionBlock
+            | tf.Function,
+        )
+    ]
+    if known:
+        raise STErrorAt(
+            unit,
+            known[0],
+            f"{type(known[0]).__name__}",
+            "PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL",
+        )
+    body = Emitter()
+    _globals(unit, global_blocks, body)
+    for pou in pous:  # blocks and functions first: a program may use them
+        if pou.function or isinstance(pou.node, tf.FunctionBlock):
+            pou.declare()
+            pou.signature()
+    for pou in pous:
+        if isinstance(pou.node, tf.Program):
+            pou.declare()
+    analysed = [(Expressions(unit, p.scope), p.node.body, p.function) for p in pous]
+    writes = self_written(
+        (pou.name, x, b)
+        for pou, (x, b, _) in zip(pous, analysed, strict=True)
+        if isinstance(pou.node, tf.FunctionBlock)
+    )
+    fixed = fixed_inputs(analysed, unit.globals.vars.values(), writes)
+    for pou in pous:
+        pou.body(body, fixed, writes)
+    out.emit(f"_BOUND = {dict(unit.bound)!r}")
+    out.emit("")
+    lines = out.lines + body.lines
+    source = "\n".join(("    " * depth + text) if text else "" for depth, text, _ in lines) + "\n"
+    module = Module(source, [st for _, _, st in lines], bound=dict(unit.bound))
+    module.task = task_of(unit, items, [p.name for p in pous if isinstance(p.node, tf.Program)])
+    module.globals = dict(unit.globals.vars)
+    for pou in pous:
+        if isinstance(pou.node, tf.Program):
+            module.programs[pou.name] = dict(pou.scope.vars)
+    return module

@@ -1,0 +1,126 @@
+"""The TASK of an ST file (IEC 61131-3 B.1.7): ``CONFIGURATION``, ``RESOURCE ... ON``, ``TASK
+name(INTERVAL := T#2ms)`` and ``PROGRAM instance WITH task : type`` give the PROGRAM that runs and
+its scan period (:class:`Task`); :func:`task_of` reads them from the parsed file.
+
+One program instance runs (the one the configuration names, or the one asked for); its task's
+INTERVAL is its period. A task without INTERVAL (event-triggered, ``SINGLE :=``) is refused.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import lark
+
+from plc.st.semantics import types as T  # noqa: N812
+from plc.st.semantics.declarations import STErrorAt, constant_of
+from plc.st.semantics.scope import Unit
+
+
+@dataclass(frozen=True)
+class Task:
+    """The cyclic task a PROGRAM runs in.
+
+    Attributes:
+        name: the TASK's name.
+        interval: its period [s].
+        program: the PROGRAM type it runs (as the configuration spells it; empty: any).
+        where: ``file:line:column`` of the TASK declaration, for messages.
+    """
+
+    name: str
+    interval: float
+    program: str
+    where: str
+
+
+def configurations(items: list[Any]) -> list[lark.Tree[Any]]:
+    """The CONFIGURATION declarations among a file's items."""
+    return [i for i in items if isinstance(i, lark.Tree) and i.data == "configuration_declaration"]
+
+
+def task_of(unit: Unit, items: list[Any], programs: list[str]) -> Task | None:
+    """The task of the file's program (None: the file declares no CONFIGURATION).
+
+    Raises:
+        STError: several configurations, a task without INTERVAL or of a non-TIME interval,
+            a PROGRAM instance of an unknown type or with an undeclared task.
+    """
+    configs = configurations(items)
+    if not configs:
+        return None
+    if len(configs) > 1:
+        raise STErrorAt(unit, configs[1], "a second CONFIGURATION", "one per file")
+    tasks: dict[str, Task] = {}
+    instances: list[tuple[str, str, Any]] = []
+    for resource in configs[0].find_data("resource_declaration"):
+        for node in resource.find_data("task_configuration"):
+            task = _task(unit, node)
+            tasks[task.name.upper()] = task
+        for node in resource.find_data("program_configuration"):
+            _, with_task, program_type = node.children
+            instances.append((str(with_task or ""), str(program_type), node))
+    known = {p.upper(): p for p in programs}
+    for with_task, program_type, node in instances:
+        if program_type.upper() not in known:
+            raise STErrorAt(unit, node, f"no PROGRAM {program_type}", ", ".join(programs))
+        if with_task and with_task.upper() not in tasks:
+            raise STErrorAt(unit, node, f"no TASK {with_task}", ", ".join(tasks) or "a TASK")
+    if not tasks:
+        return None
+    if instances:
+        with_task, program_type, _ = instances[0]
+        task = tasks[with_task.upper()] if with_task else next(iter(tasks.values()))
+        return Task(task.name, task.interval, known[program_type.upper()], task.where)
+    return next(iter(tasks.values()))
+
+
+def _task(unit: Unit, node: lark.Tree[Any]) -> Task:
+    """One TASK declaration."""
+    name, *items = node.children
+    settings = {str(item.children[0]).upper(): item.children[1] for item in items}
+    interval = settings.get("INTERVAL")
+    if interval is None:
+        raise STErrorAt(
+            unit, node, f"TASK {name} without INTERVAL", "a cyclic task, INTERVAL := T#2ms"
+        )
+    value = constant_of(unit, interval)
+    if value.type is not T.TIME or not value.value > 0:
+        raise STErrorAt(unit, node, f"TASK {name} INTERVAL {interval}", "a TIME > 0, T#2ms")
+    return Task(str(name), value.value / 1000.0, "", unit.where(node))
+
+
+def ticks(task: Task, period: float) -> int:
+    """How many scans of ``period`` [s] make one task interval.
+
+    Raises:
+        STError: the interval is no integer multiple of the scene's period (at the TASK).
+    """
+    from plc.st.errors import STError
+
+    n = round(task.interval / period)
+    if n < 1 or abs(n * period - task.interval) > 1e-9 * task.interval:
+        raise STError.at(
+            task.where,
+            f"TASK {task.name} INTERVAL {task.interval * 1e3:g} ms cannot run on a PLC period "
+            f"of {period * 1e3:g} ms",
+            f"an integer multiple of {period * 1e3:g} ms",
+        )
+    return n
+
+
+def declared_task(source: str, filename: str) -> Task | None:
+    """The task an ST source declares (None: no CONFIGURATION with a TASK), read before a
+    machine is built for it (e.g. at the TASK's period).
+
+    Raises:
+        STError: a syntax error, or a malformed configuration.
+    """
+    import blark.transform as tf
+
+    from plc.st.frontend.parse import parse
+
+    items = list(parse(source, filename).items)
+    programs = [str(i.name) for i in items if isinstance(i, tf.Program)]
+    return task_of(Unit(filename), items, programs)

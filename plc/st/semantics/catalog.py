@@ -1,0 +1,122 @@
+"""What an ST program may name besides its own declarations: mcl's function blocks and
+enumerations, the standard blocks, the elementary types; and the Python names the generated
+code uses for ST identifiers."""
+
+from __future__ import annotations
+
+import enum
+import keyword
+from functools import cache
+
+import mcl
+from mcl import reference
+from plc.st.runtime.blocks import STANDARD
+from plc.st.semantics.types import (
+    ANY_STRUCT,
+    AXIS,
+    BOOL,
+    DINT,
+    ELEMENTARY,
+    GROUP,
+    LREAL,
+    SEQUENCE,
+    STRING,
+    BlockType,
+    EnumType,
+    Member,
+    Type,
+)
+
+ANY = Type("ANY")
+"""An mcl output of no elementary type (read as it is)."""
+
+_PYTHON_TYPES: dict[str, Type] = {
+    "bool": BOOL,
+    "int": DINT,
+    "float": LREAL,
+    "str": STRING,
+    "Axis": AXIS,
+    "AxesGroup": GROUP,
+    "Sequence[float]": SEQUENCE,
+    "TableRef": ANY_STRUCT,
+}
+
+
+def python_name(name: str) -> str:
+    """The Python identifier of an ST identifier (a Python keyword gets a trailing ``_``)."""
+    return f"{name}_" if keyword.iskeyword(name) or keyword.issoftkeyword(name) else name
+
+
+@cache
+def mcl_blocks() -> dict[str, BlockType]:
+    """mcl's function blocks by upper-case name, with their in-outs, inputs and outputs."""
+    blocks: dict[str, BlockType] = {}
+    classes = reference.function_blocks()
+    refs = {ref for cls in classes for ref in cls.REFS}  # a compiled block shows them all
+    for cls in classes:
+        members: dict[str, Member] = {}
+        for name, kind, _ in reference.inputs(cls):
+            direction = "in_out" if name in cls.REFS else "input"
+            members[name.upper()] = Member(_PYTHON_TYPES.get(kind, ANY), direction, name)
+        for name, kind, _ in reference.outputs(cls):
+            if name.upper() not in members and name not in refs and not name.isupper():
+                members[name.upper()] = Member(_PYTHON_TYPES.get(kind, ANY), "output", name)
+        blocks[cls.__name__.upper()] = BlockType(cls.__name__, "mcl", members, cls.__name__)
+    return blocks
+
+
+@cache
+def standard_blocks() -> dict[str, BlockType]:
+    """The IEC standard function blocks by name."""
+    return {
+        name: BlockType(
+            name,
+            "std",
+            {m: Member(ELEMENTARY[t], d, m) for m, (t, d) in members.items()},
+            name,
+        )
+        for name, (_, members) in STANDARD.items()
+    }
+
+
+@cache
+def mcl_enums() -> dict[str, EnumType]:
+    """mcl's enumerations (MC_BufferMode, MC_Direction, MC_SwitchMode, MC_ExecutionMode) by
+    upper-case name."""
+    found: dict[str, EnumType] = {}
+    for name in (
+        "MC_BufferMode",
+        "MC_Direction",
+        "MC_SwitchMode",
+        "MC_ExecutionMode",
+        "MC_StartMode",
+        "CamLaw",
+    ):
+        cls = getattr(mcl, name)
+        if isinstance(cls, type) and issubclass(cls, enum.IntEnum):
+            found[name.upper()] = EnumType(name, {m.name: int(m.value) for m in cls})
+    return found
+
+
+def builtin_type(name: str) -> Type | None:
+    """An elementary type, AXIS_REF, an mcl enumeration or block, a standard block by name."""
+    upper = name.upper()
+    if upper in ELEMENTARY:
+        return ELEMENTARY[upper]
+    if upper == "AXIS_REF":
+        return AXIS
+    if upper in ("AXES_GROUP_REF", "AXESGROUP_REF"):
+        return GROUP
+    return mcl_enums().get(upper) or standard_blocks().get(upper) or mcl_blocks().get(upper)
+
+
+def builtin_names() -> list[str]:
+    """Every type name :func:`builtin_type` knows (for suggestions)."""
+    return [
+        *ELEMENTARY,
+        "AXIS_REF",
+        "AXES_GROUP_REF",
+        *(t.name for t in mcl_enums().values()),
+        *(t.name for t in standard_blocks().values()),
+        *(t.name for t in mcl_blocks().values()),
+    ]

@@ -1,0 +1,1 @@
+"""Tests of the PLC layer (plc): step sequences, homing procedures, operator, commissioning."""

@@ -1,0 +1,1 @@
+"""Tests of the Structured Text compiler and runtime (plc.st)."""

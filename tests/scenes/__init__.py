@@ -1,0 +1,1 @@
+"""Tests of the testbench (scenes): plant, machines, tools, command line."""

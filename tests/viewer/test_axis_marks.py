@@ -1,0 +1,221 @@
+"""The 3-D view explains the machine: axis marks at the joints along their positive directions,
+the parts of an axis in error tinted red until it is reset, a legend naming every body, and a
+click on a part naming it on that page.
+
+Positions and directions are compared with MuJoCo's forward kinematics (``data.xanchor``,
+``data.xaxis``, a point carried by a joint's body); the session is driven synchronously with a
+fake wall clock (:func:`tests.viewer.test_session.run`).
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+import imageio.v3 as iio
+import mujoco
+import numpy as np
+import pytest
+import viser
+
+import mcl
+import mcl.faults
+import scenes
+from plc.operator.hmi import Move
+from tests.viewer.test_browser import browser, wait_for
+from tests.viewer.test_session import FakeClock, run, view
+from viewer.pages.app import ViewerApp
+from viewer.serving.server import Viewer
+from viewer.sim.session import Session
+from viewer.view3d.axis_marks import MARK_COLOR, MARK_ERROR_COLOR, AxisMarks, axis_joints
+from viewer.view3d.legend import legend_html, legend_rows
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser
+
+__all__ = ["browser"]  # the Chromium fixture of the browser tests, used here too
+
+MACHINES_WITH_MODELS = ("gantry", "flying_shear", "press", "rotary_cutter", "cell")
+
+LAMPS = ("_lim_neg_geom", "_lim_pos_geom", "_ref_geom")
+"""Endings of the switch geoms, lit by their inputs whatever else their body shows."""
+
+
+def is_lamp(model: mujoco.MjModel, g: int) -> bool:
+    """Whether geom ``g`` is a switch lamp."""
+    return model.geom(g).name.endswith(LAMPS)
+
+
+def marks_of(
+    server: viser.ViserServer, name: str, start: dict[str, float]
+) -> tuple[mujoco.MjModel, mujoco.MjData, AxisMarks]:
+    """A machine at ``start`` (joint coordinates [m, rad]), kinematics current, and the marks
+    of all its axes drawn for that pose."""
+    scene = scenes.load(name, trace_every=0)
+    model, data = scene.model, scene.data
+    for joint, q in start.items():
+        data.qpos[model.joint(joint).qposadr[0]] = q
+    mujoco.mj_kinematics(model, data)
+    joints = [(axis, model.joint(scene.io(axis).joint).name) for axis in scene.axes]
+    marks = AxisMarks(server, model, axis_joints(model, joints), length=0.2)
+    marks.update(data.xpos, data.xquat, {})
+    return model, data, marks
+
+
+def test_gantry_marks_sit_at_the_joints_and_point_along_them(server: viser.ViserServer) -> None:
+    """X, Y, Z away from home: each mark's frame is at the joint's anchor carried along by the
+    part (MuJoCo's ``xanchor`` of a slide is the anchor at ``qpos0``, on the parent: moved by
+    q along ``xaxis``), its arrow lies on the line through it along +axis in world frame, and
+    its label names the axis and part."""
+    start = {"gantry/X": 0.4, "gantry/Y": 0.25, "gantry/Z": -0.1}
+    model, data, marks = marks_of(server, "gantry", start)
+    parts = {"X": "bridge", "Y": "carriage", "Z": "ram"}
+    for axis, part in parts.items():
+        j = model.joint(f"gantry/{axis}").id
+        adr = model.jnt_qposadr[j]
+        e = data.xaxis[j]
+        anchor = data.xanchor[j] + (data.qpos[adr] - model.qpos0[adr]) * e
+        np.testing.assert_allclose(marks.anchor(axis), anchor, atol=1e-9)
+        np.testing.assert_allclose(marks.direction(axis), e, atol=1e-9)
+        start_point, end_point = marks.arrow(axis)
+        arrow = end_point - start_point
+        assert float(arrow @ e) == pytest.approx(0.2, rel=1e-6)  # along +axis, its length
+        offset = start_point - anchor
+        assert np.linalg.norm(offset - (offset @ e) * e) < 1e-9  # on the joint's line
+        assert marks.label(axis) == f"{axis} + ({part})"
+    # the bridge's mark travels with it: X 0.4 m from home puts it 0.4 m along +x
+    np.testing.assert_allclose(marks.anchor("X") - model.body("gantry/bridge").pos, [0.4, 0, 0])
+
+
+@pytest.mark.parametrize("axis", ["L", "W"])
+def test_a_hinge_mark_turns_the_way_its_joint_turns(server: viser.ViserServer, axis: str) -> None:
+    """The flying shear's pinch roll (axis +y) and measuring wheel (axis −y): the mark sits at
+    the joint's anchor along its axis, and its curved arrow's head points where a point of the
+    part at the head moves when the joint turns by a small positive angle."""
+    joint = f"flying_shear/{axis}"
+    model, data, marks = marks_of(server, "flying_shear", {joint: 0.7})
+    j = model.joint(joint).id
+    np.testing.assert_allclose(marks.anchor(axis), data.xanchor[j], atol=1e-9)
+    np.testing.assert_allclose(marks.direction(axis), data.xaxis[j], atol=1e-9)
+    tail, head = marks.arrow(axis)
+    body = int(model.jnt_bodyid[j])
+    rotation = data.xmat[body].reshape(3, 3)
+    carried = rotation.T @ (tail - data.xpos[body])  # the head's tail as a point of the part
+    data.qpos[model.jnt_qposadr[j]] += 1e-4
+    mujoco.mj_kinematics(model, data)
+    moved = data.xpos[body] + data.xmat[body].reshape(3, 3) @ carried - tail
+    direction = (head - tail) / np.linalg.norm(head - tail)
+    assert float(direction @ moved) / np.linalg.norm(moved) > 0.999
+
+
+def test_the_parts_of_an_axis_in_error_turn_red_until_it_is_reset(
+    server: viser.ViserServer,
+) -> None:
+    """A LIM+ forced on while X moves: X errors; the geoms of the bridge, the carriage and the
+    ram (what X moves) turn red, the frame's stay as they were, X's arrow is red and its label
+    shows the error number. Faults cleared and X reset: every colour is back."""
+    clock = FakeClock()
+    session = Session("gantry", clock=clock)
+    app = ViewerApp(session, server, clock=clock)
+    app.frame()
+    scene, marks = app.model_scene, app.views.marks
+    assert scene is not None and marks is not None
+    model = session.scene.model
+    moved = {model.body(f"gantry/{b}").id for b in ("bridge", "carriage", "ram")}
+    frame_body = model.body("gantry/").id
+    before = {g: scene.geom_color(g) for b in moved | {frame_body} for g in scene.body_geoms(b)}
+
+    requests = session.requests("X")
+    requests.set_power(True)
+    run(session, clock, 0.2)
+    requests.move(Move("relative", 5.0, 100.0, 1000.0))
+    session.inject("X", mcl.faults.SwitchStuck("lim_pos", True))
+    run(session, clock, 0.2)
+    failed = view(session)
+    assert failed.error_id != 0
+    app.frame()
+    for b in moved:
+        for g in scene.body_geoms(b):
+            r, gr, bl = scene.geom_color(g)
+            assert is_lamp(model, g) or (r > gr + 60 and r > bl + 60), model.geom(g).name
+    unlit = [g for g in scene.body_geoms(frame_body) if not is_lamp(model, g)]
+    assert len(unlit) > 10 and all(scene.geom_color(g) == before[g] for g in unlit)
+    assert scene.tinted_bodies == moved
+    assert marks.arrow_color("X") == MARK_ERROR_COLOR and marks.arrow_color("Y") == MARK_COLOR
+    assert marks.label("X") == f"⚠ X error {failed.error_id} (bridge)"
+
+    session.clear_faults("X")
+    run(session, clock, 0.1)
+    requests.reset()
+    run(session, clock, 0.2)
+    assert view(session).error_id == 0
+    app.frame()
+    assert not scene.tinted_bodies
+    for b in moved:
+        for g in scene.body_geoms(b):
+            assert is_lamp(model, g) or scene.geom_color(g) == scene.model_color(g)
+    assert marks.arrow_color("X") == MARK_COLOR and marks.label("X") == "X + (bridge)"
+
+    app.views.show_axis_labels = False  # the View folder's "Axis labels: off"
+    app._draw()
+    app.frame()
+    assert not marks.visible
+
+
+@pytest.mark.parametrize("name", MACHINES_WITH_MODELS)
+def test_the_legend_explains_every_body(name: str) -> None:
+    """Every body of the machine is a row of the legend with its description from the model,
+    the gantry's magenta block is named as the test obstacle it is, and the legend names the
+    switch lamps and the overlays in their colours."""
+    scene = scenes.load(name, trace_every=0)
+    model = scene.model
+    axes = {model.joint(scene.io(a).joint).name: a for a in scene.axes}
+    rows = legend_rows(model, axes)
+    by_body = {row.body: row for row in rows if row.body is not None}
+    drawn = {int(b) for b in model.geom_bodyid}
+    assert drawn <= set(by_body)
+    for b in drawn:
+        row = by_body[b]
+        assert row.part.startswith(model.body(b).name) and len(row.role) > 40, row
+    parts = {row.part: row for row in rows}
+    if any(model.geom(g).name.endswith("_lim_neg_geom") for g in range(model.ngeom)):
+        assert parts["LIM switch lit"].color == (242, 38, 26)  # the cutter's drum has REF only
+    assert parts["REF switch lit"].color == (255, 184, 0)
+    assert parts["set-point ghost"].color == (38, 191, 242)
+    assert {"dog", "axis mark", "axis in error", "contact force"} <= set(parts)
+    if "gantry/X_obstacle" in parts:
+        obstacle = parts["gantry/X_obstacle"]
+        assert obstacle.color == (191, 26, 166) and "obstacle" in obstacle.role
+        assert "X_bumper" in obstacle.role
+    page = legend_html(rows)
+    assert all(f"<b>{model.body(b).name}" in page for b in drawn)
+
+
+@pytest.mark.browser
+def test_a_click_on_the_magenta_block_names_it_on_that_page(browser: Browser) -> None:
+    """In headless Chromium: the gantry's magenta block is found in the canvas by its colour
+    and clicked; the page shows a notification naming it as the test obstacle."""
+    v = Viewer("gantry", port=0, demo=False)
+    context = browser.new_context(viewport={"width": 1280, "height": 1000})
+    try:
+        page = context.new_page()
+        page.goto(v.url)
+        page.get_by_role("button", name="Take control", exact=True).wait_for(timeout=30_000)
+        wait_for(lambda: v.app.frames > 0, 5.0, "the first frame")
+        time.sleep(0.5)
+        canvas = page.locator("canvas").first
+        box = canvas.bounding_box()
+        assert box is not None
+        image = iio.imread(canvas.screenshot(), extension=".png")[..., :3].astype(np.int16)
+        r, g, b = image[..., 0], image[..., 1], image[..., 2]
+        ys, xs = np.nonzero((r - g > 80) & (b - g > 60))
+        assert xs.size > 20, "the magenta block is not in the picture"
+        x = box["x"] + float(np.median(xs)) * box["width"] / image.shape[1]
+        y = box["y"] + float(np.median(ys)) * box["height"] / image.shape[0]
+        page.mouse.click(x, y)
+        note = page.locator(".mantine-Notification-root", has_text="gantry/X_obstacle")
+        note.wait_for(timeout=15_000)
+        assert "Test obstacle" in note.inner_text()
+    finally:
+        context.close()
+        v.close()

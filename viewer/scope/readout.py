@@ -1,0 +1,139 @@
+"""What a scope makes of a recording: the cursor read-out (values at A and B, B−A, Δt, 1/Δt),
+an overlay aligned on it, the plot's points (decimated, peaks kept) and the CSV export."""
+
+from __future__ import annotations
+
+import csv
+import html
+import io
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from viewer.scope.capture import Recording
+
+MAX_POINTS = 2000
+"""Points per channel a page is sent at most."""
+
+
+@dataclass(frozen=True)
+class Readout:
+    """The cursors' read-out of a recording.
+
+    Attributes:
+        a: Cursor A [s from the origin].
+        b: Cursor B [s from the origin].
+        headers: Channel names with units.
+        last: Each channel's newest value [display unit].
+        at_a: Each channel's value at A.
+        at_b: Each channel's value at B.
+    """
+
+    a: float
+    b: float
+    headers: tuple[str, ...]
+    last: npt.NDArray[np.float64]
+    at_a: npt.NDArray[np.float64]
+    at_b: npt.NDArray[np.float64]
+
+    @property
+    def dt(self) -> float:
+        """B − A [s]."""
+        return self.b - self.a
+
+    @property
+    def rate(self) -> float:
+        """1 / (B − A) [Hz] (inf when A = B)."""
+        return 1.0 / self.dt if self.dt else math.inf
+
+
+def readout(recording: Recording, a: float, b: float) -> Readout:
+    """The values of every channel of ``recording`` at cursors ``a`` and ``b`` [s]."""
+    values = recording.values
+    last = values[:, -1].copy() if values.shape[1] else np.full(values.shape[0], math.nan)
+    return Readout(a, b, recording.headers(), last, recording.at(a), recording.at(b))
+
+
+def readout_html(r: Readout) -> str:
+    """The read-out table: channel, last value, A, B, B−A; then Δt and 1/Δt."""
+    cell = '<td style="text-align:right;font-family:monospace">'
+    rows = "".join(
+        f"<tr><td>{html.escape(h)}</td>{cell}{_number(last)}</td>{cell}{_number(a)}</td>"
+        f"{cell}{_number(b)}</td>{cell}{_number(b - a)}</td></tr>"
+        for h, last, a, b in zip(r.headers, r.last, r.at_a, r.at_b, strict=True)
+    )
+    head = '<th style="text-align:right">'
+    return (
+        '<table style="font-size:0.8em;width:100%;table-layout:fixed">'
+        f'<tr><th style="text-align:left;width:34%">channel</th>{head}last</th>'
+        f"{head}A = {r.a:.4f} s</th>{head}B = {r.b:.4f} s</th>{head}B−A</th></tr>{rows}</table>"
+        f"<div>Δt = {r.dt * 1e3:.3f} ms, 1/Δt = {_number(r.rate)} Hz</div>"
+    )
+
+
+def _number(value: float) -> str:
+    """A read-out value, 6 significant digits."""
+    return f"{value:.6g}" if math.isfinite(value) else "—"
+
+
+def aligned(recording: Recording, overlay: Recording) -> npt.NDArray[np.float64]:
+    """The channels of ``overlay`` that ``recording`` has, at the recording's sample times
+    (both aligned at their origins; NaN where the overlay has no samples or no such channel):
+    one row per channel of ``recording``."""
+    x, ox = recording.x, overlay.x
+    rows = np.full((len(recording.names), x.size), math.nan)
+    if ox.size < 2:
+        return rows
+    outside = (x < ox[0]) | (x > ox[-1])
+    for k, name in enumerate(recording.names):
+        if name in overlay.names:
+            row = np.interp(x, ox, overlay.values[overlay.names.index(name)])
+            row[outside] = math.nan
+            rows[k] = row
+    return rows
+
+
+def decimate(
+    x: npt.NDArray[np.float64], rows: npt.NDArray[np.float64], max_points: int = MAX_POINTS
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """At most ``max_points`` points per row, keeping each bucket's minimum and maximum (in
+    their order in time, NaN ignored) so that no peak is lost; ``(x, rows)`` unchanged when
+    short enough."""
+    n = x.size
+    if n <= max_points:
+        return x, rows
+    buckets = max_points // 2
+    size = -(-n // buckets)
+    pad = buckets * size - n
+    xs = np.pad(x, (0, pad), mode="edge").reshape(buckets, size)
+    vs = np.pad(rows, ((0, 0), (0, pad)), mode="edge").reshape(rows.shape[0], buckets, size)
+    low = np.argmin(np.where(np.isnan(vs), np.inf, vs), axis=2)
+    high = np.argmax(np.where(np.isnan(vs), -np.inf, vs), axis=2)
+    first, second = np.minimum(low, high), np.maximum(low, high)
+    pick = np.stack([first, second], axis=2)  # (rows, buckets, 2)
+    values = np.take_along_axis(vs, pick, axis=2).reshape(rows.shape[0], 2 * buckets)
+    times = np.stack([xs[:, 0], xs[:, -1]], axis=1).reshape(2 * buckets)
+    return times, values
+
+
+def recording_csv(recording: Recording, overlay: Recording | None = None) -> str:
+    """The recording as CSV: ``t [s]`` (from its origin, the trigger or start), one column per
+    channel (header with units), then the overlay's channels at the same times."""
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    headers = list(recording.headers())
+    columns = [recording.values]
+    if overlay is not None:
+        headers += [f"{h} (#{overlay.number})" for h in recording.headers()]
+        columns.append(aligned(recording, overlay))
+    table = np.vstack(columns) if columns else np.zeros((0, recording.t.size))
+    writer.writerow(["t [s]", *headers])
+    for k, x in enumerate(recording.x):
+        writer.writerow([f"{x:.6f}", *(_cell(v) for v in table[:, k])])
+    return out.getvalue()
+
+
+def _cell(value: float) -> str:
+    return f"{value:.9g}" if math.isfinite(value) else ""
