@@ -33,6 +33,10 @@ from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
 from mcl.encoder import AbsoluteEncoder
 from mcl.enums import (
+    MC_CIRC_MODE,
+    MC_CIRC_PATHCHOICE,
+    MC_COORD_SYSTEM,
+    MC_TRANSITION_MODE,
     AxisState,
     GroupState,
     MC_BufferMode,
@@ -43,6 +47,7 @@ from mcl.enums import (
 from mcl.errors import ErrorID, StateError, error_text
 from mcl.flying_reference import MC_StepRefFlyingRefPulse, MC_StepRefFlyingSwitch
 from mcl.force import MC_ForceControl
+from mcl.gcode import GCodeError, MC_PathSelect, parse_gcode, read_gcode
 from mcl.gearing import MC_GearIn, MC_GearInPos, MC_GearOut
 from mcl.group import AxesGroup
 from mcl.group_fb import (
@@ -54,6 +59,10 @@ from mcl.group_fb import (
     MC_GroupReadStatus,
     MC_GroupReset,
     MC_GroupStop,
+    MC_MoveCircularAbsolute,
+    MC_MoveCircularRelative,
+    MC_MoveDirectAbsolute,
+    MC_MoveDirectRelative,
     MC_MoveLinearAbsolute,
     MC_MoveLinearRelative,
     MC_UngroupAllAxes,
@@ -95,6 +104,7 @@ from mcl.parameters import (
     MC_WriteBoolParameter,
     MC_WriteParameter,
 )
+from mcl.path_table import MC_PATH_DATA_REF, MC_PATH_SEGMENT, MC_MovePath
 from mcl.profiles import (
     MC_TA,
     MC_TA_REF,
@@ -114,10 +124,16 @@ from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
 __all__ = [
     "IDEAL_SENSORS",
     "MC_CAM_REF",
+    "MC_CIRC_MODE",
+    "MC_CIRC_PATHCHOICE",
+    "MC_COORD_SYSTEM",
+    "MC_PATH_DATA_REF",
+    "MC_PATH_SEGMENT",
     "MC_TA",
     "MC_TA_REF",
     "MC_TP",
     "MC_TP_REF",
+    "MC_TRANSITION_MODE",
     "MC_TV",
     "MC_TV_REF",
     "AbsoluteEncoder",
@@ -132,6 +148,7 @@ __all__ = [
     "ChannelSnapshot",
     "ConditionTimeout",
     "ErrorID",
+    "GCodeError",
     "GT_Analog",
     "GT_AxErrStringCZ",
     "GT_AxErrStringEN",
@@ -168,12 +185,18 @@ __all__ = [
     "MC_Halt",
     "MC_MoveAbsolute",
     "MC_MoveAdditive",
+    "MC_MoveCircularAbsolute",
+    "MC_MoveCircularRelative",
     "MC_MoveContinuousAbsolute",
     "MC_MoveContinuousRelative",
+    "MC_MoveDirectAbsolute",
+    "MC_MoveDirectRelative",
     "MC_MoveLinearAbsolute",
     "MC_MoveLinearRelative",
+    "MC_MovePath",
     "MC_MoveRelative",
     "MC_MoveVelocity",
+    "MC_PathSelect",
     "MC_Phasing",
     "MC_PositionProfile",
     "MC_Power",
@@ -221,5 +244,7 @@ __all__ = [
     "StateError",
     "error_text",
     "faults",
+    "parse_gcode",
+    "read_gcode",
     "rotary_knife",
 ]

@@ -79,3 +79,36 @@ MOTION_STATES = frozenset(
     }
 )
 """States in which a new motion command may take over the axis (besides StandStill)."""
+
+
+class MC_CIRC_MODE(IntEnum):
+    """How the AuxPoint of MC_MoveCircularAbsolute/Relative describes the arc (PLCopen Part 4)."""
+
+    BORDER = 0
+    CENTER = 1
+    RADIUS = 2
+
+
+class MC_CIRC_PATHCHOICE(IntEnum):
+    """The direction of an arc, seen from the positive normal of its plane (PLCopen Part 4)."""
+
+    CLOCKWISE = 0
+    COUNTERCLOCKWISE = 1
+
+
+class MC_TRANSITION_MODE(IntEnum):
+    """How a blending group motion rounds the corner into it (PLCopen Part 4)."""
+
+    TMNone = 0
+    TMStartVelocity = 1
+    TMConstantVelocity = 2
+    TMCornerDistance = 3
+    TMMaxCornerDeviation = 4
+
+
+class MC_COORD_SYSTEM(IntEnum):
+    """The coordinate system of a group motion's positions (PLCopen Part 4)."""
+
+    ACS = 0
+    MCS = 1
+    PCS = 2

@@ -1,28 +1,30 @@
-"""Axes groups: AXES_GROUP_REF, the group state machine and linear interpolation.
+"""Axes groups: AXES_GROUP_REF, the group state machine and the running of the group path.
 
-MotionControlLib chapters 2.2–2.3 (Fig. 2.2, Tab. 2.1) and 5; docs/reference.md, Axes groups and
-BufferMode.
+MotionControlLib chapters 2.2–2.3 (Fig. 2.2, Tab. 2.1) and 5, PLCopen Part 4; docs/reference.md,
+Axes groups and BufferMode.
 
-An :class:`AxesGroup` holds up to three axes in the order they were added. A group move is a
-straight segment in the space of the members' coordinates [mm], run along a 1-D jerk-limited
-profile so that the tool point stays on the straight line; consecutive segments may blend at
-their corners. The geometry, the path elements and their planning (corner blends included) are
-in :mod:`mcl.path`; this module keeps the group state machine, the membership, the queue of path
-elements and the glue to the member axes.
+An :class:`AxesGroup` holds up to three axes in the order they were added. A group motion is a
+queue of path elements (lines, arcs, helices; :mod:`mcl.path`) in the space of the members'
+coordinates [mm], each run along a 1-D jerk-limited profile of its arc length, so the tool point
+stays on the commanded path; consecutive elements may blend at their corners. The shapes are in
+:mod:`mcl.geometry`, the elements and blends in :mod:`mcl.path`, their planning (limits,
+look-ahead, blends) in :mod:`mcl.path_planner`; this module keeps the group state machine, the
+membership, the queue of elements and the glue to the member axes.
 
 The members are driven through the normal axis machinery: while the group moves, every member
 runs a :class:`GroupMember` command (axis state SynchronizedMotion) whose set point is the
 member's component of the path point. The path point is computed once per servo instant and
 cached, because every member asks for the same instant. The member commands stay active across
-consecutive segments; the group ends them when the path is complete and nothing is queued.
+consecutive elements; the group ends them when the path is complete and nothing is queued.
 
-Aborting while moving: when the current velocity vector points along the new segment (each
-axis' velocity differs by at most what the path acceleration changes in one servo period) the
-segment starts with that velocity; otherwise the current motion first ramps to standstill along
-its own direction with the new command's Deceleration, then the segment starts from the stop
-point (the new block is Active during the ramp). MC_GroupStop, MC_GroupDisable and member faults
-ramp the path velocity to zero along the current direction of motion (inside a corner blend:
-along its tangent); a member fault uses the other members' fastest ramp (max_deceleration).
+Aborting while moving: when the current velocity vector points along the new command's start
+(each axis' velocity differs by at most what the path acceleration changes in one servo period,
+and the speed is within what the new element allows) the command starts with that velocity;
+otherwise the current motion first ramps to standstill on its path with the new command's
+Deceleration, then the command starts from the stop point (the new block is Active during the
+ramp; an arc is then drawn from there). MC_GroupStop, MC_GroupDisable and member faults ramp the
+path velocity to zero on the path (corner blends included: :func:`mcl.path.stop_element`); a
+member fault uses the other members' fastest ramp (max_deceleration).
 
 Member faults are acted on by :meth:`AxesGroup.update`, which runs with every path evaluation
 (each servo cycle while the group moves) and in the group blocks; reading
@@ -40,19 +42,18 @@ from mcl.axis import Axis
 from mcl.command import Command, Status
 from mcl.enums import AxisState, GroupState, MC_BufferMode
 from mcl.errors import ErrorID
-from mcl.path import (
+from mcl.geometry import (
     EPS,
-    Blend,
-    Element,
-    PathCommand,
-    PathPlanner,
+    GeometryError,
+    Line,
     Vector,
     along,
     direction,
     distance_to_segment,
     dot,
-    ramp_element,
 )
+from mcl.path import Blend, Element, Move, PathCommand, stop_element
+from mcl.path_planner import PathPlanner
 from mcl.trajectory import Limits, PlanningError, Profile
 
 _MOTION_STATES: Final = frozenset(
@@ -97,7 +98,7 @@ class GroupMember(Command):
 
 
 class AxesGroup:
-    """AXES_GROUP_REF: up to three axes moved together on straight lines.
+    """AXES_GROUP_REF: up to three axes moved together along a path of lines and arcs.
 
     The state (:attr:`state`) is derived each time it is read from the group's own flags and its
     members' states (MotionControlLib Tab. 2.1, chapter 2.3); reading it changes nothing:
@@ -114,8 +115,8 @@ class AxesGroup:
 
     Args:
         name: the group's name in messages.
-        corner_tolerance: largest distance of the blended path from the polyline at a corner
-            [mm] (corner blending: :mod:`mcl.path`).
+        corner_tolerance: largest distance of the blended path from the commanded path at a
+            corner [mm] (corner blending: :mod:`mcl.path`).
 
     Attributes:
         GroupErrorID: the group error (0 = none; 8001 ERRPOSG, or the member's error).
@@ -396,86 +397,89 @@ class AxesGroup:
             return list(self._current()[1])
         return list(self._last_end())
 
-    def path_limits(
-        self,
-        unit: Sequence[float],
-        velocity: float,
-        acceleration: float,
-        deceleration: float,
-        jerk: float,
+    def nominal_limits(
+        self, velocity: float, acceleration: float, deceleration: float, jerk: float
     ) -> Limits:
-        """Limits along the path direction ``unit`` from FB inputs (validated, >= 0); see
-        :meth:`mcl.path.PathPlanner.limits` (0 = the members' default, clamped to every
-        member's maxima)."""
-        return self._planner().limits(unit, velocity, acceleration, deceleration, jerk)
+        """The path limits of FB inputs (validated, >= 0; 0 = the members' default) before any
+        clamping to a direction or a curve (the 100 s rule of the parameter checks)."""
+        zero = Line([0.0] * len(self.axes), [0.0] * len(self.axes))
+        return self._planner().limits(zero, velocity, acceleration, deceleration, jerk)[0]
 
     # ------------------------------------------------------------------ commands
-    def submit_move(
-        self,
-        ticket: PathCommand,
-        target: Sequence[float],
-        velocity: float,
-        acceleration: float,
-        deceleration: float,
-        jerk: float,
-    ) -> None:
-        """Hand a validated linear move to ``target`` [mm] to the group (docs/reference.md,
+    def prepare(self, ticket: PathCommand, moves: Sequence[Move]) -> list[Element]:
+        """The elements of a command's ``moves``, chained from where it starts
+        (:meth:`start_point` of its BufferMode); only the last one reports the command Done.
+
+        Raises:
+            GeometryError: a piece describes no path (an arc that fits no circle, ...).
+        """
+        start = self.start_point(ticket.buffer_mode)
+        planner = self._planner()
+        elements: list[Element] = []
+        for move in moves:
+            element = planner.element(ticket, start, move)
+            element.completes = False
+            elements.append(element)
+            start = element.end
+        elements[-1].completes = True
+        return elements
+
+    def submit(self, ticket: PathCommand, elements: Sequence[Element]) -> None:
+        """Hand a validated command's elements (:meth:`prepare`) to the group (docs/reference.md,
         BufferMode).
 
         Aborting (or an idle group): starts now from the current path point. When the current
-        velocity vector points along the new segment (within what the path acceleration changes
-        in one servo period, per axis) the segment starts with that velocity; otherwise the
-        current motion first ramps to standstill along its own direction with the new command's
-        deceleration, then the segment starts from there. Buffered: starts from standstill once
-        the previous command is Done. Blending*: the previous segment is re-planned to pass the
-        corner at the blending velocity (module docstring).
+        velocity vector points along the first element's start (within what the path
+        acceleration changes in one servo period, per axis, and no faster than the element
+        allows) the element starts with that velocity; otherwise the current motion first ramps
+        to standstill on its path with the first element's deceleration, then the command starts
+        from there. Buffered: starts from standstill once the previous command is Done.
+        Blending*: the previous element is re-planned to pass the corner at the blending
+        velocity (:mod:`mcl.path_planner`).
         """
-        params = (velocity, acceleration, deceleration, jerk)
-        mode = ticket.buffer_mode
-        target = [float(x) for x in target]
-        if mode != MC_BufferMode.Aborting and not self._idle():
-            start = self._last_end()
-            element = self._planner().move_element(ticket, start, target, params)
-            self._queue.append(element)
-            active = self._active
-            if (
-                len(self._queue) == 1
-                and active is not None
-                and active.move
-                and mode >= MC_BufferMode.BlendingLow
-            ):
+        if ticket.buffer_mode != MC_BufferMode.Aborting and not self._idle():
+            before = self._queue[0] if self._queue else None
+            entry = before.entry_max if before is not None else 0.0
+            self._queue.extend(elements)
+            self._lookahead()
+            first = self._queue[0]
+            if first is not before or first.entry_max != entry:
                 self._replan_active()
             return
-        t, p, v, a = self._current()
+        t, _, v, a = self._current()
         self._abort_tickets(except_ticket=ticket)
         self._queue.clear()
-        element = self._planner().move_element(ticket, p, target, params)
-        unit = element.unit
+        first = elements[0]
+        unit = first.geometry.tangent(0.0)
         v_along = dot(v, unit)
-        jump = self.axes[0].servo_period * element.limits.acceleration
-        if all(abs(vi - v_along * ui) <= jump for vi, ui in zip(v, unit, strict=True)):
-            ticket.status = Status.Active
-            self._begin(element, t, 0.0, v_along, dot(a, unit))
+        jump = self.axes[0].servo_period * first.limits.acceleration
+        ticket.status = Status.Active
+        if v_along <= first.cap and all(
+            abs(vi - v_along * ui) <= jump for vi, ui in zip(v, unit, strict=True)
+        ):
+            self._queue.extend(elements[1:])
+            self._lookahead()
+            self._begin(first, t, 0.0, v_along, dot(a, unit))
         else:
-            dec = self.path_limits(direction(v), math.inf, deceleration, deceleration, jerk)
-            ramp = ramp_element(p, v, a, dec, ticket, completes=False)
-            self._queue.append(self._planner().move_element(ticket, ramp.end, target, params))
-            ticket.status = Status.Active
-            self._begin(ramp, t, 0.0, 0.0, 0.0)
+            _, _, deceleration, jerk = first.move.params if first.move is not None else (0, 0, 0, 0)
+            ramp = self._ramp(t, deceleration, jerk, ticket, completes=False)
+            self._queue.extend(elements)
+            self._rechain(ramp)
+            self._lookahead()
+            self._active = ramp
         self._engage()
 
     def submit_stop(self, ticket: PathCommand, deceleration: float, jerk: float) -> None:
-        """MC_GroupStop: abort everything and ramp the path velocity to zero along the path with
+        """MC_GroupStop: abort everything and ramp the path velocity to zero on the path with
         ``deceleration`` [mm/s²] and ``jerk`` [mm/s³] (0 = defaults); the group stays in
         GroupStopping until the ticket is Done and no longer held."""
-        t, p, v, a = self._current()
+        t = self._current()[0]
         self._abort_tickets(except_ticket=ticket)
         self._queue.clear()
-        limits = self.path_limits(direction(v), math.inf, deceleration, deceleration, jerk)
-        ramp = ramp_element(p, v, a, limits, ticket)
+        ramp = self._ramp(t, deceleration, jerk, ticket)
         ticket.status = Status.Active
         self._stop = ticket
-        self._begin(ramp, t, 0.0, 0.0, 0.0)
+        self._active = ramp
         self._engage()
 
     def cancel(self, ticket: PathCommand) -> None:
@@ -485,6 +489,7 @@ class AxesGroup:
         if ticket.status == Status.Queued:
             ticket.status = Status.Aborted
         self._rechain(self._active)
+        self._lookahead()
         after = self._queue[0] if self._queue else None
         if after is not before:
             self._replan_active()
@@ -518,45 +523,85 @@ class AxesGroup:
             self.corner_tolerance,
         )
 
+    def _lookahead(self) -> None:
+        """Update the queued elements' entry speeds (:meth:`PathPlanner.entry_speeds`)."""
+        PathPlanner.entry_speeds(list(self._queue))
+
+    def _ramp(
+        self,
+        t: float,
+        deceleration: float,
+        jerk: float,
+        ticket: PathCommand | None = None,
+        completes: bool = True,
+        following: Sequence[bool] | None = None,
+    ) -> Element:
+        """A stop on the current path from the path state at ``t`` with ``deceleration`` and
+        ``jerk`` (0 = defaults), or the ``following`` members' fastest ramp; without a path the
+        members' own motion is stopped straight on."""
+        planner = self._planner()
+        active = self._active
+        blends: tuple[Blend | None, Blend | None] = (None, None)
+        if active is not None and active.profile is not None:
+            geometry = active.geometry
+            s, v, a = active.profile.at(t - active.t0)
+            blends = (active.blend_in, active.blend_out)
+        else:
+            _, p, vel, acc = self._current()
+            unit = direction(vel)
+            geometry = Line(p, along(p, unit, 1.0))
+            s, v, a = 0.0, dot(vel, unit), dot(acc, unit)
+        if following is not None:
+            limits = planner.max_ramp(geometry, following, v)
+        else:
+            limits = planner.stop_limits(geometry, v, deceleration, jerk)
+        return stop_element(geometry, s, v, a, t, limits, ticket, completes, blends)
+
     def _rechain(self, previous: Element | None) -> None:
         """Let every queued move start where the element before it ends (after a withdrawal or
-        an unplanned stop ramp)."""
+        an unplanned stop ramp); a piece that no longer fits from there (an arc) ends its
+        command with EParam."""
         end = previous.end if previous is not None else None
         queue: deque[Element] = deque()
+        failed: list[PathCommand] = []
         for element in self._queue:
-            if end is not None and element.move and element.start != end:
+            if element.ticket in failed:
+                continue
+            move = element.move
+            if end is not None and move is not None and element.start != end:
                 assert element.ticket is not None
-                element = self._planner().move_element(
-                    element.ticket, list(end), element.end, element.params
-                )
+                try:
+                    rebuilt = self._planner().element(element.ticket, list(end), move)
+                except GeometryError:
+                    element.ticket.status = Status.Error
+                    element.ticket.error_id = ErrorID.EParam
+                    failed.append(element.ticket)
+                    continue
+                rebuilt.completes = element.completes
+                element = rebuilt
             queue.append(element)
             end = element.end
-        self._queue = queue
+        self._queue = deque(e for e in queue if e.ticket not in failed)
 
     def _begin(self, element: Element, t0: float, s0: float, v0: float, a0: float) -> None:
         """Make ``element`` the active one, starting at ``t0`` from the path state (s0, v0, a0)."""
         element.t0 = t0
-        if element.move:
+        if element.move is not None:
             try:
                 element.profile, element.blend_out = self._plan(element, t0, s0, v0, a0, t0)
             except PlanningError:
                 if element.ticket is not None:
                     element.ticket.status = Status.Error
                     element.ticket.error_id = ErrorID.EParam
-                unit = element.unit
-                p, v, a = (
-                    along(element.start, unit, s0),
-                    [v0 * u for u in unit],
-                    [a0 * u for u in unit],
-                )
-                element = ramp_element(p, v, a, self.path_limits(unit, math.inf, 0, 0, 0), None)
-                element.t0 = t0
+                limits = self._planner().stop_limits(element.geometry, v0, 0.0, 0.0)
+                blends = (element.blend_in, None)
+                element = stop_element(element.geometry, s0, v0, a0, t0, limits, None, True, blends)
         self._active = element
 
     def _replan_active(self) -> None:
         """Re-plan the active move for its (new) successor from the current path state."""
         element = self._active
-        if element is None or not element.move or element.profile is None:
+        if element is None or element.move is None or element.profile is None:
             return
         blend = element.blend_out
         t = self._t
@@ -573,7 +618,7 @@ class AxesGroup:
         self, element: Element, t0: float, s0: float, v0: float, a0: float, now: float
     ) -> tuple[Profile, Blend | None]:
         """Profile of a move from (s0, v0, a0) at ``t0`` and its blend into the queued successor
-        (:meth:`mcl.path.PathPlanner.plan`).
+        (:meth:`mcl.path_planner.PathPlanner.plan`).
 
         Raises:
             PlanningError: the move cannot be planned.
@@ -592,29 +637,26 @@ class AxesGroup:
         blend = element.blend_out
         nxt = self._queue.popleft() if self._queue else None
         if abs(v_end) > EPS and (blend is None or nxt is not blend.successor):
-            # the blending successor vanished: stop along the direction the blend had taken
+            # the blending successor vanished: stop on the path the blend had taken
             if nxt is not None:
                 self._queue.appendleft(nxt)
-            unit = blend.u_out if blend is not None else element.unit
-            speed = blend.speed if blend is not None else v_end
-            ramp = ramp_element(
-                list(element.end),
-                [speed * u for u in unit],
-                [0.0] * len(unit),
-                element.limits,
-                None,
-            )
-            ramp.blend_in = blend
-            ramp.t0 = t_end
+            geometry = blend.geom_out if blend is not None else element.geometry
+            s0 = 0.0 if blend is not None else element.length
+            limits = self._planner().stop_limits(geometry, v_end, 0.0, 0.0)
+            ramp = stop_element(geometry, s0, v_end, 0.0, t_end, limits, None, True, (blend, None))
             self._active = ramp
             return ramp
         if nxt is None:
             self._active = None
             self._end = list(element.end)
             return None
-        if nxt.move and nxt.start != element.end:
+        if nxt.move is not None and nxt.start != element.end:
             self._queue.appendleft(nxt)
             self._rechain(element)
+            if not self._queue:
+                self._active = None
+                self._end = list(element.end)
+                return None
             nxt = self._queue.popleft()
         nxt.blend_in = blend
         if nxt.ticket is not None and nxt.ticket.status == Status.Queued:
@@ -664,8 +706,9 @@ class AxesGroup:
     def _tickets(self) -> list[PathCommand]:
         tickets: list[PathCommand] = []
         for element in (self._active, *self._queue):
-            if element is not None and element.ticket is not None:
-                tickets.append(element.ticket)
+            ticket = element.ticket if element is not None else None
+            if ticket is not None and ticket not in tickets:
+                tickets.append(ticket)
         if self._stop is not None:
             tickets.append(self._stop)
         return tickets
@@ -682,31 +725,23 @@ class AxesGroup:
                 ticket.error_id = error_id
 
     def _abort_path(self, status: Status, error_id: int, max_ramp: bool) -> None:
-        """End every command with ``status`` and ramp a running path to standstill along its
-        direction (the members' fastest ramp, or the default deceleration)."""
+        """End every command with ``status`` and ramp a running path to standstill on the path
+        (the members' fastest ramp, or the default deceleration)."""
         self._abort_tickets(status=status, error_id=error_id)
         self._queue.clear()
         if self._active is None:
             return
-        t, p, v, a = self._t, list(self._p), list(self._v), list(self._a)
-        unit = direction(v)
         following = [m is not None for m in self._members]
         if not any(following):  # nobody left to follow the path
             self._active = None
-            self._end = p
+            self._end = list(self._p)
             return
-        limits = (
-            self._planner().max_ramp(unit, following)
-            if max_ramp
-            else self.path_limits(unit, math.inf, 0.0, 0.0, 0.0)
-        )
-        ramp = ramp_element(p, v, a, limits, None)
-        ramp.t0 = t
+        ramp = self._ramp(self._t, 0.0, 0.0, following=following if max_ramp else None)
         self._active = ramp
 
     def _lose(self, lost: list[GroupMember]) -> None:
         """Members dropped out of the group motion (ErrorStop, power off): end the group's
-        commands with the error (8001 for a following error) and stop the others along the path
+        commands with the error (8001 for a following error) and stop the others on the path
         on their fastest ramp."""
         error = self._loss_error(lost)
         if error and not self.GroupErrorID:

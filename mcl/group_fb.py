@@ -6,8 +6,17 @@ in the order the members were added [mm]; Velocity [mm/s], Acceleration, Deceler
 Jerk [mm/s³] act along the path (0 = default, values above what a member allows are clamped).
 
 Beyond the Teco library: MC_GroupEnable, MC_GroupDisable, MC_GroupReset, MC_GroupStop,
-MC_MoveLinearRelative (PLCopen Part 4). A group that is not enabled refuses motion commands with
-``Epower`` 10; a member change while the group moves is refused with ``EParam`` 5.
+MC_MoveLinearRelative, MC_MoveCircularAbsolute/Relative, MC_MoveDirectAbsolute/Relative
+(PLCopen Part 4; MC_MovePath and MC_PathSelect: :mod:`mcl.path_table`). A group that is not
+enabled refuses motion commands with ``Epower`` 10; a member change while the group moves is
+refused with ``EParam`` 5.
+
+The moves along the path take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide: the library
+has no kinematic transformation) and ``TransitionMode``: with a Blending BufferMode, TMNone
+rounds the corner into the move within the group's corner tolerance, TMMaxCornerDeviation
+within ``TransitionParameter[0]`` [mm], TMCornerDistance leaves the path at most
+``TransitionParameter[0]`` [mm] before the corner; TMStartVelocity and TMConstantVelocity are
+not offered (EParam 5).
 """
 
 from __future__ import annotations
@@ -17,11 +26,19 @@ from collections.abc import Sequence
 from typing import Any, ClassVar
 
 from mcl.command import Status
-from mcl.enums import GroupState, MC_BufferMode
+from mcl.enums import (
+    MC_CIRC_MODE,
+    MC_CIRC_PATHCHOICE,
+    MC_COORD_SYSTEM,
+    MC_TRANSITION_MODE,
+    GroupState,
+    MC_BufferMode,
+)
 from mcl.errors import ErrorID
 from mcl.fb import EnableFB, ExecuteFB, MotionFB, non_negative, number, positive
+from mcl.geometry import GeometryError
 from mcl.group import AxesGroup
-from mcl.path import PathCommand
+from mcl.path import ARC, Move, PathCommand
 
 
 def _vector(value: Any, size: int) -> list[float] | None:
@@ -217,67 +234,131 @@ class _GroupMotionFB(MotionFB):
         return super()._poll()
 
 
-class _MoveLinearFB(_GroupMotionFB):
-    """Common inputs of the linear moves: Velocity, Acceleration, Deceleration, Jerk (along the
-    path; 0 = default)."""
+class _PathMoveFB(_GroupMotionFB):
+    """A group move along a piece of path: Velocity, Acceleration, Deceleration, Jerk (along the
+    path; 0 = default), CoordSystem, TransitionMode and TransitionParameter (the corner into
+    this move when it blends).
 
-    INPUTS: ClassVar[tuple[str, ...]] = ("Velocity", "Acceleration", "Deceleration", "Jerk")
+    Subclasses implement :meth:`_moves` (the pieces from the sampled inputs, or None for an
+    invalid input).
+    """
+
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "Velocity",
+        "Acceleration",
+        "Deceleration",
+        "Jerk",
+        "CoordSystem",
+        "TransitionMode",
+        "TransitionParameter",
+    )
     Velocity: float = 0.0
     Acceleration: float = 0.0
     Deceleration: float = 0.0
     Jerk: float = 0.0
+    CoordSystem: int = MC_COORD_SYSTEM.MCS
+    TransitionMode: int = MC_TRANSITION_MODE.TMNone
+    TransitionParameter: Sequence[float] = ()
     NEEDS_REF: ClassVar[bool] = False
+    DIRECT: ClassVar[bool] = False
 
     def _submit(self, ticket: PathCommand) -> int:
         group = self.group
         error = group.check_ready()
         if error:
             return error
+        params = self._dynamics(group)
+        transition = _transition(self.TransitionMode, self.TransitionParameter)
+        if params is None or transition is None or self.CoordSystem not in _COORD_SYSTEMS:
+            return ErrorID.EParam
+        moves = self._moves(group, ticket.buffer_mode, params)
+        if moves is None:
+            return ErrorID.EParam
+        for move in moves:
+            move.tolerance, move.reach = transition
+        return submit_moves(group, ticket, moves, self.NEEDS_REF)
+
+    def _dynamics(self, group: AxesGroup) -> tuple[float, float, float, float] | None:
+        """Velocity, Acceleration, Deceleration, Jerk when valid (SPEC section 3), else None."""
         v, a = number(self.Velocity), number(self.Acceleration)
         d, j = number(self.Deceleration), number(self.Jerk)
         if not positive(v) or not (non_negative(a) and non_negative(d) and non_negative(j)):
-            return ErrorID.EParam
-        axes = group.axes
-        if any(axis.velocity_too_low(v) for axis in axes):
-            return ErrorID.EParam
-        limits = group.path_limits([0.0] * len(axes), v, a, d, j)
+            return None
+        if any(axis.velocity_too_low(v) for axis in group.axes):
+            return None
+        limits = group.nominal_limits(v, a, d, j)
         if min(limits.acceleration, limits.deceleration) * 100.0 < v:
-            return ErrorID.EParam
-        target = self._target(group, ticket.buffer_mode)
-        if target is None:
-            return ErrorID.EParam
-        if self.NEEDS_REF and not all(axis.Ref for axis in axes):
-            return ErrorID.Ehome
-        for axis, x in zip(axes, target, strict=True):
-            error = axis.check_target(x)
-            if error:
-                return error
-        group.submit_move(ticket, target, v, a, d, j)
-        return 0
+            return None
+        return v, a, d, j
 
-    def _target(self, group: AxesGroup, mode: MC_BufferMode) -> list[float] | None:
+    def _moves(
+        self, group: AxesGroup, mode: MC_BufferMode, params: tuple[float, float, float, float]
+    ) -> list[Move] | None:
         raise NotImplementedError
 
 
-class MC_MoveLinearAbsolute(_MoveLinearFB):
+_COORD_SYSTEMS = frozenset(int(c) for c in MC_COORD_SYSTEM)
+
+
+def _transition(mode: int, parameters: Any) -> tuple[float, float] | None:
+    """The corner tolerance and reach [mm] of a TransitionMode (0 = the group's defaults), or
+    None when it is invalid: TMNone; TMMaxCornerDeviation and TMCornerDistance take
+    TransitionParameter[0] > 0; TMStartVelocity and TMConstantVelocity are not offered."""
+    if mode == MC_TRANSITION_MODE.TMNone:
+        return 0.0, 0.0
+    if mode not in (MC_TRANSITION_MODE.TMCornerDistance, MC_TRANSITION_MODE.TMMaxCornerDeviation):
+        return None
+    values = _vector(parameters, len(parameters)) if isinstance(parameters, Sequence) else None
+    if not values or not positive(values[0]):
+        return None
+    if mode == MC_TRANSITION_MODE.TMMaxCornerDeviation:
+        return values[0], 0.0
+    return 0.0, values[0]
+
+
+def submit_moves(group: AxesGroup, ticket: PathCommand, moves: list[Move], needs_ref: bool) -> int:
+    """Build the elements of ``moves`` and hand them to the group, or return the error that
+    refuses them without touching the group: Ehome 9 (``needs_ref`` and a member without Ref),
+    EParam 5 (a piece that describes no path), Ecil 8 (a piece that passes a member's SW
+    limit)."""
+    axes = group.axes
+    if needs_ref and not all(axis.Ref for axis in axes):
+        return ErrorID.Ehome
+    try:
+        elements = group.prepare(ticket, moves)
+    except GeometryError:
+        return ErrorID.EParam
+    for element in elements:
+        for axis, (lo, hi) in zip(axes, element.geometry.bounds(), strict=True):
+            error = axis.check_target(lo) or axis.check_target(hi)
+            if error:
+                return error
+    group.submit(ticket, elements)
+    return 0
+
+
+class MC_MoveLinearAbsolute(_PathMoveFB):
     """Linear interpolation of the group to the absolute point ``Position`` [mm]
     (MotionControlLib §5.6).
 
     The tool point stays on the straight line from the start point; all buffer modes
-    (Blending*: the corner is rounded within the group's corner tolerance). Needs Ref on every
-    member (Ehome 9); a target beyond a member's SW limit → Ecil 8; a Position that is not a list
-    of finite numbers, one per member → EParam 5.
+    (Blending*: the corner is rounded within the group's corner tolerance, or as
+    TransitionMode says). Needs Ref on every member (Ehome 9); a target beyond a member's SW
+    limit → Ecil 8; a Position that is not a list of finite numbers, one per member → EParam 5.
     """
 
     INPUTS: ClassVar[tuple[str, ...]] = ("Position",)
     Position: Sequence[float] = ()
     NEEDS_REF: ClassVar[bool] = True
 
-    def _target(self, group: AxesGroup, mode: MC_BufferMode) -> list[float] | None:
-        return _vector(self.Position, len(group.axes))
+    def _moves(
+        self, group: AxesGroup, mode: MC_BufferMode, params: tuple[float, float, float, float]
+    ) -> list[Move] | None:
+        target = _vector(self.Position, len(group.axes))
+        return None if target is None else [Move(target, params, mode, direct=self.DIRECT)]
 
 
-class MC_MoveLinearRelative(_MoveLinearFB):
+class MC_MoveLinearRelative(_PathMoveFB):
     """Linear interpolation of the group by ``Distance`` [mm] (PLCopen Part 4).
 
     The distance counts from the current path point when the move aborts (the actual positions
@@ -287,12 +368,121 @@ class MC_MoveLinearRelative(_MoveLinearFB):
     INPUTS: ClassVar[tuple[str, ...]] = ("Distance",)
     Distance: Sequence[float] = ()
 
-    def _target(self, group: AxesGroup, mode: MC_BufferMode) -> list[float] | None:
+    def _moves(
+        self, group: AxesGroup, mode: MC_BufferMode, params: tuple[float, float, float, float]
+    ) -> list[Move] | None:
         distance = _vector(self.Distance, len(group.axes))
         if distance is None:
             return None
         start = group.start_point(mode)
-        return [s + d for s, d in zip(start, distance, strict=True)]
+        target = [s + d for s, d in zip(start, distance, strict=True)]
+        return [Move(target, params, mode, direct=self.DIRECT)]
+
+
+class MC_MoveDirectAbsolute(MC_MoveLinearAbsolute):
+    """Synchronized point-to-point move of the group to the absolute ``Position`` [mm] in the
+    members' own coordinates (PLCopen Part 4): every member starts and ends together.
+
+    Velocity, Acceleration, Deceleration and Jerk bind every member's own motion (each lowered to
+    that member's maxima; 0 = the member's default), not the path: the member that needs longest
+    runs at them and the others are slowed to arrive with it. With the members' coordinates as
+    the machine's (no kinematic transformation) the tool point moves on the straight line, faster
+    than MC_MoveLinearAbsolute's path velocity where several members move. Needs Ref; errors as
+    MC_MoveLinearAbsolute.
+    """
+
+    CoordSystem: int = MC_COORD_SYSTEM.ACS
+    DIRECT: ClassVar[bool] = True
+
+
+class MC_MoveDirectRelative(MC_MoveLinearRelative):
+    """Synchronized point-to-point move of the group by ``Distance`` [mm] (PLCopen Part 4):
+    every member starts and ends together, the limits as MC_MoveDirectAbsolute. No Ref needed."""
+
+    CoordSystem: int = MC_COORD_SYSTEM.ACS
+    DIRECT: ClassVar[bool] = True
+
+
+class _MoveCircularFB(_PathMoveFB):
+    """Common inputs of the arcs: CircMode, AuxPoint, EndPoint, PathChoice, and beyond PLCopen
+    Plane and Turns."""
+
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "CircMode",
+        "AuxPoint",
+        "EndPoint",
+        "PathChoice",
+        "Plane",
+        "Turns",
+    )
+    CircMode: int = MC_CIRC_MODE.BORDER
+    AuxPoint: Sequence[float] = ()
+    EndPoint: Sequence[float] = ()
+    PathChoice: int = MC_CIRC_PATHCHOICE.CLOCKWISE
+    Plane: int = 0
+    Turns: int = 0
+    RELATIVE: ClassVar[bool] = False
+
+    def _moves(
+        self, group: AxesGroup, mode: MC_BufferMode, params: tuple[float, float, float, float]
+    ) -> list[Move] | None:
+        size = len(group.axes)
+        end = _vector(self.EndPoint, size)
+        radius = self.CircMode == MC_CIRC_MODE.RADIUS
+        aux_value = self.AuxPoint
+        aux_size = len(aux_value) if radius and isinstance(aux_value, Sequence) else size
+        aux = _vector(aux_value, aux_size) if aux_size else None
+        if end is None or aux is None:
+            return None
+        aux = (aux + [0.0] * size)[:size]
+        if self.RELATIVE:
+            start = group.start_point(mode)
+            end = [s + e for s, e in zip(start, end, strict=True)]
+            if not radius:
+                aux = [s + x for s, x in zip(start, aux, strict=True)]
+        move = Move(
+            end,
+            params,
+            mode,
+            ARC,
+            aux,
+            self.CircMode,
+            self.PathChoice,
+            self.Plane,
+            self.Turns,
+        )
+        return [move]
+
+
+class MC_MoveCircularAbsolute(_MoveCircularFB):
+    """Circular interpolation of the group from where the previous motion ends to the absolute
+    ``EndPoint`` [mm] (PLCopen Part 4): an arc, a full circle or several turns, in any plane of
+    the members, or a helix.
+
+    ``CircMode`` says what the absolute ``AuxPoint`` is: BORDER a point on the arc (the three
+    points give the plane and the direction; PathChoice is ignored; no full circle), CENTER the
+    centre (``EndPoint`` equal to the start: a full circle; ``Turns`` adds full turns), RADIUS
+    the radius as its first value (> 0: the arc of at most 180°, < 0: the longer one).
+    ``PathChoice`` CLOCKWISE or COUNTERCLOCKWISE, seen from the positive normal of the plane.
+    ``Plane`` (beyond PLCopen): 0 the plane the points give (else that of members 1 and 2), 17
+    members 1–2 (XY), 18 members 3–1 (ZX), 19 members 2–3 (YZ); the remaining member moves
+    linearly to its end coordinate (a helix). Velocity, Acceleration, Deceleration and Jerk act
+    along the path; the velocity is lowered where the curvature needs it so that every member
+    stays within its limits (docs/reference.md, Group paths). Needs Ref (Ehome 9); an arc
+    passing a member's SW limit → Ecil 8; points that are not finite, collinear BORDER points,
+    a radius shorter than half the chord, an end point off the circle (CENTER, beyond 0.1 % of
+    the radius), an arc of zero length, an unknown CircMode, PathChoice or Plane → EParam 5.
+    """
+
+    NEEDS_REF: ClassVar[bool] = True
+
+
+class MC_MoveCircularRelative(_MoveCircularFB):
+    """MC_MoveCircularAbsolute with ``EndPoint`` and (BORDER and CENTER) ``AuxPoint`` relative to
+    the start point [mm]: the current path point when the move aborts, the end of the last
+    queued move otherwise (PLCopen Part 4). No Ref needed."""
+
+    RELATIVE: ClassVar[bool] = True
 
 
 class MC_GroupStop(_GroupMotionFB):
@@ -332,7 +522,12 @@ __all__ = [
     "MC_GroupReadStatus",
     "MC_GroupReset",
     "MC_GroupStop",
+    "MC_MoveCircularAbsolute",
+    "MC_MoveCircularRelative",
+    "MC_MoveDirectAbsolute",
+    "MC_MoveDirectRelative",
     "MC_MoveLinearAbsolute",
     "MC_MoveLinearRelative",
     "MC_UngroupAllAxes",
+    "submit_moves",
 ]

@@ -48,6 +48,8 @@ CHAPTER_ORDER = (
     "touch_probe",
     "inputs_outputs",
     "group_fb",
+    "path_table",
+    "gcode",
 )
 """Preferred order of the function-block modules; modules not named here follow alphabetically."""
 
