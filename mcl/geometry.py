@@ -221,19 +221,16 @@ class Arc(Geometry):
             curve.append(-k * (c * a + sn * b))
         return point, tangent, curve
 
-    def _angle(self, p: Sequence[float]) -> tuple[float, float]:
-        """The angle [rad, 0 … 2π) of ``p`` around the centre in the plane and its distance
-        from the axis through the centre."""
+    def distance(self, p: Sequence[float]) -> float:
         q = sub(p, self.centre)
         a, b = dot(q, self.e1), dot(q, self.e2)
-        return math.atan2(b, a) % TWO_PI, math.hypot(a, b)
-
-    def distance(self, p: Sequence[float]) -> float:
-        angle, rho = self._angle(p)
+        angle = math.atan2(b, a) % TWO_PI
         if not any(self.lift):
             if angle <= self.sweep:
-                residual = norm(sub(p, self.centre)) ** 2 - rho * rho
-                return math.hypot(rho - self.radius, math.sqrt(max(residual, 0.0)))
+                normal = norm(
+                    [x - a * u - b * w for x, u, w in zip(q, self.e1, self.e2, strict=True)]
+                )
+                return math.hypot(math.hypot(a, b) - self.radius, normal)
             return min(norm(sub(p, self.start)), norm(sub(p, self.end)))
         # a helix: the nearest of the turns that pass the point's angle, refined by Newton
         best = min(norm(sub(p, self.start)), norm(sub(p, self.end)))
