@@ -246,6 +246,9 @@ class Element:
             velocity, which the curvature may have lowered).
         entry_max: the fastest the piece may be entered so that the path can still slow down
             to what the pieces behind it allow (look-ahead) [mm/s].
+        jerk: the bound of the path's jerk vector on the piece [mm/s³] (on a line the jerk
+            along it; on an arc more than the jerk along it, which leaves room for the
+            curvature's share).
     """
 
     __slots__ = (
@@ -256,6 +259,7 @@ class Element:
         "end",
         "entry_max",
         "geometry",
+        "jerk",
         "length",
         "limits",
         "move",
@@ -281,6 +285,7 @@ class Element:
         self.limits = limits
         self.cap = cap
         self.entry_max = math.inf
+        self.jerk = limits.jerk
         self.ticket = ticket
         self.move = move
         self.completes = completes

@@ -182,9 +182,10 @@ class PathPlanner:
         deceleration: float,
         jerk: float,
         direct: bool = False,
-    ) -> tuple[Limits, float]:
-        """Limits along ``geometry`` from FB inputs (validated, >= 0; 0 = the default) and the
-        cap: the fastest the piece may be passed [mm/s] (module docstring)."""
+    ) -> tuple[Limits, float, float]:
+        """Limits along ``geometry`` from FB inputs (validated, >= 0; 0 = the default), the
+        cap: the fastest the piece may be passed [mm/s], and the bound of the path's jerk
+        vector [mm/s³] (on a line the jerk along it; module docstring)."""
         if direct:
             return self._direct(geometry.share, velocity, acceleration, deceleration, jerk)
         configs = self.configs
@@ -206,8 +207,9 @@ class PathPlanner:
             if c.max_jerk > 0.0:
                 j = min(j, c.max_jerk / scale)
         if not curved:
-            return Limits(min(velocity, cap), acc, dec, j), cap
-        return self._curve(geometry, min(velocity, cap), acc, dec, j)
+            return Limits(min(velocity, cap), acc, dec, j), cap, j
+        limits, cap = self._curve(geometry, min(velocity, cap), acc, dec, j)
+        return limits, cap, j
 
     @staticmethod
     def _curve(
@@ -238,7 +240,7 @@ class PathPlanner:
         acceleration: float,
         deceleration: float,
         jerk: float,
-    ) -> tuple[Limits, float]:
+    ) -> tuple[Limits, float, float]:
         """Limits of a synchronized point-to-point move: every member within the inputs and its
         own maxima (module docstring)."""
         v = acc = dec = j = cap = math.inf
@@ -256,7 +258,7 @@ class PathPlanner:
             j = min(j, axis_jerk / u)
         if math.isinf(acc):  # nothing moves
             return self.limits(geometry_of(share), velocity, acceleration, deceleration, jerk)
-        return Limits(v, acc, dec, j), cap
+        return Limits(v, acc, dec, j), cap, j
 
     def element(self, ticket: PathCommand, start: Sequence[float], move: Move) -> Element:
         """The (unplanned) element of ``move`` from ``start``.
@@ -265,8 +267,10 @@ class PathPlanner:
             mcl.geometry.GeometryError: an arc's description fits no arc from ``start``.
         """
         geometry = move.geometry(start)
-        limits, cap = self.limits(geometry, *move.params, direct=move.direct)
-        return Element(geometry, limits, cap, ticket, move)
+        limits, cap, jerk = self.limits(geometry, *move.params, direct=move.direct)
+        element = Element(geometry, limits, cap, ticket, move)
+        element.jerk = jerk
+        return element
 
     def stop_limits(
         self, geometry: Geometry, speed: float, deceleration: float, jerk: float
@@ -373,7 +377,7 @@ class PathPlanner:
         turn = 0.0
         for c, x, y in zip(self.configs, u1, u2, strict=True):
             turn = max(turn, abs(y - x) / min(budget, c.max_acceleration))
-        jerk = min(a.jerk, b.jerk)
+        jerk = min(element.jerk, nxt.jerk)
         bend = norm(sub(k2, k1)) / jerk if math.isfinite(jerk) else 0.0
         return turn, bend
 
