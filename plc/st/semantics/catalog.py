@@ -39,6 +39,7 @@ _PYTHON_TYPES: dict[str, Type] = {
     "AxesGroup": GROUP,
     "Sequence[float]": SEQUENCE,
     "TableRef": ANY_STRUCT,
+    "MC_PATH_DATA_REF": ANY_STRUCT,
 }
 
 
@@ -81,7 +82,8 @@ def standard_blocks() -> dict[str, BlockType]:
 
 @cache
 def mcl_enums() -> dict[str, EnumType]:
-    """mcl's enumerations (MC_BufferMode, MC_Direction, MC_SwitchMode, MC_ExecutionMode) by
+    """mcl's enumerations (MC_BufferMode, MC_Direction, MC_SwitchMode, MC_ExecutionMode, the
+    group paths' MC_CIRC_MODE, MC_CIRC_PATHCHOICE, MC_TRANSITION_MODE, MC_COORD_SYSTEM, ...) by
     upper-case name."""
     found: dict[str, EnumType] = {}
     for name in (
@@ -91,6 +93,10 @@ def mcl_enums() -> dict[str, EnumType]:
         "MC_ExecutionMode",
         "MC_StartMode",
         "CamLaw",
+        "MC_CIRC_MODE",
+        "MC_CIRC_PATHCHOICE",
+        "MC_TRANSITION_MODE",
+        "MC_COORD_SYSTEM",
     ):
         cls = getattr(mcl, name)
         if isinstance(cls, type) and issubclass(cls, enum.IntEnum):
