@@ -148,6 +148,8 @@ class MachineDef:
         parts: the machines of a cell, side by side in one world (a cell has no axes or model
             of its own: each part keeps its own, in its own namespace, e.g. ``press/R``; the
             cell's demo and signals see them all).
+        group: the axes that move together on a path (a Cartesian machine's X, Y, Z), in
+            member order: the bridge's group block (docs/bridge.md) groups them.
     """
 
     name: str
@@ -162,6 +164,7 @@ class MachineDef:
     servo_period: float = 0.001
     plc_period: float = 0.002
     parts: tuple[Part, ...] = ()
+    group: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.parts:
@@ -170,6 +173,12 @@ class MachineDef:
             return
         if not self.axes:
             raise ValueError(f"machine {self.name!r} has no axes")
+        unknown = [a for a in self.group if a not in self.axes]
+        if unknown or len(self.group) == 1 or len(self.group) > 3:
+            raise ValueError(
+                f"machine {self.name!r}: group {self.group} must name 2 or 3 of its axes "
+                f"{sorted(self.axes)}"
+            )
         for axis, spec in self.axes.items():
             if spec.drive not in ("electric", "device", "encoder"):
                 raise ValueError(

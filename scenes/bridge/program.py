@@ -37,34 +37,18 @@ command: a master that polls slowly, or clears the bit early, still sees it.
 
 from __future__ import annotations
 
-import logging
-import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import mcl
-from mcl.errors import ErrorID
 from plc.procedures import HomeAxis, Recipe
+from scenes.bridge.group import GroupBridge
+from scenes.bridge.handshake import Command, CommandWord, _int, _showing
 from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable
 from scenes.scene import Scene
 
-log = logging.getLogger(__name__)
 
-Command = Any
-"""A command block (MC_MoveAbsolute, HomeAxis, …): Done, Busy, Error, ErrorID; maybe Active,
-CommandAborted."""
-
-
-RESULTS = ("done", "error", "command_aborted")
-"""The status bits of a command's result, held until the master acknowledges it."""
-
-
-def _int(value: float) -> int:
-    """An INT input from a register value (0 for a value that is not finite)."""
-    return round(value) if math.isfinite(value) and abs(value) < 2**31 else 0
-
-
-class AxisBridge:
+class AxisBridge(CommandWord):
     """The blocks of one axis and the scan that drives them from its table block.
 
     Args:
@@ -77,9 +61,8 @@ class AxisBridge:
     def __init__(
         self, axis: mcl.Axis, recipe: Recipe | None, table: SignalTable, axes: list[mcl.Axis]
     ) -> None:
+        super().__init__(axis.name, table)
         self.axis = axis
-        self.name = axis.name
-        self.table = table
         self.axes = axes
         self.prefix = f"{axis.name}."
         self.fields = {
@@ -100,25 +83,6 @@ class AxisBridge:
         self.gear_out = mcl.MC_GearOut()
         self.outputs = [mcl.MC_WriteDigitalOutput() for _ in axis.io.outputs]
         self.force_control = mcl.MC_ForceControl()
-        self.current: Command | None = None
-        """The command last started by a rising edge (its outputs are the status)."""
-        self.command = 0
-        """The current command's control bit + 1 (0: none yet)."""
-        self.count = 0
-        """Commands started (``command_count``, modulo 65536)."""
-        self._last_word = 0
-        self._last_client = 0
-        self._serial = -1
-        self._requested = -1
-        self._deferred = -1
-        self._pending = 0
-        self._held: dict[str, bool] = dict.fromkeys(RESULTS, False)
-        """The current command's result bits held until acknowledged."""
-        self._held_error = 0
-        """The ErrorID held with the error bit."""
-        self._armed = False
-        """The held result was published while the master's command bit was set: the bit's
-        fall acknowledges it."""
         self._calls = self._commands()
 
     @property
@@ -130,31 +94,13 @@ class AxisBridge:
     def _param(self, name: str) -> float:
         return self.table.get(self.prefix + name) if name in self.fields else 0.0
 
-    def _words(self) -> tuple[int, int]:
-        """This scan's control word of the client and the whole control word: the client's
-        with the Execute of the command last requested (a method call), held until the axis'
-        next command. A request whose bit was high in the last scan, or a client's command
-        on the bit a request holds, first gets one scan low (a fresh rising edge)."""
-        client = self.table.take_control(self.name) | self._pending
-        self._pending = 0
-        bit, serial = self.table.requested(self.name)
-        if serial != self._serial:
-            self._serial = serial
-            self._requested = -1
-            if self._last_word >> bit & 1:
-                self._deferred = bit
-            else:
-                self._requested, self._deferred = bit, -1
-        elif self._deferred >= 0:
-            self._requested, self._deferred = self._deferred, -1
-        elif self._requested >= 0 and client & ~self._last_client & ~1:
-            held = 1 << self._requested  # the control word starts a command: the call's ends
-            if client & ~self._last_client & held:
-                client &= ~held
-                self._pending = held
-            self._requested = -1
-        requested = 1 << self._requested if self._requested >= 0 else 0
-        return client, client | requested
+    def _block_for(self, name: str) -> Command | None:
+        if name in ("jog_pos", "jog_neg"):
+            return self.jog
+        return self._calls[name][0] if name in self._calls else None
+
+    def _refusal(self, name: str) -> str:
+        return _MISSING[name]
 
     def _commands(self) -> dict[str, tuple[Command, Callable[[bool], None]]]:
         """The Execute commands the axis can take, by control bit: the block (its outputs are
@@ -200,51 +146,6 @@ class AxisBridge:
         if rising & ~1:
             self._started(rising)
         self._hold(client)
-
-    def _started(self, rising: int) -> None:
-        """The commands whose bits rose: the last is the current one (each counts); a bit the
-        axis has no command for is refused with EParam."""
-        for i, name in enumerate(CONTROL_BITS):
-            if rising >> i & 1 and name != "enable":
-                self.command = i + 1
-                self.count = (self.count + 1) & 0xFFFF
-                self._release()
-                if name in ("jog_pos", "jog_neg"):
-                    self.current = self.jog
-                elif name in self._calls:
-                    self.current = self._calls[name][0]
-                else:
-                    self.current = None
-                    self._held["error"], self._held_error = True, ErrorID.EParam
-                    log.warning(
-                        "%s: %s refused: the axis has no %s", self.name, name, _MISSING[name]
-                    )
-
-    def _hold(self, client: int) -> None:
-        """Hold the current command's result; release it when the master's bit falls after
-        the result was published while the bit was set (the acknowledgement)."""
-        bit = 1 << (self.command - 1) if self.command else 0
-        if self._armed and self._last_client & bit and not client & bit:
-            self._release()
-        self._last_client = client
-        current = self.current
-        for name, output in zip(RESULTS, ("Done", "Error", "CommandAborted"), strict=True):
-            if getattr(current, output, False):
-                self._held[name] = True
-        if getattr(current, "Error", False):
-            self._held_error = int(getattr(current, "ErrorID", 0))
-
-    def _release(self) -> None:
-        """Forget the held result (acknowledged, or another command started)."""
-        self._held = dict.fromkeys(RESULTS, False)
-        self._held_error = 0
-        self._armed = False
-
-    def observe(self) -> None:
-        """A scan while the PLC is not in control: the blocks are not called; the control
-        word's edges and requests are taken so that none fires later."""
-        client, self._last_word = self._words()
-        self._last_client = client
 
     def _ramp(self) -> dict[str, float]:
         return {
@@ -356,8 +257,7 @@ class AxisBridge:
     def publish(self) -> None:
         """Write the axis' status and actual values into the table."""
         axis, current, io, held = self.axis, self.current, self.axis.io, self._held
-        if any(held.values()) and self.command:  # seen while the bit is set: its fall acks
-            self._armed |= bool(self._last_client >> (self.command - 1) & 1)
+        self._arm()
         flags = {
             "done": held["done"],
             "busy": bool(getattr(current, "Busy", False)),
@@ -407,11 +307,6 @@ _MASK = {name: 1 << i for i, name in enumerate(CONTROL_BITS)}
 """Each control bit's mask."""
 
 
-def _showing(block: Command) -> bool:
-    """Whether a block is busy or shows an output (so it must see the next scan)."""
-    return bool(block.Busy or block.Done or block.Error or getattr(block, "CommandAborted", False))
-
-
 _MISSING = {
     "home": "homing recipe",
     "gear_in": "gearing",
@@ -445,9 +340,13 @@ class BridgeProgram:
         self.scene = scene
         self.tables = list(tables)
         self.axes = []
+        self.groups: list[GroupBridge] = []
+        """The group block of each table whose machine names a group."""
         for table in self.tables:
             axes = [scene.axes[a] for a in table.axes]
             self.axes += [AxisBridge(axis, homing.get(axis.name), table, axes) for axis in axes]
+            if table.group:
+                self.groups.append(GroupBridge([scene.axes[a] for a in table.members], table))
         self.cycles = 0
         self.publish_every_scan = publish_every_scan
         self.publish()
@@ -458,20 +357,21 @@ class BridgeProgram:
         return max(int(table.get("sim.target")) for table in self.tables)
 
     def __call__(self) -> None:
-        """One PLC scan (the axes of a table whose PLC is not in control are left alone)."""
-        for axis in self.axes:
-            if axis.table.in_control:
-                axis()
+        """One PLC scan (the axes and the group of a table whose PLC is not in control are left
+        alone); the axes first, then the groups of their axes."""
+        for block in (*self.axes, *self.groups):
+            if block.table.in_control:
+                block()
             else:
-                axis.observe()
+                block.observe()
         self.cycles += 1
         if self.publish_every_scan:
             self.publish()
 
     def publish(self) -> None:
         """Write every axis' status, the simulation fields and the signals into the tables."""
-        for axis in self.axes:
-            axis.publish()
+        for block in (*self.axes, *self.groups):
+            block.publish()
         scene = self.scene
         for table in self.tables:
             table.update(

@@ -12,6 +12,8 @@ word order, "ABCD"; pymodbus: ``word_order="big"``). The layout is deterministic
                            :data:`AXIS_BLOCK` registers of the same shape on every axis: the
                            offsets that are no field of the axis are reserved (they read 0 and
                            take 0)
+900 …                      the group of a machine that names one (:data:`GROUP_FIELDS`): its
+                           axes moved together on lines, arcs and paths
 1000 + 2·k                 published signal ``k`` in the definition's order (f32, read-only)
 =========================  ======================================================================
 
@@ -39,6 +41,8 @@ AXIS_STRIDE = 100
 """Registers between two axes."""
 SIGNAL_BASE = 1000
 """Address of the first published signal."""
+GROUP_BASE = 900
+"""Address of the group block's control word."""
 
 CONTROL_BITS = (
     "enable",
@@ -153,6 +157,72 @@ FORCE_FIELDS = (
 """The force-control fields of an axis with analog inputs (velocity and acceleration are the
 move's fields)."""
 
+GROUP_CONTROL_BITS = (
+    "enable",
+    "reset",
+    "move_linear",
+    "move_circular",
+    "append_line",
+    "append_arc",
+    "clear_path",
+    "move_path",
+    "stop",
+)
+"""Bits of the group's control word, bit 0 first: ``enable`` is a level (the axes are added to
+the group and it is enabled; cleared: disabled and ungrouped), the others Execute inputs."""
+
+GROUP_STATUS_BITS = ("done", "busy", "active", "error", "command_aborted", "enabled", "in_position")
+"""Bits of the group's status word: Done … CommandAborted of the current command, the group is
+enabled, and MC_GroupReadStatus' InPosition."""
+
+
+_MEMBER_FIELDS: tuple[tuple[str, int, Access, str, str], ...] = (
+    ("end", 2, "rw", "u", "EndPoint (MC_MoveLinear*: Position, Distance)"),
+    ("aux", 8, "rw", "u", "AuxPoint (RADIUS: aux_1 is the radius)"),
+    ("actual", 38, "r", "u", "actual position"),
+)
+"""The group block's fields of each member: name, offset of member 1, access, unit, text."""
+
+
+def group_specs(members: int) -> list[FieldSpec]:
+    """The fields of the group block for a group of ``members`` axes, in offset order."""
+    per_member: list[FieldSpec] = [
+        FieldSpec(
+            f"{name}_{k + 1}", offset + 2 * k, "f32", access, unit, f"{text} of member {k + 1}"
+        )
+        for name, offset, access, unit, text in _MEMBER_FIELDS
+        for k in range(members)
+    ]
+    words: tuple[tuple[str, int, Access, str, str], ...] = (
+        ("control", 0, "rw", "bits", "control word: " + ", ".join(GROUP_CONTROL_BITS)),
+        ("circ_mode", 14, "rw", "", "CircMode (mcl.MC_CIRC_MODE: 0 BORDER, 1 CENTER, 2 RADIUS)"),
+        ("path_choice", 15, "rw", "", "PathChoice (0 clockwise, 1 counter-clockwise)"),
+        ("buffer_mode", 24, "rw", "", "BufferMode of moves and segments (mcl.MC_BufferMode)"),
+        ("plane", 25, "rw", "", "Plane of arcs (0 automatic, 17 XY, 18 ZX, 19 YZ)"),
+        ("relative", 26, "rw", "", "1: end and aux relative to the start (MC_Move*Relative)"),
+        ("turns", 27, "rw", "", "Turns: more full turns of a CENTER arc"),
+        ("status", 30, "r", "bits", "status word: " + ", ".join(GROUP_STATUS_BITS)),
+        ("state", 31, "r", "", "group state number (mcl.GroupState)"),
+        ("error_id", 32, "r", "", "ErrorID of the current command"),
+        ("group_error_id", 33, "r", "", "the group's error (MC_GroupReadError GroupErrorID)"),
+        ("command", 34, "r", "", "current command: its control bit + 1 (0: none)"),
+        ("command_count", 35, "r", "", "commands started (+1 each; wraps at 65536)"),
+        ("segments", 36, "r", "", "segments appended to the path (append_line, append_arc)"),
+    )
+    reals = (
+        ("velocity", 16, "u/s", "Velocity along the path"),
+        ("acceleration", 18, "u/s²", "Acceleration along the path (0: default)"),
+        ("deceleration", 20, "u/s²", "Deceleration along the path (0: default; also of stop)"),
+        ("jerk", 22, "u/s³", "Jerk along the path (0: default)"),
+    )
+    specs = [FieldSpec(n, o, "u16", a, u, t) for n, o, a, u, t in words]
+    specs += [FieldSpec(n, o, "f32", "rw", u, t) for n, o, u, t in reals]
+    return sorted(specs + per_member, key=lambda spec: spec.offset)
+
+
+GROUP_BLOCK = max(f.offset + 2 for f in group_specs(3))
+"""Registers of the group block (offsets 0 … 43)."""
+
 OUTPUTS = FieldSpec("outputs", 1, "u16", "rw", "bits", "digital outputs, bit k = output k")
 """The digital outputs of an axis that has some (MC_WriteDigitalOutput on every change)."""
 
@@ -254,6 +324,18 @@ def machine_fields(machine: MachineDef, prefix: str = "") -> list[Field]:
             Field(f"{axis}.{f.name}", base + f.offset, f.kind, f.access, f.unit, f.description)
             for f in axis_specs(spec, can_gear)
         ]
+    if machine.group:
+        fields += [
+            Field(
+                f"{prefix}group.{f.name}",
+                GROUP_BASE + f.offset,
+                f.kind,
+                f.access,
+                f.unit,
+                f.description,
+            )
+            for f in group_specs(len(machine.group))
+        ]
     for k, (name, signal) in enumerate(published_signals(machine).items()):
         text = signal.label or name
         fields.append(
@@ -300,23 +382,28 @@ class SignalTable:
         self.unit_id = unit_id
         self.fields = machine_fields(machine, prefix)
         self.axes = [prefix + a for a in machine.scene_axes]
+        self.group = f"{prefix}group" if machine.group else ""
+        """The group block's name (``group``; empty: the machine has none)."""
+        self.members = [prefix + a for a in machine.group]
+        """The group's axes, in member order."""
         self.signals = [prefix + s for s in published_signals(machine)]
         self.by_name = {f.name: f for f in self.fields}
         self._owner = {a: f for f in self.fields for a in range(f.address, f.address + f.width)}
-        blocks = [AXIS_BASE + AXIS_STRIDE * i for i in range(len(self.axes))]
+        blocks = [(AXIS_BASE + AXIS_STRIDE * i, AXIS_BLOCK) for i in range(len(self.axes))]
+        if self.group:
+            blocks.append((GROUP_BASE, GROUP_BLOCK))
         self.reserved = frozenset(
-            a for b in blocks for a in range(b, b + AXIS_BLOCK) if a not in self._owner
+            a for b, n in blocks for a in range(b, b + n) if a not in self._owner
         )
-        """The reserved registers of the axes' blocks: they read 0 and take 0."""
-        self.size = max(
-            [f.address + f.width for f in self.fields] + [b + AXIS_BLOCK for b in blocks]
-        )
+        """The reserved registers of the axes' and the group's blocks: they read 0 and take 0."""
+        self.size = max([f.address + f.width for f in self.fields] + [b + n for b, n in blocks])
         self._values = dict.fromkeys(self.by_name, 0.0)
         """Every field's value: the truth; registers are encoded from it when a client reads
         and decoded into it when one writes (the scan's side never packs a register)."""
         self._lock = threading.Lock()
-        self._rose = dict.fromkeys(self.axes, 0)
-        self._requests: dict[str, tuple[int, int]] = dict.fromkeys(self.axes, (0, -1))
+        words = [*self.axes, self.group] if self.group else self.axes
+        self._rose = dict.fromkeys(words, 0)
+        self._requests: dict[str, tuple[int, int]] = dict.fromkeys(words, (0, -1))
         self.written = threading.Event()
         """Set by every client write (a lockstep run waits on it)."""
         self.set("sim.control", 1)
