@@ -7,18 +7,41 @@ Jerk [mm/s³] act along the path (0 = default, values above what a member allows
 
 Beyond the Teco library: MC_GroupEnable, MC_GroupDisable, MC_GroupReset, MC_GroupStop,
 MC_MoveLinearRelative, MC_MoveCircularAbsolute/Relative, MC_MoveDirectAbsolute/Relative
-(PLCopen Part 4; MC_MovePath and MC_PathSelect: :mod:`mcl.path_table`). A group that is not
-enabled refuses motion commands with ``Epower`` 10; a member change while the group moves is
-refused with ``EParam`` 5.
+(PLCopen Part 4; MC_MovePath and MC_PathSelect: :mod:`mcl.path_table`, :mod:`mcl.gcode`). A
+group that is not enabled refuses motion commands with ``Epower`` 10; a member change while the
+group moves is refused with ``EParam`` 5.
 
-The moves along the path take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide: the library
-has no kinematic transformation) and ``TransitionMode``: with a Blending BufferMode, TMNone
-rounds the corner into the move within the group's corner tolerance, TMMaxCornerDeviation
-within ``TransitionParameter[0]`` [mm], TMCornerDistance leaves the path at most
-``TransitionParameter[0]`` [mm] before the corner; TMStartVelocity and TMConstantVelocity are
-not offered (EParam 5).
+Group paths. A group motion is a path of lines, circular arcs and helices in the members'
+coordinates, each piece a function of its arc length s; the motion along it is a time-optimal
+jerk-limited profile s(t), and the members follow the path point p(s(t)). The shape in space
+therefore never depends on the speed: a stop (MC_GroupStop, MC_GroupDisable, an Aborting command
+that must stop the motion first, a member's fault) ramps s down on the same path, so a group
+stopped in an arc stands on its circle (a feed hold or an override acts on s(t) alone).
+
+Limits along a line: a limit of member i allows limit_i / |u_i| along the path (u the direction
+cosines), so no member exceeds its Vmax, max_acceleration, max_deceleration or max_jerk. Along an
+arc of radius R (curvature κ = 1/R and ρ = |dK/ds| = 1/R²; a helix of sweep Θ and length L has
+κ = R·(Θ/L)² and ρ = R·(Θ/L)³) every member's acceleration and jerk are components of the
+vectors a = s̈·T + ṡ²·κ·N and j = s⃛·T + 3·ṡ·s̈·κ·N + ṡ³·dK/ds; the block's Acceleration A
+(and Deceleration), lowered to the smallest max_acceleration and max_deceleration of the members
+that move, and its Jerk J bound their lengths. So the path runs an arc at most at √(0.7·A·R)
+(the centripetal acceleration v²/R takes at most 70 % of A) and at (0.5·J·R²)^(1/3) (the
+centripetal jerk v³/R² at most half of J), and at each member's Vmax: this is where the path
+slows for a tight arc (R = 2 mm, A = 2000 mm/s², J = 50000 mm/s³: 46 mm/s). At that velocity v
+the acceleration along the arc is √(A² − (v²/R)²) and at most (J − v³/R²)·R / (6·v), the jerk
+along it the rest, J − v³/R² − 3·v·s̈/R. Before a piece the path has slowed to what the pieces
+behind it allow (look-ahead over every queued piece; the last one ends at standstill).
+
+Corners. With a Blending BufferMode a corner is rounded within the group's corner tolerance, the
+blending velocity given by the BufferMode (never faster than an arc's own velocity); a line
+into a tangent arc has no corner but a step of the centripetal acceleration v²/R, which is
+spread over a blend of reach 2.8125·v³/(R·J), so that the jerk stays within J without a dip of
+the velocity. The moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide: the library
+has no kinematic transformation) and ``TransitionMode``: TMNone rounds the corner into the move
+within the group's corner tolerance, TMMaxCornerDeviation within ``TransitionParameter[0]``
+[mm], TMCornerDistance leaves the path at most ``TransitionParameter[0]`` [mm] from the corner;
+TMStartVelocity and TMConstantVelocity are not offered (EParam 5).
 """
-
 from __future__ import annotations
 
 import math

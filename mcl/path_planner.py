@@ -436,11 +436,10 @@ class PathPlanner:
             after = trajectory.move_to(0.0, blend.speed, 0.0, nxt.length, nxt.limits)
         except PlanningError:
             return _NO_FIT
-        width = blend.end - blend.begin
-        step = width / _BLEND_SAMPLES
+        step = (blend.end - blend.begin) / _BLEND_SAMPLES
         limit = tolerance * _SETPOINT_SHARE
         too_hard = False
-        last: list[float] | None = None
+        last: tuple[float, list[float]] | None = None
         times = [blend.begin + step * k for k in range(1, _BLEND_SAMPLES)]
         for t in sorted((*times, blend.t_c)):
             if t <= blend.t_c:
@@ -453,10 +452,12 @@ class PathPlanner:
             if deviation > limit:
                 return _NO_FIT
             for i, c in enumerate(self.configs):
-                jerk = abs(acc[i] - last[i]) / step if last is not None else 0.0
+                jerk = 0.0
+                if last is not None and t > last[0]:
+                    jerk = abs(acc[i] - last[1][i]) / (t - last[0])
                 if abs(acc[i]) > c.max_acceleration or 0.0 < c.max_jerk < jerk:
                     too_hard = True
-            last = acc
+            last = (t, acc)
         return _TOO_HARD if too_hard else _FITS
 
 

@@ -162,7 +162,8 @@ GroupHoming while a member is homing; GroupErrorStop while a member is in ErrorS
 error is set (8001 when a member exceeded its following error during a group motion or in the
 group's error stop; a member's 2001 replaces an earlier group error), left only through
 MC_GroupReset; GroupStandby otherwise. Single-axis motion commands on a member are refused
-with 1000.
+with 1000. A group moves along a path of lines, arcs and helices, run along its arc length with
+the speed the curvature and every member's limits allow (Function blocks of axes groups, below).
 """
 
 AXIS_TRANSITIONS: tuple[tuple[str, str, str], ...] = (
@@ -240,7 +241,7 @@ AXIS_TRANSITIONS: tuple[tuple[str, str, str], ...] = (
     ),
     (
         "StandStill (group members)",
-        "group motion (MC_MoveLinearAbsolute, MC_MoveLinearRelative)",
+        "group motion (MC_MoveLinear*, MC_MoveCircular*, MC_MoveDirect*, MC_MovePath)",
         "SynchronizedMotion; StandStill when the group stands",
     ),
     (
@@ -292,9 +293,97 @@ ENUM_MEANING: dict[str, str] = {
     "mcImmediately": "takes effect at once",
     "mcDelayed": "at the end of the running motion (not accepted by this library's blocks)",
     "mcQueued": "queued behind the motion commands given before it, as if Buffered",
+    "BORDER": "AuxPoint lies on the arc (no full circle)",
+    "CENTER": "AuxPoint is the centre (full circles, Turns)",
+    "RADIUS": "AuxPoint's first value is the radius (> 0: at most 180°, < 0: longer)",
+    "CLOCKWISE": "clockwise, seen from the positive normal of the plane",
+    "COUNTERCLOCKWISE": "counter-clockwise, seen from the positive normal of the plane",
+    "TMNone": "round the corner within the group's corner tolerance",
+    "TMStartVelocity": "not offered (EParam)",
+    "TMConstantVelocity": "not offered (EParam)",
+    "TMCornerDistance": "leave the path at most TransitionParameter[0] from the corner",
+    "TMMaxCornerDeviation": "deviate at most TransitionParameter[0] from the path",
+    "ACS": "the axes' coordinates (here the same as MCS and PCS)",
+    "MCS": "the machine's coordinates (no kinematic transformation: the axes')",
+    "PCS": "the product's coordinates (no transformation set: the machine's)",
 }
 """Meaning of the BufferMode, Direction, SwitchMode and ExecutionMode values (hand-written,
 optional)."""
+
+ENUMERATIONS: tuple[type[enum.IntEnum], ...] = (
+    mcl.MC_BufferMode,
+    mcl.MC_Direction,
+    mcl.MC_SwitchMode,
+    mcl.MC_ExecutionMode,
+    mcl.MC_CIRC_MODE,
+    mcl.MC_CIRC_PATHCHOICE,
+    mcl.MC_TRANSITION_MODE,
+    mcl.MC_COORD_SYSTEM,
+)
+"""The enumerations the reference lists, in order."""
+
+ANNOUNCED: tuple[tuple[str, str, tuple[str, ...]], ...] = (
+    (
+        "administrative",
+        "Part 1 v2.0",
+        (
+            "MC_SetPosition",
+            "MC_ReadParameter",
+            "MC_ReadBoolParameter",
+            "MC_WriteParameter",
+            "MC_WriteBoolParameter",
+            "MC_TouchProbe",
+            "GT_SWLim",
+        ),
+    ),
+    (
+        "motion",
+        "Part 1 v2.0",
+        (
+            "MC_PositionProfile",
+            "MC_VelocityProfile",
+            "MC_AccelerationProfile",
+            "MC_MoveContinuousAbsolute",
+            "MC_MoveContinuousRelative",
+        ),
+    ),
+    ("cams", "Part 1 v2.0", ("MC_CamTableSelect", "MC_CamIn", "MC_CamOut", "MC_Phasing")),
+    (
+        "homing",
+        "Part 5 v2.0",
+        ("MC_StepAbsolute", "MC_StepRefFlyingSwitch", "MC_StepRefFlyingRefPulse"),
+    ),
+    (
+        "groups",
+        "Part 4 v2.0",
+        (
+            "MC_MoveCircularAbsolute",
+            "MC_MoveCircularRelative",
+            "MC_MoveDirectAbsolute",
+            "MC_MoveDirectRelative",
+            "MC_MovePath",
+            "MC_PathSelect",
+            "MC_GroupHome",
+            "MC_GroupHalt",
+            "MC_GroupInterrupt",
+            "MC_GroupContinue",
+            "MC_GroupSetOverride",
+            "MC_GroupSetPosition",
+            "MC_GroupReadActualVelocity",
+            "MC_GroupReadActualAcceleration",
+            "MC_GroupReadConfiguration",
+            "MC_SetKinTransform",
+            "MC_SetCartesianTransform",
+            "MC_SyncAxisToGroup",
+            "MC_MovePathSynchronized",
+            "MC_TrackConveyorBelt",
+            "MC_TrackRotaryTable",
+        ),
+    ),
+)
+"""The blocks the Teco manual announced (its Tab. 2.2) with PLCopen's newer group blocks, by
+family: (family, PLCopen source, block names)."""
+
 
 # ------------------------------------------------------------------------ docstring cleaning
 
@@ -588,6 +677,30 @@ def render_errors() -> list[str]:
     return [*lines, ""]
 
 
+def render_announced() -> list[str]:
+    """The table of announced blocks: which the library has and which remain."""
+    lines = [
+        "## Announced blocks",
+        "",
+        *_wrap(
+            "The blocks the MotionControlLib announced as being prepared, and PLCopen Part 4's "
+            "group blocks, built to PLCopen's definitions: available ones are listed above, "
+            "the others remain. GT_Touch, GT_Pulse and GT_Show have no description in the "
+            "manual and are not implemented."
+        ),
+        "",
+        "| family | PLCopen | available | remaining |",
+        "| --- | --- | --- | --- |",
+    ]
+    for family, source, names in ANNOUNCED:
+        have = [n for n in names if hasattr(mcl, n)]
+        missing = [n for n in names if not hasattr(mcl, n)]
+        lines.append(
+            f"| {family} | {source} | {', '.join(have) or '—'} | {', '.join(missing) or '—'} |"
+        )
+    return [*lines, ""]
+
+
 def _contents(groups: Iterable[tuple[ModuleType, Sequence[type[FunctionBlock]]]]) -> list[str]:
     lines = ["## Function blocks", ""]
     for module, blocks in groups:
@@ -625,9 +738,10 @@ def generate() -> str:
     lines += render_enum("AxisState", mcl.AxisState, STATE_MEANING)
     lines += render_enum("GroupState", mcl.GroupState, STATE_MEANING)
     lines += ["## Enumerations", ""]
-    for enum_cls in (mcl.MC_BufferMode, mcl.MC_Direction, mcl.MC_SwitchMode, mcl.MC_ExecutionMode):
+    for enum_cls in ENUMERATIONS:
         lines += render_enum(enum_cls.__name__, enum_cls, ENUM_MEANING)
     lines += render_errors()
+    lines += render_announced()
     while lines and not lines[-1]:
         lines.pop()
     return "\n".join(lines) + "\n"

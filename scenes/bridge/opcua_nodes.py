@@ -332,7 +332,7 @@ class BridgeNodes:
         iserver.attribute_service = Writes(iserver.attribute_service, self.write_value)
 
     async def _table(self, k: int, table: SignalTable, parent: Node, prefix: str) -> None:
-        """The Axes and Signals of a table."""
+        """The Axes, the Group (where the machine names one) and the Signals of a table."""
         axes = await parent.add_folder(self.node(f"{prefix}Axes"), f"{self.index}:Axes")
         for axis in table.axes:
             bare = axis[len(prefix) :]
@@ -345,6 +345,12 @@ class BridgeNodes:
                         await self._status_bits(k, variable, f.name)
             for method in methods_of(self._axes[axis]):
                 await self._method(node, table, axis, method)
+        if table.group:  # the group block's fields, as variables (no methods)
+            group = await parent.add_object(self.node(table.group), f"{self.index}:Group")
+            unit = self._axes[table.members[0]].axis.config.unit
+            for f in table.fields:
+                if f.name.startswith(f"{table.group}."):
+                    await self._variable(group, table, f, f.name[len(table.group) + 1 :], unit)
         signals = await parent.add_folder(self.node(f"{prefix}Signals"), f"{self.index}:Signals")
         for f in table.fields:
             if f.name.startswith("signal."):

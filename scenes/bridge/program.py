@@ -23,7 +23,8 @@ outputs         ``MC_WriteDigitalOutput`` for each output bit that differs from 
 ==============  ====================================================================
 
 A command the axis cannot take (home without a recipe, gearing on an axis without gearing
-fields) is refused: the status shows Error with ErrorID EParam (5).
+fields) is refused: the status shows Error with ErrorID EParam (5). The group block of a machine
+that names a group is driven the same way (:mod:`scenes.bridge.group`).
 
 An Execute bit is passed as the block's Execute every scan: its rising edge starts the command,
 the block's outputs follow the PLCopen rules. A method call (:meth:`SignalTable.request`) sets

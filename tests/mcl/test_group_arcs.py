@@ -634,3 +634,45 @@ def test_absolute_arc_needs_ref(xy: tuple[mcl.SimMachine, mcl.AxesGroup]) -> Non
     move = circle(AxesGroup=group, **GOOD)
     move(Execute=True)
     assert move.Error and move.ErrorID == ErrorID.Ehome
+
+
+def test_a_member_fault_in_a_helix_stops_the_others_on_the_circle(
+    xyz: tuple[mcl.SimMachine, mcl.AxesGroup],
+) -> None:
+    """Z, lifting along a helix, runs into an obstacle (following error): the helix reports
+    ERRPOSG 8001, and X and Y ramp down on their fastest ramp on the circle."""
+    machine, group = xyz
+    machine.sims["Z"].blocked_at = 0.2 + 0.003  # an obstacle 3 mm above Z's start [m]
+    rec = record(machine, "XYZ")
+    helix = circle(
+        AxesGroup=group,
+        CircMode=CENTER,
+        AuxPoint=[10.0, 0.0, 0.0],
+        EndPoint=[0.0, 0.0, 20.0],
+        PathChoice=CCW,
+        Plane=17,
+        Turns=1,
+    )
+    run(machine, helix, until=lambda: helix.Error, timeout=5.0)
+    assert helix.ErrorID == ErrorID.ERRPOSG
+    machine.run(lambda: helix(Execute=True), timeout=0.3)
+    x, y, _ = group.axes
+    assert x.state == y.state == AxisState.StandStill
+    assert radius_error(rec, [10.0, 0.0], 10.0) < 1e-9
+    assert group.state == GroupState.GroupErrorStop
+
+
+def test_group_disable_in_an_arc_stops_on_the_circle(
+    xy: tuple[mcl.SimMachine, mcl.AxesGroup],
+) -> None:
+    machine, group = xy
+    rec = record(machine, "XY")
+    move = circle(
+        AxesGroup=group, CircMode=CENTER, AuxPoint=[0.0, 10.0], EndPoint=[0.0, 0.0], PathChoice=CW
+    )
+    run(machine, move, until=lambda: machine.runtime.time > 0.3)
+    disable = mcl.MC_GroupDisable(AxesGroup=group)
+    run(machine, move, disable, until=lambda: disable.Done)
+    assert move.CommandAborted and group.state == GroupState.GroupDisabled
+    assert radius_error(rec, [0.0, 10.0], 10.0) < 1e-9
+    assert all(a.sp_vel == 0.0 for a in group.axes)
