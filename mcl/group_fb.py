@@ -42,6 +42,7 @@ within the group's corner tolerance, TMMaxCornerDeviation within ``TransitionPar
 [mm], TMCornerDistance leaves the path at most ``TransitionParameter[0]`` [mm] from the corner;
 TMStartVelocity and TMConstantVelocity are not offered (EParam 5).
 """
+
 from __future__ import annotations
 
 import math
@@ -233,7 +234,7 @@ class MC_GroupReadActualPosition(EnableFB):
         self.Position = []
 
 
-class _GroupMotionFB(MotionFB):
+class GroupMotionFB(MotionFB):
     """A group motion block: hands a :class:`PathCommand` to the group (the ticket handling of
     :class:`MotionFB`: Active, CommandAborted, restart).
 
@@ -257,7 +258,7 @@ class _GroupMotionFB(MotionFB):
         return super()._poll()
 
 
-class _PathMoveFB(_GroupMotionFB):
+class _PathMoveFB(GroupMotionFB):
     """A group move along a piece of path: Velocity, Acceleration, Deceleration, Jerk (along the
     path; 0 = default), CoordSystem, TransitionMode and TransitionParameter (the corner into
     this move when it blends).
@@ -291,8 +292,8 @@ class _PathMoveFB(_GroupMotionFB):
         if error:
             return error
         params = self._dynamics(group)
-        transition = _transition(self.TransitionMode, self.TransitionParameter)
-        if params is None or transition is None or self.CoordSystem not in _COORD_SYSTEMS:
+        transition = transition_of(self.TransitionMode, self.TransitionParameter)
+        if params is None or transition is None or self.CoordSystem not in COORD_SYSTEMS:
             return ErrorID.EParam
         moves = self._moves(group, ticket.buffer_mode, params)
         if moves is None:
@@ -320,10 +321,10 @@ class _PathMoveFB(_GroupMotionFB):
         raise NotImplementedError
 
 
-_COORD_SYSTEMS = frozenset(int(c) for c in MC_COORD_SYSTEM)
+COORD_SYSTEMS = frozenset(int(c) for c in MC_COORD_SYSTEM)
 
 
-def _transition(mode: int, parameters: Any) -> tuple[float, float] | None:
+def transition_of(mode: int, parameters: Any) -> tuple[float, float] | None:
     """The corner tolerance and reach [mm] of a TransitionMode (0 = the group's defaults), or
     None when it is invalid: TMNone; TMMaxCornerDeviation and TMCornerDistance take
     TransitionParameter[0] > 0; TMStartVelocity and TMConstantVelocity are not offered."""
@@ -508,7 +509,7 @@ class MC_MoveCircularRelative(_MoveCircularFB):
     RELATIVE: ClassVar[bool] = True
 
 
-class MC_GroupStop(_GroupMotionFB):
+class MC_GroupStop(GroupMotionFB):
     """Stops the group (PLCopen Part 4): the path velocity ramps to zero along the path with
     ``Deceleration`` [mm/s²] and ``Jerk`` [mm/s³] (0 = default); GroupStopping until Done AND NOT
     Execute, and no other group motion is accepted meanwhile (EAxStop 6)."""
@@ -537,6 +538,8 @@ class MC_GroupStop(_GroupMotionFB):
 
 
 __all__ = [
+    "COORD_SYSTEMS",
+    "GroupMotionFB",
     "MC_AddAxisToGroup",
     "MC_GroupDisable",
     "MC_GroupEnable",
@@ -553,4 +556,5 @@ __all__ = [
     "MC_MoveLinearRelative",
     "MC_UngroupAllAxes",
     "submit_moves",
+    "transition_of",
 ]

@@ -34,7 +34,7 @@ from mcl.enums import MC_CIRC_MODE, MC_CIRC_PATHCHOICE, MC_COORD_SYSTEM, MC_Buff
 from mcl.errors import ErrorID
 from mcl.fb import non_negative, number
 from mcl.group import AxesGroup
-from mcl.group_fb import _COORD_SYSTEMS, _GroupMotionFB, _transition, submit_moves
+from mcl.group_fb import COORD_SYSTEMS, GroupMotionFB, submit_moves, transition_of
 from mcl.path import ARC, LINE, Move, PathCommand
 from mcl.profiles import TableRef
 
@@ -213,7 +213,7 @@ def _arc_move(
     )
 
 
-class MC_MovePath(_GroupMotionFB):
+class MC_MovePath(GroupMotionFB):
     """Runs a path table (``PathData``, an MC_PATH_DATA_REF) on the group (PLCopen Part 4): its
     lines and arcs one after the other, blended or stopping as each segment's BufferMode says.
 
@@ -242,8 +242,8 @@ class MC_MovePath(_GroupMotionFB):
         if error:
             return error
         segments = segments_of(self.PathData)
-        transition = _transition(self.TransitionMode, self.TransitionParameter)
-        if segments is None or transition is None or self.CoordSystem not in _COORD_SYSTEMS:
+        transition = transition_of(self.TransitionMode, self.TransitionParameter)
+        if segments is None or transition is None or self.CoordSystem not in COORD_SYSTEMS:
             return ErrorID.EParam
         start = group.start_point(ticket.buffer_mode)
         moves = path_moves(group, segments, ticket.buffer_mode, start)

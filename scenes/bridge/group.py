@@ -136,8 +136,6 @@ class GroupBridge(CommandWord):
             mask = 1 << i
             if call is not None and (word & mask or last & mask or self._busy(name)):
                 call(bool(word & mask))
-        self.status(Enable=True)
-        self.error(Enable=True)
         rising = word & ~last
         if rising & ~1:
             self._started(rising)
@@ -237,6 +235,8 @@ class GroupBridge(CommandWord):
         """Write the group's status and actual positions into the table."""
         current, held = self.current, self._held
         self._arm()
+        self.status(Enable=True)
+        self.error(Enable=True)
         state = self.group.state
         flags = {
             "done": held["done"],

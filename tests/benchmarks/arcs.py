@@ -80,7 +80,7 @@ def commanded_radius_error() -> dict[str, float]:
             for block in blocks:
                 block(Execute=True)
 
-        machine.run(program, until=lambda b=blocks: b[-1].Done, timeout=20.0)
+        machine.run(program, until=lambda: blocks[-1].Done, timeout=20.0)  # noqa: B023
         errors = [abs(math.dist(p, (RADIUS, 0.0)) - RADIUS) / RADIUS for p in rec.model]
         out[mode.name] = float(f"{max(errors):.3g}")
     return out

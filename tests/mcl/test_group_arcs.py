@@ -126,8 +126,13 @@ def test_done_shows_for_one_scan_after_an_early_falling_edge(
     move(Execute=False)
     assert move.Busy and move.Active
     dones: list[bool] = []
-    machine.run(lambda: (move(), dones.append(move.Done)), until=lambda: not move.Busy, timeout=5)
-    machine.run(lambda: (move(), dones.append(move.Done)), timeout=0.01)
+
+    def scan() -> None:
+        move()
+        dones.append(move.Done)
+
+    machine.run(scan, until=lambda: not move.Busy, timeout=5)
+    machine.run(scan, timeout=0.01)
     assert dones.count(True) == 1 and not move.Done
 
 
@@ -409,7 +414,7 @@ def test_a_corner_into_an_arc_is_rounded_within_the_tolerance(
             PathChoice=CW,
             BufferMode=mode,
         )
-        run(machine, line, bend, until=lambda b=bend: b.Done)
+        run(machine, line, bend, until=lambda: bend.Done)  # noqa: B023 (run at once)
         near = [
             s
             for p, s in zip(rec.model, rec.speeds(), strict=True)
@@ -560,7 +565,7 @@ def test_transition_modes_bound_the_corner(transition: int, parameter: float) ->
             TransitionMode=mode,
             TransitionParameter=[parameter],
         )
-        run(machine, line, bend, until=lambda b=bend: b.Done)
+        run(machine, line, bend, until=lambda: bend.Done)  # noqa: B023 (run at once)
         off = [(min(g.distance(p) for g in pieces), p) for p in rec.model]
         deviation[mode] = max(d for d, _ in off)
         reach[mode] = max(math.dist(p, corner) for d, p in off if d > 1e-9)

@@ -12,7 +12,7 @@ import mcl
 import plc.st
 from mcl.geometry import Line, arc
 from tests.helpers import make_machine
-from tests.mcl.test_group import record
+from tests.mcl.test_group import Recorder, record
 
 ARC = """\
 PROGRAM arcs
@@ -100,7 +100,7 @@ END_PROGRAM
 """
 
 
-def _run(source: str, name: str) -> tuple[plc.st.STProgram, mcl.SimMachine, object]:
+def _run(source: str, name: str) -> tuple[plc.st.STProgram, mcl.SimMachine, Recorder]:
     """Load ``source`` on two fresh simulated axes X, Y, let it group them, then set ``go``
     and scan it until ``done`` (or an error)."""
     machine = make_machine("XY", powered=False)

@@ -61,7 +61,7 @@ def test_a_refused_read_write_request_writes_nothing(lockstep: ModbusLockstep) -
     client = lockstep.client
     before = image(client)
     reply = client.readwrite_registers(
-        read_address=400, read_count=2, write_address=at("X.control"), values=[1]
+        read_address=TABLE.size, read_count=2, write_address=at("X.control"), values=[1]
     )
     assert reply.isError() and reply.exception_code == ExcCodes.ILLEGAL_ADDRESS
     assert image(client) == before  # X.control still 0
