@@ -41,6 +41,12 @@ def result_type(x: Expressions, node: Any, op: str, a: E, b: E) -> Elementary:
     if op == "**":
         if ta.numeric and tb.numeric:
             return T.REAL if ta is T.REAL else T.LREAL
+    elif {ta.kind, tb.kind} & {"date", "tod", "dt"}:
+        from plc.st.codegen.dates import result_type as date_result
+
+        found = date_result(op, ta, tb)
+        if found is not None:
+            return found
     elif ta.kind == "time" or tb.kind == "time":
         if ta.kind == tb.kind == "time" and op in "+-":
             return ta if ta is not T.TIME else tb
@@ -64,13 +70,15 @@ def arithmetic(x: Expressions, node: Any, op: str, a: E, b: E) -> E:
     from plc.st.codegen.expressions import E, const
 
     t = result_type(x, node, op, a, b)
-    integral = t.integral or t.kind == "time"
+    integral = t.integral or t.kind in ("time", "date", "tod", "dt")
     if a.const and b.const:
         try:
             value = _fold(op, a.value, b.value, integral and op != "**")
         except F.STFault as fault:
             raise x.error(node, str(fault), "a divisor other than 0") from None
-        if t.kind == "time":
+        if t is T.TOD:
+            value %= F.DAY
+        elif not t.integral and integral:
             value = int(value)
         elif integral:
             value = T.wrap_value(value, t)
@@ -91,6 +99,8 @@ def arithmetic(x: Expressions, node: Any, op: str, a: E, b: E) -> E:
         code = f"({ca} {op} {cb})"
         if t.kind == "time" and "real" in (a.type.kind, b.type.kind):
             code = f"_f.to_int{code}"
+        elif t is T.TOD:
+            code = f"({code} % {F.DAY})"
     if t is T.REAL:
         code = f"_f.f32({code})"
     elif t.integral and t.bits >= 32 and op in "+-*":
@@ -116,6 +126,9 @@ def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
             return f"_f.clone({e.code})"
     elif isinstance(to, T.EnumType) and isinstance(src, T.EnumType) and to.name == src.name:
         return e.code
+    elif isinstance(to, T.ReferenceType) and isinstance(src, T.ReferenceType):
+        if src is T.NULL or _same_target(to, src):
+            return e.code
     elif to is T.ANY_STRUCT and src.kind == "struct":
         return e.code  # a profile table: the block reads it on its rising edge
     elif to.kind == "struct" and src.name == to.name:
@@ -142,7 +155,7 @@ def _elementary(x: Expressions, e: E, src: Elementary, to: Elementary, node: Any
         if to is T.REAL and src is not T.REAL:
             return f"_f.f32({e.code})"
         return e.code if src.kind == "real" else f"float({e.code})"
-    if to.kind == src.kind == "time":
+    if to.kind == src.kind and to.kind in ("time", "date", "tod", "dt"):
         return e.code
     if to.kind == src.kind == "bool":
         return e.code
@@ -153,6 +166,14 @@ def _elementary(x: Expressions, e: E, src: Elementary, to: Elementary, node: Any
     if to.kind == "time" and src.integral and e.const:
         return repr(e.value)
     return None
+
+
+def _same_target(a: T.ReferenceType, b: T.ReferenceType) -> bool:
+    """Two REF_TO types refer to the same type (arrays: the same bounds and elements)."""
+    ta, tb = a.target, b.target
+    if isinstance(ta, T.ArrayType) and isinstance(tb, T.ArrayType):
+        return _shape(ta) == _shape(tb)
+    return ta == tb
 
 
 def _shape(t: T.ArrayType) -> tuple[Any, ...]:

@@ -159,7 +159,7 @@ def _constant(
         member.direction == "in_out" and member.type.kind not in ("axis", "group")
     ):
         return None
-    value = x.expr(p.value)
+    value = x.expr_as(p.value, member.type)
     if value.const:
         return str(convert(member, value, p))
     if value.type.kind == "axis" and value.code.startswith("_g."):

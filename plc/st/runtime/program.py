@@ -166,7 +166,7 @@ class STProgram:
 
     def __setattr__(self, name: str, value: Any) -> None:
         var = self._var(name)
-        if var.constant is not None:
+        if var.constant is not None or var.read_only:
             raise AttributeError(f"{var.name} is a CONSTANT")
         owner, _, attr = var.code.partition(".")
         target = self._namespace["_g"] if owner == "_g" else self._instance
@@ -257,7 +257,17 @@ def compile_source(
             )
     unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}), channels=channels(axes))
     unit.types.update({n.upper(): b.block_type(n) for n, b in (blocks or {}).items()})
-    return translate(parse(source, filename), unit)
+    tree = parse(source, filename)
+    try:
+        return translate(tree, unit)
+    except STError:
+        raise
+    except Exception as error:  # a construct not foreseen: one message, never a traceback
+        raise STError.at(
+            filename,
+            f"the program cannot be translated ({type(error).__name__}: {error})",
+            "IEC 61131-3 Structured Text this translator supports (docs/st.md)",
+        ) from None
 
 
 def load(
