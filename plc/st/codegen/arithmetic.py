@@ -35,7 +35,7 @@ def _fold(op: str, a: Any, b: Any, integral: bool) -> Any:
 
 def result_type(x: Expressions, node: Any, op: str, a: E, b: E) -> Elementary:
     """The type of ``a op b``, or a type error."""
-    ta, tb = a.type, b.type
+    ta, tb = T.plain(a.type), T.plain(b.type)
     if not (isinstance(ta, Elementary) and isinstance(tb, Elementary)):
         raise x.error(node, f"{ta.name} {op} {tb.name}", "numbers")
     if op == "**":
@@ -115,6 +115,8 @@ def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
     src = e.type
     if src == to and isinstance(to, Elementary) and to.kind != "string" and not e.wide:
         return e.code
+    if isinstance(to, T.Subrange):
+        return _within(x, e, to, coerce(x, e, to.parent, node), node)
     if isinstance(to, Elementary) and isinstance(src, Elementary):
         code = _elementary(x, e, src, to, node)
         if code is not None:
@@ -166,6 +168,19 @@ def _elementary(x: Expressions, e: E, src: Elementary, to: Elementary, node: Any
     if to.kind == "time" and src.integral and e.const:
         return repr(e.value)
     return None
+
+
+def _within(x: Expressions, e: E, to: T.Subrange, code: str, node: Any) -> str:
+    """``code`` (``e`` as the subrange's integer type) checked against the subrange: a
+    constant outside is an error, a value at run time a fault (IEC 61131-3 2.3.3.1)."""
+    if e.const:
+        if not to.low <= T.wrap_value(int(e.value), to.parent) <= to.high:
+            raise x.error(node, f"{e.value} outside {to.name}", f"{to.low}..{to.high}")
+        return code
+    src = e.type
+    if isinstance(src, T.Subrange) and to.low <= src.low and src.high <= to.high and not e.wide:
+        return code
+    return f"_f.within({code}, {to.low}, {to.high})"
 
 
 def _same_target(a: T.ReferenceType, b: T.ReferenceType) -> bool:

@@ -83,7 +83,7 @@ class Calls:
             while len(args) <= position:
                 args.append(None)
             args[position] = self.x.expr(p.value)
-        if any(a is None for a in args):
+        if any(a is None for a in args) or len(args) < len(names):
             raise self.x.error(node, "a parameter is missing", ", ".join(names))
         return args
 
@@ -115,7 +115,9 @@ class Calls:
             from plc.st.codegen.access import reference
 
             (param,) = self._count(node, list(node.parameters or []), 1)
-            return reference(self.x, self.x.variable(param.value), param.value)
+            value = param.value
+            target = self.x.variable(value) if _is_variable(value) else self.x.expr(value)
+            return reference(self.x, target, value)
         from plc.st.codegen import operators
 
         found = operators.operator_call(self.x, node, upper)

@@ -283,7 +283,7 @@ class Expressions:
         """``-x``, ``+x``, ``NOT x`` (bitwise on bit strings and integers)."""
         e = self.expr(node.expr)
         op = str(node.op).upper()
-        t = e.type
+        t = T.plain(e.type)
         if not isinstance(t, Elementary):
             raise self.error(node, f"{op} on {t.name}", "a number or BOOL")
         if op == "NOT":
@@ -348,7 +348,7 @@ class Expressions:
 
     def logic(self, node: Any, op: str, a: E, b: E) -> E:
         """AND, OR, XOR: on BOOL, else bitwise on integers and bit strings."""
-        ta, tb = a.type, b.type
+        ta, tb = T.plain(a.type), T.plain(b.type)
         if ta.kind == "bool" and tb.kind == "bool":
             t: Elementary = T.BOOL
         elif (

@@ -3,6 +3,7 @@ source line so that a run-time fault names ``file:line``."""
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import blark.transform as tf
@@ -102,6 +103,7 @@ class Statements:
             var = self.x.scope.get(str(head.name))
             if var is not None and (var.constant is not None or var.read_only):
                 raise self.x.error(node, f"{var.name} is a CONSTANT", "a variable")
+        self._not_an_output(node)
         t = self.x.variable(node)
         if (
             t.const
@@ -110,6 +112,23 @@ class Statements:
         ):
             raise self.x.error(node, f"{node} cannot be assigned", "a variable")
         return t
+
+    def _not_an_output(self, node: Any) -> None:
+        """An output of a block instance is the block's to write (IEC 61131-3 2.5.2.1: read
+        it, ``inst.Q``, or take it with ``inst(Q => v)``)."""
+        if not isinstance(node, tf.MultiElementVariable):
+            return
+        last = node.elements[-1]
+        if not isinstance(last, tf.FieldSelector) or not isinstance(last.field, tf.SimpleVariable):
+            return
+        inner = node.elements[:-1]
+        base = self.x.variable(dataclasses.replace(node, elements=inner) if inner else node.name)
+        members = base.type.members if isinstance(base.type, BlockType) else {}
+        member = members.get(str(last.field.name).upper())
+        if member is not None and member.direction == "output":
+            raise self.x.error(
+                node, f"{node} is an output of {base.type.name}", "an input or a variable"
+            )
 
     def do_SetStatement(self, s: tf.SetStatement) -> None:
         self.out.emit(f"if {self.condition(s.expression)}:")

@@ -52,9 +52,9 @@ class Module:
     """The cyclic task the configuration runs the program in (None: none declared)."""
 
 
-def _variables(block: Any) -> list[tuple[str, Any, Any, Any]]:
-    """(name, type spec, initial value node, location node or None) of every variable a
-    declaration block declares."""
+def _variables(block: Any) -> list[tuple[str, Any, Any, Any, Any]]:
+    """(name, type spec, initial value node, location node or None, the node naming it) of
+    every variable a declaration block declares."""
     found = []
     for item in block.items:
         init = getattr(item, "init", None)
@@ -63,10 +63,11 @@ def _variables(block: Any) -> list[tuple[str, Any, Any, Any]]:
             value = init.init
         if isinstance(item, tf.LocatedVariableDeclaration):  # name AT %IX0.2 : BOOL
             name = getattr(item.name, "name", item.name)
-            found.append((str(name), init, value, item.location))
+            found.append((str(name), init, value, item.location, item))
         for v in getattr(item, "variables", []):
             name = getattr(getattr(v, "variable", v), "name", v)
-            found.append((str(name), init, value, getattr(v, "location", None)))
+            at = v if getattr(v, "meta", None) is not None else item
+            found.append((str(name), init, value, getattr(v, "location", None), at))
     return found
 
 
@@ -108,9 +109,9 @@ class POU:
             if section is None:
                 raise STErrorAt(self.unit, block, f"{type(block).__name__}", "a VAR section")
             constant = "CONSTANT" in str(getattr(block, "attrs", "") or "").upper()
-            for name, spec, value, location in _variables(block):
-                self.variable(name, spec, value, section, constant, owner, block)
-                self.locate(name, location, block if location is None else location)
+            for name, spec, value, location, at in _variables(block):
+                self.variable(name, spec, value, section, constant, owner, at)
+                self.locate(name, location, at if location is None else location)
 
     def variable(
         self, name: str, spec: Any, value: Any, section: str, constant: bool, owner: str, at: Any

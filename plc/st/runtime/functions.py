@@ -62,6 +62,13 @@ def expt(a: float, b: float) -> float:
         return math.inf
 
 
+def within(value: int, low: int, high: int) -> int:
+    """``value`` stored into a subrange ``low..high``; outside: :class:`STFault`."""
+    if low <= value <= high:
+        return value
+    raise STFault(f"{value} outside the subrange {low}..{high}")
+
+
 def index(i: int, low: int, size: int) -> int:
     """The list position of array index ``i`` (bounds ``low``..``low + size - 1``); outside:
     :class:`STFault`."""
@@ -293,6 +300,8 @@ def dt_text(ms: int) -> str:
 
 
 _EPOCH = datetime.datetime(1970, 1, 1)
+FIRST_DAY = (datetime.datetime(1, 1, 1) - _EPOCH) // datetime.timedelta(milliseconds=1)
+"""D#0001-01-01 [ms from 1970-01-01]: the initial value of a DATE and a DATE_AND_TIME."""
 
 
 def clone(value: Any) -> Any:

@@ -111,12 +111,29 @@ def _named_type(unit: Unit, spec: Any, scope: Scope | None) -> Type:
         return unit.type_named(str(inner.type_name), spec)
     if isinstance(spec, tf.SubrangeTypeInitialization | tf.SubrangeSpecification):
         inner = getattr(spec, "spec", spec)
-        return unit.type_named(str(inner.type_name), spec)
+        t = unit.type_named(str(inner.type_name), spec)
+        if isinstance(inner.subrange, tf.PartialSubrange):
+            return _subrange(unit, t, inner.subrange, scope)
+        return t
     if isinstance(spec, tf.InitializedStructure):
         return unit.type_named(str(spec.name), spec)
     if isinstance(spec, tf.FunctionBlockNameDeclaration | tf.FunctionBlockInvocationDeclaration):
         return unit.type_named(str(getattr(spec, "spec", spec)), spec)
     raise STErrorAt(unit, spec, f"the declaration {type(spec).__name__}", "a supported type")
+
+
+def _subrange(unit: Unit, t: Type, sub: tf.PartialSubrange, scope: Scope | None) -> Type:
+    """``INT (low..high)``: bounds within the integer type, ``low <= high``."""
+    low = constant_of(unit, sub.start, scope).value
+    high = constant_of(unit, sub.stop, scope).value
+    if not (isinstance(t, Elementary) and t.base == "int" and not isinstance(t, T.Subrange)):
+        raise STErrorAt(unit, sub, f"a subrange of {t.name}", "an integer type (INT (1..10))")
+    if not (isinstance(low, int) and isinstance(high, int)) or not (
+        T.wrap_value(low, t) == low <= high == T.wrap_value(high, t)
+    ):
+        raise STErrorAt(unit, sub, f"the subrange {low}..{high} of {t.name}", "low <= high")
+    name = f"{t.name} ({low}..{high})"
+    return T.Subrange(name, t.base, t.bits, t.signed, low, high, t.name)
 
 
 def _length(unit: Unit, node: Any, scope: Scope | None) -> int:
@@ -230,7 +247,9 @@ def _field_inits(unit: Unit, d: tf.StructureTypeDeclaration) -> list[tuple[str, 
     """The initial values of a STRUCT's fields: given in its declaration, else their types'."""
     found = []
     for element in d.declarations:
-        value = getattr(element.init, "value", None)
+        init = element.init
+        value = init.init if isinstance(init, tf.InitializedStructure) else None
+        value = getattr(init, "value", None) if value is None else value
         if value is None:
             value = default_node(unit, element.init)
         if value is not None:
@@ -242,6 +261,8 @@ def _field_inits(unit: Unit, d: tf.StructureTypeDeclaration) -> list[tuple[str, 
 def default(unit: Unit, t: Type) -> str:
     """Python code of a fresh value of type ``t``."""
     if isinstance(t, Elementary):
+        if t.kind in ("date", "dt"):  # D#0001-01-01 (IEC 61131-3 2.4.2, Table 13)
+            return repr(F.FIRST_DAY)
         return {"bool": "False", "real": "0.0", "string": "''"}.get(t.kind, "0")
     if isinstance(t, EnumType):
         return repr(next(iter(t.values.values()), 0))
@@ -292,7 +313,7 @@ def initial(
                 close = nearest(str(element.name), t.fields)
                 hint = f" (did you mean {', '.join(close)}?)" if close else ""
                 raise STErrorAt(
-                    unit, element, f"{t.name} has no field {element.name!r}{hint}", "a field"
+                    unit, element, f"{t.name} has no field '{element.name}'{hint}", "a field"
                 )
             lines += initial(unit, f"{target}.{name}", t.fields[name], element.value, scope)
         return lines

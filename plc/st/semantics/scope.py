@@ -45,6 +45,8 @@ class Scope:
     def add(self, var: Var, where: str) -> None:
         """Declare ``var``; a second declaration of a name is an error."""
         key = var.name.lower()
+        if "__" in var.name:  # IEC 61131-3 2.1.2: no multiple embedded underscores
+            raise STError.at(where, f"the name {var.name} has two underscores in a row", "one")
         if key in self.vars:
             raise STError.at(where, f"{var.name!r} is declared twice", "each name once")
         self.vars[key] = var

@@ -97,6 +97,26 @@ ANY_REAL = Elementary("ANY_REAL", "real", 0, True)
 """A real literal without a type: REAL next to a REAL, else LREAL."""
 
 
+@dataclass(frozen=True)
+class Subrange(Elementary):
+    """An integer subrange ``INT (low..high)`` (IEC 61131-3 2.3.3.1, 3rd ed. 6.4.4.4): values
+    of its integer type ``of`` within ``low``..``high``."""
+
+    low: int = 0
+    high: int = 0
+    of: str = "INT"
+
+    @property
+    def parent(self) -> Elementary:
+        """The integer type it is a subrange of."""
+        return ELEMENTARY[self.of]
+
+
+def plain(t: Type) -> Type:
+    """``t``, or the integer type of a subrange (the type of arithmetic on its values)."""
+    return t.parent if isinstance(t, Subrange) else t
+
+
 def string_of(length: int) -> Elementary:
     """STRING(length)."""
     return STRING if length == STRING.bits else Elementary(f"STRING({length})", "string", length)

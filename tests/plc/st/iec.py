@@ -3,6 +3,11 @@ refused with."""
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
+import pytest
+
 import plc.st
 
 
@@ -39,3 +44,19 @@ def fault(source: str, scans: int = 1) -> str:
         prog()
     assert prog.fault, "no fault"
     return prog.fault
+
+
+def same(value: object, expected: object) -> bool:
+    """``value`` is ``expected``: equal and of the same Python type; NaN is NaN; a real within
+    a relative 1e-12."""
+    if isinstance(expected, float) and math.isnan(expected):
+        return isinstance(value, float) and math.isnan(value)
+    if isinstance(expected, float):
+        return isinstance(value, float) and math.isclose(value, expected, rel_tol=1e-12)
+    return value == expected and type(value) is type(expected)
+
+
+def case(clause: str, decls: str, body: str, name: str, expected: object, before: str = "") -> Any:
+    """One conformance case: the PROGRAM's variable ``name`` after one scan is ``expected``;
+    its id names the IEC 61131-3 clause it checks."""
+    return pytest.param(decls, body, name, expected, before, id=clause)

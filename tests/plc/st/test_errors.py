@@ -20,7 +20,7 @@ BAD = [
     ("t : TON; q : BOOL", "t(IN => q);", "IN is not an output"),
     ("x : INT", "x := 1 / 0;", "integer division by zero"),
     ("a : ARRAY[1..3] OF INT", "a[4] := 1;", "3:3: index 4 outside 1..3"),
-    ("x : INT", "x := MOD(1);", "3:6: MOD with 1 argument(s); expected 2"),
+    ("x : INT", "x := MOD(1);", "3:6: a parameter is missing; expected IN1, IN2"),
     ("x : INT", "x := FOO(1);", "3:6: unknown function 'FOO'"),
     ("x : INT", "IF x THEN x := 1; END_IF", "a condition of type INT; expected BOOL"),
     ("x : INT", "EXIT;", "EXIT outside a loop"),
