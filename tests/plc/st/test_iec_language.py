@@ -437,7 +437,8 @@ STATEMENTS = [
     case(
         "3.3.2.4 (7.3.3.5.6) EXIT leaves the innermost loop",
         "x : INT; i, j : INT;",
-        "FOR i := 1 TO 3 DO FOR j := 1 TO 3 DO IF j = 2 THEN EXIT; END_IF x := x + 1; END_FOR END_FOR",
+        "FOR i := 1 TO 3 DO FOR j := 1 TO 3 DO IF j = 2 THEN EXIT; END_IF x := x + 1; END_FOR\n"
+        "END_FOR",
         "x",
         3,
     ),

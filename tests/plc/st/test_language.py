@@ -135,7 +135,8 @@ def test_a_function_called_without_names_and_for_its_effect():
 
 def test_standard_functions_called_by_their_names():
     body = """a := ADD(1, 2, 3); s := SUB(10, 3); m := MUL(2, 3, 4); d := DIV(7, 2);
-gt := GT(3, 2, 1); eq := EQ(2, 2); md := MOD(7, 3); x := XOR(TRUE, FALSE); an := AND(TRUE, TRUE, FALSE);"""
+gt := GT(3, 2, 1); eq := EQ(2, 2); md := MOD(7, 3); x := XOR(TRUE, FALSE);
+an := AND(TRUE, TRUE, FALSE);"""
     decls = "a, s, m, d, md : INT; gt, eq, x, an : BOOL;"
     prog = run(program(decls, body))
     assert (prog.a, prog.s, prog.m, prog.d, prog.md) == (6, 7, 24, 3, 1)
