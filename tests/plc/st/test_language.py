@@ -292,3 +292,11 @@ span, days : TIME; day : DATE; tod2 : TOD; late : BOOL; text : STRING;"""
 
 def test_a_variable_named_reference():
     assert run(program("reference : INT; x : INT;", "reference := 3; x := reference * 2;")).x == 6
+
+
+def test_the_watch_table_shows_dates_and_times_of_day_as_literals():
+    from plc.st.runtime.watch import WatchedProgram
+
+    prog = run(program("d : DATE := D#2024-03-01; t : TOD := TOD#12:00:01.5; z : DT;", ""))
+    rows = {row.name: row.value for row in WatchedProgram(prog).rows()}
+    assert rows == {"d": "D#2024-03-01", "t": "TOD#12:00:01.5", "z": "DT#0001-01-01-00:00:00"}
