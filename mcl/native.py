@@ -43,13 +43,15 @@ NOT_COMPILED = (
     "__init__.py",
     "__main__.py",
     "build.py",
+    "extras.py",
     "native.py",
     "reference.py",
     "errors.py",
     "io.py",
 )
-"""Modules of mcl that stay interpreted: package glue, tools, the error texts (an exception class
-derived from a builtin cannot be a native class) and the I/O protocol (runtime-checkable)."""
+"""Modules of mcl that stay interpreted: package glue (and its check of the extras), tools, the
+error texts (an exception class derived from a builtin cannot be a native class) and the I/O
+protocol (runtime-checkable)."""
 
 
 DECLARATION = "COMPILED_MODULES"

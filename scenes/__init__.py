@@ -10,6 +10,9 @@ from __future__ import annotations
 from typing import Any
 
 from mcl import native
+from mcl.extras import require
+
+require("scenes", "physics")
 
 COMPILED = native.activate("scenes", __path__)
 """The per-physics-step modules (plant, drives, devices) run compiled (see :mod:`mcl.native`)."""

@@ -13,6 +13,10 @@ The operator's buttons only set requests of the PLC layer's operator program
 ``Viewer(scene="gantry", port=8080)`` (:class:`viewer.serving.server.Viewer`) serves it.
 """
 
+from mcl.extras import require
+
+require("viewer", "viewer")
+
 from viewer.serving.server import Viewer
 
 __all__ = ["Viewer"]

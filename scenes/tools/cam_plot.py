@@ -11,6 +11,10 @@ Linear), lines starting with ``#`` are comments.
 
 from __future__ import annotations
 
+from mcl.extras import require
+
+require("scenes.tools.cam_plot", "plot")
+
 import csv
 import math
 import re

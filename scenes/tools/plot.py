@@ -7,6 +7,10 @@ trace.csv`` does the same for a trace written with ``trace.to_csv`` or streamed 
 
 from __future__ import annotations
 
+from mcl.extras import require
+
+require("scenes.tools.plot", "plot")
+
 import html
 import io
 import re

@@ -24,6 +24,10 @@ file is checked against the scenario's signature before anything runs; each mist
 
 from __future__ import annotations
 
+from mcl.extras import require
+
+require("scenes.tools.sweep", "sweep")
+
 import functools
 import importlib
 import importlib.metadata
