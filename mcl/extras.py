@@ -15,7 +15,16 @@ from __future__ import annotations
 
 import importlib.util
 
-__all__ = ["DISTRIBUTION", "INCLUDES", "PACKAGES", "MissingExtra", "installed", "missing", "packages", "require"]
+__all__ = [
+    "DISTRIBUTION",
+    "INCLUDES",
+    "PACKAGES",
+    "MissingExtra",
+    "installed",
+    "missing",
+    "packages",
+    "require",
+]
 
 DISTRIBUTION = "mcl-testbench"
 """The name the project is installed by."""

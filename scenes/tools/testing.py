@@ -69,8 +69,8 @@ import pytest
 
 import mcl
 import plc.st
-from mcl import extras
 import scenes
+from mcl import extras
 from plc.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
 
