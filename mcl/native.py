@@ -15,6 +15,24 @@ then runs in pure Python and says so once.
 
 from __future__ import annotations
 
+__all__ = [
+    "DECLARATION",
+    "GROUP",
+    "MANIFEST",
+    "NOT_COMPILED",
+    "ROOT",
+    "activate",
+    "compiled_files",
+    "compiled_sources",
+    "declared",
+    "digest",
+    "extension_of",
+    "forced_pure",
+    "mode",
+    "reset",
+    "stale_sources",
+]
+
 import ast
 import hashlib
 import json
