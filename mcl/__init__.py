@@ -3,6 +3,16 @@
 Function blocks keep PLCopen's and Teco's names; see docs/reference.md for the behaviour contract.
 ``mcl`` imports neither mujoco nor viser: it drives any plant that subclasses
 :class:`AxisChannel` (the :class:`AxisIO` contract).
+
+The public API is this namespace (``__all__``) and the modules used by name: :mod:`mcl.faults`,
+:mod:`mcl.trace`, :mod:`mcl.cam_table`, :mod:`mcl.errors`, :mod:`mcl.channel` (what a plant
+subclasses), :mod:`mcl.simaxis`, :mod:`mcl.runtime`, :mod:`mcl.extras`, and the tools
+``python -m mcl.build`` (:mod:`mcl.native`) and ``python -m mcl.reference``. The modules of the
+blocks by topic (``mcl.motion``, ``mcl.homing``, …) declare what they define, and the blocks are
+imported from ``mcl``. Internal to the library, imported by no other package (``lint-imports``
+checks it): :mod:`mcl.axis_state`, :mod:`mcl.cam_coupling`, :mod:`mcl.command`, :mod:`mcl.fb`,
+:mod:`mcl.path`, :mod:`mcl.probe_latch`, :mod:`mcl.software_limits`, :mod:`mcl.time_scale` and
+:mod:`mcl.trajectory`. ``mcl.st`` is the deprecated alias of :mod:`plc.st`.
 """
 
 from mcl import native

@@ -2,6 +2,22 @@
 
 from __future__ import annotations
 
+__all__ = [
+    "GT_Analog",
+    "GT_AxErrStringCZ",
+    "GT_AxErrStringEN",
+    "GT_AxStatusString",
+    "GT_SInfo",
+    "GT_SWLim",
+    "GT_SetConstant",
+    "MC_Power",
+    "MC_ReadActualPosition",
+    "MC_ReadAxisError",
+    "MC_ReadStatus",
+    "MC_Reset",
+    "MC_SetPosition",
+]
+
 import dataclasses
 import math
 from typing import Any, ClassVar

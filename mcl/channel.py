@@ -11,6 +11,18 @@ of :mod:`mcl.faults`.
 
 from __future__ import annotations
 
+__all__ = [
+    "IDEAL",
+    "NO_SWITCHES",
+    "AxisChannel",
+    "ChannelSnapshot",
+    "Drive",
+    "Marks",
+    "Normals",
+    "NormalsState",
+    "Sensors",
+]
+
 import copy
 import math
 import random

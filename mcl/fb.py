@@ -19,6 +19,24 @@ invalid value then gives ``EParam`` on the rising edge, and the axis is left alo
 
 from __future__ import annotations
 
+__all__ = [
+    "INVALID_INT",
+    "EnableFB",
+    "ExecuteFB",
+    "FunctionBlock",
+    "InputSpec",
+    "MotionFB",
+    "Ticket",
+    "TicketOwner",
+    "boolean",
+    "input_names",
+    "input_spec",
+    "integer",
+    "non_negative",
+    "number",
+    "positive",
+]
+
 import math
 from typing import Any, ClassVar, Final, Protocol
 

@@ -9,6 +9,8 @@ the plant integrates one servo period.
 
 from __future__ import annotations
 
+__all__ = ["Machine", "MachineState", "Physics", "Plant", "Runtime", "ticks_per"]
+
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, Protocol

@@ -13,6 +13,8 @@ at most the axis' default deceleration).
 
 from __future__ import annotations
 
+__all__ = ["MAX_FACTOR", "TimeScale", "ramp_rate"]
+
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+__all__ = ["BlockHoming", "HomeAxis", "HomingRecipe", "Recipe"]
+
 from dataclasses import dataclass
 
 import mcl

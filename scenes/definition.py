@@ -9,6 +9,17 @@ program and the extra signals it publishes for traces and the viewer. The regist
 
 from __future__ import annotations
 
+__all__ = [
+    "UNIT_SCALES",
+    "AxisDef",
+    "DeviceFactory",
+    "DriveKind",
+    "MachineDef",
+    "Part",
+    "Signal",
+    "unit_and_scale",
+]
+
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field

@@ -7,6 +7,8 @@ one world) and dm_control without the file's name; these functions translate bot
 
 from __future__ import annotations
 
+__all__ = ["check_names", "compiled", "elements", "in_files", "parse", "start_line"]
+
 import re
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path

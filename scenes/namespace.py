@@ -10,6 +10,8 @@ time, the runtime and the trace are the whole scene's.
 
 from __future__ import annotations
 
+__all__ = ["MachineScene"]
+
 import mcl
 from scenes.definition import MachineDef
 from scenes.scene import Scene

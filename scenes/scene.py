@@ -9,6 +9,8 @@ ground truth, where ``scene.has_model``), ``scene.trace`` (recorded signals, CSV
 
 from __future__ import annotations
 
+__all__ = ["LOOKS", "MODELS", "WORLD", "Scene", "compose", "model_path"]
+
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import replace

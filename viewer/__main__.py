@@ -9,6 +9,19 @@ Exits with status 2 and a message when the port is taken or the address cannot b
 
 from __future__ import annotations
 
+__all__ = [
+    "EXIT_PORT_IN_USE",
+    "external_plc",
+    "main",
+    "parse_directory",
+    "parse_fps",
+    "parse_mapping",
+    "parse_port",
+    "parse_speed",
+    "parser",
+    "serve",
+]
+
 import argparse
 import math
 import signal

@@ -46,6 +46,23 @@ Every scan also calls ``GT_AxStatusString`` and ``GT_AxErrStringEN`` for the pan
 
 from __future__ import annotations
 
+__all__ = [
+    "DEADMAN",
+    "DEFAULT_JOG_FRACTION",
+    "HOMING_PROCEDURES",
+    "INDEX_FRACTION",
+    "MIN_VELOCITY_FRACTION",
+    "SLOW_JOG_FRACTION",
+    "AxisOperator",
+    "AxisRequests",
+    "Clock",
+    "ErrorSink",
+    "GroupRelease",
+    "Move",
+    "OperatorProgram",
+    "Requests",
+]
+
 import math
 import threading
 import time

@@ -5,6 +5,8 @@ free at a speed or in lockstep with the client. The servers (:mod:`scenes.bridge
 
 from __future__ import annotations
 
+__all__ = ["Bridge", "check_speed"]
+
 import math
 
 import scenes

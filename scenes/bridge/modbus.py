@@ -21,6 +21,18 @@ a warning.
 
 from __future__ import annotations
 
+__all__ = [
+    "MAX_LENGTH",
+    "MAX_PENDING",
+    "MBAP",
+    "REGISTER_CODES",
+    "Server",
+    "device",
+    "main",
+    "serve",
+    "server_of",
+]
+
 import asyncio
 import logging
 from collections.abc import Sequence

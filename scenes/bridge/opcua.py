@@ -24,6 +24,34 @@ connection's reads are answered (:class:`_Processor`).
 
 from __future__ import annotations
 
+__all__ = [
+    "ACTIVATION",
+    "APPLICATION_URI",
+    "CERTS",
+    "IN_TURN",
+    "MAX_CONNECTIONS",
+    "MAX_MESSAGE",
+    "MAX_SUBSCRIPTIONS",
+    "PASSWORD_ENV",
+    "READ",
+    "SECURE_POLICIES",
+    "SESSION_REQUESTS",
+    "USER",
+    "PasswordUser",
+    "Security",
+    "Server",
+    "cache_dir",
+    "certificate",
+    "check_certs",
+    "init",
+    "main",
+    "quiet_asyncua",
+    "read_password",
+    "security_of",
+    "serve",
+    "server_of",
+]
+
 import asyncio
 import contextlib
 import fcntl

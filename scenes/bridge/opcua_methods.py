@@ -4,6 +4,34 @@ status code for each one refused)."""
 
 from __future__ import annotations
 
+__all__ = [
+    "ACCELERATION",
+    "ARGUMENT_TYPE",
+    "BUFFER_MODE",
+    "DECELERATION",
+    "DISTANCE",
+    "F32_MAX",
+    "FORCE",
+    "JERK",
+    "MASTER",
+    "METHODS",
+    "NUMBERS",
+    "POSITION",
+    "RAMP",
+    "RANGE",
+    "RATIO",
+    "SYNC",
+    "VELOCITY",
+    "ZEROING",
+    "ArgKind",
+    "Argument",
+    "Method",
+    "Refused",
+    "boolean",
+    "methods_of",
+    "number",
+]
+
 import math
 from dataclasses import dataclass
 from typing import Literal

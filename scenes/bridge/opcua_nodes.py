@@ -35,6 +35,20 @@ and after each client write or call.
 
 from __future__ import annotations
 
+__all__ = [
+    "ADMIN",
+    "MAX_ADVANCE",
+    "NAMESPACE",
+    "VARIANT",
+    "BridgeNodes",
+    "Mirror",
+    "Served",
+    "Variable",
+    "Writes",
+    "engineering_units",
+    "unit_of",
+]
+
 import asyncio
 import contextlib
 import logging

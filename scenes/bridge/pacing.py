@@ -3,6 +3,8 @@ at a speed (:class:`PacedRun`), or in lockstep with the client (:class:`Lockstep
 
 from __future__ import annotations
 
+__all__ = ["CHUNK", "IDLE_WAIT", "MAX_LAG", "LockstepRun", "PacedRun", "Run"]
+
 import logging
 import threading
 import time

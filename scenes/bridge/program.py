@@ -37,6 +37,8 @@ command: a master that polls slowly, or clears the bit early, still sees it.
 
 from __future__ import annotations
 
+__all__ = ["RESULTS", "AxisBridge", "BridgeProgram", "Command"]
+
 import logging
 import math
 from collections.abc import Callable, Sequence

@@ -4,6 +4,18 @@ on SIGTERM/SIGINT and the command's exit on a user's mistake."""
 
 from __future__ import annotations
 
+__all__ = [
+    "ACK_TIMEOUT",
+    "acknowledge",
+    "admitted",
+    "allowed",
+    "check_allow",
+    "check_host",
+    "is_loopback",
+    "run_command",
+    "stop_on_signals",
+]
+
 import asyncio
 import contextlib
 import ipaddress

@@ -21,6 +21,38 @@ and the servers read and write it by field name or by address.
 
 from __future__ import annotations
 
+__all__ = [
+    "ANALOG_OFFSET",
+    "AXIS_BASE",
+    "AXIS_BLOCK",
+    "AXIS_FIELDS",
+    "AXIS_STRIDE",
+    "CONTROL_BITS",
+    "FORCE_FIELDS",
+    "GEAR_BITS",
+    "GEAR_FIELDS",
+    "LEVELS",
+    "MAX_ANALOG",
+    "OUTPUTS",
+    "SIGNAL_BASE",
+    "STATUS_BITS",
+    "WIDTH",
+    "Access",
+    "Field",
+    "FieldSpec",
+    "Kind",
+    "NotInControl",
+    "SignalTable",
+    "ValueRefused",
+    "WriteRefused",
+    "axis_specs",
+    "decode",
+    "encode",
+    "machine_fields",
+    "published_signals",
+    "tables_of",
+]
+
 import math
 import struct
 import threading

@@ -11,6 +11,12 @@ Linear), lines starting with ``#`` are comments.
 
 from __future__ import annotations
 
+__all__ = ["COLUMNS", "EXPECTED", "checked", "figure", "knife_table", "plot_cam", "read_table"]
+
+from mcl.extras import require
+
+require("scenes.tools.cam_plot", "plot")
+
 import csv
 import math
 import re

@@ -4,6 +4,8 @@ and ``python -m scenes cam``)."""
 
 from __future__ import annotations
 
+__all__ = ["PROFILE_POINTS", "CamProfile", "sample"]
+
 from dataclasses import dataclass
 
 import numpy as np

@@ -6,6 +6,16 @@ is cammed (:attr:`viewer.sim.snapshot.Snapshot.cams`)."""
 
 from __future__ import annotations
 
+__all__ = [
+    "COLORS",
+    "POINT_COLORS",
+    "CamPanel",
+    "info_html",
+    "plot_data",
+    "plot_style",
+    "value_range",
+]
+
 import html
 import itertools
 import math

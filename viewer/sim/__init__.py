@@ -2,3 +2,5 @@
 (:mod:`~viewer.sim.session`), the immutable snapshots it hands to the pages
 (:mod:`~viewer.sim.snapshot`), the scope recorder, the demo run, the programs offered, the cam
 view's data and an external PLC."""
+
+__all__: list[str] = []

@@ -10,6 +10,8 @@ thread only reads the operating point every snapshot.
 
 from __future__ import annotations
 
+__all__ = ["TABLES_KEPT", "CamView", "ProfileCache", "cam_views", "running_cam"]
+
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass

@@ -12,6 +12,8 @@ all always works.
 
 from __future__ import annotations
 
+__all__ = ["START_TIMEOUT", "ExternalPlc", "PlcInControl", "Transport"]
+
 import asyncio
 import threading
 from collections.abc import Sequence

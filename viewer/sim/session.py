@@ -16,6 +16,17 @@ by the simulation thread between two PLC cycles, so they never race with a runni
 
 from __future__ import annotations
 
+__all__ = [
+    "EVENTS_KEPT",
+    "HISTORY_SAMPLE",
+    "MAX_BATCH_WALL",
+    "MAX_LAG",
+    "SCOPE_SECONDS",
+    "DemoFactory",
+    "Session",
+    "choices",
+]
+
 import logging
 import math
 import queue

@@ -3,6 +3,23 @@ physics), and how the simulation thread copies them from a scene between two PLC
 
 from __future__ import annotations
 
+__all__ = [
+    "RESULTS_SHOWN",
+    "AxisInfo",
+    "AxisView",
+    "Channel",
+    "DemoView",
+    "Event",
+    "SignalView",
+    "Snapshot",
+    "axis_info",
+    "axis_view",
+    "copy_array",
+    "mujoco_of",
+    "results_of",
+    "sw_limits_reached",
+]
+
 import logging
 import math
 from collections.abc import Mapping

@@ -4,6 +4,8 @@ class per STRUCT, the globals in ``_g``. Every Python line knows its ST line (:c
 
 from __future__ import annotations
 
+__all__ = ["POU", "Module", "translate"]
+
 from dataclasses import dataclass, field
 from typing import Any
 

@@ -10,6 +10,8 @@ stay lark trees (read by :mod:`plc.st.runtime.task`).
 
 from __future__ import annotations
 
+__all__ = ["parse", "parser"]
+
 import dataclasses
 import importlib.resources
 import re

@@ -9,6 +9,38 @@ ARRAY is a ``list`` per dimension; a STRUCT and a function block are objects.
 
 from __future__ import annotations
 
+__all__ = [
+    "ANY_INT",
+    "ANY_REAL",
+    "ANY_STRUCT",
+    "AXIS",
+    "BOOL",
+    "DINT",
+    "ELEMENTARY",
+    "GROUP",
+    "LINT",
+    "LREAL",
+    "LTIME",
+    "REAL",
+    "SEQUENCE",
+    "STRING",
+    "TIME",
+    "ArrayType",
+    "BlockType",
+    "Elementary",
+    "EnumType",
+    "Member",
+    "RefType",
+    "StructType",
+    "Type",
+    "mask",
+    "real_of",
+    "string_of",
+    "wider",
+    "wrap_code",
+    "wrap_value",
+]
+
 from dataclasses import dataclass, field
 
 

@@ -3,6 +3,8 @@ gantry is done, at once, each machine's own demo unchanged, under the zone inter
 
 from __future__ import annotations
 
+__all__ = ["RAM_UP", "ZONE_X", "Demo", "gantry_in_zone", "ram_up"]
+
 from scenes.machines import gantry, press
 from scenes.machines.cell.interlock import ZoneInterlock, ZoneUser
 from scenes.scene import Scene

@@ -11,6 +11,8 @@ signals ``gantry_in_zone`` and ``ram_up``.
 
 from __future__ import annotations
 
+__all__ = ["ZoneInterlock", "ZoneUser"]
+
 from collections.abc import Callable
 from dataclasses import dataclass, field
 

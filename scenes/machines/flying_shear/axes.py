@@ -9,6 +9,8 @@ Kv = 30 1/s, Ka = J_eff/Kamp + 2 ms = 1.11/115 + 2 ms = 12 ms.
 
 from __future__ import annotations
 
+__all__ = ["AXES", "HOMING", "PREFIX", "ROLL_RADIUS", "SENSOR_DELAY", "WHEEL_RADIUS"]
+
 import math
 
 import mcl

@@ -3,6 +3,8 @@ every physics step), its demo and the signals it publishes."""
 
 from __future__ import annotations
 
+__all__ = ["DEVICES", "MACHINE"]
+
 from scenes.definition import MachineDef, Signal
 from scenes.machines.flying_shear.axes import AXES, PREFIX
 from scenes.machines.flying_shear.demo import Demo

@@ -7,6 +7,25 @@ definition and the PLC program are in :mod:`scenes.machines.flying_shear`.
 
 from __future__ import annotations
 
+__all__ = [
+    "CUT_FIELDS",
+    "MARKS",
+    "MARK_FIRST",
+    "MARK_PITCH",
+    "PRINT_ERRORS",
+    "TOUCH",
+    "Cut",
+    "CutRecorder",
+    "EccentricRoll",
+    "KnifeCylinder",
+    "MeasuringWheel",
+    "RollingCoupling",
+    "blade_down",
+    "cut_of",
+    "cut_values",
+    "mark_at",
+]
+
 import math
 import random
 from collections.abc import Mapping

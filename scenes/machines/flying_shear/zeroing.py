@@ -3,6 +3,8 @@ physics (a runtime observer of a flying-shear scene)."""
 
 from __future__ import annotations
 
+__all__ = ["ZeroingRecorder"]
+
 from typing import Any
 
 import mcl

@@ -6,6 +6,8 @@ parameters and a seed, each returning the metrics a user would study.
 
 from __future__ import annotations
 
+__all__ = ["homing_repeatability"]
+
 import statistics
 
 import mcl

@@ -10,6 +10,19 @@ delays (1.5 ms).
 
 from __future__ import annotations
 
+__all__ = [
+    "AXES",
+    "BLOCK_HOMING",
+    "HOMING",
+    "MASS",
+    "MODEL",
+    "PREFIX",
+    "RAM_SSI",
+    "REFERENCE",
+    "STEP_BLOCK_INPUTS",
+    "WEIGHT",
+]
+
 import mcl
 from plc.procedures import BlockHoming
 from scenes.definition import AxisDef

@@ -9,6 +9,18 @@ feed Kv = 30 1/s, Ka = J_eff/Kamp + 1.5 ms = 0.118/12 + 1.5 ms = 11.3 ms.
 
 from __future__ import annotations
 
+__all__ = [
+    "AXES",
+    "CUT_FORCE",
+    "GEAR_RATIO",
+    "HOMING",
+    "PREFIX",
+    "ROLL_RADIUS",
+    "SENSOR_DELAY",
+    "TIP_CIRCUMFERENCE",
+    "WHEEL_RADIUS",
+]
+
 import math
 
 import mcl

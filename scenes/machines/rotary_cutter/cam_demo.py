@@ -9,6 +9,16 @@ what it cuts.
 
 from __future__ import annotations
 
+__all__ = [
+    "COUPLED",
+    "CUT_ANGLE",
+    "REGISTER_MARKS",
+    "Batch",
+    "CamDemo",
+    "CamJob",
+    "stopping_distance",
+]
+
 import math
 from dataclasses import dataclass, field
 from typing import Any

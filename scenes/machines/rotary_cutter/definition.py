@@ -3,6 +3,8 @@ before every physics step), its demo and the signals it publishes."""
 
 from __future__ import annotations
 
+__all__ = ["DEVICES", "MACHINE"]
+
 import math
 
 from scenes.definition import MachineDef, Signal

@@ -6,6 +6,8 @@ errors are the flying shear's (:class:`scenes.machines.flying_shear.devices.Meas
 
 from __future__ import annotations
 
+__all__ = ["CUT_FIELDS", "Cut", "KnifeDrum", "cut_of", "cut_values"]
+
 import math
 from dataclasses import dataclass
 from typing import Any
