@@ -7,6 +7,7 @@ import pytest
 import mcl
 import mcl.extras
 import scenes
+import scenes.tools.plot  # loaded here: an in-process pytester run unloads what it loads
 from scenes.errors import UserError
 from scenes.tools.cli import main
 from scenes.tools.sweep import Sweep, from_toml
