@@ -731,3 +731,27 @@ def test_a_queued_table_keeps_the_maxima_of_its_execute_edge():
     assert peak == pytest.approx(60.0, rel=0.03)
     tick(machine, 100)
     assert carriage_mm(machine) == pytest.approx(60.0, abs=0.05)
+
+
+def test_after_a_software_limit_stop_a_table_back_inward_runs():
+    """ERRSWN leaves the carriage just beyond SWLimitNeg; after MC_Reset a table back inward
+    runs, as MC_MoveAbsolute back inward does (the positions the table moves to are checked,
+    not the one the axis stands at), while one going further out is refused."""
+    machine, X = fresh_axis()
+    swlim = mcl.GT_SWLim(Axis=X, Execute=True, LimPos=150.0, LimNeg=-20.0)
+    swlim()
+    assert swlim.Done
+    vel = mcl.MC_MoveVelocity(Axis=X, Velocity=100.0, Direction=mcl.MC_Direction.MC_Negative)
+    machine.run(lambda: vel(Execute=True), until=lambda: vel.Error, timeout=3.0)
+    assert vel.ErrorID == mcl.ErrorID.ERRSWN
+    tick(machine, 100)
+    reset = mcl.MC_Reset(Axis=X)
+    machine.run(lambda: reset(Execute=True), until=lambda: reset.Done, timeout=1.0)
+    beyond = carriage_mm(machine)
+    assert beyond < -20.0 and X.state == mcl.AxisState.StandStill
+    _refused(mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(1.0, -5.0)])), 8)
+    fb = mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(1.0, 50.0)]))
+    run_until(machine, lambda: fb(Execute=True), lambda: fb.Done or fb.Error)
+    assert fb.Done and X.AxErrorID == 0
+    tick(machine, 100)
+    assert carriage_mm(machine) == pytest.approx(beyond + 50.0, abs=0.05)
