@@ -755,3 +755,60 @@ def test_after_a_software_limit_stop_a_table_back_inward_runs():
     assert fb.Done and X.AxErrorID == 0
     tick(machine, 100)
     assert carriage_mm(machine) == pytest.approx(beyond + 50.0, abs=0.05)
+
+
+def test_a_table_may_end_on_a_software_limit_not_a_count_beyond():
+    """Limits ±30 mm (encoder count 0.001 mm): absolute tables to +30 and to −30 run and the
+    carriage gets there; a table ending one count beyond either limit is refused (Ecil)."""
+    machine, X = fresh_axis(LimPos=30.0, LimNeg=-30.0)
+    for end in (30.0, -30.0):
+        beyond = end + math.copysign(X.config.resolution, end)
+        _refused(mcl.MC_PositionProfile(Axis=X, TimePosition=absolute(beyond)), 8)
+        fb = mcl.MC_PositionProfile(Axis=X, TimePosition=absolute(end))
+        run_until(machine, lambda fb=fb: fb(Execute=True), lambda fb=fb: fb.Done or fb.Error)
+        assert fb.Done and X.AxErrorID == 0
+        tick(machine, 100)
+        assert carriage_mm(machine) == pytest.approx(end, abs=0.05)
+
+
+def absolute(position: float) -> mcl.MC_TP_REF:
+    """An absolute position table: to ``position`` [mm] in 1 s."""
+    return mcl.MC_TP_REF([(1.0, position)], IsAbsolute=True)
+
+
+def test_a_table_may_reach_max_velocity_appl_exactly():
+    """MaxVelocityAppl 80 mm/s: a velocity table up to exactly 80 and back runs (the carriage
+    peaks at 80), one up to 80.01 is refused (EParam)."""
+    machine, X = fresh_axis()
+    _write(X, 9, 80.0)
+    over = mcl.MC_TV_REF([(0.2, 80.01), (0.2, 0.0)])
+    _refused(mcl.MC_VelocityProfile(Axis=X, TimeVelocity=over), 5)
+    fine = mcl.MC_VelocityProfile(Axis=X, TimeVelocity=mcl.MC_TV_REF([(0.2, 80.0), (0.2, 0.0)]))
+    assert _peak_speed(machine, fine) == pytest.approx(80.0, rel=0.03)
+
+
+def test_a_table_beyond_the_maximum_only_at_its_end_is_refused():
+    """MaxVelocityAppl 80 mm/s: a velocity table to 60 then 90 mm/s passes 80 only in its last
+    phase; an acceleration table (0 → 400 → 800 mm/s² in 0.1 + 0.2 s) reaches 140 mm/s only at
+    its end, beyond MaxVelocityAppl 130. Both are refused (EParam) and the axis stands."""
+    machine, X = fresh_axis()
+    _write(X, 9, 80.0)
+    table = mcl.MC_TV_REF([(0.5, 60.0), (0.5, 90.0)])
+    _refused(mcl.MC_VelocityProfile(Axis=X, TimeVelocity=table), 5)
+    _write(X, 9, 130.0)
+    table = mcl.MC_TA_REF([(0.1, 400.0), (0.2, 800.0)])
+    _refused(mcl.MC_AccelerationProfile(Axis=X, TimeAcceleration=table), 5)
+    tick(machine, 50)
+    assert carriage_mm(machine) == pytest.approx(0.0, abs=0.05)
+
+
+def test_an_acceleration_table_within_max_velocity_appl_runs():
+    """0 → 400 → −400 → 0 mm/s² in 0.1 + 0.2 + 0.1 s: from rest, 40 mm/s at its peak, back to
+    rest 8 mm further on. Within MaxVelocityAppl 100 it runs and the carriage follows."""
+    machine, X = fresh_axis()
+    _write(X, 9, 100.0)
+    table = mcl.MC_TA_REF([(0.1, 400.0), (0.2, -400.0), (0.1, 0.0)])
+    fb = mcl.MC_AccelerationProfile(Axis=X, TimeAcceleration=table)
+    assert _peak_speed(machine, fb) == pytest.approx(40.0, rel=0.03)
+    tick(machine, 100)
+    assert carriage_mm(machine) == pytest.approx(8.0, abs=0.05)
