@@ -344,6 +344,7 @@ def test_member_not_ready_errors(xyz: mcl.SimMachine) -> None:
     move(Execute=False)
 
     xyz.axes["Z"].fault(ErrorID.ERRLIP)  # a disabled axis ignores faults
+    assert xyz.axes["Z"].state == AxisState.Disabled and xyz.axes["Z"].AxErrorID == 0
     power(Axis=xyz.axes["Z"], Enable=True)
     xyz.axes["Z"].fault(ErrorID.ERRLIP)
     assert group.state == GroupState.GroupErrorStop
