@@ -4,7 +4,9 @@ block; MotionControlLib Tab. 2.3).
 A function block is called once per PLC scan with keyword inputs: ``fb(Axis=X, Execute=True,
 Position=10.0)``. Inputs that are not passed keep the value of the previous call; an unknown input
 name is a programming mistake and raises ``TypeError`` naming the valid ones. Problems of a
-running block are reported through ``Error``/``ErrorID`` only, never by raising.
+running block are reported through ``Error``/``ErrorID`` only, never by raising. ``Execute``
+(``Enable``), the input passed in nearly every scan, is a named parameter of the call: it is
+taken directly, without the keyword dictionary.
 
 Inputs are declared, typed attributes: each class lists the inputs it adds in ``INPUTS`` and
 declares them with their initial values, so the classes compile to native classes. Constant
@@ -74,6 +76,9 @@ def non_negative(value: float) -> bool:
     """Finite and >= 0."""
     return math.isfinite(value) and value >= 0.0
 
+
+NOT_GIVEN: Final = object()
+"""The default of ``Execute`` (``Enable``) in a call: not passed, it keeps its value."""
 
 _REAL: Final = 0
 _INT: Final = 1
@@ -249,12 +254,20 @@ class ExecuteFB(FunctionBlock):
         """Idle with every output FALSE: a scan with Execute FALSE changes nothing."""
         super().__init__(**inputs)
 
-    def __call__(self, **inputs: Any) -> None:
+    def __call__(self, *, Execute: object = NOT_GIVEN, **inputs: Any) -> None:
         """One PLC scan of the block."""
+        if Execute is not NOT_GIVEN:
+            self.Execute = boolean(Execute)
         if inputs:
             self._take_inputs(inputs)
         if not self._connected:
             self._inputs_taken()
+        self._edges()
+        self._scanned()
+
+    def _edges(self) -> None:
+        """The scan on the inputs taken: start on the rising edge of Execute, poll while busy,
+        drive the outputs."""
         execute = self.Execute
         if self._quiet and not execute:
             return
@@ -267,6 +280,9 @@ class ExecuteFB(FunctionBlock):
                 self._finish(final, self._error_of_poll())
         self._show(execute)
         self._quiet = not execute and not self._running and self._final is None
+
+    def _scanned(self) -> None:
+        """The end of every scan (a subclass passes a level input to its running command)."""
 
     def _restart(self) -> None:
         if self._running:
@@ -443,8 +459,10 @@ class EnableFB(FunctionBlock):
         self.ErrorID = 0
         super().__init__(**inputs)
 
-    def __call__(self, **inputs: Any) -> None:
+    def __call__(self, *, Enable: object = NOT_GIVEN, **inputs: Any) -> None:
         """One PLC scan of the block."""
+        if Enable is not NOT_GIVEN:
+            self.Enable = boolean(Enable)
         if inputs:
             self._take_inputs(inputs)
         if not self._connected:

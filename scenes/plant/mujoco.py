@@ -242,7 +242,8 @@ class MujocoAxisIO(AxisChannel):
         qpos = self._qpos
         q: float = qpos[self.qpos_adr]
         if self.rotary:
-            n, pos, r = (_wrap(q + offset) for offset in self.offsets)
+            offsets = self.offsets
+            n, pos, r = _wrap(q + offsets[0]), _wrap(q + offsets[1]), _wrap(q + offsets[2])
         else:
             n = pos = r = q
         self.sample(
@@ -376,13 +377,14 @@ class MujocoPlant:
         """``n`` physics steps; each device integrates before every step."""
         model, data = self.model, self.data
         hooks = self._hooks
+        step = mujoco.mj_step
         if not hooks:
-            mujoco.mj_step(model, data, n)
+            step(model, data, n)
             return
         for _ in range(n):
             for hook in hooks:
                 hook(model, data)
-            mujoco.mj_step(model, data)
+            step(model, data)
 
     def sense(self) -> None:
         """Sample every axis' inputs."""
