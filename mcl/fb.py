@@ -156,6 +156,8 @@ class FunctionBlock:
 
     def __init__(self, **inputs: Any) -> None:
         self._spec = input_spec(self)
+        self._owner_is_axis = self.OWNER == "Axis"
+        """The command runs on ``Axis`` (a native read, not one by name, in every scan)."""
         self._connected = False
         if inputs:
             self._take_inputs(inputs)
@@ -213,7 +215,7 @@ class FunctionBlock:
     @property
     def axis(self) -> AxisRef:
         """The axis that runs the block's command (its ``OWNER`` in-out)."""
-        axis = getattr(self, self.OWNER)
+        axis = self.Axis if self._owner_is_axis else getattr(self, self.OWNER)
         if axis is None:
             raise TypeError(f"{type(self).__name__} needs {self.OWNER}=<mcl.Axis>")
         assert isinstance(axis, AxisRef)
@@ -262,24 +264,18 @@ class ExecuteFB(FunctionBlock):
             self._take_inputs(inputs)
         if not self._connected:
             self._inputs_taken()
-        self._edges()
-        self._scanned()
-
-    def _edges(self) -> None:
-        """The scan on the inputs taken: start on the rising edge of Execute, poll while busy,
-        drive the outputs."""
         execute = self.Execute
-        if self._quiet and not execute:
-            return
-        if execute and not self._prev_execute:
-            self._restart()
-        self._prev_execute = execute
-        if self._running:
-            final = self._poll()
-            if final is not None:
-                self._finish(final, self._error_of_poll())
-        self._show(execute)
-        self._quiet = not execute and not self._running and self._final is None
+        if execute or not self._quiet:  # quiet and Execute FALSE: the scan changes nothing
+            if execute and not self._prev_execute:
+                self._restart()
+            self._prev_execute = execute
+            if self._running:
+                final = self._poll()
+                if final is not None:
+                    self._finish(final, self._error_of_poll())
+            self._show(execute)
+            self._quiet = not execute and not self._running and self._final is None
+        self._scanned()
 
     def _scanned(self) -> None:
         """The end of every scan (a subclass passes a level input to its running command)."""
