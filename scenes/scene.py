@@ -72,12 +72,20 @@ def compose(
     root = mjcf.RootElement(model="scene")
     groups = 0
     files: dict[str, Path] = {}
+    lacking: dict[str, list[str]] = {}
     for machine in machines:
         files[machine.name] = path = model_path(machine.model)
         child = model_errors.parse(path, mjcf.from_path)
         joints = {s.joint or a: f"axis {a} (AxisDef.joint)" for a, s in machine.axes.items()}
         have = [j.name for j in child.find_all("joint") if j.name]
         model_errors.check_names(path, machine.name, "joint", joints, have)
+        amplifiers = {
+            f"{s.joint or a}_amp": f"the amplifier of axis {a}"
+            for a, s in machine.axes.items()
+            if s.drive == "electric"
+        }
+        actuators = [e.name for e in child.find_all("actuator") if e.name]
+        lacking[machine.name] = model_errors.absent(machine.name, "actuator", amplifiers, actuators)
         child.model = machine.name
         for actuator in child.find_all("actuator"):
             groups += 1
@@ -89,7 +97,7 @@ def compose(
         frame.pos = tuple((positions or {}).get(machine.name, (0.0, 0.0, 0.0)))
     xml = root.to_xml_string()
     model = model_errors.compiled(
-        lambda: mujoco.MjModel.from_xml_string(xml, root.get_assets()), files, xml
+        lambda: mujoco.MjModel.from_xml_string(xml, root.get_assets()), files, xml, lacking
     )
     return model, mujoco.MjData(model)
 

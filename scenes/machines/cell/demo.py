@@ -62,10 +62,10 @@ class Demo:
     @property
     def error(self) -> str:
         """The first machine's error (empty: none)."""
-        for name, user in (("gantry", self.gantry), ("press", self.press)):
-            if user.demo.error:
-                return f"{name}: {user.demo.error}"
-        return ""
+        gantry, press = self.gantry.demo.error, self.press.demo.error
+        if gantry:
+            return f"gantry: {gantry}"
+        return f"press: {press}" if press else ""
 
     @property
     def step(self) -> str:

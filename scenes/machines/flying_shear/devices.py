@@ -268,7 +268,9 @@ class MeasuringWheel:
         slip = self.slip + self.slip_per_speed * abs(speed)
         if not self.random:
             return slip
-        noise = sum(math.sin(w * t + phase) for w, phase in self._sines)
+        noise = 0.0  # summed in order, as sum() does (an explicit loop compiles natively)
+        for w, phase in self._sines:
+            noise += math.sin(w * t + phase)
         return slip + self.random * self._gain * noise
 
     def _liftoff(self, t: float, m: float, v: float) -> float:
