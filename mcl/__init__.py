@@ -28,7 +28,8 @@ from mcl.administrative import (
 )
 from mcl.axis import Axis, AxisConfig, AxisSnapshot
 from mcl.cam import MC_CamIn, MC_CamOut, MC_CamTableSelect, MC_Phasing, MC_StartMode
-from mcl.cam_table import MC_CAM_REF, CamLaw, MC_CamPoint, rotary_knife
+from mcl.cam_readout import CamProfile, RunningCam, cam_profile, running_cam
+from mcl.cam_table import MC_CAM_REF, Cam, CamLaw, MC_CamPoint, rotary_knife
 from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
 from mcl.encoder import AbsoluteEncoder
@@ -128,7 +129,9 @@ __all__ = [
     "AxisIO",
     "AxisSnapshot",
     "AxisState",
+    "Cam",
     "CamLaw",
+    "CamProfile",
     "ChannelSnapshot",
     "ConditionTimeout",
     "ErrorID",
@@ -210,6 +213,7 @@ __all__ = [
     "Marks",
     "Module",
     "Plant",
+    "RunningCam",
     "Runtime",
     "Sensors",
     "ServoConstants",
@@ -219,7 +223,9 @@ __all__ = [
     "SimPlant",
     "SimPlantState",
     "StateError",
+    "cam_profile",
     "error_text",
     "faults",
     "rotary_knife",
+    "running_cam",
 ]
