@@ -20,31 +20,19 @@ TABLES_KEPT = 16
 
 @dataclass(frozen=True, slots=True)
 class CamView:
-    """One cammed slave: its table's profile and where it is on it.
+    """One cammed slave: its table's profile and where it is on it, for the page.
 
     Attributes:
         slave: The slave's axis name.
         master: The master's axis name in the scene (empty if it is not one of its axes).
         slave_unit: The slave's user unit.
         master_unit: The master's user unit.
-        table_id: The CamTableID of the table.
-        name: The table's ``Name`` (empty: none).
-        profile: The table sampled over one period.
-        coupled: The slave follows the table (False while a ramp-in waits for its start).
-        in_sync: The slave is on the table (no blend running): MC_CamIn's InSync.
-        table_master: The master position in the table as the cam sees it, reduced to one
-            period (phase shift and scaling included) [master u]; NaN while not coupled.
-        table_slave: The table's value there, CAM(``table_master``) [slave u].
-        set_slave: The slave's set point in table units, (set point − offset)/SlaveScaling,
-            reduced to the same period [slave u].
-        actual_slave: The slave's actual position in table units, likewise (a modulo slave's
-            continuous position, not its wrapped POS) [slave u].
-        cycle: The period number of the table coordinate.
-        master_offset: MC_CamIn's MasterOffset [master u].
-        slave_offset: MC_CamIn's SlaveOffset [slave u].
-        master_scaling: MC_CamIn's MasterScaling.
-        slave_scaling: MC_CamIn's SlaveScaling.
-        phase_shift: The phase shift of MC_Phasing now [master u].
+        profile: The table sampled over one period (:func:`mcl.cam_profile`).
+
+    The other attributes are those of :class:`mcl.RunningCam` of the same name: the table's ID
+    and name, whether the slave is coupled and InSync, the operating point (``table_master``,
+    ``table_slave``, ``set_slave``, ``actual_slave``, ``cycle``), the offsets, the scalings and
+    the phase shift.
     """
 
     slave: str
