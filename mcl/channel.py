@@ -272,6 +272,18 @@ class Drive:
         raise NotImplementedError
 
 
+def _check_arguments(name: str, windows: Sequence[tuple[float, float]], probe_delay: float) -> None:
+    """Raise ValueError unless the switch ``windows`` are three intervals (or empty) and
+    ``probe_delay`` is a finite delay >= 0 [s] (the message names the axis ``name``)."""
+    if len(windows) != 3 or any(not lo <= hi and lo != math.inf for lo, hi in windows):
+        raise ValueError(
+            f"axis {name}: windows must be three (lo, hi) intervals for LIM+, LIM- and REF "
+            f"(lo <= hi, or (inf, -inf) for a missing switch), got {windows!r}"
+        )
+    if not (math.isfinite(probe_delay) and probe_delay >= 0.0):
+        raise ValueError(f"axis {name}: probe_delay must be >= 0 s, got {probe_delay!r}")
+
+
 @mypyc_attr(allow_interpreted_subclasses=True)
 class AxisChannel:
     """The I/O of one axis as the module sees it; implements :class:`mcl.io.AxisIO`.
@@ -310,16 +322,10 @@ class AxisChannel:
         sensors: Sensors | None = None,
         drive: Drive | None = None,
     ) -> None:
-        if len(windows) != 3 or any(not lo <= hi and lo != math.inf for lo, hi in windows):
-            raise ValueError(
-                f"axis {name}: windows must be three (lo, hi) intervals for LIM+, LIM- and REF "
-                f"(lo <= hi, or (inf, -inf) for a missing switch), got {windows!r}"
-            )
+        _check_arguments(name, windows, probe_delay)
         sensors = Sensors() if sensors is None else sensors
         self.sensors = sensors
         rng = Normals(sensors.seed * 1_000_003 + zlib.crc32(name.encode()))
-        if not (math.isfinite(probe_delay) and probe_delay >= 0.0):
-            raise ValueError(f"axis {name}: probe_delay must be >= 0 s, got {probe_delay!r}")
         self.name = name
         self.resolution = resolution
         """Travel per encoder count [m or rad]."""

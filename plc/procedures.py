@@ -7,7 +7,6 @@ __all__ = ["BlockHoming", "HomeAxis", "HomingRecipe", "Recipe"]
 from dataclasses import dataclass
 
 import mcl
-from mcl.fb import MotionFB
 
 
 @dataclass(frozen=True)
@@ -70,8 +69,8 @@ class HomeAxis:
         self.axis = axis
         self.recipe = r = recipe
         # typed as their common base: its inputs and outputs are native attributes when compiled
-        self.approach: MotionFB  # MC_StepAbsSwitch or MC_StepBlock
-        self.pulse: MotionFB  # MC_StepRefPulse or MC_StepDirect
+        self.approach: mcl.MotionFB  # MC_StepAbsSwitch or MC_StepBlock
+        self.pulse: mcl.MotionFB  # MC_StepRefPulse or MC_StepDirect
         if isinstance(r, BlockHoming):
             self.approach = mcl.MC_StepBlock(
                 Axis=axis,
