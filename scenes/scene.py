@@ -75,14 +75,14 @@ class Scene(mcl.Machine):
         world = World(
             self,
             machines,
-            start,
-            servo_period,
-            plc_period,
-            trace_every,
-            positions,
-            sensors,
-            trace_seconds,
-            trace_file,
+            positions=positions,
+            start=start,
+            sensors=sensors,
+            servo_period=servo_period,
+            plc_period=plc_period,
+            trace_every=trace_every,
+            trace_seconds=trace_seconds,
+            trace_file=trace_file,
         )
         self._see(world, world.namespace)
         alone = len(world.machines) == 1
@@ -224,11 +224,17 @@ class Scene(mcl.Machine):
 
         Raises:
             TypeError: the scene runs simulated axes.
-            WiringError: the model has no such joint (the message lists them).
+            WiringError: the model has no such joint (the message lists the scene's joints).
         """
         joint = self._joints.get(name)
         if joint is None:
-            joint = self._joints[name] = Joint(self.model, self.data, self.model_name(name))
+            model, full = self.model, self.model_name(name)
+            if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, full) < 0:
+                prefix = self.namespace.prefix  # the joints by the names asked for here
+                joints = [model.joint(j).name for j in range(model.njnt)]
+                own = [j.removeprefix(prefix) for j in joints if j.startswith(prefix)]
+                raise WiringError(f"{self.name} has no joint {name!r}; joints: {own}")
+            joint = self._joints[name] = Joint(model, self.data, full)
         return joint
 
     def joint_position(self, axis: str) -> float:

@@ -132,8 +132,8 @@ class World:
     Args:
         whole: the scene of all the machines (a cell's signals are read on it, its faults are the
             trace's events).
-        machines, start, servo_period, plc_period, trace_every, positions, sensors,
-            trace_seconds, trace_file: as :class:`scenes.Scene`'s.
+        machines, positions, start, sensors, servo_period, plc_period, trace_every,
+            trace_seconds, trace_file: as :class:`scenes.Scene`'s (the scene gives every one).
 
     Raises:
         WiringError, ValueError: as :class:`scenes.Scene`.
@@ -143,14 +143,15 @@ class World:
         self,
         whole: Scene,
         machines: Sequence[MachineDef],
-        start: Mapping[str, float] | None = None,
-        servo_period: float | None = None,
-        plc_period: float | None = None,
-        trace_every: int = 1,
-        positions: Mapping[str, Sequence[float]] | None = None,
-        sensors: mcl.Sensors | None = None,
-        trace_seconds: float = 30.0,
-        trace_file: str | Path | None = None,
+        *,
+        positions: Mapping[str, Sequence[float]] | None,
+        start: Mapping[str, float] | None,
+        sensors: mcl.Sensors | None,
+        servo_period: float | None,
+        plc_period: float | None,
+        trace_every: int,
+        trace_seconds: float,
+        trace_file: str | Path | None,
     ) -> None:
         if not machines:
             raise ValueError("a scene needs at least one machine")
