@@ -75,14 +75,14 @@ class Scene(mcl.Machine):
         world = World(
             self,
             machines,
-            positions=positions,
-            start=start,
-            sensors=sensors,
-            servo_period=servo_period,
-            plc_period=plc_period,
-            trace_every=trace_every,
-            trace_seconds=trace_seconds,
-            trace_file=trace_file,
+            start,
+            servo_period,
+            plc_period,
+            trace_every,
+            positions,
+            sensors,
+            trace_seconds,
+            trace_file,
         )
         self._see(world, world.namespace)
         alone = len(world.machines) == 1

@@ -132,7 +132,7 @@ class World:
     Args:
         whole: the scene of all the machines (a cell's signals are read on it, its faults are the
             trace's events).
-        machines, positions, start, sensors, servo_period, plc_period, trace_every,
+        machines, start, servo_period, plc_period, trace_every, positions, sensors,
             trace_seconds, trace_file: as :class:`scenes.Scene`'s (the scene gives every one).
 
     Raises:
@@ -143,13 +143,12 @@ class World:
         self,
         whole: Scene,
         machines: Sequence[MachineDef],
-        *,
-        positions: Mapping[str, Sequence[float]] | None,
         start: Mapping[str, float] | None,
-        sensors: mcl.Sensors | None,
         servo_period: float | None,
         plc_period: float | None,
         trace_every: int,
+        positions: Mapping[str, Sequence[float]] | None,
+        sensors: mcl.Sensors | None,
         trace_seconds: float,
         trace_file: str | Path | None,
     ) -> None:
