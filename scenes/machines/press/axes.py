@@ -16,7 +16,6 @@ __all__ = [
     "HOMING",
     "MASS",
     "MODEL",
-    "PREFIX",
     "RAM_SSI",
     "REFERENCE",
     "STEP_BLOCK_INPUTS",
@@ -30,8 +29,6 @@ from scenes.machines.press.devices import ANALOG_INPUTS
 
 MODEL = "hydraulic_press.xml"
 """The press's MJCF model (in models/)."""
-PREFIX = "press/"
-"""The prefix of the machine's names in a scene's model."""
 MASS = 200.0
 """Moving mass of the ram with piston and rod [kg]."""
 WEIGHT = MASS * 9.81 / 1000.0
