@@ -8,8 +8,8 @@ from __future__ import annotations
 import math
 
 import scenes
-from scenes.bridge.pacing import LockstepRun, PacedRun
 from scenes.bridge.program import BridgeProgram
+from scenes.bridge.runs import LockstepRun, PacedRun
 from scenes.bridge.table import SignalTable, tables_of
 
 
