@@ -33,7 +33,7 @@ from collections.abc import Iterable
 from typing import Protocol
 
 from mcl.errors import ErrorID
-from plc.operator.axis import AxisOperator, Block, Orders, Parameters, whole
+from plc.operator.axis import COMMANDS, AxisOperator, Block, Orders, Parameters, whole
 
 log = logging.getLogger(__name__)
 
@@ -175,17 +175,15 @@ class CommandWords:
         fall acknowledges it."""
 
     def _taken(self) -> tuple[str, ...]:
-        """The Execute commands of the axis: home with a recipe, gearing with its registers,
-        force control with its registers, the others always."""
-        commands = ["reset", "move_absolute", "move_relative", "move_additive", "move_velocity"]
-        commands += ["stop", "halt"]
-        if self.operator.recipe is not None:
-            commands.append("home")
-        if self.registers.has("master"):
-            commands += GEAR_BITS
-        if self.registers.has("force"):
-            commands.append("force_control")
-        return tuple(commands)
+        """The Execute commands of the axis: home with a recipe, gearing and force control with
+        their registers, the others always."""
+        gearing = self.registers.has("master")
+        takes = {
+            "home": self.operator.recipe is not None,
+            **dict.fromkeys(GEAR_BITS, gearing),
+            "force_control": self.registers.has("force"),
+        }
+        return tuple(c for c in COMMANDS if takes.get(c, True))
 
     def _words(self) -> tuple[int, int]:
         """This scan's control word of the client and the whole control word: the client's
