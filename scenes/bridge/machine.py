@@ -10,8 +10,8 @@ __all__ = ["Bridge", "check_speed"]
 import math
 
 import scenes
-from scenes.bridge.pacing import LockstepRun, PacedRun
 from scenes.bridge.program import BridgeProgram
+from scenes.bridge.runs import LockstepRun, PacedRun
 from scenes.bridge.table import SignalTable, tables_of
 
 

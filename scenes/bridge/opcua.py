@@ -1,7 +1,7 @@
 """The OPC UA server of the bridge (asyncua 2.1): a machine's signal tables as a node tree
 (:mod:`scenes.bridge.opcua_nodes`: variables of the fields, PLCopen methods of the axes, the
 Simulation object), the simulation running in its own thread, free at a speed or in lockstep
-with the client (:mod:`scenes.bridge.pacing`). The same tables, blocks, rules and ErrorIDs as
+with the client (:mod:`scenes.bridge.runs`). The same tables, blocks, rules and ErrorIDs as
 the Modbus server's (:mod:`scenes.bridge.modbus`).
 
 Security: the server binds loopback and serves it without security (anonymous, no encryption),

@@ -24,7 +24,7 @@ import sys
 from collections.abc import Callable, Coroutine, Sequence
 from typing import Any
 
-from scenes.bridge.pacing import Run
+from scenes.bridge.runs import Run
 
 ACK_TIMEOUT = 2.0
 """Longest wall time [s] the answer to a lockstep target waits for the scene to get there (a
