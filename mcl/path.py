@@ -71,9 +71,14 @@ contour error in the curve, so that the tool itself stays within the tolerance."
 
 
 # ---------------------------------------------------------------------- geometry
+# dot and along run every servo cycle of a group move: index loops, which compile to native
+# arithmetic (zip with strict=True is a generic call with a keyword when compiled)
 def dot(a: Sequence[float], b: Sequence[float]) -> float:
-    """Scalar product."""
-    return sum(x * y for x, y in zip(a, b, strict=True))
+    """Scalar product of two vectors of one length (summed in order)."""
+    total = 0.0
+    for i in range(len(a)):
+        total += a[i] * b[i]
+    return total
 
 
 def _norm(a: Sequence[float]) -> float:
@@ -81,8 +86,8 @@ def _norm(a: Sequence[float]) -> float:
 
 
 def along(start: Sequence[float], unit: Sequence[float], s: float) -> Vector:
-    """The point ``s`` along ``unit`` from ``start``."""
-    return [p + s * u for p, u in zip(start, unit, strict=True)]
+    """The point ``s`` along ``unit`` from ``start`` (vectors of one length)."""
+    return [start[i] + s * unit[i] for i in range(len(start))]
 
 
 def direction(v: Sequence[float]) -> Vector:

@@ -11,6 +11,31 @@ English and Czech texts. A short hand-written introduction explains the conventi
 
 from __future__ import annotations
 
+__all__ = [
+    "AXIS_TRANSITIONS",
+    "CHAPTER_ORDER",
+    "DOC_PATH",
+    "ENUM_MEANING",
+    "FB_KIND",
+    "INTRO",
+    "STATE_MEANING",
+    "chapters",
+    "declared_inputs",
+    "function_blocks",
+    "generate",
+    "inputs",
+    "kind",
+    "main",
+    "outputs",
+    "paragraphs",
+    "public_text",
+    "render_block",
+    "render_enum",
+    "render_errors",
+    "render_table",
+    "summary",
+]
+
 import argparse
 import ast
 import enum

@@ -11,6 +11,8 @@ globals, a STRUCT, an ARRAY) and its attribute or index; ``r^`` reads and writes
 
 from __future__ import annotations
 
+__all__ = ["dereference", "partial", "reference", "store", "store_expression"]
+
 import re
 from typing import TYPE_CHECKING, Any
 

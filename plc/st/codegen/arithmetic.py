@@ -8,6 +8,8 @@ operation rounds its result to 32 bits, so REAL arithmetic is IEEE single precis
 
 from __future__ import annotations
 
+__all__ = ["arithmetic", "coerce", "result_type"]
+
 from typing import TYPE_CHECKING, Any
 
 from plc.st.runtime import functions as F  # noqa: N812

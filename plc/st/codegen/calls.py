@@ -4,6 +4,8 @@ outputs are copied after the call, ``instance.Output`` reads the same member).""
 
 from __future__ import annotations
 
+__all__ = ["Calls"]
+
 import re
 from typing import TYPE_CHECKING, Any
 

@@ -8,6 +8,8 @@ outside the day wraps into it), a DATE_AND_TIME since 1970-01-01-00:00:00.
 
 from __future__ import annotations
 
+__all__ = ["conversion", "literal", "result_type", "wrapped"]
+
 import datetime
 from typing import TYPE_CHECKING, Any
 

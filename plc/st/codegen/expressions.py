@@ -3,6 +3,8 @@ constants are folded so that a literal costs nothing at run time."""
 
 from __future__ import annotations
 
+__all__ = ["E", "Expressions", "const", "literal_code"]
+
 import math
 import re
 from dataclasses import dataclass

@@ -16,6 +16,17 @@ has set the block's own constant inputs. Everything else is set at each call.
 
 from __future__ import annotations
 
+__all__ = [
+    "BIND",
+    "Slot",
+    "fixed_inputs",
+    "hoisted",
+    "own_fixed",
+    "self_written",
+    "uncopied",
+    "written",
+]
+
 import dataclasses
 import re
 from collections.abc import Iterable, Iterator

@@ -10,6 +10,8 @@ call and back after it.
 
 from __future__ import annotations
 
+__all__ = ["invoke"]
+
 from typing import TYPE_CHECKING, Any
 
 import blark.transform as tf

@@ -7,6 +7,8 @@ typed truncation ``TRUNC_INT`` (3rd ed. 6.6.2.5.2)."""
 
 from __future__ import annotations
 
+__all__ = ["OPERATORS", "names", "operator_call"]
+
 import itertools
 import re
 from typing import TYPE_CHECKING, Any

@@ -3,6 +3,8 @@ TRUNC, MOVE) and the type conversions ``*_TO_*``, translated to Python."""
 
 from __future__ import annotations
 
+__all__ = ["conversion", "standard"]
+
 from typing import TYPE_CHECKING, Any
 
 from plc.st.runtime import functions as F  # noqa: N812

@@ -3,6 +3,8 @@ source line so that a run-time fault names ``file:line``."""
 
 from __future__ import annotations
 
+__all__ = ["Emitter", "Statements"]
+
 import dataclasses
 from typing import Any
 

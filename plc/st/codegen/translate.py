@@ -4,6 +4,8 @@ class per STRUCT, the globals in ``_g``. Every Python line knows its ST line (:c
 
 from __future__ import annotations
 
+__all__ = ["POU", "Module", "translate"]
+
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -334,6 +336,31 @@ def _locate_global(unit: Unit, name: str, t: Type, location: Any, at: Any) -> No
     )
 
 
+def _check_items(unit: Unit, items: list[Any], configs: list[Any]) -> None:
+    """Raise STError at the first of a file's ``items`` that is none of PROGRAM,
+    FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL or one of its ``configs`` (CONFIGURATION)."""
+    unsupported = [
+        i
+        for i in items
+        if i not in configs
+        and not isinstance(
+            i,
+            tf.DataTypeDeclaration
+            | tf.GlobalVariableDeclarations
+            | tf.Program
+            | tf.FunctionBlock
+            | tf.Function,
+        )
+    ]
+    if unsupported:
+        raise STErrorAt(
+            unit,
+            unsupported[0],
+            f"{type(unsupported[0]).__name__}",
+            "PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL",
+        )
+
+
 def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     """The Python module of an ST file.
 
@@ -369,26 +396,7 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     ]
     if not any(p.node.__class__ is tf.Program for p in pous):
         raise STErrorAt(unit, tree, "no PROGRAM in the file", "a PROGRAM ... END_PROGRAM")
-    known = [
-        i
-        for i in items
-        if i not in configs
-        and not isinstance(
-            i,
-            tf.DataTypeDeclaration
-            | tf.GlobalVariableDeclarations
-            | tf.Program
-            | tf.FunctionBlock
-            | tf.Function,
-        )
-    ]
-    if known:
-        raise STErrorAt(
-            unit,
-            known[0],
-            f"{type(known[0]).__name__}",
-            "PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL",
-        )
+    _check_items(unit, items, configs)
     body = Emitter()
     _globals(unit, global_blocks, body)
     for pou in pous:  # blocks and functions first: a program may use them

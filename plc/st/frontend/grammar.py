@@ -20,6 +20,8 @@ Each extension names the clause of IEC 61131-3 (2nd edition; 3rd edition where m
 
 from __future__ import annotations
 
+__all__ = ["RefTo", "Transformer", "extended"]
+
 import dataclasses
 from typing import Any
 

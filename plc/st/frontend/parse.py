@@ -7,6 +7,8 @@ CONFIGURATION, several types per TYPE block, REF_TO, ...) by :mod:`plc.st.fronte
 
 from __future__ import annotations
 
+__all__ = ["parse", "parser"]
+
 import dataclasses
 import importlib.resources
 import re

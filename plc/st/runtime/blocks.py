@@ -4,6 +4,24 @@ simulated time, TIME in ms), edges (R_TRIG, F_TRIG), counters (CTU, CTD, CTUD) a
 
 from __future__ import annotations
 
+__all__ = [
+    "CTD",
+    "CTU",
+    "CTUD",
+    "F_TRIG",
+    "INT_MAX",
+    "INT_MIN",
+    "RS",
+    "R_TRIG",
+    "SR",
+    "STANDARD",
+    "TOF",
+    "TON",
+    "TP",
+    "Clock",
+    "Timer",
+]
+
 from collections.abc import Callable
 
 Clock = Callable[[], int]

@@ -7,6 +7,38 @@ A fault a PLC stops on (an integer division by zero, an array index out of range
 
 from __future__ import annotations
 
+__all__ = [
+    "STFault",
+    "clone",
+    "delete",
+    "div",
+    "expt",
+    "f32",
+    "fdiv",
+    "find",
+    "index",
+    "insert",
+    "left",
+    "limit",
+    "ln",
+    "log10",
+    "mid",
+    "mod",
+    "mux",
+    "real_text",
+    "replace",
+    "right",
+    "rol",
+    "ror",
+    "shl",
+    "shr",
+    "sqrt",
+    "time_text",
+    "to_int",
+    "to_number",
+    "trunc",
+]
+
 import datetime
 import math
 import struct

@@ -10,6 +10,8 @@ stops: it is no longer scanned, every axis of the machine ramps down and is disa
 
 from __future__ import annotations
 
+__all__ = ["STProgram", "compile_source", "from_source", "load", "stored"]
+
 import math
 import sys
 from collections.abc import Callable, Mapping

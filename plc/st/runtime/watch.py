@@ -9,6 +9,8 @@ in the simulation thread, which publishes its :class:`WatchRow` tuples for the p
 
 from __future__ import annotations
 
+__all__ = ["FORCEABLE", "WATCHED_SECTIONS", "WatchRow", "WatchedProgram", "value_text"]
+
 import math
 from dataclasses import dataclass
 from typing import Any

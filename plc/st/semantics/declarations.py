@@ -3,6 +3,16 @@ variable declaration, and the Python code that gives a variable its initial valu
 
 from __future__ import annotations
 
+__all__ = [
+    "STErrorAt",
+    "constant_of",
+    "declare_type",
+    "default",
+    "enum_type",
+    "initial",
+    "spec_type",
+]
+
 import math
 from dataclasses import dataclass
 from typing import Any

@@ -4,6 +4,8 @@ variables of a POU and the globals (:class:`Scope`), and what the whole file dec
 
 from __future__ import annotations
 
+__all__ = ["Callable_", "Scope", "Unit", "Var"]
+
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any

@@ -11,6 +11,38 @@ are objects; a REF_TO is a :class:`plc.st.runtime.functions.Ref` (NULL: ``_f.NUL
 
 from __future__ import annotations
 
+__all__ = [
+    "ANY_INT",
+    "ANY_REAL",
+    "ANY_STRUCT",
+    "AXIS",
+    "BOOL",
+    "DINT",
+    "ELEMENTARY",
+    "GROUP",
+    "LINT",
+    "LREAL",
+    "LTIME",
+    "REAL",
+    "SEQUENCE",
+    "STRING",
+    "TIME",
+    "ArrayType",
+    "BlockType",
+    "Elementary",
+    "EnumType",
+    "Member",
+    "RefType",
+    "StructType",
+    "Type",
+    "mask",
+    "real_of",
+    "string_of",
+    "wider",
+    "wrap_code",
+    "wrap_value",
+]
+
 from dataclasses import dataclass, field
 
 

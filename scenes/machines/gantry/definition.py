@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+__all__ = ["MACHINE", "ZIGZAG", "ZIGZAG_START", "build"]
+
 from typing import Any
 
 from scenes.definition import MachineDef
