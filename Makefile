@@ -12,7 +12,7 @@ PORT   ?= 8080
 $(VENV)/.installed: pyproject.toml
 	@$(UV) --version >/dev/null 2>&1 || python3 -m pip install --quiet --disable-pip-version-check uv
 	$(UV) venv --quiet --allow-existing $(VENV)
-	$(UV) pip install --quiet --python $(VENV)/bin/python -e ".[test]"
+	$(UV) pip install --quiet --python $(VENV)/bin/python -e ".[all,test]"
 	@touch $@
 
 # the optional compiled build (mypyc), beside the sources, rebuilt when a compiled source
@@ -28,9 +28,11 @@ run: $(VENV)/.installed
 demo: $(VENV)/.installed
 	$(PY) -m scenes run $(SCENE)
 
+# ruff, then the layers and the extras' boundaries ([tool.importlinter] in pyproject.toml)
 lint: setup
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
+	$(VENV)/bin/lint-imports
 
 typecheck: setup
 	$(VENV)/bin/mypy
@@ -71,4 +73,4 @@ mutate: $(VENV)/.installed
 
 clean:
 	-@$(PY) -m mcl.build --clean 2>/dev/null
-	rm -rf $(VENV) .build .mypy_cache .ruff_cache
+	rm -rf $(VENV) .build .mypy_cache .ruff_cache .import_linter_cache

@@ -3,6 +3,17 @@
 Function blocks keep PLCopen's and Teco's names; see docs/reference.md for the behaviour contract.
 ``mcl`` imports neither mujoco nor viser: it drives any plant that subclasses
 :class:`AxisChannel` (the :class:`AxisIO` contract).
+
+The public API is this namespace (``__all__``) and the modules used by name: :mod:`mcl.faults`,
+:mod:`mcl.trace`, :mod:`mcl.cam_table`, :mod:`mcl.errors`, :mod:`mcl.channel` (what a plant
+subclasses), :mod:`mcl.simaxis`, :mod:`mcl.runtime`, :mod:`mcl.extras`, and the tools
+``python -m mcl.build`` (:mod:`mcl.native`) and ``python -m mcl.reference``. The modules of the
+blocks by topic (``mcl.motion``, ``mcl.homing``, …) declare what they define, and the blocks are
+imported from ``mcl``. Internal to the library, imported by no other package (``lint-imports``
+checks it): :mod:`mcl.axis_state`, :mod:`mcl.cam_coupling`, :mod:`mcl.command`, :mod:`mcl.fb`
+(but its base :class:`MotionFB`), :mod:`mcl.handover`, :mod:`mcl.path`, :mod:`mcl.probe_latch`,
+:mod:`mcl.software_limits`, :mod:`mcl.time_scale` and :mod:`mcl.trajectory`.
+``mcl.st`` is the deprecated alias of :mod:`plc.st`.
 """
 
 from mcl import native
@@ -28,7 +39,8 @@ from mcl.administrative import (
 )
 from mcl.axis import Axis, AxisConfig, AxisSnapshot
 from mcl.cam import MC_CamIn, MC_CamOut, MC_CamTableSelect, MC_Phasing, MC_StartMode
-from mcl.cam_table import MC_CAM_REF, CamLaw, MC_CamPoint, rotary_knife
+from mcl.cam_readout import CamProfile, RunningCam, cam_profile, running_cam
+from mcl.cam_table import MC_CAM_REF, Cam, CamLaw, MC_CamPoint, rotary_knife
 from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
 from mcl.encoder import AbsoluteEncoder
@@ -45,6 +57,7 @@ from mcl.enums import (
     MC_SwitchMode,
 )
 from mcl.errors import ErrorID, StateError, error_text
+from mcl.fb import MotionFB
 from mcl.flying_reference import MC_StepRefFlyingRefPulse, MC_StepRefFlyingSwitch
 from mcl.force import MC_ForceControl
 from mcl.gcode import GCodeError, MC_PathSelect, parse_gcode, read_gcode
@@ -144,7 +157,9 @@ __all__ = [
     "AxisIO",
     "AxisSnapshot",
     "AxisState",
+    "Cam",
     "CamLaw",
+    "CamProfile",
     "ChannelSnapshot",
     "ConditionTimeout",
     "ErrorID",
@@ -232,7 +247,9 @@ __all__ = [
     "MachineState",
     "Marks",
     "Module",
+    "MotionFB",
     "Plant",
+    "RunningCam",
     "Runtime",
     "Sensors",
     "ServoConstants",
@@ -242,9 +259,11 @@ __all__ = [
     "SimPlant",
     "SimPlantState",
     "StateError",
+    "cam_profile",
     "error_text",
     "faults",
     "parse_gcode",
     "read_gcode",
     "rotary_knife",
+    "running_cam",
 ]

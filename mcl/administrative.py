@@ -2,6 +2,22 @@
 
 from __future__ import annotations
 
+__all__ = [
+    "GT_Analog",
+    "GT_AxErrStringCZ",
+    "GT_AxErrStringEN",
+    "GT_AxStatusString",
+    "GT_SInfo",
+    "GT_SWLim",
+    "GT_SetConstant",
+    "MC_Power",
+    "MC_ReadActualPosition",
+    "MC_ReadAxisError",
+    "MC_ReadStatus",
+    "MC_Reset",
+    "MC_SetPosition",
+]
+
 import dataclasses
 import math
 from typing import Any, ClassVar
@@ -9,7 +25,7 @@ from typing import Any, ClassVar
 from mcl.command import CoordinateShift, Status
 from mcl.enums import AxisState, MC_ExecutionMode
 from mcl.errors import ErrorID, error_text
-from mcl.fb import EnableFB, ExecuteFB, non_negative, number, positive
+from mcl.fb import NOT_GIVEN, EnableFB, ExecuteFB, boolean, non_negative, number, positive
 from mcl.servo import ServoConstants, dac_code_volts
 
 
@@ -90,8 +106,10 @@ class MC_Power(EnableFB):
         super().__init__(**inputs)
         self.Status = False
 
-    def __call__(self, **inputs: Any) -> None:
+    def __call__(self, *, Enable: object = NOT_GIVEN, **inputs: Any) -> None:
         """One PLC scan: the axis follows Enable."""
+        if Enable is not NOT_GIVEN:
+            self.Enable = boolean(Enable)
         self._scan(inputs)
         axis = self.axis
         enable = self.Enable

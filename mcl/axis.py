@@ -2,7 +2,8 @@
 
 Function blocks talk to an :class:`Axis` through a few methods (``submit``, ``power``, ``reset``,
 ``check_ready`` ...); the runtime calls :meth:`Axis.servo_cycle` once per servo period. Positions
-are in user units (u = mm or degrees), velocities in u/s, time in seconds.
+are in user units (u = mm or degrees), velocities in u/s, time in seconds. How a command starts,
+queues and hands over to the next is in :mod:`mcl.handover`.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ import math
 from collections import deque
 from typing import TYPE_CHECKING
 
-from mcl import axis_state, software_limits
+from mcl import axis_state, handover, software_limits
 from mcl.axis_config import AxisConfig, AxisParameters
 from mcl.axis_state import AxisSnapshot
 from mcl.channel import AxisChannel
@@ -21,28 +22,21 @@ from mcl.command import (
     Deferred,
     Halt,
     Hold,
-    MoveTo,
-    MoveVelocity,
     Status,
     Stop,
-    blend_velocity,
 )
 from mcl.enums import AxisState, MC_BufferMode, MC_Direction
 from mcl.errors import ErrorID
 from mcl.probe_latch import ProbeLatch
 from mcl.servo import Regulator, ServoConstants
 from mcl.time_scale import TimeScale
-from mcl.trajectory import Limits, PlanningError
+from mcl.trajectory import Limits
 
 if TYPE_CHECKING:
     from mcl.flying_reference import FlyingReference
     from mcl.module import Module
 
 __all__ = ["Axis", "AxisConfig", "AxisSnapshot"]
-
-
-def _sign(x: float) -> float:
-    return 1.0 if x > 0.0 else -1.0 if x < 0.0 else 0.0
 
 
 class Axis:
@@ -402,60 +396,16 @@ class Axis:
         self.probe.shift(delta)
         return 0
 
-    def submit_deferred(self, cmd: Deferred) -> None:
-        """An administrative command in mcQueued (MC_SetPosition, MC_WriteParameter): apply it
-        now when no command is active or queued, else queue it like a Buffered command
-        (refused with ``EParam`` behind a command that takes no successor, MC_GearIn). Its
-        status tells the result: Done once applied, Error when refused then (nothing changed),
-        Aborted when an Aborting command, a stop or power-off ends the queue first (an axis
-        error: Error with its code)."""
-        if self.active is None and not self.queue:
-            cmd.apply(self)
-            return
-        last = self.queue[-1] if self.queue else self.active
-        if last is not None and not last.accepts_buffered:
-            cmd.status, cmd.error_id = Status.Error, ErrorID.EParam
-            return
-        cmd.status = Status.Queued
-        self.queue.append(cmd)
-
     # ------------------------------------------------------------------ commands
     def submit(self, cmd: Command) -> None:
-        """Hand a validated motion command to the axis according to its BufferMode
-        (docs/reference.md, BufferMode).
+        """Hand a validated motion command to the axis according to its BufferMode: start it
+        now or queue it (:func:`mcl.handover.submit`; docs/reference.md, BufferMode)."""
+        handover.submit(self, cmd)
 
-        Aborting: starts now (the active command and the queue report Aborted). Buffered and
-        blending: queued behind the active command; a blending mode re-plans the active command
-        so that it ends at its target with the blending velocity. A command that cannot be planned,
-        or that would queue behind one that takes no successor (MC_GearIn), ends with Error
-        ``EParam`` and leaves the axis as it was.
-        """
-        cmd.status = Status.Queued
-        if cmd.buffer_mode == MC_BufferMode.Aborting or (self.active is None and not self.queue):
-            standstill = self.state == AxisState.StandStill
-            held = self.sp_pos
-            if standstill:
-                self.sp_pos = self.actual  # zero the residual loop error
-            try:
-                self._start(
-                    cmd, self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp, None, self._profile()
-                )
-            except PlanningError:
-                self.sp_pos = held
-                cmd.status = Status.Error
-                cmd.error_id = ErrorID.EParam
-                return
-            self._abort_all(except_cmd=cmd)
-            self.active = cmd
-            self.state = cmd.state
-            return
-        last = self.queue[-1] if self.queue else self.active
-        if last is not None and not last.accepts_buffered:
-            cmd.status, cmd.error_id = Status.Error, ErrorID.EParam
-            return
-        self.queue.append(cmd)
-        if len(self.queue) == 1 and self.active is not None:
-            self._replan_for_successor(self.active)
+    def submit_deferred(self, cmd: Deferred) -> None:
+        """An administrative command in mcQueued (MC_SetPosition, MC_WriteParameter): apply it
+        now or queue it like a Buffered command (:func:`mcl.handover.submit_deferred`)."""
+        handover.submit_deferred(self, cmd)
 
     def start_position(self, buffer_mode: MC_BufferMode) -> float:
         """Where a new command of ``buffer_mode`` starts: the model position when it aborts, the
@@ -463,65 +413,6 @@ class Axis:
         if buffer_mode == MC_BufferMode.Aborting or (self.active is None and not self.queue):
             return self.actual if self.state == AxisState.StandStill else self.sp_pos
         return self.last_target()
-
-    def _start(
-        self,
-        cmd: Command,
-        p: float,
-        v: float,
-        a: float,
-        t0: float,
-        successor: Command | None,
-        profile: tuple[float, float] | None = None,
-    ) -> None:
-        """Activate ``cmd`` from the model state at ``t0``; it ends at the blending velocity
-        toward ``successor``. ``profile``: the velocity and acceleration in the profile time of
-        the overridden motion it takes over (None: that motion was not overridden)."""
-        v_end = self._handover_velocity(cmd, successor, p) if successor is not None else 0.0
-        scale = self._time_scale
-        factor = 1.0
-        if scale is not None:
-            factor, v, a = scale.entry(cmd.overridable, v, a, profile)
-        cmd.t0 = t0
-        cmd.start(self, p, v, a, v_end)
-        cmd.status = Status.Active
-        if scale is not None:
-            scale.factor = factor
-            if scale.idle:
-                self._time_scale = None
-
-    def _handover_velocity(self, first: Command, second: Command, start: float) -> float:
-        """Signed velocity at which ``first`` (starting at ``start`` [u]) hands over to
-        ``second`` (docs/reference.md, BufferMode)."""
-        if not first.blendable or first.target is None:
-            return 0.0
-        end = first.target
-        if isinstance(second, MoveVelocity):
-            direction2 = _sign(second.commanded)
-        else:
-            direction2 = _sign(second.target - end) if second.target is not None else 0.0
-        return blend_velocity(
-            second.buffer_mode, first.velocity, second.velocity, _sign(end - start), direction2
-        )
-
-    def _replan_for_successor(self, cmd: Command) -> None:
-        if not isinstance(cmd, MoveTo) or not self.queue:
-            return
-        v_end = self._handover_velocity(cmd, self.queue[0], self.sp_pos)
-        if v_end == 0.0:
-            return
-        v, a = self._profile() or (self.sp_vel, self.sp_acc)
-        try:
-            cmd.plan(self.sp_pos, v, a, v_end)
-        except PlanningError:
-            return  # keeps its plan: the successor then starts from standstill
-        cmd.t0 = self.t_sp
-
-    def _profile(self) -> tuple[float, float] | None:
-        """The running command's velocity and acceleration in its profile time at the last set
-        point, where it is overridden (None: it is not)."""
-        scale = self._time_scale
-        return scale.profile_state(self.t_sp) if scale is not None else None
 
     def set_override(self, factor: float) -> None:
         """MC_SetOverride: scale the overridable motion by ``factor`` (validated: 0 ..
@@ -608,7 +499,7 @@ class Axis:
         """Stop on the maximum ramp from the model state; the ramp becomes the active command."""
         ramp = Halt(MC_BufferMode.Aborting, self.max_ramp())
         ramp.state = state
-        self._start(ramp, self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp, successor=None)
+        handover.start(self, ramp, self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp, None)
         self.active = ramp
         self.state = state
         return ramp
@@ -774,7 +665,7 @@ class Axis:
         else:
             p, v, a = cmd.setpoint(self, t - cmd.t0)
             if cmd.signal and (self.queue or cmd.finished()):
-                p, v, a = self._handover(cmd, t, p, v, a)
+                p, v, a = handover.hand_over(self, cmd, t, p, v, a)
         self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = p, v, a, t
         stops = self._stops
         if stops and self.active is None and not any(s.hold for s in stops):
@@ -828,53 +719,6 @@ class Axis:
             settle = self.sp_vel == 0.0 and abs(e) > config.in_position
             self.volts = regulator.output(e, self.sp_vel, self.sp_acc, settle)
         io.write(self.volts, True)
-
-    def _handover(
-        self, cmd: Command, t: float, p: float, v: float, a: float, factor: float | None = None
-    ) -> tuple[float, float, float]:
-        """``cmd`` reached its activating signal: report it and start the successor (if any).
-        ``factor``: the override's applied factor where ``cmd`` is overridden (None: it is not).
-
-        Queued administrative commands (mcQueued) at the head of the queue are applied first;
-        when nothing else is queued behind them, ``cmd`` goes on (a velocity motion) or ends as
-        it would without them."""
-        queue = self.queue
-        if queue and isinstance(queue[0], Deferred):
-            while queue and isinstance(queue[0], Deferred):
-                head = queue.popleft()
-                assert isinstance(head, Deferred)
-                p += head.apply(self)
-            if not queue and not cmd.finished():
-                return p, v, a
-        te, pe, ve, ae = cmd.handover_state(t - cmd.t0, p, v, a)
-        t_end = cmd.t0 + te
-        cmd.status = Status.Done if cmd.finished() else Status.Aborted
-        profile = None
-        if factor is not None:  # the hand-over state in profile time, and as a set point
-            profile, ve, ae = (ve, ae), factor * ve, factor * factor * ae
-        failed = False
-        while self.queue:
-            nxt = self.queue.popleft()
-            try:
-                self._start(nxt, pe, ve, ae, t_end, self.queue[0] if self.queue else None, profile)
-            except PlanningError:
-                nxt.status, nxt.error_id = Status.Error, ErrorID.EParam
-                failed = True
-                continue
-            self.active = nxt
-            self.state = nxt.state
-            return nxt.setpoint(self, t - t_end)
-        self.active = None
-        if failed and ve != 0.0:  # a blending successor failed to start: stop on the max ramp
-            self.sp_pos, self.sp_vel, self.sp_acc, self.t_sp = pe, ve, ae, t_end
-            return self._ramp_down(AxisState.DiscreteMotion).setpoint(self, t - t_end)
-        if self._powering_off:
-            self._open_loop()
-        elif self.state == AxisState.ErrorStop:
-            self._hold(AxisState.ErrorStop)
-        else:
-            self.state = cmd.end_state
-        return pe, 0.0, 0.0
 
     # ------------------------------------------------------------------ saved state
     def rest_problem(self) -> str:

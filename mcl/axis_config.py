@@ -3,6 +3,8 @@ constants of GT_SetConstant. Positions in user units u (mm or degrees), times in
 
 from __future__ import annotations
 
+__all__ = ["AxisConfig", "AxisParameters"]
+
 import math
 from dataclasses import dataclass
 

@@ -4,6 +4,8 @@
 
 from __future__ import annotations
 
+__all__ = ["AxisSnapshot", "check", "rest_problem", "restore", "take"]
+
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 

@@ -10,6 +10,8 @@ the C compiler's own output.
 
 from __future__ import annotations
 
+__all__ = ["build", "clean", "main"]
+
 import argparse
 import contextlib
 import json

@@ -45,6 +45,22 @@ the drum cannot make (a sync zone longer than the piece, a transition that would
 backwards, invalid values) gives a table whose ``Problem`` says why; MC_CamTableSelect refuses it
 with ``EParam`` and that text. What the drum's motor cannot do at the line speed is refused by
 MC_CamIn (``ECamLimit``) before the blade reaches the web.
+
+What a display or a tool reads of cams (:mod:`mcl.cam_readout`; reading changes nothing):
+``mcl.cam_profile(table, count=1001)`` samples a table over one period, ``table`` being the
+``CamTableID`` MC_CamTableSelect gave (``ValueError`` for an ID no table was selected under) or a
+checked table (``mcl.Cam``), at ``count`` (at least 2) evenly spaced master positions plus the
+table's own points when it has no more: an ``mcl.CamProfile`` of ``master`` (the table coordinate
+τ), ``slave`` CAM(τ), ``velocity`` ds/dτ and ``acceleration`` d²s/dτ² (numpy arrays in table
+units, before MC_CamIn's scalings), ``points``, ``laws``, ``periodic``, ``period`` and ``rise``.
+``mcl.running_cam(axis)`` is the cam that drives the axis now (None: it is not cammed; while a new
+MC_CamIn waits for the period boundary, the running one), an ``mcl.RunningCam``: ``table``,
+``table_id``, ``name``, ``master`` (the master axis), ``coupled``, ``in_sync`` (InSync), the
+operating point ``table_master`` (τ reduced to one period, phase shift and scaling included; NaN
+while not coupled), ``table_slave`` (CAM there), ``set_slave`` and ``actual_slave`` (the slave's
+set point and actual position in table units: SlaveOffset, the relative start and SlaveScaling
+undone, in the same period), ``cycle`` (the period number), the offsets, the scalings and
+``phase_shift`` [master u].
 """
 
 from __future__ import annotations

@@ -13,6 +13,17 @@ master's speed must stay within the slave's Vmax and maximum acceleration (else 
 
 from __future__ import annotations
 
+__all__ = [
+    "SELECTED",
+    "SLOW",
+    "CamIn",
+    "CamRegistry",
+    "CamSelection",
+    "MC_StartMode",
+    "PhaseJob",
+    "selection",
+]
+
 import math
 from enum import IntEnum
 from typing import Final

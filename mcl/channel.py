@@ -11,6 +11,18 @@ of :mod:`mcl.faults`.
 
 from __future__ import annotations
 
+__all__ = [
+    "IDEAL",
+    "NO_SWITCHES",
+    "AxisChannel",
+    "ChannelSnapshot",
+    "Drive",
+    "Marks",
+    "Normals",
+    "NormalsState",
+    "Sensors",
+]
+
 import copy
 import math
 import random
@@ -73,8 +85,9 @@ class Marks:
         """The probe input at coordinate ``q`` (a mark displaced by its error below its place
         ``first + k·pitch`` is looked for too)."""
         near = self._near(q)
-        for k in (near - 1, near, near + 1):
-            if k >= 0 and self._start(k) <= q <= self._start(k) + self.width:
+        for k in range(max(0, near - 1), near + 2):
+            start = self._start(k)
+            if start <= q <= start + self.width:
                 return True
         return False
 
@@ -259,6 +272,18 @@ class Drive:
         raise NotImplementedError
 
 
+def _check_arguments(name: str, windows: Sequence[tuple[float, float]], probe_delay: float) -> None:
+    """Raise ValueError unless the switch ``windows`` are three intervals (or empty) and
+    ``probe_delay`` is a finite delay >= 0 [s] (the message names the axis ``name``)."""
+    if len(windows) != 3 or any(not lo <= hi and lo != math.inf for lo, hi in windows):
+        raise ValueError(
+            f"axis {name}: windows must be three (lo, hi) intervals for LIM+, LIM- and REF "
+            f"(lo <= hi, or (inf, -inf) for a missing switch), got {windows!r}"
+        )
+    if not (math.isfinite(probe_delay) and probe_delay >= 0.0):
+        raise ValueError(f"axis {name}: probe_delay must be >= 0 s, got {probe_delay!r}")
+
+
 @mypyc_attr(allow_interpreted_subclasses=True)
 class AxisChannel:
     """The I/O of one axis as the module sees it; implements :class:`mcl.io.AxisIO`.
@@ -297,16 +322,10 @@ class AxisChannel:
         sensors: Sensors | None = None,
         drive: Drive | None = None,
     ) -> None:
-        if len(windows) != 3 or any(not lo <= hi and lo != math.inf for lo, hi in windows):
-            raise ValueError(
-                f"axis {name}: windows must be three (lo, hi) intervals for LIM+, LIM- and REF "
-                f"(lo <= hi, or (inf, -inf) for a missing switch), got {windows!r}"
-            )
+        _check_arguments(name, windows, probe_delay)
         sensors = Sensors() if sensors is None else sensors
         self.sensors = sensors
         rng = Normals(sensors.seed * 1_000_003 + zlib.crc32(name.encode()))
-        if not (math.isfinite(probe_delay) and probe_delay >= 0.0):
-            raise ValueError(f"axis {name}: probe_delay must be >= 0 s, got {probe_delay!r}")
         self.name = name
         self.resolution = resolution
         """Travel per encoder count [m or rad]."""
@@ -342,7 +361,8 @@ class AxisChannel:
         """Time of the last sample [s]."""
         self._x = origin
         self._q = origin
-        self._history: deque[tuple[float, float, float]] = deque()
+        self._history: list[tuple[float, float, float]] = []
+        """The samples (t, x, q) back to one probe delay ago, oldest first (a few)."""
         self._latches: deque[float] = deque()
         self._faults: dict[str, flt.Fault] = {}
         self._shift = 0.0
@@ -462,7 +482,7 @@ class AxisChannel:
         self.outputs[:] = s.outputs  # in place: a device may hold the list
         self.volts, self.enabled, self.brake = s.volts, s.enabled, s.brake
         self.t, self._x, self._q = s.t, s.x, s.q
-        self._history = deque(s.history)
+        self._history = list(s.history)
         self._latches = deque(s.latches)
         self._faults = {fault.key(): fault for fault in s.faults}
         rngs: dict[str, random.Random] = {}
@@ -621,7 +641,7 @@ class AxisChannel:
             self._latches.append(t0 + f * (t - t0) + delay)
         history.append((t, x, q))
         while len(history) > 2 and history[1][0] <= t - delay:
-            history.popleft()
+            del history[0]
         # the input as the module sees it: the sensor's level `delay` ago
         self.tp = probe.level(self._at(t - delay)[1]) if delay else probe.level(q)
         while self._latches and self._latches[0] <= t:
@@ -629,7 +649,7 @@ class AxisChannel:
             self.tp_count = self.encoder.count_at(x_latch)
             self.tp_seq += 1
         self._q = q
-        if "switch:tp" in self._faults:
+        if self._faults and "switch:tp" in self._faults:
             self.tp = self._switch(3, self.tp, t)
 
     def _at(self, t: float) -> tuple[float, float]:

@@ -8,6 +8,22 @@ model position, velocity and acceleration. The FB only reads the ticket's ``stat
 
 from __future__ import annotations
 
+__all__ = [
+    "BlockRelease",
+    "Command",
+    "CoordinateShift",
+    "Deferred",
+    "Halt",
+    "Hold",
+    "MoveContinuous",
+    "MoveTo",
+    "MoveVelocity",
+    "ProfileCommand",
+    "Status",
+    "Stop",
+    "blend_velocity",
+]
+
 from enum import IntEnum
 from typing import TYPE_CHECKING
 

@@ -6,6 +6,8 @@ index level and latched index count that :class:`mcl.io.AxisIO` exposes.
 
 from __future__ import annotations
 
+__all__ = ["AbsoluteEncoder", "EncoderState", "IncrementalEncoder", "Normal", "gray_decode"]
+
 import math
 from dataclasses import dataclass
 from typing import Protocol

@@ -2,6 +2,16 @@
 
 from __future__ import annotations
 
+__all__ = [
+    "MOTION_STATES",
+    "AxisState",
+    "GroupState",
+    "MC_BufferMode",
+    "MC_Direction",
+    "MC_ExecutionMode",
+    "MC_SwitchMode",
+]
+
 from enum import IntEnum
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+__all__ = ["ConditionTimeout", "ErrorID", "StateError", "check_finite", "error_text"]
+
 import math
 from enum import IntEnum
 

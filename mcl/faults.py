@@ -10,6 +10,30 @@ What the module does about each fault (the outcome a user sees) is the table in 
 
 from __future__ import annotations
 
+__all__ = [
+    "SWITCH_NAMES",
+    "AbsoluteFrameError",
+    "AmplifierFault",
+    "AnalogInputFault",
+    "AnalogNoise",
+    "AnalogOffset",
+    "BrakeFailure",
+    "BrakeSlow",
+    "DriveNotReady",
+    "EncoderFreeze",
+    "EncoderLostCounts",
+    "EncoderNoise",
+    "EncoderWireBreak",
+    "Fault",
+    "FaultEvent",
+    "FaultLog",
+    "FaultLogState",
+    "Injectable",
+    "SwitchBounce",
+    "SwitchName",
+    "SwitchStuck",
+]
+
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Literal, Protocol

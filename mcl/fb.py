@@ -4,7 +4,9 @@ block; MotionControlLib Tab. 2.3).
 A function block is called once per PLC scan with keyword inputs: ``fb(Axis=X, Execute=True,
 Position=10.0)``. Inputs that are not passed keep the value of the previous call; an unknown input
 name is a programming mistake and raises ``TypeError`` naming the valid ones. Problems of a
-running block are reported through ``Error``/``ErrorID`` only, never by raising.
+running block are reported through ``Error``/``ErrorID`` only, never by raising. ``Execute``
+(``Enable``), the input passed in nearly every scan, is a named parameter of the call: it is
+taken directly, without the keyword dictionary.
 
 Inputs are declared, typed attributes: each class lists the inputs it adds in ``INPUTS`` and
 declares them with their initial values, so the classes compile to native classes. Constant
@@ -18,6 +20,24 @@ invalid value then gives ``EParam`` on the rising edge, and the axis is left alo
 """
 
 from __future__ import annotations
+
+__all__ = [
+    "INVALID_INT",
+    "EnableFB",
+    "ExecuteFB",
+    "FunctionBlock",
+    "InputSpec",
+    "MotionFB",
+    "Ticket",
+    "TicketOwner",
+    "boolean",
+    "input_names",
+    "input_spec",
+    "integer",
+    "non_negative",
+    "number",
+    "positive",
+]
 
 import math
 from typing import Any, ClassVar, Final, Protocol
@@ -74,6 +94,9 @@ def non_negative(value: float) -> bool:
     """Finite and >= 0."""
     return math.isfinite(value) and value >= 0.0
 
+
+NOT_GIVEN: Final = object()
+"""The default of ``Execute`` (``Enable``) in a call: not passed, it keeps its value."""
 
 _REAL: Final = 0
 _INT: Final = 1
@@ -151,6 +174,8 @@ class FunctionBlock:
 
     def __init__(self, **inputs: Any) -> None:
         self._spec = input_spec(self)
+        self._owner_is_axis = self.OWNER == "Axis"
+        """The command runs on ``Axis`` (a native read, not one by name, in every scan)."""
         self._connected = False
         if inputs:
             self._take_inputs(inputs)
@@ -208,7 +233,7 @@ class FunctionBlock:
     @property
     def axis(self) -> AxisRef:
         """The axis that runs the block's command (its ``OWNER`` in-out)."""
-        axis = getattr(self, self.OWNER)
+        axis = self.Axis if self._owner_is_axis else getattr(self, self.OWNER)
         if axis is None:
             raise TypeError(f"{type(self).__name__} needs {self.OWNER}=<mcl.Axis>")
         assert isinstance(axis, AxisRef)
@@ -249,24 +274,29 @@ class ExecuteFB(FunctionBlock):
         """Idle with every output FALSE: a scan with Execute FALSE changes nothing."""
         super().__init__(**inputs)
 
-    def __call__(self, **inputs: Any) -> None:
+    def __call__(self, *, Execute: object = NOT_GIVEN, **inputs: Any) -> None:
         """One PLC scan of the block."""
+        if Execute is not NOT_GIVEN:
+            self.Execute = boolean(Execute)
         if inputs:
             self._take_inputs(inputs)
         if not self._connected:
             self._inputs_taken()
         execute = self.Execute
-        if self._quiet and not execute:
-            return
-        if execute and not self._prev_execute:
-            self._restart()
-        self._prev_execute = execute
-        if self._running:
-            final = self._poll()
-            if final is not None:
-                self._finish(final, self._error_of_poll())
-        self._show(execute)
-        self._quiet = not execute and not self._running and self._final is None
+        if execute or not self._quiet:  # quiet and Execute FALSE: the scan changes nothing
+            if execute and not self._prev_execute:
+                self._restart()
+            self._prev_execute = execute
+            if self._running:
+                final = self._poll()
+                if final is not None:
+                    self._finish(final, self._error_of_poll())
+            self._show(execute)
+            self._quiet = not execute and not self._running and self._final is None
+        self._scanned()
+
+    def _scanned(self) -> None:
+        """The end of every scan (a subclass passes a level input to its running command)."""
 
     def _restart(self) -> None:
         if self._running:
@@ -443,8 +473,10 @@ class EnableFB(FunctionBlock):
         self.ErrorID = 0
         super().__init__(**inputs)
 
-    def __call__(self, **inputs: Any) -> None:
+    def __call__(self, *, Enable: object = NOT_GIVEN, **inputs: Any) -> None:
         """One PLC scan of the block."""
+        if Enable is not NOT_GIVEN:
+            self.Enable = boolean(Enable)
         if inputs:
             self._take_inputs(inputs)
         if not self._connected:

@@ -8,6 +8,8 @@ axis every servo cycle.
 
 from __future__ import annotations
 
+__all__ = ["FlyingReference", "MC_StepRefFlyingRefPulse", "MC_StepRefFlyingSwitch"]
+
 import math
 from typing import TYPE_CHECKING, Any, ClassVar
 

@@ -66,9 +66,14 @@ class GeometryError(ValueError):
 
 
 # ---------------------------------------------------------------------- vectors
+# dot and along run every servo cycle of a group move: index loops, which compile to native
+# arithmetic (zip with strict=True is a generic call with a keyword when compiled)
 def dot(a: Sequence[float], b: Sequence[float]) -> float:
-    """Scalar product."""
-    return sum(x * y for x, y in zip(a, b, strict=True))
+    """Scalar product of two vectors of one length (summed in order)."""
+    total = 0.0
+    for i in range(len(a)):
+        total += a[i] * b[i]
+    return total
 
 
 def norm(a: Sequence[float]) -> float:
@@ -77,8 +82,8 @@ def norm(a: Sequence[float]) -> float:
 
 
 def along(start: Sequence[float], unit: Sequence[float], s: float) -> Vector:
-    """The point ``s`` along ``unit`` from ``start``."""
-    return [p + s * u for p, u in zip(start, unit, strict=True)]
+    """The point ``s`` along ``unit`` from ``start`` (vectors of one length)."""
+    return [start[i] + s * unit[i] for i in range(len(start))]
 
 
 def direction(v: Sequence[float]) -> Vector:

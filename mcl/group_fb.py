@@ -518,9 +518,8 @@ class MC_GroupStop(GroupMotionFB):
     Deceleration: float = 0.0
     Jerk: float = 0.0
 
-    def __call__(self, **inputs: Any) -> None:
-        """One PLC scan; the group leaves GroupStopping once Done and Execute is FALSE."""
-        super().__call__(**inputs)
+    def _scanned(self) -> None:
+        """The group leaves GroupStopping once Done and Execute is FALSE."""
         if isinstance(self._cmd, PathCommand):
             self._cmd.hold = bool(self.Execute)
 

@@ -10,6 +10,23 @@ error: hitting one reverses the search (the second one ends it with the limit-sw
 
 from __future__ import annotations
 
+__all__ = [
+    "AbsoluteCoordinate",
+    "BlockSearch",
+    "HomingStep",
+    "MC_FinishHoming",
+    "MC_StepAbsSwitch",
+    "MC_StepAbsolute",
+    "MC_StepBlock",
+    "MC_StepDirect",
+    "MC_StepLimitSwitch",
+    "MC_StepRefPulse",
+    "RefPulseSearch",
+    "SetCoordinate",
+    "Supervision",
+    "SwitchSearch",
+]
+
 import math
 from typing import TYPE_CHECKING, ClassVar
 

@@ -11,6 +11,13 @@ and ``AI`` of :class:`mcl.Axis`.
 
 from __future__ import annotations
 
+__all__ = [
+    "MC_ReadAnalogInput",
+    "MC_ReadDigitalInput",
+    "MC_ReadDigitalOutput",
+    "MC_WriteDigitalOutput",
+]
+
 from typing import Any, ClassVar
 
 from mcl.errors import ErrorID

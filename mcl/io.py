@@ -9,6 +9,8 @@ then calls :meth:`AxisIO.write`.
 
 from __future__ import annotations
 
+__all__ = ["AxisIO"]
+
 from collections.abc import Sequence
 from typing import Protocol, runtime_checkable
 

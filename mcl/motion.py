@@ -215,9 +215,8 @@ class GT_MoveAbsBlock(MC_MoveAbsolute):
     ExtStop: bool = False
     TorqueLimit: float = 0.0
 
-    def __call__(self, **inputs: Any) -> None:
-        """One PLC scan; ExtStop is passed to the running command every scan."""
-        super().__call__(**inputs)
+    def _scanned(self) -> None:
+        """ExtStop is passed to the running command every scan."""
         if isinstance(self._cmd, MoveToBlock) and self._cmd.busy:
             self._cmd.ext_stop = bool(self.ExtStop)
 
@@ -419,9 +418,8 @@ class MC_Stop(MotionFB):
         self._holding: Stop | None = None
         """The Stop this instance's Execute holds the axis with."""
 
-    def __call__(self, **inputs: Any) -> None:
-        """One PLC scan; the axis leaves Stopping once Done and Execute is FALSE."""
-        super().__call__(**inputs)
+    def _scanned(self) -> None:
+        """The axis leaves Stopping once Done and Execute is FALSE."""
         holding = self._holding
         if holding is not None:
             holding.hold = bool(self.Execute)

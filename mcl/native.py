@@ -15,6 +15,24 @@ then runs in pure Python and says so once.
 
 from __future__ import annotations
 
+__all__ = [
+    "DECLARATION",
+    "GROUP",
+    "MANIFEST",
+    "NOT_COMPILED",
+    "ROOT",
+    "activate",
+    "compiled_files",
+    "compiled_sources",
+    "declared",
+    "digest",
+    "extension_of",
+    "forced_pure",
+    "mode",
+    "reset",
+    "stale_sources",
+]
+
 import ast
 import hashlib
 import json
@@ -43,13 +61,16 @@ NOT_COMPILED = (
     "__init__.py",
     "__main__.py",
     "build.py",
+    "extras.py",
     "native.py",
     "reference.py",
+    "reference_intro.py",
     "errors.py",
     "io.py",
 )
-"""Modules of mcl that stay interpreted: package glue, tools, the error texts (an exception class
-derived from a builtin cannot be a native class) and the I/O protocol (runtime-checkable)."""
+"""Modules of mcl that stay interpreted: package glue (and its check of the extras), tools, the
+error texts (an exception class derived from a builtin cannot be a native class) and the I/O
+protocol (runtime-checkable)."""
 
 
 DECLARATION = "COMPILED_MODULES"

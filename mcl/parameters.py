@@ -27,6 +27,25 @@ or infinite: `EParam` 5; 8, 9 and 1001–1014 before GT_SetConstant: `Econst` 12
 
 from __future__ import annotations
 
+__all__ = [
+    "BOOL_PARAMETERS",
+    "CONSTANTS",
+    "PARAMETERS",
+    "READ_ONLY",
+    "REAL_PARAMETERS",
+    "REFERENCE_TABLE",
+    "VENDOR",
+    "MC_ReadBoolParameter",
+    "MC_ReadParameter",
+    "MC_WriteBoolParameter",
+    "MC_WriteParameter",
+    "ParameterWrite",
+    "read_bool",
+    "read_real",
+    "write_bool",
+    "write_real",
+]
+
 import dataclasses
 import math
 from typing import TYPE_CHECKING, Any, ClassVar, Final

@@ -5,6 +5,8 @@ of positions, when one is given) and then stays disarmed until armed again.
 
 from __future__ import annotations
 
+__all__ = ["ProbeLatch"]
+
 
 class ProbeLatch:
     """The touch-probe latch of one axis.

@@ -19,9 +19,11 @@ as a whole before the axis is touched: velocity within the axis' Vmax, accelerat
 ``max_acceleration`` (speeding up) and ``max_deceleration`` (slowing down), each lowered by the
 application maximum written with MC_WriteParameter (MaxVelocityAppl 9, MaxAccelerationAppl 13,
 MaxDecelerationAppl 15) as for every motion command, and, on a referenced axis, every position
-the table passes within the software limits in force (as GT_SetConstant, GT_SWLim or
-MC_WriteParameter 2–5 left them). A table outside the maxima is refused with ``EParam`` 5, one
-crossing a software limit with ``Ecil`` 8; in both cases the axis goes on as it was. The jerk is
+the table moves to within the software limits in force (as GT_SetConstant, GT_SWLim or
+MC_WriteParameter 2–5 left them; not the one it starts at: after a software-limit stop, which
+leaves the axis just beyond the limit, a table back inward runs, as a move back inward does).
+A table outside the maxima is refused with ``EParam`` 5, one crossing a software limit with
+``Ecil`` 8; in both cases the axis goes on as it was. The jerk is
 not limited (MaxJerk does not apply): the table sets it. The maxima are those in force at the
 Execute edge; where the start state is known only when the profile takes over (queued behind
 a motion that does not end at rest), the check is repeated then, against the software limits
@@ -267,9 +269,11 @@ def table_limits(axis: Axis) -> Limits:
 
 def check_limits(profile: Profile, axis: Axis, limits: Limits) -> int:
     """``EParam`` when the profile leaves ``limits`` (the velocity; the acceleration speeding
-    up, the deceleration slowing down), ``Ecil`` when it passes a software limit in force now
-    (with Ref; :meth:`~mcl.axis.Axis.sw_limit_range`), else 0. Exact for phases of constant
-    jerk: the extremes lie at the phase ends or where the derivative vanishes."""
+    up, the deceleration slowing down), ``Ecil`` when it moves to a position beyond a software
+    limit in force now (with Ref; :meth:`~mcl.axis.Axis.sw_limit_range`), else 0. Its start,
+    where the axis stands, is not checked: after a software-limit stop a table back inward
+    runs. Exact for phases of constant jerk: the extremes lie at the phase ends or where the
+    derivative vanishes."""
     low, high = axis.sw_limit_range()
     low -= 0.5 * axis.config.resolution
     high += 0.5 * axis.config.resolution
@@ -283,7 +287,7 @@ def check_limits(profile: Profile, axis: Axis, limits: Limits) -> int:
         for tau in (0.0, h, *a_zero):
             if abs(v + tau * (a + tau * j / 2.0)) > vmax:
                 return ErrorID.EParam
-        for tau in (0.0, h, *v_zero):
+        for tau in (h, *v_zero):  # its start is the end of the one before
             if not low <= p + tau * (v + tau * (a / 2.0 + tau * j / 6.0)) <= high:
                 return ErrorID.Ecil
         cuts = sorted((0.0, h, *v_zero, *a_zero))

@@ -9,6 +9,8 @@ the plant integrates one servo period.
 
 from __future__ import annotations
 
+__all__ = ["Machine", "MachineState", "Physics", "Plant", "Runtime", "ticks_per"]
+
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -108,6 +110,8 @@ class Runtime:
         servo_period = self.axes[0].servo_period
         if any(abs(ax.servo_period - servo_period) > 1e-12 for ax in self.axes):
             raise ValueError("all axes of a runtime must share one servo period")
+        self._dt = plant.timestep
+        """The plant's timestep [s] (fixed: the periods are whole multiples of it)."""
         self._servo_ticks = ticks_per(servo_period, plant.timestep, "servo period")
         servo_per_plc = ticks_per(plc_period, servo_period, "PLC period")
         self._plc_ticks = self._servo_ticks * servo_per_plc
@@ -122,7 +126,7 @@ class Runtime:
     @property
     def time(self) -> float:
         """Simulated time [s]."""
-        return self._tick * self.plant.timestep
+        return self._tick * self._dt
 
     def run(
         self,

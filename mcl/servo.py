@@ -9,6 +9,16 @@ in-position window.
 
 from __future__ import annotations
 
+__all__ = [
+    "DAC_CODES",
+    "DAC_FULL_SCALE",
+    "VOLT_LIMIT",
+    "Regulator",
+    "ServoConstants",
+    "dac",
+    "dac_code_volts",
+]
+
 import math
 from dataclasses import dataclass
 from typing import Final

@@ -9,6 +9,8 @@ boundary to the axis' user units.
 
 from __future__ import annotations
 
+__all__ = ["SimAxis", "SimAxisParams", "SimMachine", "SimPlant", "SimPlantState", "after_friction"]
+
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace

@@ -7,6 +7,8 @@ the servo cycle; the values live in :attr:`mcl.axis.Axis.parameters`.
 
 from __future__ import annotations
 
+__all__ = ["allowed_range", "change_refused", "crossed", "shift_refused"]
+
 import math
 from typing import TYPE_CHECKING
 

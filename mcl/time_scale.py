@@ -13,7 +13,11 @@ at most the axis' default deceleration).
 
 from __future__ import annotations
 
+__all__ = ["MAX_FACTOR", "TimeScale", "ramp_rate"]
+
 from typing import TYPE_CHECKING
+
+from mcl import handover
 
 if TYPE_CHECKING:
     from mcl.axis import Axis
@@ -64,7 +68,7 @@ class TimeScale:
         f, f_dot = self.advance(cmd, t - axis.t_sp, ramp_rate(axis))
         p, v, a = cmd.setpoint(axis, t - cmd.t0)
         if cmd.signal and (axis.queue or cmd.finished()):
-            p, v, a = axis._handover(cmd, t, p, v, a, f)
+            p, v, a = handover.hand_over(axis, cmd, t, p, v, a, f)
             successor = axis.active
             if successor is None or not successor.overridable:
                 return p, v, a

@@ -8,6 +8,8 @@ delayed edge arrived. A program that knows the delay compensates it.
 
 from __future__ import annotations
 
+__all__ = ["MC_AbortTrigger", "MC_TouchProbe"]
+
 import math
 from typing import Any, ClassVar
 

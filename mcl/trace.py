@@ -3,6 +3,8 @@ window; CSV export and streaming to a CSV or NumPy file."""
 
 from __future__ import annotations
 
+__all__ = ["FIELDS", "CsvSink", "NpySink", "Reader", "Trace"]
+
 import csv
 import math
 from array import array

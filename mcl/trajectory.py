@@ -7,6 +7,20 @@ blending command arrives) and then sampled every servo cycle. Units are the call
 
 from __future__ import annotations
 
+__all__ = [
+    "Limits",
+    "PlanningError",
+    "Profile",
+    "Segment",
+    "blend_to",
+    "move_to",
+    "of_trajectories",
+    "pass_at",
+    "stop",
+    "sync_to",
+    "velocity_to",
+]
+
 import math
 import threading
 from dataclasses import dataclass

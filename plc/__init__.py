@@ -5,6 +5,10 @@ program the viewer's buttons and the bridge's command words drive (:mod:`plc.ope
 commissioning routines of an axis (:mod:`plc.commissioning`) and programs in IEC 61131-3
 Structured Text (:mod:`plc.st`, which needs the ``[st]`` extra). ``plc`` imports ``mcl`` and
 nothing of the machines, the physics or the viewer.
+
+The public API is this namespace (``__all__``), its modules and :mod:`plc.st`'s namespace; the
+sub-packages of :mod:`plc.st` (frontend, semantics, codegen, runtime) are the compiler's
+internals, except the watch table of a running program (:mod:`plc.st.runtime.watch`).
 """
 
 from mcl import native

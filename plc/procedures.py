@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+__all__ = ["BlockHoming", "HomeAxis", "HomingRecipe", "Recipe"]
+
 from dataclasses import dataclass
 
 import mcl
@@ -66,8 +68,9 @@ class HomeAxis:
     def __init__(self, axis: mcl.Axis, recipe: Recipe) -> None:
         self.axis = axis
         self.recipe = r = recipe
-        self.approach: mcl.MC_StepAbsSwitch | mcl.MC_StepBlock
-        self.pulse: mcl.MC_StepRefPulse | mcl.MC_StepDirect
+        # typed as their common base: its inputs and outputs are native attributes when compiled
+        self.approach: mcl.MotionFB  # MC_StepAbsSwitch or MC_StepBlock
+        self.pulse: mcl.MotionFB  # MC_StepRefPulse or MC_StepDirect
         if isinstance(r, BlockHoming):
             self.approach = mcl.MC_StepBlock(
                 Axis=axis,

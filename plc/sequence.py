@@ -5,6 +5,8 @@ sequence the demos share (its steps declared as a table of :class:`Step`), and
 
 from __future__ import annotations
 
+__all__ = ["REST", "Block", "DemoProgram", "Step", "StepSequence", "at_rest", "never", "unrest"]
+
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol

@@ -2,7 +2,15 @@
 
 ``scenes.load("gantry")`` builds a scene from the registry :data:`MACHINES`;
 ``scenes.demo(scene)`` gives its demo PLC program. ``python -m scenes list`` and the viewer's
-chooser show the same registry.
+chooser show the same registry. Needs the ``[physics]`` extra.
+
+The public API is this namespace (``__all__``), :mod:`scenes.scene`, :mod:`scenes.definition`,
+:mod:`scenes.registry`, :mod:`scenes.errors`, :mod:`scenes.plant` (the plant and the device
+protocol of a machine's devices), the machines' packages (:mod:`scenes.machines`), the bridge
+(:mod:`scenes.bridge`, the ``[bridge]`` extra) and the tools (:mod:`scenes.tools`).
+Internal to the package: :mod:`scenes.namespace` (a machine's view of a scene),
+:mod:`scenes.model_errors` (the messages of a broken model) and :mod:`scenes.start` (the check of
+a start position).
 """
 
 from __future__ import annotations
@@ -10,6 +18,9 @@ from __future__ import annotations
 from typing import Any
 
 from mcl import native
+from mcl.extras import require
+
+require("scenes", "physics")
 
 COMPILED = native.activate("scenes", __path__)
 """The per-physics-step modules (plant, drives, devices) run compiled (see :mod:`mcl.native`)."""

@@ -9,16 +9,28 @@ program and the extra signals it publishes for traces and the viewer. The regist
 
 from __future__ import annotations
 
+__all__ = [
+    "UNIT_SCALES",
+    "AxisDef",
+    "DeviceFactory",
+    "DriveKind",
+    "MachineDef",
+    "Part",
+    "Signal",
+    "unit_and_scale",
+]
+
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, TypeVar
 
 import mujoco
 
 import mcl
 from plc.procedures import Recipe
 from plc.sequence import DemoProgram
+from scenes.namespace import Namespace
 from scenes.plant.drives import Device
 from scenes.plant.mujoco import Probe
 
@@ -26,11 +38,13 @@ if TYPE_CHECKING:
     from scenes.scene import Scene
 
 DriveKind = Literal["electric", "device", "encoder"]
+V = TypeVar("V")
 
 
 DeviceFactory = Callable[[mujoco.MjModel, mujoco.MjData, str], Device]
 """Makes a device for a compiled model: ``(model, data, prefix) -> Device``; ``prefix`` is the
-machine's name prefix in the model (``"press/"``)."""
+prefix of the machine's names in the model (``"press/"``), given by the scene: a device names
+what it reads ``prefix + "R_valve"``."""
 
 
 @dataclass(frozen=True)
@@ -143,7 +157,8 @@ class MachineDef:
         demo: makes the demo program for a built scene (None: no demo).
         signals: extra published values by name.
         start: joint coordinates at power-up [m or rad] (default: the model's qpos0).
-        demo_start: joint coordinates the demo starts from (``python -m scenes run``).
+        demo_start: joint coordinates the demo starts from (``python -m scenes run``); a
+            cell's default: its parts' (``press/R``).
         servo_period, plc_period: default cycle times [s].
         parts: the machines of a cell, side by side in one world (a cell has no axes or model
             of its own: each part keeps its own, in its own namespace, e.g. ``press/R``; the
@@ -170,6 +185,8 @@ class MachineDef:
         if self.parts:
             if self.axes or self.model:
                 raise ValueError(f"cell {self.name!r}: its parts have the axes and models")
+            if not self.demo_start:  # frozen: set once, here
+                object.__setattr__(self, "demo_start", self._of_parts(lambda m: m.demo_start))
             return
         if not self.axes:
             raise ValueError(f"machine {self.name!r} has no axes")
@@ -197,11 +214,16 @@ class MachineDef:
     def scene_axes(self) -> dict[str, AxisDef]:
         """The axes by their names in a scene of this machine: its own, or a cell's parts'
         prefixed with the part's name (``press/R``)."""
-        if self.parts:
-            return {
-                f"{p.machine.name}/{a}": d for p in self.parts for a, d in p.machine.axes.items()
-            }
-        return dict(self.axes)
+        return self._of_parts(lambda m: m.axes) if self.parts else dict(self.axes)
+
+    def _of_parts(self, entries: Callable[[MachineDef], Mapping[str, V]]) -> dict[str, V]:
+        """Every part's ``entries`` (its axes, its demo start) by their names in the cell's
+        scene (``press/R``)."""
+        return {
+            Namespace(p.machine.name, shared=True).scene(name): value
+            for p in self.parts
+            for name, value in entries(p.machine).items()
+        }
 
     @property
     def homing(self) -> dict[str, Recipe]:

@@ -8,6 +8,8 @@ and exits with status 2, without a traceback.
 
 from __future__ import annotations
 
+__all__ = ["ModelError", "UserError", "WiringError", "located", "suggest"]
+
 import difflib
 from collections.abc import Iterable, Sequence
 

@@ -7,15 +7,28 @@ one world) and dm_control without the file's name; these functions translate bot
 
 from __future__ import annotations
 
+__all__ = ["check_names", "compiled", "elements", "in_files", "parse", "start_line"]
+
 import re
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from scenes.errors import ModelError, suggest
+from scenes.errors import ModelError, located, suggest
 
 _NAMED = re.compile(r"Element name '([^']*)', id \d+, line (\d+)")
 _LINE = re.compile(r"^Line (\d+): ")
+_KEY_SIZE = re.compile(
+    r"^keyframe (?:'([^']*)'|\d+): invalid (\w+) size, expected (?:length )?(\d+)(?:, got (\d+))?"
+)
+_KEY_NAME = re.compile(r"Element name '([^']*)', id \d+")
+KEY_VALUES = {
+    "qpos": "joint coordinates",
+    "qvel": "joint velocities",
+    "act": "actuator activations (one per actuator with dynamics, dyntype)",
+    "ctrl": "actuator controls (one per actuator)",
+}
+"""What each value list of a ``<key>`` holds, one value per ..."""
 
 
 def start_line(path: Path, tag: str, line: int) -> int:
@@ -77,7 +90,12 @@ def parse(path: Path, load: Callable[[str], Any]) -> Any:
         raise ModelError.at(f"{path}:{line}", "", what, expected) from None
 
 
-def compiled(compile_model: Callable[[], Any], files: Mapping[str, Path], combined: str) -> Any:
+def compiled(
+    compile_model: Callable[[], Any],
+    files: Mapping[str, Path],
+    combined: str,
+    lacking: Mapping[str, Sequence[str]] | None = None,
+) -> Any:
     """``compile_model()`` (MuJoCo's compiler on the combined scene), an error located in the
     machine's own file.
 
@@ -85,6 +103,8 @@ def compiled(compile_model: Callable[[], Any], files: Mapping[str, Path], combin
         compile_model: compiles the combined scene model.
         files: each machine's MJCF file by machine name (the prefix of its names).
         combined: the combined model's XML (where MuJoCo's line numbers point).
+        lacking: per machine, the elements its definition needs that its file lacks (as
+            :func:`absent` words them): what a keyframe of the wrong size may have lost.
 
     Raises:
         ModelError: MuJoCo refused the model; the line names the machine's file and the line
@@ -99,6 +119,9 @@ def compiled(compile_model: Callable[[], Any], files: Mapping[str, Path], combin
         expected = (
             "a model MuJoCo compiles (https://mujoco.readthedocs.io/en/stable/XMLreference.html)"
         )
+        keyframe = _keyframe(message, files, lacking or {})
+        if keyframe is not None:
+            raise keyframe from None
         found = _NAMED.search(message)
         if found is None:
             where = ", ".join(str(p) for p in files.values())
@@ -118,6 +141,59 @@ def compiled(compile_model: Callable[[], Any], files: Mapping[str, Path], combin
         raise ModelError.at(
             where, element, f"{what} (line {line} of the combined scene model)", expected
         ) from None
+
+
+def _keyframe(
+    message: str, files: Mapping[str, Path], lacking: Mapping[str, Sequence[str]]
+) -> ModelError | None:
+    """A keyframe whose value list has the wrong size, located at its ``<key>`` in the machine's
+    file, with the elements the machine needs that the file lacks (None: another error, or a
+    keyframe no machine's file names)."""
+    found = _KEY_SIZE.match(message.splitlines()[0].removeprefix("Error: "))
+    named = _KEY_NAME.search(message)
+    if found is None or named is None:
+        return None
+    field, model_size = found.group(2), int(found.group(3))
+    machine, _, local = named.group(1).partition("/")
+    path = files.get(machine)
+    line = elements(path, "key").get(local) if path is not None else None
+    if path is None or line is None:
+        return None
+    meaning = KEY_VALUES.get(field, field)
+    given = found.group(4)
+    if given is None:
+        problem = f"{field} has the wrong number of values for the model's {meaning}"
+        right = f"one value per {meaning.split(' (')[0].removesuffix('s')}"
+    else:
+        # the model and the key may hold other machines' values too: count in the file's terms
+        own = len(_key_values(path, local, field))
+        needed = own - (int(given) - model_size)
+        problem = f"{field} has {own} values, the model has {needed} {meaning}"
+        right = f"{field} with {needed} values"
+    missing = lacking.get(machine, ())
+    if missing:
+        right = f"the file to have {' and '.join(missing)}, or {right}"
+    return ModelError(located(f"{path}:{line}", f"<key name={local!r}>", problem, right))
+
+
+def _key_values(path: Path, name: str, field: str) -> list[str]:
+    """The values of the attribute ``field`` of the ``<key name=name>`` of an MJCF file."""
+    from lxml import etree
+
+    for key in etree.parse(str(path)).iter("key"):
+        if key.get("name") == name:
+            return str(key.get(field) or "").split()
+    return []
+
+
+def absent(machine: str, kind: str, expected: Mapping[str, str], have: Sequence[str]) -> list[str]:
+    """The names the machine definition expects (name → what it is for) that the file lacks,
+    each as ``"<kind> 'name' (machine 'm' needs it as what)"``."""
+    return [
+        f"{kind} {name!r} (machine {machine!r} needs it as {why})"
+        for name, why in expected.items()
+        if name not in have
+    ]
 
 
 def _tag_at(xml: str, line: int) -> str:

@@ -1,67 +1,63 @@
-"""One machine's view of a scene it shares with other machines (a cell): the machine's code runs
-unchanged in it.
+"""A machine's own names and the scene's names for them (:class:`Namespace`).
 
-A machine's demo, devices and signals say ``scene.axes["X"]``, ``scene.device("cylinder", ...)``,
-``scene.signal("force")``; in a scene of several machines those names are prefixed
-(``gantry/X``, ``press/cylinder``). :class:`MachineScene` gives each machine its own names over
-the shared scene: the axes, devices and signals are the scene's own objects, the physics, the
-time, the runtime and the trace are the whole scene's.
+A machine's code names its joints, actuators, sites, sensors and numerics as its model file
+does (``"X"``, ``"X_amp"``, ``"mark_sensor"``) and its axes, devices and signals as its
+definition does (``scene.axes["X"]``, ``scene.device("cylinder", ...)``). A scene attaches every
+machine's model under the machine's name (``gantry/X``, ``gantry/X_amp``), and where machines
+share a scene (a cell) their axes, devices and signals take the machine's name too
+(``gantry/X``, ``press/cylinder``). The scene turns a machine's names into its own, so no machine
+knows its prefix.
 """
 
 from __future__ import annotations
 
-import mcl
-from scenes.definition import MachineDef
-from scenes.scene import Scene
+__all__ = ["SEPARATOR", "Namespace"]
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TypeVar
+
+T = TypeVar("T")
+
+SEPARATOR = "/"
+"""What joins a machine's name and its own names in a scene (MJCF's scoping: no name of a model
+file has it)."""
 
 
-class MachineScene(Scene):
-    """Machine ``machine``'s view of ``scene`` (see :meth:`Scene.machine`).
+@dataclass(frozen=True)
+class Namespace:
+    """The names of machine ``machine`` in a scene.
 
-    It is a :class:`Scene` to the machine's code (its axes, devices, signals, joints, time and
-    ``run``); what belongs to the whole scene (saving a state, faults) is done on the scene.
+    Attributes:
+        machine: the machine's name; ``""`` for the whole scene of several machines, in which
+            every name is already the scene's (``gantry/X``).
+        shared: the machine shares the scene with others: its axes, devices and signals are
+            prefixed with its name there too.
     """
 
-    def __init__(self, scene: Scene, machine: MachineDef) -> None:  # shares, builds nothing
-        prefix = f"{machine.name}/"
-        self.whole = scene
-        """The scene this view is part of."""
-        self.cell = None
-        self.machines = [machine]
-        self.name = machine.name
-        self.axes = {a: scene.axes[prefix + a] for a in machine.axes}
-        self.devices = {d: scene.devices[prefix + d] for d in machine.devices}
-        self.signals = dict(machine.signals)
-        self.parts = {machine.name: self}
-        self._signal_scenes = {}
-        self.scales = {a: scene.scales[prefix + a] for a in machine.axes}
-        self.modules = [m for m in scene.modules if m.axes[0] in self.axes.values()]
-        self.plant, self.runtime, self.trace = scene.plant, scene.runtime, scene.trace
-        self._model, self._data, self._joints = scene._model, scene._data, scene._joints
+    machine: str = ""
+    shared: bool = False
 
     @property
-    def faults(self) -> mcl.faults.FaultLog:
-        """The whole scene's fault log (its axes by their names in the scene, ``press/R``)."""
-        return self.whole.faults
+    def prefix(self) -> str:
+        """The prefix of the machine's names in the scene's model (``"gantry/"``)."""
+        return self.machine + SEPARATOR if self.machine else ""
 
-    def save_state(self) -> mcl.MachineState:
-        """A machine of a cell is saved with the whole scene.
+    def model(self, name: str) -> str:
+        """The model's name of the machine's joint, actuator, site, sensor or numeric ``name``
+        (``"X_amp"`` → ``"gantry/X_amp"``); a name with a ``/`` is the model's already."""
+        return name if SEPARATOR in name else self.prefix + name
 
-        Raises:
-            mcl.StateError: always; save the whole scene instead.
-        """
-        raise mcl.StateError(
-            f"machine {self.name} shares its physics with the other machines of the scene: "
-            f"save the whole scene (scene.save_state()), not one machine's view of it"
-        )
+    def scene(self, name: str) -> str:
+        """The scene's name of the machine's axis, device or signal ``name`` (``"X"`` alone,
+        ``"gantry/X"`` in a shared scene)."""
+        return self.prefix + name if self.shared else name
 
-    def restore_state(self, state: mcl.MachineState) -> None:
-        """A machine of a cell is restored with the whole scene.
-
-        Raises:
-            mcl.StateError: always; restore the whole scene instead.
-        """
-        raise mcl.StateError(
-            f"machine {self.name} shares its physics with the other machines of the scene: "
-            f"restore the whole scene, not one machine's view of it"
-        )
+    def own(self, named: Mapping[str, T]) -> dict[str, T]:
+        """The machine's own of a scene's axes, devices or signals ``named`` (by their names in
+        the scene), by the machine's names, in their order."""
+        if not self.shared:
+            return dict(named)
+        return {
+            n.removeprefix(self.prefix): v for n, v in named.items() if n.startswith(self.prefix)
+        }

@@ -12,6 +12,8 @@ in its ``pyproject.toml``::
 
 from __future__ import annotations
 
+__all__ = ["BUILTIN", "ENTRY_POINTS", "Entry", "Registry", "RegistryError", "load_entry"]
+
 import importlib
 import importlib.metadata
 from collections.abc import Iterator, Mapping, MutableMapping

@@ -18,6 +18,17 @@ What counts as interpenetration, after ``mj_forward`` at the pose (lengths in m)
 
 from __future__ import annotations
 
+__all__ = [
+    "EDGE",
+    "SAMPLES",
+    "TOLERANCE",
+    "Overlap",
+    "allowed_range",
+    "check",
+    "message",
+    "overlaps",
+]
+
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass

@@ -11,7 +11,15 @@ Sub-packages, by concept:
 The operator's buttons only set requests of the PLC layer's operator program
 (:mod:`plc.operator`); ``python -m viewer`` is the command line (:mod:`viewer.__main__`).
 ``Viewer(scene="gantry", port=8080)`` (:class:`viewer.serving.server.Viewer`) serves it.
+Needs the ``[viewer]`` extra.
+
+The public API is :class:`Viewer` and the command line; the sub-packages are the viewer's
+internals.
 """
+
+from mcl.extras import require
+
+require("viewer", "viewer")
 
 from viewer.serving.server import Viewer
 

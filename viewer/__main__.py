@@ -9,6 +9,19 @@ Exits with status 2 and a message when the port is taken or the address cannot b
 
 from __future__ import annotations
 
+__all__ = [
+    "EXIT_PORT_IN_USE",
+    "external_plc",
+    "main",
+    "parse_directory",
+    "parse_fps",
+    "parse_mapping",
+    "parse_port",
+    "parse_speed",
+    "parser",
+    "serve",
+]
+
 import argparse
 import math
 import signal
@@ -146,6 +159,13 @@ def parser() -> argparse.ArgumentParser:
         metavar="NAME",
         help="a further host name the viewer may be reached under (e.g. a DNS name); repeatable",
     )
+    _add_programs(p)
+    _add_external_plc(p)
+    return p
+
+
+def _add_programs(p: argparse.ArgumentParser) -> None:
+    """The ST programs the Demo folder offers and their names' bindings."""
     p.add_argument(
         "--programs",
         type=parse_directory,
@@ -162,6 +182,10 @@ def parser() -> argparse.ArgumentParser:
         metavar="NAME=AXIS",
         help="bind an ST program's AXIS_REF or I/O name to the machine's (Pohon.Ax1=X); repeatable",
     )
+
+
+def _add_external_plc(p: argparse.ArgumentParser) -> None:
+    """The Modbus TCP or OPC UA server an external PLC drives the machine through."""
     p.add_argument(
         "--modbus",
         type=parse_port,
@@ -197,7 +221,6 @@ def parser() -> argparse.ArgumentParser:
         help=f"interface of the OPC UA server (default {DEFAULT_HOST}; beyond loopback encrypted "
         "sessions of user plc only, the password from MCL_OPCUA_PASSWORD)",
     )
-    return p
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -15,6 +15,15 @@ ends a running step test.
 
 from __future__ import annotations
 
+__all__ = [
+    "MAX_OVERRIDE",
+    "NO_COMMISSIONING",
+    "AxisCommissioning",
+    "CommissioningRequests",
+    "CommissioningView",
+    "Note",
+]
+
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass

@@ -11,6 +11,16 @@ fault (the move reports an Error, the axis is in ErrorStop).
 
 from __future__ import annotations
 
+__all__ = [
+    "MAX_CYCLES",
+    "MAX_DWELL",
+    "SETTLE_TIMEOUT",
+    "Outcome",
+    "Reversing",
+    "ReversingProgress",
+    "ReversingSequence",
+]
+
 import math
 from collections.abc import Callable
 from dataclasses import dataclass

@@ -13,6 +13,18 @@ every PLC scan for :data:`STEP_WINDOW` and computes from it (:func:`step_respons
 
 from __future__ import annotations
 
+__all__ = [
+    "SETTLING_BAND",
+    "STEP_COUNTS",
+    "STEP_JERK",
+    "STEP_WINDOW",
+    "StepListener",
+    "StepResponse",
+    "StepTest",
+    "amplitude_range",
+    "step_response",
+]
+
 import math
 from collections.abc import Callable
 from dataclasses import dataclass

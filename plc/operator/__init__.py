@@ -1,2 +1,16 @@
-"""The operator program: the requests of an HMI (the viewer's buttons) passed to the library's
-function blocks once per PLC scan (:mod:`~plc.operator.hmi`)."""
+"""The operator program: one program that the viewer's buttons and a fieldbus master's command
+words both drive, through the library's function blocks, once per PLC scan.
+
+- :mod:`~plc.operator.axis`: :class:`~plc.operator.axis.AxisOperator`, the function blocks of one
+  axis and their sequencing, and the one vocabulary of commands a front end gives it each scan
+  (:class:`~plc.operator.axis.Orders`); the outcome of every command is reported from there.
+- :mod:`~plc.operator.program`: :class:`~plc.operator.program.OperatorProgram`, one axis operator
+  per axis of a scene, each driven by its front end, and the release of axes groups.
+- :mod:`~plc.operator.hmi`: the viewer's front end: the buttons' request flags as orders (a press
+  executes until the block is no longer busy, a jog lives on a dead-man deadline).
+- :mod:`~plc.operator.bus`: the bridge's front end: control words and parameter registers as
+  orders (levels, edges, method calls, the acknowledge handshake, the command counter), and the
+  status word back.
+"""
+
+__all__: list[str] = []

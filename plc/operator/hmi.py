@@ -1,27 +1,25 @@
-"""The operator panel as PLC code: HMI request flags and the operator program that obeys them.
+"""The viewer's front end of the operator program: the operator panel's buttons as PLC code.
 
 The browser never touches the simulation. A button only sets a request in :class:`AxisRequests`
-(thread-safe, like an HMI variable); :class:`OperatorProgram` runs in the simulation thread once
-per PLC cycle, reads the requests and passes them to the library's function blocks:
+(thread-safe, like an HMI variable); once per PLC cycle, in the simulation thread, the axis'
+:class:`Panel` takes the requests and turns them into the :class:`~plc.operator.axis.Orders` of
+its :class:`~plc.operator.axis.AxisOperator`, which calls the library's function blocks:
 
 =============  ===================================================================================
-Power          ``MC_Power``; a toggle: the request becomes "on" if the axis is Disabled, else "off".
-               Until the operator first presses it the block is not called, so a running demo
+Power          ``power``; a toggle: the request becomes "on" if the axis is Disabled, else "off".
+               Until the operator first presses it MC_Power is not called, so a running demo
                program keeps power in its own hands.
-Reset          ``MC_Reset``: Execute from the request until Done or Error, then released.
-Home           the chosen homing procedure (:data:`HOMING_PROCEDURES`): the scene's
-               recipe (REF and index, or to a block) through ``plc.procedures.HomeAxis``, or
-               ``MC_StepRefPulse`` on the next index pulse in either direction, or
-               ``MC_StepDirect`` (set the position without moving); Execute until it is no
-               longer Busy (Done, Error or aborted), then released.
-Jog+ / Jog−    ``GT_Jog`` (levels JogPos / JogNeg): a request is a dead-man deadline
-               (:data:`DEADMAN` [s] of wall time) that every hold message of the browser refreshes;
-               when it runs out — button released, tab closed, network gone — the jog stops.
-Stop           ``MC_Stop``: Execute from the request until Done (or Error), then released so that
-               the axis leaves Stopping.
-Move           ``MC_MoveAbsolute`` (to a position) or ``MC_MoveRelative`` (by a distance) with the
+Reset          ``reset``.
+Home           ``home`` with the chosen procedure (:data:`HOMING_PROCEDURES`): the scene's
+               recipe (REF and index, or to a block), the next index pulse in either direction,
+               or set position without moving.
+Jog+ / Jog−    the jog levels: a request is a dead-man deadline (:data:`DEADMAN` [s] of wall
+               time) that every hold message of the browser refreshes; when it runs out — button
+               released, tab closed, network gone — the jog stops.
+Stop           ``stop`` (on a member of an axes group: the program takes the group apart).
+Move           ``move_absolute`` (to a position) or ``move_relative`` (by a distance) with the
                operator's velocity and acceleration; a new move aborts the last one.
-Write          ``GT_SetConstant`` with the operator's servo constants (tuning).
+Write          ``constants``: GT_SetConstant with the operator's servo constants (tuning).
 Reversing      :class:`~plc.commissioning.reversing.ReversingSequence`: ``MC_MoveAbsolute``
                to A, dwell, to B, dwell, … for a number of cycles; Stop sequence ends it with
                ``MC_Halt``.
@@ -30,39 +28,60 @@ Step test      :class:`~plc.commissioning.step_test.StepTest`: a set-point step
                and measured.
 Jog speed      fast (the jog velocity) or slow (:data:`SLOW_JOG_FRACTION` of it).
 Override       ``MC_SetOverride``, every scan once the operator set a velocity override.
-Release group  every axes group the scene's axes belong to: ``MC_GroupReset`` (from
-               GroupErrorStop), ``MC_GroupDisable`` (the group ramps to standstill), then
-               ``MC_UngroupAllAxes``: the axes can be jogged, moved and homed one by one again.
 =============  ===================================================================================
 
-A jog, a move, a homing or Stop of the operator ends a running reversing sequence or step test
-(the operator takes the axis over).
-
-A command a block refuses (an Error with its ErrorID) is reported through ``on_error`` (axis and
-text), so the panel can keep a history of refused commands and axis errors.
-
-Every scan also calls ``GT_AxStatusString`` and ``GT_AxErrStringEN`` for the panel's texts.
+A press executes its command until the block is no longer busy (Done, Error or aborted; its
+outcome is the axis' message), then its Execute is released; pressing Reset, Home or Stop again
+meanwhile changes nothing, a new move starts afresh. A jog, a move, a homing or Stop of the
+operator ends a running reversing sequence or step test (the operator takes the axis over).
+Every scan ends with ``GT_AxStatusString`` and ``GT_AxErrStringEN`` for the panel's texts.
+:func:`panel_program` makes the operator program of a scene driven by its panels.
 """
 
 from __future__ import annotations
 
+__all__ = [
+    "DEADMAN",
+    "DEFAULT_JOG_FRACTION",
+    "HOMING_PROCEDURES",
+    "MIN_VELOCITY_FRACTION",
+    "SLOW_JOG_FRACTION",
+    "AxisOperator",
+    "AxisRequests",
+    "Clock",
+    "ErrorSink",
+    "Move",
+    "OperatorProgram",
+    "Requests",
+]
+
 import math
 import threading
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import mcl
 from plc.commissioning.axis import (
     MAX_OVERRIDE,
     NO_COMMISSIONING,
-    AxisCommissioning,
     CommissioningRequests,
     CommissioningView,
 )
 from plc.commissioning.reversing import Reversing
 from plc.commissioning.step_test import StepListener
-from plc.procedures import HomeAxis, HomingRecipe, Recipe
+from plc.operator.axis import (
+    HOMING_PROCEDURES,
+    MOVES,
+    AxisOperator,
+    Clock,
+    ErrorSink,
+    Orders,
+    Parameters,
+    no_parameters,
+)
+from plc.operator.program import OperatorProgram
+from plc.procedures import Recipe
 
 DEADMAN = 0.2
 """Wall time [s] a jog request stays alive after the last hold message of the browser."""
@@ -70,25 +89,11 @@ DEADMAN = 0.2
 DEFAULT_JOG_FRACTION = 0.1
 """Default jog velocity as a fraction of the axis' Vmax (velocity at 10 V)."""
 
-HOMING_PROCEDURES = ("recipe", "index pulse +", "index pulse −", "set position (no motion)")
-"""Homing procedures of the Home button: the machine's recipe (REF and index, or to a block;
-only where the definition gives one), MC_StepRefPulse in the positive or negative direction,
-MC_StepDirect."""
-
 SLOW_JOG_FRACTION = 0.1
 """Slow jog: this fraction of the jog velocity (fast jog: all of it)."""
 
 MIN_VELOCITY_FRACTION = 0.01
 """The library's slowest motion: 1 % of Vmax (a slow jog is never slower)."""
-
-INDEX_FRACTION = 0.02
-"""Index-search velocity of the index-pulse procedures without a recipe, as a fraction of Vmax."""
-
-Clock = Callable[[], float]
-"""Monotonic wall clock [s]."""
-
-ErrorSink = Callable[[str, str], None]
-"""Hears of a refused command: (axis name, text)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -151,6 +156,20 @@ class Move:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"move {name} must be a finite number > 0, got {value}")
+
+    @property
+    def command(self) -> str:
+        """Its Execute command: ``move_absolute`` or ``move_relative``."""
+        return f"move_{self.kind}"
+
+    def parameter(self, name: str) -> float:
+        """Its parameters (:data:`~plc.operator.axis.Parameters`): the target as ``position`` or
+        ``distance``, the velocity, the acceleration as acceleration and deceleration."""
+        if name == ("position" if self.kind == "absolute" else "distance"):
+            return self.target
+        if name == "velocity":
+            return self.velocity
+        return self.acceleration if name in ("acceleration", "deceleration") else 0.0
 
 
 class AxisRequests:
@@ -328,386 +347,130 @@ class AxisRequests:
         return requests
 
 
-class AxisOperator:
-    """The operator's function blocks of one axis and their sequencing (one PLC scan per call).
+class Panel:
+    """The panel of one axis: its requests as its operator's orders (one PLC scan per call).
 
     Args:
-        axis: The axis.
+        operator: The axis' function blocks.
         requests: Its request flags.
-        recipe: Its homing recipe; ``None``: the Home button reports that there is none.
-        on_error: Hears of every refused command and failed procedure: (axis name, text).
-        sim_time: Simulated time [s] (dwell of the reversing sequence, step test recording).
-        on_step: Hears that a step test starts (called in the simulation thread).
     """
 
-    def __init__(
-        self,
-        axis: mcl.Axis,
-        requests: AxisRequests,
-        recipe: Recipe | None,
-        on_error: ErrorSink | None = None,
-        *,
-        sim_time: Clock,
-        on_step: StepListener | None = None,
-    ) -> None:
-        self.axis = axis
+    def __init__(self, operator: AxisOperator, requests: AxisRequests) -> None:
+        self.operator = operator
         self.requests = requests
-        self.power = mcl.MC_Power()
-        self.reset = mcl.MC_Reset()
-        self.recipe = HomeAxis(axis, recipe) if recipe is not None else None
-        self.index_pulse = mcl.MC_StepRefPulse(Axis=axis)
-        self.set_position = mcl.MC_StepDirect(Axis=axis)
-        self.home: HomeAxis | mcl.MC_StepRefPulse | mcl.MC_StepDirect | None = None
-        """The homing procedure running or last run (None: none yet)."""
-        self.jog = mcl.GT_Jog()
-        self.stop = mcl.MC_Stop()
-        self.move_absolute = mcl.MC_MoveAbsolute()
-        self.move_relative = mcl.MC_MoveRelative()
-        self.set_constant = mcl.GT_SetConstant()
-        self._on_error = on_error
-        self.moving: mcl.MC_MoveAbsolute | mcl.MC_MoveRelative | None = None
-        """The move block the operator last started (None: no move of the operator)."""
-        self.group_stop = False
-        """Stop was pressed on a group member: the program releases its group."""
-        self.last_error = ""
-        """The last refused command, e.g. ``"Jog+: error 1000 (...)"`` (empty: none)."""
-        self.status = mcl.GT_AxStatusString()
-        self.error_text = mcl.GT_AxErrStringEN()
         self.power_request: bool | None = None
         """Level passed to MC_Power's Enable; ``None`` while the operator has not pressed Power."""
-        self.resetting = False
-        self.homing = False
-        self.stopping = False
-        self.message = ""
-        """Outcome of the last operator command, e.g. ``"Home: done"``."""
-        self.commissioning = AxisCommissioning(axis, sim_time, self._note, on_step)
-        """Reversing sequence and step test."""
         self.jog_slow = False
-        """The slow jog speed was chosen in the last scan."""
+        """The slow jog speed was chosen in the last scan of a jog."""
+        self._pressed: set[str] = set()
+        """The commands a press executes until they end."""
+        self.status = mcl.GT_AxStatusString()
+        self.error_text = mcl.GT_AxErrStringEN()
+        """The axis' state and error as the panel shows them (called after every scan)."""
 
     @property
     def commissioning_view(self) -> CommissioningView:
         """What the commissioning controls show now."""
-        return self.commissioning.view(self.jog_slow)
-
-    @property
-    def jogging(self) -> int:
-        """Direction of the jog request seen in the last scan: +1, −1 or 0."""
-        return int(self.jog.JogPos) - int(self.jog.JogNeg) if self.jog.Enable else 0
+        return self.operator.commissioning.view(self.jog_slow)
 
     def release_power(self) -> None:
         """Hand the drive back: MC_Power is no longer called (called from the PLC thread)."""
+        self.requests.release_power()
         self.power_request = None
 
+    def stop_all(self) -> None:
+        """The axis' part of STOP all (called from the PLC thread between two scans): the jog
+        released, and MC_Stop if the axis is powered."""
+        self.requests.release_jog()
+        if self.operator.axis.state != mcl.AxisState.Disabled:
+            self.requests.stop()
+
     def __call__(self) -> None:
-        """One PLC scan: take the requests and call the function blocks."""
-        axis = self.axis
+        """One PLC scan: take the requests, give the orders."""
+        operator, axis = self.operator, self.operator.axis
         r = self.requests.take()
         if r.power is not None:
             self.power_request = r.power
         if r.toggle_power:
             self.power_request = axis.state == mcl.AxisState.Disabled
-        if self.power_request is not None:
-            self.power(Axis=axis, Enable=self.power_request)
-            if self.power.Error:
-                self._report("Power", self.power.ErrorID)
+        start: dict[str, Parameters] = {}
         if r.reset:
-            self.resetting = True
-        self.resetting = self._execute(self.reset, self.resetting, "Reset")
-        if r.home is not None and not self.homing:
-            self._start_homing(*r.home)
-        self._scan_homing()
-        taken_over = r.move is not None or r.jog_pos or r.jog_neg or r.home is not None or r.stop
-        self.commissioning(r.commissioning, taken_over)
-        self._scan_jog(r)
-        self._scan_move(r.move)
-        if r.constants is not None:
-            values = {f: getattr(r.constants, f) for f in mcl.GT_SetConstant.INPUTS}
-            self.set_constant(Axis=axis, Execute=True, **values)
-            self._report("Write constants", self.set_constant.ErrorID)
-            self.set_constant(Axis=axis, Execute=False)
+            self._press(start, "reset")
+        if r.home is not None and not operator.homing and operator.select_homing(*r.home):
+            self._press(start, "home")
+        if r.move is not None:
+            self._pressed -= MOVES  # the last move's Execute falls: the new one aborts it
+            start[r.move.command] = r.move.parameter
         if r.stop and axis.has_drive:
             if axis.group is not None:
-                self.message = "Stop: the axis' group ramps down and is released"
-                self.group_stop = True
+                operator.note("Stop", "the axis' group ramps down and is released")
+                operator.group_stop = True
             else:
-                self.stopping = True
-        self.stopping = self._execute(self.stop, self.stopping, "Stop")
+                self._press(start, "stop")
+        self._pressed.update(start)
+        jogging = r.jog_pos or r.jog_neg or operator.jog.Enable
+        taken_over = r.move is not None or r.home is not None or r.jog_pos or r.jog_neg or r.stop
+        if jogging:
+            self.jog_slow = r.jog_slow
+        operator(
+            Orders(
+                power=self.power_request,
+                execute=frozenset(self._pressed),
+                start=start,
+                jog_pos=r.jog_pos,
+                jog_neg=r.jog_neg,
+                jog_velocity=self._jog_velocity(r) if jogging else 0.0,
+                constants=r.constants,
+                commissioning=r.commissioning,
+                taken_over=taken_over,
+            )
+        )
+        self._pressed -= operator.finished
         self.status(Axis=axis, Enable=True)
         self.error_text(Axis=axis, Enable=True)
 
-    def _execute(self, block: mcl.MC_Reset | mcl.MC_Stop, running: bool, command: str) -> bool:
-        """Call a command block with ``Execute = running`` (once more after it ran, to drop
-        Execute); whether it still runs (its end is reported)."""
-        if running or block.Execute:
-            block(Axis=self.axis, Execute=running)
-            if running and (block.Done or block.Error):
-                self._report(command, block.ErrorID)
-                return False
-        return running
+    def _press(self, start: dict[str, Parameters], command: str) -> None:
+        """Start ``command`` unless a press already executes it."""
+        if command not in self._pressed:
+            start[command] = no_parameters
 
-    def _scan_homing(self) -> None:
-        """Call the running homing procedure; report how it ended."""
-        home = self.home
-        if home is None or not self.homing:
-            return
-        home(Execute=True)
-        if not home.Busy:
-            self.homing = False
-            if home.Done:
-                self.message = "Home: done"
-            elif home.Error:
-                self._report("Home", home.ErrorID)
-            else:
-                self.message = "Home: aborted"
-            home(Execute=False)
-
-    def _scan_jog(self, r: Requests) -> None:
-        """GT_Jog while a jog is requested (and once more when it ends)."""
-        jog_pos, jog_neg = r.jog_pos, r.jog_neg
-        if jog_pos or jog_neg or self.jog.Enable:
-            velocity = r.jog_velocity or self._default_jog_velocity()
-            self.jog_slow = r.jog_slow
-            if r.jog_slow:
-                velocity = max(SLOW_JOG_FRACTION * velocity, self._slowest_velocity())
-            self.jog(
-                Axis=self.axis,
-                Enable=jog_pos or jog_neg,
-                JogPos=jog_pos,
-                JogNeg=jog_neg,
-                JogVelo=velocity,
-            )
-            if self.jog.Error:
-                self._report("Jog+" if jog_pos else "Jog−", self.jog.ErrorID)
-
-    def _scan_move(self, move: Move | None) -> None:
-        """Start a requested move (a fresh rising edge), or call the running one."""
-        axis = self.axis
-        if move is not None:
-            block = self.move_absolute if move.kind == "absolute" else self.move_relative
-            if self.moving is not None:
-                self.moving(Axis=axis, Execute=False)  # a fresh rising edge for the new move
-            target = {"Position" if move.kind == "absolute" else "Distance": move.target}
-            block(
-                Axis=axis,
-                Execute=True,
-                Velocity=move.velocity,
-                Acceleration=move.acceleration,
-                Deceleration=move.acceleration,
-                **target,
-            )
-            self.moving = block
-            self._check_move(block)
-        elif self.moving is not None:
-            self.moving(Axis=axis, Execute=True)
-            self._check_move(self.moving)
-
-    def _note(self, command: str, text: str, error_id: int) -> None:
-        """What became of a commissioning command (:data:`~plc.commissioning.axis.Note`)."""
-        if error_id:
-            self._report(command, error_id)
-        elif text.startswith("refused"):
-            self._refuse(command, text.removeprefix("refused: "))
-        else:
-            self.message = f"{command}: {text}"
-
-    def _refuse(self, command: str, why: str) -> None:
-        """A command the operator program itself refuses (reported like a block's refusal)."""
-        self.message = self.last_error = f"{command}: refused: {why}"
-        if self._on_error is not None:
-            self._on_error(self.axis.name, self.message)
-
-    def _default_jog_velocity(self) -> float:
-        return DEFAULT_JOG_FRACTION * self._vmax()
-
-    def _slowest_velocity(self) -> float:
-        """The library's slowest motion [u/s] (with a margin for rounding)."""
-        return MIN_VELOCITY_FRACTION * self._vmax() * (1.0 + 1e-9)
-
-    def _vmax(self) -> float:
-        constants = self.axis.constants
-        return constants.Vmax if constants is not None else 0.0
-
-    def _start_homing(self, procedure: str, position: float) -> None:
-        """Set up the chosen homing procedure (called by the scan that takes the press)."""
-        if procedure == "recipe":
-            if self.recipe is None:
-                self.message = "Home: no homing recipe for this axis"
-                return
-            self.home = self.recipe
-        elif procedure == "set position (no motion)":
-            self.set_position.SetPosition = position
-            self.home = self.set_position
-        else:
-            pulse = self.index_pulse
-            pulse.Direction = (
-                mcl.MC_Direction.MC_Positive
-                if procedure.endswith("+")
-                else mcl.MC_Direction.MC_Negative
-            )
-            recipe = self.recipe.recipe if self.recipe is not None else None
-            pulse.Velocity = (
-                recipe.index_velocity
-                if isinstance(recipe, HomingRecipe)
-                else INDEX_FRACTION * self._vmax()
-            )
-            pulse.SetPosition = position
-            self.home = pulse
-        self.homing = True
-
-    def _check_move(self, block: mcl.MC_MoveAbsolute | mcl.MC_MoveRelative) -> None:
-        """Report a move that ended (Done, Error or aborted) and release its Execute."""
-        if block.Busy:
-            return
-        name = "Move to" if block is self.move_absolute else "Move by"
-        if block.Error:
-            self._report(name, block.ErrorID)
-        elif block.Done:
-            self.message = f"{name}: done"
-        else:
-            self.message = f"{name}: aborted"
-        block(Axis=self.axis, Execute=False)
-        self.moving = None
-
-    def _report(self, command: str, error_id: int) -> None:
-        if error_id:
-            self.message = f"{command}: error {error_id} ({mcl.error_text(error_id)})"
-            self.last_error = self.message
-            if self._on_error is not None:
-                self._on_error(self.axis.name, self.message)
-        else:
-            self.message = f"{command}: done"
+    def _jog_velocity(self, r: Requests) -> float:
+        """JogVelo [u/s]: the operator's (0: :data:`DEFAULT_JOG_FRACTION` of Vmax), slow:
+        :data:`SLOW_JOG_FRACTION` of it, never below the library's slowest motion."""
+        constants = self.operator.axis.constants
+        vmax = constants.Vmax if constants is not None else 0.0
+        velocity = r.jog_velocity or DEFAULT_JOG_FRACTION * vmax
+        if r.jog_slow:
+            slowest = MIN_VELOCITY_FRACTION * vmax * (1.0 + 1e-9)  # a margin for rounding
+            velocity = max(SLOW_JOG_FRACTION * velocity, slowest)
+        return velocity
 
 
-class GroupRelease:
-    """Takes one axes group apart (one PLC scan per call): MC_GroupReset if it is in
-    GroupErrorStop, MC_GroupDisable (its motion ramps to standstill), MC_UngroupAllAxes.
-
-    Args:
-        group: The group.
-        on_error: Hears of a refusal: ("group <name>", text).
-    """
-
-    def __init__(self, group: mcl.AxesGroup, on_error: ErrorSink | None = None) -> None:
-        self.group = group
-        self.reset = mcl.MC_GroupReset(AxesGroup=group)
-        self.disable = mcl.MC_GroupDisable(AxesGroup=group)
-        self.ungroup = mcl.MC_UngroupAllAxes(AxesGroup=group)
-        self._on_error = on_error
-        self._steps: list[mcl.MC_GroupReset | mcl.MC_GroupDisable | mcl.MC_UngroupAllAxes] = []
-        if group.state == mcl.GroupState.GroupErrorStop:
-            self._steps.append(self.reset)
-        self._steps += [self.disable, self.ungroup]
-        self.done = False
-        """The group is empty (or the release ended with an error)."""
-
-    def __call__(self) -> None:
-        """One scan: the current step until Done or Error, then the next."""
-        if self.done:
-            return
-        block = self._steps[0]
-        block(Execute=True)
-        if block.Error:
-            if self._on_error is not None:
-                name = type(block).__name__
-                self._on_error(
-                    f"group {self.group.name}",
-                    f"{name}: error {block.ErrorID} ({mcl.error_text(block.ErrorID)})",
-                )
-            block(Execute=False)
-            self.done = True
-        elif block.Done:
-            block(Execute=False)
-            self._steps.pop(0)
-            self.done = not self._steps
-
-
-class OperatorProgram:
-    """The operator PLC program of a scene: one :class:`AxisOperator` per axis, and the release
-    of axes groups.
+def panel_program(
+    axes: Mapping[str, mcl.Axis],
+    recipes: Mapping[str, Recipe],
+    clock: Clock = time.monotonic,
+    on_error: ErrorSink | None = None,
+    *,
+    sim_time: Clock,
+    on_step: StepListener | None = None,
+) -> OperatorProgram[Panel]:
+    """The operator program of a scene driven by its operator panels, one per axis
+    (``program.front_ends[name].requests`` are what the GUI writes).
 
     Args:
         axes: The scene's axes by name.
-        recipes: Homing recipes by axis name (axes without one cannot be homed).
+        recipes: Homing recipes by axis name (axes without one have no recipe procedure).
         clock: Monotonic wall clock [s] for the jog dead-man deadlines.
         on_error: Hears of every refused command: (axis or group, text).
         sim_time: Simulated time [s] of the scene.
         on_step: Hears that a step test starts (in the simulation thread).
     """
-
-    def __init__(
-        self,
-        axes: Mapping[str, mcl.Axis],
-        recipes: Mapping[str, Recipe],
-        clock: Clock = time.monotonic,
-        on_error: ErrorSink | None = None,
-        *,
-        sim_time: Clock,
-        on_step: StepListener | None = None,
-    ) -> None:
-        self.requests = {name: AxisRequests(clock) for name in axes}
-        """Request flags by axis name (the only thing the GUI writes)."""
-        self.axes = {
-            name: AxisOperator(
-                axis,
-                self.requests[name],
-                recipes.get(name),
-                on_error,
-                sim_time=sim_time,
-                on_step=on_step,
-            )
-            for name, axis in axes.items()
-        }
-        """Function blocks by axis name."""
-        self._operators = list(self.axes.values())
-        self._on_error = on_error
-        self._release = threading.Event()
-        self.releasing: list[GroupRelease] = []
-        """Groups being taken apart."""
-
-    def groups(self) -> list[mcl.AxesGroup]:
-        """The axes groups the scene's axes belong to now."""
-        found: list[mcl.AxesGroup] = []
-        for operator in self._operators:
-            group = operator.axis.group
-            if isinstance(group, mcl.AxesGroup) and group not in found:
-                found.append(group)
-        return found
-
-    def release_groups(self) -> None:
-        """Take every axes group apart at the next scan (thread-safe)."""
-        self._release.set()
-
-    def stop_all(self) -> None:
-        """STOP for every axis (called from the PLC thread between two scans): jogs released,
-        groups taken apart (their motion ramps down), MC_Stop on every powered driven axis
-        outside a group."""
-        for name, requests in self.requests.items():
-            requests.release_jog()
-            if self.axes[name].axis.state != mcl.AxisState.Disabled:
-                requests.stop()
-        self._release.set()
-
-    def __call__(self) -> None:
-        """One PLC scan: group releases first, then every axis' operator blocks."""
-        if self._release.is_set():
-            self._release.clear()
-            busy = {r.group for r in self.releasing}
-            self.releasing += [
-                GroupRelease(g, self._on_error) for g in self.groups() if g not in busy
-            ]
-        if self.releasing:
-            for release in self.releasing:
-                release()
-            self.releasing = [r for r in self.releasing if not r.done]
-        for operator in self._operators:
-            operator()
-            if operator.group_stop:
-                operator.group_stop = False
-                self._release.set()
-
-    def release_power(self) -> None:
-        """Hand every drive back to the other program (called from the PLC thread)."""
-        for name, operator in self.axes.items():
-            self.requests[name].release_power()
-            operator.release_power()
+    panels = [
+        Panel(
+            AxisOperator(axis, recipes.get(name), (), on_error, sim_time=sim_time, on_step=on_step),
+            AxisRequests(clock),
+        )
+        for name, axis in axes.items()
+    ]
+    return OperatorProgram(panels, on_error)

@@ -5,6 +5,10 @@ calls mcl's function blocks, compiled with ``compile()`` (see docs/st.md).
 ``scene.run(prog)`` scans it, ``prog.Start = True`` writes a variable.
 """
 
+from mcl.extras import require
+
+require("plc.st", "st")
+
 from plc.st.errors import PLCFault, STError
 from plc.st.runtime.external import External
 from plc.st.runtime.program import STProgram, compile_source, from_source, load

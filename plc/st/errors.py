@@ -3,6 +3,8 @@ wrong; expected ...``) and a run-time fault that stops the program (:class:`PLCF
 
 from __future__ import annotations
 
+__all__ = ["PLCFault", "STError", "nearest"]
+
 import difflib
 from collections.abc import Iterable
 

@@ -5,11 +5,13 @@ free at a speed or in lockstep with the client. The servers (:mod:`scenes.bridge
 
 from __future__ import annotations
 
+__all__ = ["Bridge", "check_speed"]
+
 import math
 
 import scenes
-from scenes.bridge.pacing import LockstepRun, PacedRun
 from scenes.bridge.program import BridgeProgram
+from scenes.bridge.runs import LockstepRun, PacedRun
 from scenes.bridge.table import SignalTable, tables_of
 
 

@@ -1,7 +1,7 @@
 """The Modbus TCP server of the bridge (pymodbus 3.15): each machine's signal table as holding
 registers of its unit id (a cell: one per part, 1, 2, …), the simulation running in its own
 thread: free at a speed (1×: real time) or in lockstep with the client
-(:mod:`scenes.bridge.pacing`).
+(:mod:`scenes.bridge.runs`).
 
 Function codes 3 and 4 read the table, 6, 16, 22 and 23 write its command fields; every other
 function code gets the exception ILLEGAL_FUNCTION, a unit id the server has no table for
@@ -21,6 +21,18 @@ a warning.
 
 from __future__ import annotations
 
+__all__ = [
+    "MAX_LENGTH",
+    "MAX_PENDING",
+    "MBAP",
+    "REGISTER_CODES",
+    "Server",
+    "device",
+    "main",
+    "serve",
+    "server_of",
+]
+
 import asyncio
 import logging
 from collections.abc import Sequence
@@ -34,7 +46,7 @@ from pymodbus.server.requesthandler import ServerRequestHandler
 from pymodbus.simulator import DataType, SimData, SimDevice
 
 from scenes.bridge.machine import Bridge, check_speed
-from scenes.bridge.pacing import LockstepRun
+from scenes.bridge.runs import LockstepRun
 from scenes.bridge.serving import (
     acknowledge,
     admitted,

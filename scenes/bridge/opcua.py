@@ -1,7 +1,7 @@
 """The OPC UA server of the bridge (asyncua 2.1): a machine's signal tables as a node tree
 (:mod:`scenes.bridge.opcua_nodes`: variables of the fields, PLCopen methods of the axes, the
 Simulation object), the simulation running in its own thread, free at a speed or in lockstep
-with the client (:mod:`scenes.bridge.pacing`). The same tables, blocks, rules and ErrorIDs as
+with the client (:mod:`scenes.bridge.runs`). The same tables, blocks, rules and ErrorIDs as
 the Modbus server's (:mod:`scenes.bridge.modbus`).
 
 Security: the server binds loopback and serves it without security (anonymous, no encryption),
@@ -23,6 +23,34 @@ connection's reads are answered (:class:`_Processor`).
 """
 
 from __future__ import annotations
+
+__all__ = [
+    "ACTIVATION",
+    "APPLICATION_URI",
+    "CERTS",
+    "IN_TURN",
+    "MAX_CONNECTIONS",
+    "MAX_MESSAGE",
+    "MAX_SUBSCRIPTIONS",
+    "PASSWORD_ENV",
+    "READ",
+    "SECURE_POLICIES",
+    "SESSION_REQUESTS",
+    "USER",
+    "PasswordUser",
+    "Security",
+    "Server",
+    "cache_dir",
+    "certificate",
+    "check_certs",
+    "init",
+    "main",
+    "quiet_asyncua",
+    "read_password",
+    "security_of",
+    "serve",
+    "server_of",
+]
 
 import asyncio
 import contextlib

@@ -4,13 +4,41 @@ status code for each one refused)."""
 
 from __future__ import annotations
 
+__all__ = [
+    "ACCELERATION",
+    "ARGUMENT_TYPE",
+    "BUFFER_MODE",
+    "DECELERATION",
+    "DISTANCE",
+    "F32_MAX",
+    "FORCE",
+    "JERK",
+    "MASTER",
+    "METHODS",
+    "NUMBERS",
+    "POSITION",
+    "RAMP",
+    "RANGE",
+    "RATIO",
+    "SYNC",
+    "VELOCITY",
+    "ZEROING",
+    "ArgKind",
+    "Argument",
+    "Method",
+    "Refused",
+    "boolean",
+    "methods_of",
+    "number",
+]
+
 import math
 from dataclasses import dataclass
 from typing import Literal
 
 from asyncua import ua
 
-from scenes.bridge.program import AxisBridge
+from plc.operator.bus import CommandWords
 
 F32_MAX = 3.4028234663852886e38
 """The largest REAL of the register map: a REAL field takes no larger magnitude."""
@@ -212,12 +240,12 @@ METHODS = (
 """Every method an axis may have; :func:`methods_of` says which one has."""
 
 
-def methods_of(axis: AxisBridge) -> list[Method]:
+def methods_of(axis: CommandWords) -> list[Method]:
     """The methods of an axis: MC_Power and GT_Jog where it has a drive, the commands it takes
-    (:attr:`AxisBridge.commands`), MC_WriteDigitalOutput where it has outputs."""
+    (:attr:`CommandWords.commands`), MC_WriteDigitalOutput where it has outputs."""
     takes = set(axis.commands)
-    if axis.axis.has_drive:
+    if axis.operator.axis.has_drive:
         takes |= {"enable", "jog"}
-    if axis.outputs:
+    if axis.operator.outputs:
         takes.add("outputs")
     return [m for m in METHODS if m.bit in takes]

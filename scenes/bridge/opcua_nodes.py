@@ -35,6 +35,20 @@ and after each client write or call.
 
 from __future__ import annotations
 
+__all__ = [
+    "ADMIN",
+    "MAX_ADVANCE",
+    "NAMESPACE",
+    "VARIANT",
+    "BridgeNodes",
+    "Mirror",
+    "Served",
+    "Variable",
+    "Writes",
+    "engineering_units",
+    "unit_of",
+]
+
 import asyncio
 import contextlib
 import logging
@@ -61,8 +75,8 @@ from scenes.bridge.opcua_methods import (
     methods_of,
     number,
 )
-from scenes.bridge.pacing import Run
 from scenes.bridge.program import BridgeProgram
+from scenes.bridge.runs import Run
 from scenes.bridge.serving import acknowledge
 from scenes.bridge.table import STATUS_BITS, Field, Kind, NotInControl, SignalTable, WriteRefused
 from scenes.definition import MachineDef
@@ -298,8 +312,7 @@ class BridgeNodes:
         self.readonly: set[ua.NodeId] = set()
         self._bits: dict[tuple[int, str], list[ua.NodeId]] = {}
         self.mirror: Mirror | None = None
-        axes = {a.name: a for a in bridge.program.axes}
-        self._axes = axes
+        self._axes = bridge.program.front_ends
 
     def published(self, cycle: int) -> None:
         """The tables were published (any thread): the variables follow soon."""
@@ -337,7 +350,7 @@ class BridgeNodes:
         for axis in table.axes:
             bare = axis[len(prefix) :]
             node = await axes.add_object(self.node(axis), f"{self.index}:{bare}")
-            unit = self._axes[axis].axis.config.unit
+            unit = self._axes[axis].operator.axis.config.unit
             for f in table.fields:
                 if f.name.startswith(f"{axis}."):
                     variable = await self._variable(node, table, f, f.name[len(axis) + 1 :], unit)
@@ -347,7 +360,7 @@ class BridgeNodes:
                 await self._method(node, table, axis, method)
         if table.group:  # the group block's fields, as variables (no methods)
             group = await parent.add_object(self.node(table.group), f"{self.index}:Group")
-            unit = self._axes[table.members[0]].axis.config.unit
+            unit = self._axes[table.members[0]].operator.axis.config.unit
             for f in table.fields:
                 if f.name.startswith(f"{table.group}."):
                     await self._variable(group, table, f, f.name[len(table.group) + 1 :], unit)
@@ -546,7 +559,7 @@ class BridgeNodes:
             table.set_bit(axis, "jog_pos", values["JogPos"])
             table.set_bit(axis, "jog_neg", values["JogNeg"])
         elif method.bit == "outputs":
-            if values["OutputNumber"] >= len(self._axes[axis].outputs):
+            if values["OutputNumber"] >= len(self._axes[axis].operator.outputs):
                 return  # no such output: as MC_WriteDigitalOutput, nothing happens
             table.put_bit(f"{axis}.outputs", int(values["OutputNumber"]), values["Value"])
         else:

@@ -1,328 +1,31 @@
-"""The PLC-side program of the bridge: each scan it reads the command words of the signal table,
-calls the library's function blocks with them and writes the status back.
+"""The PLC-side program of the bridge: the operator program (:mod:`plc.operator`) with one bus
+front end per axis (:class:`plc.operator.bus.CommandWords`) on the axis' block of its signal
+table, and the simulation fields and published signals of the tables.
 
-Every command goes through an mcl block, with its rules and ErrorIDs (docs/reference.md):
-
-==============  ====================================================================
-enable          ``MC_Power`` Enable (a level; axes with a drive only)
-reset           ``MC_Reset`` Execute
-move_absolute   ``MC_MoveAbsolute`` Execute (position, velocity, acceleration, …, buffer_mode)
-move_relative   ``MC_MoveRelative`` Execute (distance, …)
-move_additive   ``MC_MoveAdditive`` Execute (distance, …)
-move_velocity   ``MC_MoveVelocity`` Execute (velocity; its sign gives the direction)
-home            the machine's homing recipe (``plc.procedures.HomeAxis``) Execute
-stop            ``MC_Stop`` Execute (deceleration; 0: the block's default)
-halt            ``MC_Halt`` Execute (deceleration; 0: the block's default)
-jog_pos/neg     ``GT_Jog`` JogPos / JogNeg (levels; |velocity| as JogVelo)
-gear_in         ``MC_GearIn`` Execute (master, ratio_numerator, ratio_denominator, ramps)
-gear_in_pos     ``MC_GearInPos`` Execute (… master/slave_sync_position, master_start_distance,
-                velocity, zeroing)
-gear_out        ``MC_GearOut`` Execute
-force_control   ``MC_ForceControl`` Execute (force, force_ramp, gain, …, velocity, acceleration)
-outputs         ``MC_WriteDigitalOutput`` for each output bit that differs from the output
-==============  ====================================================================
-
-A command the axis cannot take (home without a recipe, gearing on an axis without gearing
-fields) is refused: the status shows Error with ErrorID EParam (5). The group block of a machine
-that names a group is driven the same way (:mod:`scenes.bridge.group`).
-
-An Execute bit is passed as the block's Execute every scan: its rising edge starts the command,
-the block's outputs follow the PLCopen rules. A method call (:meth:`SignalTable.request`) sets
-its command's Execute at the next scan and holds it until the axis' next command. The status
-word shows the outputs of the current command, the one last started, and ``command_count``
-counts the commands started. A result of the current command (Done, Error with its ErrorID,
-CommandAborted) is held in the status until the master acknowledges it — it clears the
-command's bit after the result was published while the bit was set — or starts another
-command: a master that polls slowly, or clears the bit early, still sees it.
+Each scan every axis reads its control word and parameters from its table and calls the library's
+function blocks with them (the commands, their rules and ErrorIDs: :mod:`plc.operator.axis`,
+docs/reference.md); :meth:`BridgeProgram.publish` writes the status back.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from typing import Any
+__all__ = ["BridgeProgram"]
 
-import mcl
-from plc.procedures import HomeAxis, Recipe
-from scenes.bridge.group import GroupBridge
-from scenes.bridge.handshake import Command, CommandWord, _int, _showing
-from scenes.bridge.table import CONTROL_BITS, STATUS_BITS, SignalTable
+from collections.abc import Sequence
+
+from plc.operator.axis import AxisOperator
+from plc.operator.bus import CommandWords
+from plc.operator.program import OperatorProgram
+from plc.procedures import Recipe
+from scenes.bridge.table import AxisRegisters, SignalTable
 from scenes.scene import Scene
 
 
-class AxisBridge(CommandWord):
-    """The blocks of one axis and the scan that drives them from its table block.
-
-    Args:
-        axis: the axis.
-        recipe: its homing recipe (None: the home bit is refused with EParam).
-        table: the signal table.
-        axes: every axis of the table, in its order (the masters of gearing).
-    """
-
-    def __init__(
-        self, axis: mcl.Axis, recipe: Recipe | None, table: SignalTable, axes: list[mcl.Axis]
-    ) -> None:
-        super().__init__(axis.name, table)
-        self.axis = axis
-        self.axes = axes
-        self.prefix = f"{axis.name}."
-        self.fields = {
-            f.name[len(self.prefix) :] for f in table.fields if f.name.startswith(self.prefix)
-        }
-        self.power = mcl.MC_Power()
-        self.reset = mcl.MC_Reset()
-        self.move_absolute = mcl.MC_MoveAbsolute()
-        self.move_relative = mcl.MC_MoveRelative()
-        self.move_additive = mcl.MC_MoveAdditive()
-        self.move_velocity = mcl.MC_MoveVelocity()
-        self.home = HomeAxis(axis, recipe) if recipe is not None else None
-        self.stop = mcl.MC_Stop()
-        self.halt = mcl.MC_Halt()
-        self.jog = mcl.GT_Jog()
-        self.gear_in = mcl.MC_GearIn()
-        self.gear_in_pos = mcl.MC_GearInPos()
-        self.gear_out = mcl.MC_GearOut()
-        self.outputs = [mcl.MC_WriteDigitalOutput() for _ in axis.io.outputs]
-        self.force_control = mcl.MC_ForceControl()
-        self._calls = self._commands()
-
-    @property
-    def commands(self) -> tuple[str, ...]:
-        """The Execute commands (control bits) the axis takes; the others are refused with
-        EParam."""
-        return tuple(self._calls)
-
-    def _param(self, name: str) -> float:
-        return self.table.get(self.prefix + name) if name in self.fields else 0.0
-
-    def _block_for(self, name: str) -> Command | None:
-        if name in ("jog_pos", "jog_neg"):
-            return self.jog
-        return self._calls[name][0] if name in self._calls else None
-
-    def _refusal(self, name: str) -> str:
-        return _MISSING[name]
-
-    def _commands(self) -> dict[str, tuple[Command, Callable[[bool], None]]]:
-        """The Execute commands the axis can take, by control bit: the block (its outputs are
-        the status) and the call that passes it this scan's Execute."""
-        commands: dict[str, tuple[Command, Callable[[bool], None]]] = {
-            "reset": (self.reset, lambda x: self.reset(Axis=self.axis, Execute=x)),
-            "move_absolute": (self.move_absolute, self._move_absolute),
-            "move_relative": (self.move_relative, self._move_relative),
-            "move_additive": (self.move_additive, self._move_additive),
-            "move_velocity": (self.move_velocity, self._move_velocity),
-            "stop": (self.stop, lambda x: self._ramp_down(self.stop, x)),
-            "halt": (self.halt, lambda x: self._ramp_down(self.halt, x)),
-        }
-        home = self.home
-        if home is not None:
-            commands["home"] = (home, lambda x: home(Execute=x))
-        if "master" in self.fields:
-            commands["gear_in"] = (self.gear_in, self._gear_in)
-            commands["gear_in_pos"] = (self.gear_in_pos, self._gear_in_pos)
-            commands["gear_out"] = (
-                self.gear_out,
-                lambda x: self.gear_out(Slave=self.axis, Execute=x),
-            )
-        if "force" in self.fields:
-            commands["force_control"] = (self.force_control, self._force_control)
-        return commands
-
-    def __call__(self) -> None:
-        """One PLC scan: control word → blocks. A block is called while its Execute is set,
-        in the scan it falls, and while it is busy or shows an output; an idle one is not."""
-        client, word = self._words()
-        last, self._last_word = self._last_word, word
-        rising = word & ~last
-        axis = self.axis
-        if axis.has_drive:
-            self.power(Axis=axis, Enable=bool(word & 1))
-        for name, (block, call) in self._calls.items():
-            mask = _MASK[name]
-            if word & mask or last & mask or _showing(block):
-                call(bool(word & mask))
-        self._jog(bool(word & _MASK["jog_pos"]), bool(word & _MASK["jog_neg"]))
-        self._write_outputs()
-        if rising & ~1:
-            self._started(rising)
-        self._hold(client)
-
-    def _ramp(self) -> dict[str, float]:
-        return {
-            "Velocity": self._param("velocity"),
-            "Acceleration": self._param("acceleration"),
-            "Deceleration": self._param("deceleration"),
-            "Jerk": self._param("jerk"),
-            "BufferMode": _int(self._param("buffer_mode")),
-        }
-
-    def _move_absolute(self, execute: bool) -> None:
-        position = self._param("position")
-        self.move_absolute(Axis=self.axis, Execute=execute, Position=position, **self._ramp())
-
-    def _move_relative(self, execute: bool) -> None:
-        distance = self._param("distance")
-        self.move_relative(Axis=self.axis, Execute=execute, Distance=distance, **self._ramp())
-
-    def _move_additive(self, execute: bool) -> None:
-        distance = self._param("distance")
-        self.move_additive(Axis=self.axis, Execute=execute, Distance=distance, **self._ramp())
-
-    def _move_velocity(self, execute: bool) -> None:
-        """MC_MoveVelocity: the velocity's sign is the direction."""
-        ramp = self._ramp()
-        velocity = ramp["Velocity"]
-        direction = mcl.MC_Direction.MC_Negative if velocity < 0 else mcl.MC_Direction.MC_Positive
-        ramp["Velocity"] = abs(velocity)
-        self.move_velocity(Axis=self.axis, Execute=execute, Direction=direction, **ramp)
-
-    def _gear(self) -> dict[str, Any]:
-        """The in-outs and inputs MC_GearIn and MC_GearInPos share; a master number outside
-        the table gives the blocks the slave itself as master (EParam)."""
-        number = _int(self._param("master"))
-        master = self.axes[number] if 0 <= number < len(self.axes) else self.axis
-        return {
-            "Master": master,
-            "Slave": self.axis,
-            "RatioNumerator": _int(self._param("ratio_numerator")),
-            "RatioDenominator": _int(self._param("ratio_denominator")),
-            "Acceleration": self._param("acceleration"),
-            "Deceleration": self._param("deceleration"),
-            "Jerk": self._param("jerk"),
-        }
-
-    def _gear_in(self, execute: bool) -> None:
-        self.gear_in(Execute=execute, **self._gear())
-
-    def _gear_in_pos(self, execute: bool) -> None:
-        self.gear_in_pos(
-            Execute=execute,
-            MasterSyncPosition=self._param("master_sync_position"),
-            SlaveSyncPosition=self._param("slave_sync_position"),
-            MasterStartDistance=self._param("master_start_distance"),
-            Velocity=self._param("velocity"),
-            Zeroing=_int(self._param("zeroing")),
-            **self._gear(),
-        )
-
-    def _force_control(self, execute: bool) -> None:
-        """MC_ForceControl (velocity, acceleration and buffer mode of the move fields)."""
-        self.force_control(
-            Axis=self.axis,
-            Execute=execute,
-            Force=self._param("force"),
-            ForceRamp=self._param("force_ramp"),
-            Velocity=self._param("velocity"),
-            Acceleration=self._param("acceleration"),
-            Gain=self._param("gain"),
-            InputNumber=_int(self._param("input_number")),
-            Scale=self._param("scale"),
-            InputNumber2=_int(self._param("input_number2")),
-            Scale2=self._param("scale2"),
-            Offset=self._param("offset"),
-            Tolerance=self._param("tolerance"),
-            BufferMode=_int(self._param("buffer_mode")),
-        )
-
-    def _ramp_down(self, block: mcl.MC_Stop | mcl.MC_Halt, execute: bool) -> None:
-        """MC_Stop or MC_Halt (a deceleration or jerk of 0: the axis' default ramp)."""
-        deceleration, jerk = self._param("deceleration"), self._param("jerk")
-        block(Axis=self.axis, Execute=execute, Deceleration=deceleration, Jerk=jerk)
-
-    def _jog(self, jog_pos: bool, jog_neg: bool) -> None:
-        """GT_Jog while a jog bit is set (and once more when it drops); |velocity| as JogVelo."""
-        if jog_pos or jog_neg or self.jog.Enable:
-            self.jog(
-                Axis=self.axis,
-                Enable=jog_pos or jog_neg,
-                JogPos=jog_pos,
-                JogNeg=jog_neg,
-                JogVelo=abs(self._param("velocity")),
-            )
-
-    def _write_outputs(self) -> None:
-        """MC_WriteDigitalOutput for every output whose bit differs from the output."""
-        if not self.outputs:
-            return
-        wanted = _int(self._param("outputs"))
-        for k, block in enumerate(self.outputs):
-            value = bool(wanted >> k & 1)
-            block(
-                Axis=self.axis,
-                Execute=value != self.axis.io.outputs[k],
-                OutputNumber=k,
-                Value=value,
-            )
-
-    def publish(self) -> None:
-        """Write the axis' status and actual values into the table."""
-        axis, current, io, held = self.axis, self.current, self.axis.io, self._held
-        self._arm()
-        flags = {
-            "done": held["done"],
-            "busy": bool(getattr(current, "Busy", False)),
-            "active": bool(getattr(current, "Active", False)),
-            "error": held["error"],
-            "command_aborted": held["command_aborted"],
-            "homed": axis.Ref,
-            "lim_neg": bool(io.lim_neg),
-            "ref": bool(io.ref),
-            "lim_pos": bool(io.lim_pos),
-            "power": bool(self.power.Status),
-            "index": bool(io.index),
-            "in_velocity": bool(getattr(current, "InVelocity", False)),
-            "in_gear": bool(getattr(current, "InGear", False)),
-            "in_sync": bool(getattr(current, "InSync", False)),
-            "start_sync": bool(getattr(current, "StartSync", False)),
-            "in_force": bool(getattr(current, "InForce", False)),
-        }
-        status = sum(1 << i for i, name in enumerate(STATUS_BITS) if flags[name])
-        inputs = sum(1 << i for i, on in enumerate(axis.DI) if on)
-        p = self.prefix
-        values = [
-            (p + "status", status),
-            (p + "state", int(axis.state)),
-            (p + "error_id", self._held_error if held["error"] else 0),
-            (p + "axis_error_id", axis.AxErrorID),
-            (p + "actual_position", axis.POS),
-            (p + "actual_velocity", axis.VEL),
-            (p + "following_error", axis.following_error),
-            (p + "volts", axis.volts),
-            (p + "command", self.command),
-            (p + "command_count", self.count),
-            (p + "inputs", inputs),
-        ]
-        if "force" in self.fields:
-            values.append((p + "actual_force", self.force_control.ActualForce))
-        analog = axis.AI
-        values += [
-            (f"{p}analog_{k}", analog[k])
-            for k in range(len(analog))
-            if f"analog_{k}" in self.fields
-        ]
-        self.table.update(values)
-
-
-_MASK = {name: 1 << i for i, name in enumerate(CONTROL_BITS)}
-"""Each control bit's mask."""
-
-
-_MISSING = {
-    "home": "homing recipe",
-    "gear_in": "gearing",
-    "gear_in_pos": "gearing",
-    "gear_out": "gearing",
-    "force_control": "analog inputs",
-}
-"""What an axis lacks when it refuses a command bit."""
-
-
-class BridgeProgram:
-    """The bridge's PLC program for a scene: one :class:`AxisBridge` per axis of each table.
-    Call it once per PLC scan; :meth:`publish` writes the status, the simulation fields and
-    the published signals into the tables — every scan, or (``publish_every_scan`` False) when
-    the runner calls it, at the end of each run of scans.
+class BridgeProgram(OperatorProgram[CommandWords]):
+    """The bridge's PLC program for a scene: the axes of each table driven by its command words.
+    Call it once per PLC scan; :meth:`publish` writes the status, the simulation fields and the
+    published signals into the tables — every scan, or (``publish_every_scan`` False) when the
+    runner calls it, at the end of each run of scans.
 
     Args:
         scene: the running scene.
@@ -340,14 +43,15 @@ class BridgeProgram:
     ) -> None:
         self.scene = scene
         self.tables = list(tables)
-        self.axes = []
-        self.groups: list[GroupBridge] = []
-        """The group block of each table whose machine names a group."""
+        front_ends = []
         for table in self.tables:
-            axes = [scene.axes[a] for a in table.axes]
-            self.axes += [AxisBridge(axis, homing.get(axis.name), table, axes) for axis in axes]
-            if table.group:
-                self.groups.append(GroupBridge([scene.axes[a] for a in table.members], table))
+            masters = [scene.axes[a] for a in table.axes]  # gearing's master numbers
+            for axis in masters:
+                operator = AxisOperator(
+                    axis, homing.get(axis.name), masters, sim_time=lambda: scene.time
+                )
+                front_ends.append(CommandWords(operator, AxisRegisters(table, axis.name)))
+        super().__init__(front_ends)
         self.cycles = 0
         self.publish_every_scan = publish_every_scan
         self.publish()
@@ -358,21 +62,16 @@ class BridgeProgram:
         return max(int(table.get("sim.target")) for table in self.tables)
 
     def __call__(self) -> None:
-        """One PLC scan (the axes and the group of a table whose PLC is not in control are left
-        alone); the axes first, then the groups of their axes."""
-        for block in (*self.axes, *self.groups):
-            if block.table.in_control:
-                block()
-            else:
-                block.observe()
+        """One PLC scan (the axes of a table whose PLC is not in control are left alone)."""
+        super().__call__()
         self.cycles += 1
         if self.publish_every_scan:
             self.publish()
 
     def publish(self) -> None:
         """Write every axis' status, the simulation fields and the signals into the tables."""
-        for block in (*self.axes, *self.groups):
-            block.publish()
+        for words in self.front_ends.values():
+            words.publish()
         scene = self.scene
         for table in self.tables:
             table.update(

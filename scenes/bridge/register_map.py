@@ -4,6 +4,8 @@ homing, every register, and what the ErrorIDs mean."""
 
 from __future__ import annotations
 
+__all__ = ["NEGATIVE", "SWITCHES", "csv", "markdown"]
+
 import mujoco
 
 import mcl

@@ -4,6 +4,18 @@ on SIGTERM/SIGINT and the command's exit on a user's mistake."""
 
 from __future__ import annotations
 
+__all__ = [
+    "ACK_TIMEOUT",
+    "acknowledge",
+    "admitted",
+    "allowed",
+    "check_allow",
+    "check_host",
+    "is_loopback",
+    "run_command",
+    "stop_on_signals",
+]
+
 import asyncio
 import contextlib
 import ipaddress
@@ -12,7 +24,7 @@ import sys
 from collections.abc import Callable, Coroutine, Sequence
 from typing import Any
 
-from scenes.bridge.pacing import Run
+from scenes.bridge.runs import Run
 
 ACK_TIMEOUT = 2.0
 """Longest wall time [s] the answer to a lockstep target waits for the scene to get there (a

@@ -17,11 +17,44 @@ word order, "ABCD"; pymodbus: ``word_order="big"``). The layout is deterministic
 1000 + 2·k                 published signal ``k`` in the definition's order (f32, read-only)
 =========================  ======================================================================
 
-The table holds the registers (thread-safe); the PLC program (:mod:`scenes.bridge.program`)
-and the servers read and write it by field name or by address.
+The table holds the registers (thread-safe); the PLC program (:mod:`scenes.bridge.program`,
+each axis' block as :class:`AxisRegisters`) and the servers read and write it by field name or by
+address. The bits of the control and status words are the operator program's
+(:mod:`plc.operator.bus`).
 """
 
 from __future__ import annotations
+
+__all__ = [
+    "ANALOG_OFFSET",
+    "AXIS_BASE",
+    "AXIS_BLOCK",
+    "AXIS_FIELDS",
+    "AXIS_STRIDE",
+    "CONTROL_BITS",
+    "FORCE_FIELDS",
+    "GEAR_FIELDS",
+    "LEVELS",
+    "MAX_ANALOG",
+    "OUTPUTS",
+    "SIGNAL_BASE",
+    "STATUS_BITS",
+    "WIDTH",
+    "Access",
+    "Field",
+    "FieldSpec",
+    "Kind",
+    "NotInControl",
+    "SignalTable",
+    "ValueRefused",
+    "WriteRefused",
+    "axis_specs",
+    "decode",
+    "encode",
+    "machine_fields",
+    "published_signals",
+    "tables_of",
+]
 
 import math
 import struct
@@ -30,6 +63,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
+from plc.operator.bus import CONTROL_BITS, LEVELS, STATUS_BITS
 from scenes.definition import AxisDef, MachineDef, Signal
 
 Kind = Literal["u16", "i16", "u32", "f32"]
@@ -43,57 +77,6 @@ SIGNAL_BASE = 1000
 """Address of the first published signal."""
 GROUP_BASE = 900
 """Address of the group block's control word."""
-
-CONTROL_BITS = (
-    "enable",
-    "reset",
-    "move_absolute",
-    "move_relative",
-    "move_velocity",
-    "home",
-    "stop",
-    "halt",
-    "jog_pos",
-    "jog_neg",
-    "move_additive",
-    "gear_in",
-    "gear_in_pos",
-    "gear_out",
-    "force_control",
-)
-"""Bits of an axis' control word, bit 0 first. ``enable`` and the jogs are levels; the others
-are Execute inputs (a rising edge starts the command; keep the bit set until Done). A bit set and
-cleared again between two scans still gives the command its rising edge (held for one scan)."""
-
-LEVELS = ("enable", "jog_pos", "jog_neg")
-"""Control bits that are levels, not Execute inputs."""
-
-GEAR_BITS = ("gear_in", "gear_in_pos", "gear_out")
-"""Control bits of the gearing commands (axes that can be a slave: a drive, another axis)."""
-
-STATUS_BITS = (
-    "done",
-    "busy",
-    "active",
-    "error",
-    "command_aborted",
-    "homed",
-    "lim_neg",
-    "ref",
-    "lim_pos",
-    "power",
-    "index",
-    "in_velocity",
-    "in_gear",
-    "in_sync",
-    "start_sync",
-    "in_force",
-)
-"""Bits of an axis' status word, bit 0 first: Done … CommandAborted of the current command
-(the one last started by a rising edge), homed (the axis has a reference), the switches LIM−,
-REF and LIM+, MC_Power's Status, the encoder's index pulse, and InVelocity (MC_MoveVelocity),
-InGear (MC_GearIn), InSync and StartSync (MC_GearInPos), InForce (MC_ForceControl) of the current
-command."""
 
 
 @dataclass(frozen=True)
@@ -620,6 +603,44 @@ class SignalTable:
         from scenes.bridge import register_map
 
         return register_map.csv(self)
+
+
+class AxisRegisters:
+    """The block of axis ``axis`` in ``table`` as the operator program's bus front end reads and
+    writes it (:class:`plc.operator.bus.Registers`): its fields by their names without the
+    axis'."""
+
+    def __init__(self, table: SignalTable, axis: str) -> None:
+        self.table = table
+        self.axis = axis
+        self._prefix = prefix = f"{axis}."
+        self._fields = {f.name[len(prefix) :] for f in table.fields if f.name.startswith(prefix)}
+
+    @property
+    def in_control(self) -> bool:
+        """Whether the PLC may command (:attr:`SignalTable.in_control`)."""
+        return self.table.in_control
+
+    def has(self, name: str) -> bool:
+        """Whether the axis has field ``name``."""
+        return name in self._fields
+
+    def get(self, name: str) -> float:
+        """The value of field ``name`` (0.0: the axis has none)."""
+        return self.table.get(self._prefix + name) if name in self._fields else 0.0
+
+    def take_control(self) -> int:
+        """This scan's control word (:meth:`SignalTable.take_control`)."""
+        return self.table.take_control(self.axis)
+
+    def requested(self) -> tuple[int, int]:
+        """The last method call (:meth:`SignalTable.requested`)."""
+        return self.table.requested(self.axis)
+
+    def update(self, values: Iterable[tuple[str, float]]) -> None:
+        """Set several of the axis' fields."""
+        prefix = self._prefix
+        self.table.update((prefix + name, value) for name, value in values)
 
 
 def tables_of(machine: MachineDef) -> list[SignalTable]:

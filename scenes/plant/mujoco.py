@@ -242,7 +242,8 @@ class MujocoAxisIO(AxisChannel):
         qpos = self._qpos
         q: float = qpos[self.qpos_adr]
         if self.rotary:
-            n, pos, r = (_wrap(q + offset) for offset in self.offsets)
+            offsets = self.offsets
+            n, pos, r = _wrap(q + offsets[0]), _wrap(q + offsets[1]), _wrap(q + offsets[2])
         else:
             n = pos = r = q
         self.sample(
@@ -366,27 +367,37 @@ class MujocoPlant:
             self._drives.append(drive)
         self._channels = list(self.ios.values())
         self._spec = mujoco.mjtState.mjSTATE_INTEGRATION
+        self._time = 0.0
+        """``data.time`` [s], read once after each step or restore (it changes only there; the
+        runtime and then every channel ask for it each servo cycle, and a read through the
+        bindings is costly)."""
+        self._time_read = False
 
     @property
     def time(self) -> float:
         """Simulated time [s]."""
-        return float(self.data.time)
+        if not self._time_read:
+            self._time = float(self.data.time)
+            self._time_read = True
+        return self._time
 
     def step(self, n: int = 1) -> None:
         """``n`` physics steps; each device integrates before every step."""
         model, data = self.model, self.data
         hooks = self._hooks
+        step = mujoco.mj_step
         if not hooks:
-            mujoco.mj_step(model, data, n)
-            return
-        for _ in range(n):
-            for hook in hooks:
-                hook(model, data)
-            mujoco.mj_step(model, data)
+            step(model, data, n)
+        else:
+            for _ in range(n):
+                for hook in hooks:
+                    hook(model, data)
+                step(model, data)
+        self._time_read = False
 
     def sense(self) -> None:
         """Sample every axis' inputs."""
-        t = float(self.data.time)
+        t = self.time
         for io in self._channels:
             io.sense(t)
 
@@ -422,3 +433,4 @@ class MujocoPlant:
         for device, device_state in zip(self.devices.values(), rest[len(drives) :], strict=True):
             device.set_state(device_state)
         mujoco.mj_forward(self.model, self.data)
+        self._time_read = False

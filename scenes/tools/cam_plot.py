@@ -11,6 +11,12 @@ Linear), lines starting with ``#`` are comments.
 
 from __future__ import annotations
 
+__all__ = ["COLUMNS", "EXPECTED", "checked", "figure", "knife_table", "plot_cam", "read_table"]
+
+from mcl.extras import require
+
+require("scenes.tools.cam_plot", "plot")
+
 import csv
 import math
 import re
@@ -25,7 +31,6 @@ import matplotlib.pyplot as plt
 import mcl
 from mcl.cam_table import Cam, CamLaw, MC_CamPoint, compile_cam, knife_problem
 from scenes.errors import UserError
-from scenes.tools.cam_profile import CamProfile, sample
 
 COLUMNS = ("master", "slave", "velocity", "acceleration", "law")
 """The columns of a table file, the first two required."""
@@ -141,7 +146,7 @@ def checked(table: mcl.MC_CAM_REF, periodic: bool, source: str, lines: list[int]
     raise UserError.at(where, "", cam, "a table MC_CamTableSelect accepts (docs/reference.md)")
 
 
-def figure(profile: CamProfile, title: str) -> plt.Figure:
+def figure(profile: mcl.CamProfile, title: str) -> plt.Figure:
     """Position, velocity and acceleration against the master, one panel each, the segment
     boundaries dotted and each segment's law written in the top panel."""
     fig, panels = plt.subplots(3, 1, sharex=True, figsize=(9, 7.5), layout="constrained")
@@ -183,7 +188,7 @@ def figure(profile: CamProfile, title: str) -> plt.Figure:
 def plot_cam(table: mcl.MC_CAM_REF, cam: Cam, out: str | Path) -> Path:
     """Write the profile of the checked ``cam`` of ``table`` as ``<out>.png``; returns the
     path."""
-    fig = figure(sample(cam), table.Name or Path(out).stem)
+    fig = figure(mcl.cam_profile(cam), table.Name or Path(out).stem)
     path = Path(out).with_suffix(".png")
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)

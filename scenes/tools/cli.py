@@ -13,6 +13,8 @@ is wrong; expected ...``, and the exit status 2."""
 
 from __future__ import annotations
 
+__all__ = ["machine_blocks", "main", "run", "st_task", "sweep"]
+
 import argparse
 import os
 import sys

@@ -31,6 +31,19 @@ axis). The procedure is the one a commissioning engineer runs on a velocity-mode
 
 from __future__ import annotations
 
+__all__ = [
+    "DriveResponse",
+    "LimitStop",
+    "MoveFigures",
+    "Tuning",
+    "derive",
+    "identify",
+    "main",
+    "measure_move",
+    "run_into_limit",
+    "verify",
+]
+
 import argparse
 import math
 import sys

@@ -7,6 +7,8 @@ and near the blended corners.
 
 from __future__ import annotations
 
+__all__ = ["Contour", "distance_to_polyline", "run_path"]
+
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass

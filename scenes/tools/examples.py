@@ -9,6 +9,8 @@ machines' own scenarios are in their packages (``scenes.machines.gantry.scenario
 
 from __future__ import annotations
 
+__all__ = ["payload_following_error"]
+
 import mcl
 
 

@@ -7,6 +7,12 @@ trace.csv`` does the same for a trace written with ``trace.to_csv`` or streamed 
 
 from __future__ import annotations
 
+__all__ = ["SWITCHES", "axes_of", "figure", "frame", "plot", "plot_table", "sweep_figure"]
+
+from mcl.extras import require
+
+require("scenes.tools.plot", "plot")
+
 import html
 import io
 import re

@@ -11,6 +11,8 @@ is a failed row.
 
 from __future__ import annotations
 
+__all__ = ["TIMEOUT", "STScenario", "is_st_target"]
+
 import inspect
 from pathlib import Path
 from typing import Any

@@ -24,6 +24,22 @@ file is checked against the scenario's signature before anything runs; each mist
 
 from __future__ import annotations
 
+__all__ = [
+    "BOOKKEEPING",
+    "KEYS",
+    "VERSION",
+    "Problem",
+    "Progress",
+    "Sweep",
+    "check",
+    "from_toml",
+    "scenario_of",
+]
+
+from mcl.extras import require
+
+require("scenes.tools.sweep", "sweep")
+
 import functools
 import importlib
 import importlib.metadata

@@ -4,7 +4,7 @@ Fixtures:
 
 - ``scene``: a factory, ``scene("gantry", start={"X": 0.3})`` → :class:`scenes.Scene`. When the
   test fails, the trace of every scene it made is plotted (PNG and HTML) into the directory of
-  ``--scene-plots`` (default ``scene-plots/``), named after the test.
+  ``--scene-plots`` (default ``scene-plots/``), named after the test (with the ``[plot]`` extra).
 - ``scans``: a :class:`ScanLog` factory that records values once per PLC scan.
 - ``st_program``: a factory of IEC 61131-3 Structured Text programs for a scene,
   ``st_program("move.st", gantry, mapping={"Pohon.Ax1": "X"})`` → :class:`plc.st.STProgram`
@@ -43,6 +43,23 @@ injected with ``scene.faults`` (:mod:`mcl.faults`).
 
 from __future__ import annotations
 
+__all__ = [
+    "ScanLog",
+    "Window",
+    "assert_pulsed_once",
+    "home",
+    "load_st",
+    "max_following_error",
+    "physical_position",
+    "pytest_addoption",
+    "pytest_runtest_makereport",
+    "run_until",
+    "scans",
+    "scene",
+    "st_program",
+    "window",
+]
+
 import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -53,6 +70,7 @@ import pytest
 import mcl
 import plc.st
 import scenes
+from mcl import extras
 from plc.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
 
@@ -275,7 +293,7 @@ def scene(request: pytest.FixtureRequest) -> Iterator[Callable[..., Scene]]:
         return made[-1]
 
     yield make
-    if request.node.stash.get(_FAILED, False):
+    if request.node.stash.get(_FAILED, False) and extras.installed("plot"):
         from scenes.tools.plot import plot
 
         folder = Path(request.config.getoption("--scene-plots"))

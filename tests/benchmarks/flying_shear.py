@@ -291,8 +291,8 @@ def unsynchronised_drag() -> dict[str, Any]:
 
     scene.run(program, until=lambda: line.InVelocity, timeout=5.0)
     scene.run(program, timeout=0.5)
-    strip = scene.data.joint(f"{fs.PREFIX}M").qvel
-    carriage = scene.data.joint(f"{fs.PREFIX}S").qpos
+    strip = scene.data.joint(scene.model_name("M")).qvel
+    carriage = scene.data.joint(scene.model_name("S")).qpos
     before, q0 = float(strip[0]), float(carriage[0])
     state["drop"] = True
     scene.run(program, timeout=0.2)

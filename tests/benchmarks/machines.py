@@ -15,6 +15,11 @@ per physics step. A machine of simulated axes has no physics engine to compare a
 factor and µs per cycle stand alone. Each demo runs :data:`REPEATS` times and each chunk counts
 with its fastest run, so a burst of another process on a shared machine does not count.
 
+Every chunk is timed on two clocks: this thread's CPU time, which the figures are computed from
+(the time the process spent computing; another process running on the same cores does not count
+in it), and the wall clock, whose ratio is ``ratio_wall`` (on an idle machine the same; on a
+shared one lower, since a chunk the scheduler interrupts counts the other process' time too).
+
 Run: ``python -m tests.benchmarks.machines``.
 """
 
@@ -127,40 +132,52 @@ def against_bare_physics(
     return figures(scene, [chunk_times(scene, program, finished, longest)])
 
 
-def chunk_times(
-    scene: Any, program: Any, finished: Any, longest: float = 300.0
-) -> list[tuple[float, float, float]]:
-    """Wall time [s] of each chunk of :data:`CHUNK`: the stack (``program`` on ``scene``), the
-    bare physics with the machine's devices, MuJoCo alone; until ``finished()``."""
+Chunk = tuple[float, float, float, float, float, float]
+"""The times of one chunk [s]: the stack, the bare physics with the machine's devices and MuJoCo
+alone, in this thread's CPU time, then the same three on the wall clock."""
+
+
+def _clocks() -> tuple[float, float]:
+    """This thread's CPU time and the wall clock now [s]."""
+    return time.thread_time(), time.perf_counter()
+
+
+def chunk_times(scene: Any, program: Any, finished: Any, longest: float = 300.0) -> list[Chunk]:
+    """The times of each chunk of :data:`CHUNK` (:data:`Chunk`): the stack (``program`` on
+    ``scene``), the bare physics with the machine's devices, MuJoCo alone; until
+    ``finished()``."""
     physics = BarePhysics(scene, devices=True)
     mujoco_alone = BarePhysics(scene, devices=False)
     ticks = round(scene.runtime.servo_period / scene.plant.timestep)
     periods = range(round(CHUNK / scene.runtime.servo_period))
-    chunks = []
+    chunks: list[Chunk] = []
     simulated = 0.0
     while not finished() and simulated < longest:
         physics.sync()
         mujoco_alone.sync()
-        start = time.perf_counter()
+        cpu0, wall0 = _clocks()
         scene.run(program, timeout=CHUNK)
-        stack = time.perf_counter() - start
-        start = time.perf_counter()
+        cpu1, wall1 = _clocks()
         for _ in periods:  # a servo period per call, as any controller of it steps it
             physics.step(ticks)
-        bare = time.perf_counter() - start
-        start = time.perf_counter()
+        cpu2, wall2 = _clocks()
         for _ in periods:
             mujoco_alone.step(ticks)
-        chunks.append((stack, bare, time.perf_counter() - start))
+        cpu3, wall3 = _clocks()
+        chunks.append(
+            (cpu1 - cpu0, cpu2 - cpu1, cpu3 - cpu2, wall1 - wall0, wall2 - wall1, wall3 - wall2)
+        )
         simulated += CHUNK
     return chunks
 
 
-def figures(scene: Any, runs: list[list[tuple[float, float, float]]]) -> dict[str, Any]:
+def figures(scene: Any, runs: list[list[Chunk]]) -> dict[str, Any]:
     """Real-time factors, ratios and µs per servo cycle of runs of the same chunks (each
-    chunk's fastest run counts)."""
+    chunk's fastest run counts), in CPU time; the ratio on the wall clock besides."""
     n = min(len(run) for run in runs)
-    stack, bare, alone = (sum(min(run[k][i] for run in runs) for k in range(n)) for i in range(3))
+    stack, bare, alone, stack_wall, bare_wall, _ = (
+        sum(min(run[k][i] for run in runs) for k in range(n)) for i in range(6)
+    )
     simulated = n * CHUNK
     with_devices = scene.has_model and bool(scene.devices)
     return {
@@ -169,6 +186,7 @@ def figures(scene: Any, runs: list[list[tuple[float, float, float]]]) -> dict[st
         "demo_real_time_factor": round(simulated / stack, 1),
         "bare_physics_real_time_factor": round(simulated / bare, 1),
         "ratio": round(bare / stack, 2) if scene.has_model else None,
+        "ratio_wall": round(bare_wall / stack_wall, 2) if scene.has_model else None,
         "ratio_to_mujoco_alone": round(alone / stack, 2) if with_devices else None,
         "us_per_servo_cycle": round(stack / (simulated / scene.runtime.servo_period) * 1e6, 1),
         "us_per_physics_step_in_devices": round(

@@ -14,7 +14,7 @@ import pytest
 import mcl
 from mcl import AxisState, ErrorID, GroupState, MC_BufferMode
 from mcl.group import distance_to_segment
-from tests.helpers import configure, make_machine, power_on
+from tests.helpers import configure, make_machine, power_on, scan
 
 NAMES = "XYZ"
 V = 200.0
@@ -344,6 +344,7 @@ def test_member_not_ready_errors(xyz: mcl.SimMachine) -> None:
     move(Execute=False)
 
     xyz.axes["Z"].fault(ErrorID.ERRLIP)  # a disabled axis ignores faults
+    assert xyz.axes["Z"].state == AxisState.Disabled and xyz.axes["Z"].AxErrorID == 0
     power(Axis=xyz.axes["Z"], Enable=True)
     xyz.axes["Z"].fault(ErrorID.ERRLIP)
     assert group.state == GroupState.GroupErrorStop
@@ -896,3 +897,37 @@ def test_reading_the_state_does_not_change_the_group(
     xyz.run(timeout=0.5)
     final = read_everything(group)
     assert final == (expected if expected == GroupState.GroupErrorStop else GroupState.GroupStandby)
+
+
+def test_a_member_error_while_the_group_is_disabled_is_not_latched_by_the_group(
+    xyz: mcl.SimMachine,
+) -> None:
+    """The group not enabled, X's LIM+ input sticks: X stops with ERRLIP 2004, the group shows
+    GroupDisabled and no group error. With the switch free again and X reset, MC_GroupEnable
+    gives GroupStandby (nothing of X's error stays with the group) and a group move runs."""
+    group = build_group(xyz, enable=False)
+    X = xyz.axes["X"]
+    read, status = mcl.MC_GroupReadError(), mcl.MC_GroupReadStatus()
+
+    def program() -> None:
+        read(AxesGroup=group, Enable=True)
+        status(AxesGroup=group, Enable=True)
+
+    stuck = mcl.faults.SwitchStuck("lim_pos", True)
+    xyz.faults.set("X", stuck)
+    run_until(xyz, program, lambda: X.state == AxisState.ErrorStop, timeout=0.5)
+    xyz.run(program, timeout=0.1)
+    assert X.AxErrorID == ErrorID.ERRLIP
+    assert status.GroupDisabled and read.GroupErrorID == 0 and group.GroupErrorID == 0
+    xyz.faults.clear("X", stuck)
+    reset = mcl.MC_Reset(Axis=X)
+    run_until(xyz, scan(program, lambda: reset(Execute=True)), lambda: reset.Done)
+    assert X.state == AxisState.StandStill
+    enable = mcl.MC_GroupEnable(AxesGroup=group)
+    enable(Execute=True)
+    assert enable.Done
+    xyz.run(program, timeout=0.05)
+    assert status.GroupStandby and read.GroupErrorID == 0
+    move = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=[50.0, 20.0, 10.0], **MOVE)
+    run_until(xyz, scan(program, lambda: move(Execute=True)), lambda: move.Done)
+    assert abs(X.POS - 50.0) < 0.05

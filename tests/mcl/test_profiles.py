@@ -640,7 +640,7 @@ def _refused(fb: Any, error_id: int) -> None:
 
 
 def _peak_speed(machine: mcl.SimMachine, fb: Any) -> float:
-    """Run ``fb`` to Done; the carriage's highest speed [mm/s]."""
+    """Run ``fb`` to Done (never an error); the carriage's highest speed [mm/s]."""
     peak = 0.0
 
     def scan() -> None:
@@ -731,3 +731,83 @@ def test_a_queued_table_keeps_the_maxima_of_its_execute_edge():
     assert peak == pytest.approx(60.0, rel=0.03)
     tick(machine, 100)
     assert carriage_mm(machine) == pytest.approx(60.0, abs=0.05)
+
+
+def test_after_a_software_limit_stop_a_table_back_inward_runs():
+    """ERRSWN leaves the carriage just beyond SWLimitNeg; after MC_Reset a table back inward
+    runs, as MC_MoveAbsolute back inward does (the positions the table moves to are checked,
+    not the one the axis stands at), while one going further out is refused."""
+    machine, X = fresh_axis()
+    swlim = mcl.GT_SWLim(Axis=X, Execute=True, LimPos=150.0, LimNeg=-20.0)
+    swlim()
+    assert swlim.Done
+    vel = mcl.MC_MoveVelocity(Axis=X, Velocity=100.0, Direction=mcl.MC_Direction.MC_Negative)
+    machine.run(lambda: vel(Execute=True), until=lambda: vel.Error, timeout=3.0)
+    assert vel.ErrorID == mcl.ErrorID.ERRSWN
+    tick(machine, 100)
+    reset = mcl.MC_Reset(Axis=X)
+    machine.run(lambda: reset(Execute=True), until=lambda: reset.Done, timeout=1.0)
+    beyond = carriage_mm(machine)
+    assert beyond < -20.0 and X.state == mcl.AxisState.StandStill
+    _refused(mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(1.0, -5.0)])), 8)
+    fb = mcl.MC_PositionProfile(Axis=X, TimePosition=mcl.MC_TP_REF([(1.0, 50.0)]))
+    run_until(machine, lambda: fb(Execute=True), lambda: fb.Done or fb.Error)
+    assert fb.Done and X.AxErrorID == 0
+    tick(machine, 100)
+    assert carriage_mm(machine) == pytest.approx(beyond + 50.0, abs=0.05)
+
+
+def test_a_table_may_end_on_a_software_limit_not_a_count_beyond():
+    """Limits ±30 mm (encoder count 0.001 mm): absolute tables to +30 and to −30 run and the
+    carriage gets there; a table ending one count beyond either limit is refused (Ecil)."""
+    machine, X = fresh_axis(LimPos=30.0, LimNeg=-30.0)
+    for end in (30.0, -30.0):
+        beyond = end + math.copysign(X.config.resolution, end)
+        _refused(mcl.MC_PositionProfile(Axis=X, TimePosition=absolute(beyond)), 8)
+        _peak_speed(machine, mcl.MC_PositionProfile(Axis=X, TimePosition=absolute(end)))
+        assert X.AxErrorID == 0
+        tick(machine, 100)
+        assert carriage_mm(machine) == pytest.approx(end, abs=0.05)
+
+
+def absolute(position: float) -> mcl.MC_TP_REF:
+    """An absolute position table: to ``position`` [mm] in 1 s."""
+    return mcl.MC_TP_REF([(1.0, position)], IsAbsolute=True)
+
+
+def test_a_table_may_reach_max_velocity_appl_exactly():
+    """MaxVelocityAppl 80 mm/s: a velocity table up to exactly 80 and back runs (the carriage
+    peaks at 80), one up to 80.01 is refused (EParam)."""
+    machine, X = fresh_axis()
+    _write(X, 9, 80.0)
+    over = mcl.MC_TV_REF([(0.2, 80.01), (0.2, 0.0)])
+    _refused(mcl.MC_VelocityProfile(Axis=X, TimeVelocity=over), 5)
+    fine = mcl.MC_VelocityProfile(Axis=X, TimeVelocity=mcl.MC_TV_REF([(0.2, 80.0), (0.2, 0.0)]))
+    assert _peak_speed(machine, fine) == pytest.approx(80.0, rel=0.03)
+
+
+def test_a_table_beyond_the_maximum_only_at_its_end_is_refused():
+    """MaxVelocityAppl 80 mm/s: a velocity table to 60 then 90 mm/s passes 80 only in its last
+    phase; an acceleration table (0 → 400 → 800 mm/s² in 0.1 + 0.2 s) reaches 140 mm/s only at
+    its end, beyond MaxVelocityAppl 130. Both are refused (EParam) and the axis stands."""
+    machine, X = fresh_axis()
+    _write(X, 9, 80.0)
+    velocities = mcl.MC_TV_REF([(0.5, 60.0), (0.5, 90.0)])
+    _refused(mcl.MC_VelocityProfile(Axis=X, TimeVelocity=velocities), 5)
+    _write(X, 9, 130.0)
+    accelerations = mcl.MC_TA_REF([(0.1, 400.0), (0.2, 800.0)])
+    _refused(mcl.MC_AccelerationProfile(Axis=X, TimeAcceleration=accelerations), 5)
+    tick(machine, 50)
+    assert carriage_mm(machine) == pytest.approx(0.0, abs=0.05)
+
+
+def test_an_acceleration_table_within_max_velocity_appl_runs():
+    """0 → 400 → −400 → 0 mm/s² in 0.1 + 0.2 + 0.1 s: from rest, 40 mm/s at its peak, back to
+    rest 8 mm further on. Within MaxVelocityAppl 100 it runs and the carriage follows."""
+    machine, X = fresh_axis()
+    _write(X, 9, 100.0)
+    table = mcl.MC_TA_REF([(0.1, 400.0), (0.2, -400.0), (0.1, 0.0)])
+    fb = mcl.MC_AccelerationProfile(Axis=X, TimeAcceleration=table)
+    assert _peak_speed(machine, fb) == pytest.approx(40.0, rel=0.03)
+    tick(machine, 100)
+    assert carriage_mm(machine) == pytest.approx(8.0, abs=0.05)

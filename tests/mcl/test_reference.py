@@ -56,7 +56,9 @@ def test_every_exported_function_block_has_a_section(generated):
     exported = [
         getattr(mcl, name)
         for name in mcl.__all__
-        if isinstance(getattr(mcl, name), type) and issubclass(getattr(mcl, name), FunctionBlock)
+        if isinstance(getattr(mcl, name), type)
+        and issubclass(getattr(mcl, name), FunctionBlock)
+        and name != "MotionFB"  # the base class of the motion blocks, for typing a procedure
     ]
     assert len(exported) >= 30, "too few function blocks found in mcl.__all__"
     assert {cls.__name__ for cls in reference.function_blocks()} == {c.__name__ for c in exported}

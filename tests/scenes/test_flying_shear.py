@@ -16,7 +16,8 @@ from scenes.machines import flying_shear as fs
 from scenes.plant.mujoco import MujocoPlant
 from scenes.scene import Scene
 
-P = fs.PREFIX
+P = f"{fs.MACHINE.name}/"
+"""The prefix of the machine's names in the model of its scene."""
 
 
 def load(ideal: bool = False) -> Scene:

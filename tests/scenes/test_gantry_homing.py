@@ -19,6 +19,7 @@ import pytest
 import mcl
 from mcl import AxisState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from scenes.machines import gantry
+from scenes.machines.gantry.scenarios import homing_repeatability
 from scenes.scene import Scene
 from tests.helpers import scan
 
@@ -377,3 +378,11 @@ def test_after_the_torque_limit_error_reset_lets_the_axis_back_off_the_obstacle(
     scene, approach, _, _ = _blocked_search()
     assert approach.ErrorID == mcl.ErrorID.EDev
     _reset_and_move(scene, -10.0)
+
+
+def test_the_homing_scenario_finds_the_index_above_the_ref_edge():
+    """The sweep scenario ``homing_repeatability`` reads the REF edge and the lead from the
+    gantry's model: the homed origin lies on the first index above the edge (120 mm)."""
+    metrics = homing_repeatability(seed=1)
+    assert abs(metrics["origin_error_um"]) < 2.0
+    assert metrics["ref_off_mm"] == pytest.approx(110.0, abs=0.1)  # the edge, X_ref_edge

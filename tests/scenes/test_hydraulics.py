@@ -11,7 +11,7 @@ import pytest
 
 import mcl
 import scenes
-from scenes.machines.press import AXES, MASS, PREFIX, cylinder_data
+from scenes.machines.press import AXES, MASS, cylinder_data
 from scenes.machines.press.devices import CylinderDevice
 from scenes.machines.press.hydraulic_axis import HydraulicAxis, HydraulicPlant
 from scenes.machines.press.hydraulics import (
@@ -34,7 +34,7 @@ def press(workpiece: str = "none") -> tuple[scenes.Scene, CylinderDevice]:
     free), "spring" (as built) or "solid" (the hard block at the contact)."""
     scene = scenes.load("press", trace_every=0)
     model = scene.model
-    tendon = model.tendon(f"{PREFIX}workpiece").id
+    tendon = model.tendon(scene.model_name("workpiece")).id
     if workpiece == "none":
         model.tendon_lengthspring[tendon][0] = 0.0
         model.tendon_range[tendon][0] = 0.0
@@ -124,7 +124,7 @@ def test_ringing_after_a_valve_step_is_the_hydraulic_natural_frequency(q0):
         -v[cross, 2] / (v[cross + 1, 2] - v[cross, 2])
     )
     measured = 1.0 / (2.0 * float(np.mean(np.diff(t[:4]))))
-    _, cylinder, supply = cylinder_data(scene.model, PREFIX)
+    _, cylinder, supply = cylinder_data(scene.model, scene.namespace.prefix)
     formula = natural_frequency(cylinder, supply, q, MASS)
     print(f"R = {1000 * q:6.1f} mm: ringing {measured:6.1f} Hz, formula {formula:6.1f} Hz")
     assert measured == pytest.approx(formula, rel=0.10)
@@ -176,7 +176,7 @@ def test_at_0_V_the_ram_drifts_as_the_leakage_model_says():
 
 def valve_data() -> tuple[Valve, Cylinder, Supply]:
     scene = scenes.load("press", trace_every=0)
-    return cylinder_data(scene.model, PREFIX)
+    return cylinder_data(scene.model, scene.namespace.prefix)
 
 
 # ------------------------------------------------------------------------------ stability

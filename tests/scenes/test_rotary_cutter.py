@@ -17,20 +17,20 @@ import mcl
 import scenes
 from plc.procedures import HomeAxis
 from scenes.machines import rotary_cutter as rc
-from scenes.machines.flying_shear import MeasuringWheel
 from scenes.scene import Scene
 from tests.viewer.test_session import FakeClock, run
 from viewer.pages.app import ViewerApp
 from viewer.sim.session import Session
 
-P = rc.PREFIX
+P = f"{rc.MACHINE.name}/"
+"""The prefix of the machine's names in the model of its scene."""
 
 
 def load(ideal: bool = True, **options: object) -> Scene:
     """The rotary cutter; ``ideal``: a perfect measuring wheel and a drum without runout."""
     scene = scenes.load("rotary_cutter", trace_every=0, **options)
     if ideal:
-        scene.device("wheel", MeasuringWheel).ideal()
+        scene.device("wheel", rc.MeasuringWheel).ideal()
         drum(scene).ideal()
     return scene
 
@@ -111,7 +111,7 @@ def test_the_wheels_slip_lengthens_the_pieces_by_its_share() -> None:
     """The wheel is the master: at −0.3 % slip it reads short, the drum turns 0.3 % slower
     than the web and every piece comes out 250 mm / 0.997 (+0.75 mm)."""
     scene = load()
-    scene.device("wheel", MeasuringWheel).slip = -0.003
+    scene.device("wheel", rc.MeasuringWheel).slip = -0.003
     np.testing.assert_allclose(lengths(cut(scene, rc.CutterJob(cuts=4))), 250.0 / 0.997, atol=0.05)
 
 

@@ -11,8 +11,8 @@ import pytest
 
 import mcl
 import scenes
-from scenes.machines.flying_shear import MeasuringWheel
 from scenes.machines.rotary_cutter.cam_demo import Batch, CamDemo, CamJob
+from scenes.parts import MeasuringWheel
 
 
 def start(job: CamJob, slip: float | None = None, ideal: bool = False) -> CamDemo:

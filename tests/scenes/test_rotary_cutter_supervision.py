@@ -21,8 +21,8 @@ from mcl import AxisState, ErrorID
 from mcl import faults as flt
 from plc.procedures import HomeAxis
 from scenes.machines import rotary_cutter as rc
-from scenes.machines.flying_shear import MeasuringWheel
 from scenes.machines.rotary_cutter.cam_demo import Batch, CamDemo, CamJob
+from scenes.parts import MeasuringWheel
 from scenes.scene import Scene
 from tests.helpers import scan
 
@@ -64,7 +64,7 @@ class DrumLog:
 
     def __init__(self, scene: Scene) -> None:
         self.scene, self.axis = scene, scene.axes["D"]
-        self.joint = scene.joint(f"{rc.PREFIX}D")
+        self.joint = scene.joint("D")
         self.io = scene.io("D")
         self.drum = scene.device("drum", rc.KnifeDrum)
         self.samples: list[Sample] = []
@@ -135,7 +135,7 @@ class Line:
 
     def web_speed(self) -> float:
         """The web's speed from the physics [m/min]."""
-        return 60.0 * self.scene.joint(f"{rc.PREFIX}M").velocity
+        return 60.0 * self.scene.joint("M").velocity
 
     def until_error(self) -> float:
         """Run until the drum has an error; the time of it [s]."""

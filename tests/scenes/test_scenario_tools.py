@@ -5,7 +5,9 @@ from __future__ import annotations
 import pytest
 
 import mcl
+import mcl.extras
 import scenes
+import scenes.tools.plot  # loaded here: an in-process pytester run unloads what it loads
 from scenes.errors import UserError
 from scenes.tools.cli import main
 from scenes.tools.sweep import Sweep, from_toml
@@ -41,6 +43,24 @@ def test_a_failing_scenario_test_writes_the_plot_of_its_trace(pytester: pytest.P
     plots = sorted(p.name for p in (pytester.path / "plots").iterdir())
     assert plots == ["test_move.html", "test_move.png"]
     assert (pytester.path / "plots" / "test_move.png").stat().st_size > 10_000
+
+
+def test_without_the_plot_extra_a_failing_scenario_test_fails_alone(
+    pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
+):
+    """Its own assertion, no error from the plots it cannot draw."""
+    monkeypatch.setitem(mcl.extras.PACKAGES, "plot", ("matplotlib", "not_installed_plotter"))
+    pytester.makepyfile(
+        """
+        def test_move(scene):
+            scene("single_axis").run(timeout=0.01)
+            assert False, "wrong on purpose"
+        """
+    )
+    result = pytester.runpytest_inprocess("--scene-plots", "plots")
+    result.assert_outcomes(failed=1)  # and no error at teardown
+    result.stdout.fnmatch_lines(["*AssertionError: wrong on purpose*"])
+    assert not (pytester.path / "plots").exists()
 
 
 def test_run_until_says_why_a_condition_was_not_met():

@@ -230,6 +230,26 @@ def test_a_compile_error_points_into_the_users_file_not_the_combined_model(tmp_p
     ]
 
 
+def test_a_removed_amplifier_names_it_at_the_keyframe_that_no_longer_fits(tmp_path):
+    import re
+
+    text = MODEL.read_text()
+    text, removed = re.subn(r"\n *<general name=\"Y_amp\".*?/>", "", text, flags=re.S)
+    text = text.replace('<actuatorfrc name="Y_force" actuator="Y_amp"/>', "")
+    assert removed == 1 and "Y_amp" not in text
+    model = tmp_path / "my_gantry.xml"
+    model.write_text(text)
+    result = run_gantry(tmp_path, model)
+    line = line_of(model, '<key name="home"')
+    assert result.returncode == 2
+    assert result.stderr.splitlines() == [
+        f"{model}:{line}: <key name='home'>: act has 3 values, the model has 2 actuator "
+        "activations (one per actuator with dynamics, dyntype); expected the file to have "
+        "actuator 'Y_amp' (machine 'gantry' needs it as the amplifier of axis Y), or act with "
+        "2 values"
+    ]
+
+
 FLAKY = '''
 def flaky(seed, x: float = 0.0):
     """Fails above 1."""

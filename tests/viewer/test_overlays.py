@@ -269,7 +269,7 @@ def test_the_press_tool_force_on_the_part_is_drawn_as_the_load_cell_reads_it(
     forces = app.contacts
     assert forces is not None
     (row,) = forces.drawn_constraints
-    load = ContactForce(model, data, press.PREFIX)()
+    load = ContactForce(model, data, session.scene.namespace.prefix)()
     np.testing.assert_allclose(row[:3], data.site("press/punch_face").xpos, atol=1e-12)
     np.testing.assert_allclose(row[3:], [0.0, 0.0, -load], rtol=1e-9)
     assert forces.constraint_labels == [f"{load / 1e3:.1f} kN"]  # over the ram and the part

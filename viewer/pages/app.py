@@ -30,6 +30,8 @@ tunnel and upload requests are refused (:func:`~viewer.serving.security.harden`)
 
 from __future__ import annotations
 
+__all__ = ["ViewerApp", "demo_runs_html", "program_html"]
+
 import html
 import logging
 import math

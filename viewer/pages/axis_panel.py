@@ -4,6 +4,8 @@ first three driven axes."""
 
 from __future__ import annotations
 
+__all__ = ["JOG_KEYS", "STEPS", "STEP_KEYS", "TUNING", "AxisPanel", "add_hotkeys"]
+
 import dataclasses
 import math
 from collections.abc import Callable

@@ -6,6 +6,16 @@ is cammed (:attr:`viewer.sim.snapshot.Snapshot.cams`)."""
 
 from __future__ import annotations
 
+__all__ = [
+    "COLORS",
+    "POINT_COLORS",
+    "CamPanel",
+    "info_html",
+    "plot_data",
+    "plot_style",
+    "value_range",
+]
+
 import html
 import itertools
 import math
@@ -15,7 +25,7 @@ import numpy.typing as npt
 import viser
 import viser.uplot
 
-from scenes.tools.cam_profile import CamProfile
+import mcl
 from viewer.sim.cam_view import CamView
 from viewer.sim.snapshot import Snapshot
 
@@ -138,7 +148,7 @@ class CamPanel:
                 aspect=1.9,
             )
         self._shown = ""
-        self._profile: CamProfile | None = None
+        self._profile: mcl.CamProfile | None = None
         self._point: tuple[float, ...] = ()
         folder.visible = False
 

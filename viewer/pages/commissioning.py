@@ -7,6 +7,8 @@ the simulation thread."""
 
 from __future__ import annotations
 
+__all__ = ["JOG_SPEEDS", "Click", "CommissioningPanel", "step_html"]
+
 import html
 import math
 from collections.abc import Callable

@@ -12,6 +12,17 @@ page in control).
 
 from __future__ import annotations
 
+__all__ = [
+    "LAMP_ALIVE",
+    "LAMP_LATE",
+    "LAMP_LOST",
+    "ControlPages",
+    "PageControl",
+    "control_html",
+    "lifesign_html",
+    "request_html",
+]
+
 import html
 import threading
 import time

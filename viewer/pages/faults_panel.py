@@ -3,6 +3,8 @@ them again (for the page in control)."""
 
 from __future__ import annotations
 
+__all__ = ["FAULTS", "applies", "build_faults"]
+
 import viser
 
 import mcl.faults

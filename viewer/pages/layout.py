@@ -5,6 +5,8 @@ settings) is its own."""
 
 from __future__ import annotations
 
+__all__ = ["COLUMN_WIDTH", "Page", "Pages"]
+
 import threading
 from collections.abc import Callable
 

@@ -16,6 +16,22 @@ layout binds it to a button).
 
 from __future__ import annotations
 
+__all__ = [
+    "ERROR_LINES",
+    "FE_UNITS",
+    "FULL_SCALE_VOLTS",
+    "LAMPS",
+    "LAMP_KINDS",
+    "LAMP_WIDTH",
+    "NAME_WIDTH",
+    "NONE",
+    "VALUE_COLUMNS",
+    "Overview",
+    "fe_scale",
+    "overview_html",
+    "status_word",
+]
+
 import html
 import math
 

@@ -3,6 +3,24 @@ error history (every text from the simulation escaped)."""
 
 from __future__ import annotations
 
+__all__ = [
+    "EVENTS_SHOWN",
+    "NO_MODEL_NOTE",
+    "SPEEDS",
+    "SWITCH_LAMPS",
+    "VALUE_WIDTH",
+    "axis_panel_html",
+    "demo_html",
+    "events_html",
+    "lamp_dot",
+    "results_html",
+    "scope_status_html",
+    "signals_html",
+    "speed_label",
+    "status_html",
+    "utc",
+]
+
 import html
 import math
 import time

@@ -5,6 +5,8 @@ chooses from fixed lists, and the gate checks every value it sends."""
 
 from __future__ import annotations
 
+__all__ = ["BOOL_CHOICES", "FORCED_STYLE", "NONE", "NUMBER_LIMIT", "WatchPanel", "watch_html"]
+
 import html
 
 import viser

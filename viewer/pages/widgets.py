@@ -3,6 +3,8 @@ removed (with its rule) when the scene goes."""
 
 from __future__ import annotations
 
+__all__ = ["SceneGui", "gated_button"]
+
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any

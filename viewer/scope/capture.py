@@ -4,6 +4,23 @@ recordings it keeps (the last few, to overlay one on the live one)."""
 
 from __future__ import annotations
 
+__all__ = [
+    "AT_TIME",
+    "FREE_RUN",
+    "HISTORY_LENGTH",
+    "ON_ERROR",
+    "THRESHOLD",
+    "Acquisition",
+    "History",
+    "Recording",
+    "Trigger",
+    "Window",
+    "error_trigger",
+    "first_crossing",
+    "recording_of",
+    "threshold_trigger",
+]
+
 import math
 from collections import deque
 from collections.abc import Sequence

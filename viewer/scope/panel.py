@@ -5,6 +5,28 @@ last recordings to overlay on the live one; CSV export. Its settings belong to i
 
 from __future__ import annotations
 
+__all__ = [
+    "AUTO",
+    "COLORS",
+    "CURSOR_COLORS",
+    "CURSOR_LIMIT",
+    "EDGES",
+    "FREEZE",
+    "MANUAL",
+    "MAX_CHANNELS",
+    "NO_CHANNEL",
+    "NO_OVERLAY",
+    "RECORDING_LENGTHS",
+    "RUN",
+    "SINGLE",
+    "SLOTS",
+    "TRIGGERS",
+    "VALUE_LIMIT",
+    "PageScope",
+    "plot_rows",
+    "plot_style",
+]
+
 import math
 import threading
 from collections.abc import Callable, Sequence

@@ -3,6 +3,16 @@ an overlay aligned on it, the plot's points (decimated, peaks kept) and the CSV 
 
 from __future__ import annotations
 
+__all__ = [
+    "MAX_POINTS",
+    "Readout",
+    "aligned",
+    "decimate",
+    "readout",
+    "readout_html",
+    "recording_csv",
+]
+
 import csv
 import html
 import io

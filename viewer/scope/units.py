@@ -3,6 +3,17 @@ kN, pressures in bar), and a y range per channel that never zooms onto a single 
 
 from __future__ import annotations
 
+__all__ = [
+    "DEFAULT_MIN_SPAN",
+    "DIGITAL_RANGE",
+    "FOLLOWING_ERROR_UNITS",
+    "UNIT_TABLE",
+    "Display",
+    "auto_range",
+    "display_of",
+    "settled_range",
+]
+
 import math
 from collections.abc import Callable
 from dataclasses import dataclass

@@ -4,6 +4,19 @@ the jogs the page in control holds (buttons and keys), and the notes the pages g
 
 from __future__ import annotations
 
+__all__ = [
+    "HOLD_TIMEOUT",
+    "JOG_HOLD_HZ",
+    "KEY_JOG_FIRST",
+    "KEY_JOG_REPEAT",
+    "REQUEST_TIMEOUT",
+    "Asked",
+    "Control",
+    "Hold",
+    "Operators",
+    "Request",
+]
+
 import enum
 import math
 import threading

@@ -11,6 +11,15 @@ handshake).
 
 from __future__ import annotations
 
+__all__ = [
+    "CLOSE_TIMEOUT",
+    "LIFESIGN_INTERVAL",
+    "LIFESIGN_TIMEOUT",
+    "Lifesign",
+    "LifesignConnection",
+    "lifesign",
+]
+
 import time
 from dataclasses import dataclass
 from typing import Any

@@ -46,6 +46,32 @@ version raises instead of serving unprotected.
 
 from __future__ import annotations
 
+__all__ = [
+    "LOG_BURST",
+    "LOG_WINDOW",
+    "LOOPBACK_NAMES",
+    "MAX_MESSAGE",
+    "MAX_PATH",
+    "REFUSED_MESSAGES",
+    "VISER_VERSION",
+    "AccessPolicy",
+    "BoundedLog",
+    "GuiGate",
+    "Refusal",
+    "Rule",
+    "boolean",
+    "button_value",
+    "choice_of",
+    "harden",
+    "is_loopback",
+    "is_wildcard",
+    "make_token",
+    "network_addresses",
+    "number_in",
+    "public_hosts",
+    "secure_server",
+]
+
 import asyncio
 import contextlib
 import hmac

@@ -7,6 +7,8 @@ until :meth:`Viewer.close`.
 
 from __future__ import annotations
 
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "PortInUseError", "Viewer", "port_available"]
+
 import errno
 import socket
 from collections.abc import Iterable

@@ -8,6 +8,8 @@ it could not run again.
 
 from __future__ import annotations
 
+__all__ = ["REPEAT_PAUSE", "DemoRun", "Results"]
+
 import logging
 from collections.abc import Callable
 

@@ -12,6 +12,8 @@ all always works.
 
 from __future__ import annotations
 
+__all__ = ["START_TIMEOUT", "ExternalPlc", "PlcInControl", "Transport"]
+
 import asyncio
 import threading
 from collections.abc import Sequence
@@ -20,8 +22,8 @@ from typing import TYPE_CHECKING, Literal
 
 import scenes
 from scenes.bridge.modbus import Server, device
-from scenes.bridge.pacing import CHUNK, Run
 from scenes.bridge.program import BridgeProgram
+from scenes.bridge.runs import CHUNK, Run
 from scenes.bridge.serving import check_host
 from scenes.bridge.table import SignalTable, tables_of
 from scenes.definition import MachineDef

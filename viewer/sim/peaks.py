@@ -3,6 +3,8 @@ reset, sampled by the simulation thread every PLC scan (not from the snapshots a
 
 from __future__ import annotations
 
+__all__ = ["PeakHold"]
+
 from collections.abc import Mapping
 
 import mcl

@@ -10,6 +10,8 @@ nor upload one.
 
 from __future__ import annotations
 
+__all__ = ["EXAMPLES", "PYTHON_DEMO", "ProgramCatalog", "ProgramChoice", "ProgramSelection"]
+
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path

@@ -3,6 +3,8 @@ published signals) sampled on one time base into a ring buffer."""
 
 from __future__ import annotations
 
+__all__ = ["Recorder", "Ring"]
+
 import functools
 import math
 import threading

@@ -1,20 +1,29 @@
 """A live simulation for the viewer: a scene run in its own thread, paced to the wall clock.
 
-The scene itself runs in lockstep on simulated time (``Scene.run``); this module is the only place
-that looks at the wall clock. The simulation thread runs PLC cycles whenever simulated time lags
-``speed`` × elapsed wall time, and sleeps otherwise; at ``speed = math.inf`` it runs as fast as the
-CPU allows. Each PLC cycle calls the scene's demo program (while it runs) and then the
-:class:`~plc.operator.hmi.OperatorProgram`, which turns the operator's request flags into function
-block calls. Nothing else touches the simulation: the GUI only sets request flags and reads
-:class:`Snapshot` objects, immutable copies of what it shows, which the simulation thread publishes
-up to ``snapshot_hz`` times per wall second. A viewer therefore never blocks the simulation and
-cannot perturb it.
+The scene itself runs in lockstep on simulated time (``Scene.run``); the simulation thread keeps
+it at ``speed`` × elapsed wall time with the testbench's pacing loop (:mod:`scenes.pacing`): it
+runs PLC cycles whenever simulated time lags, and sleeps otherwise; at ``speed = math.inf`` it
+runs as fast as the CPU allows. Each PLC cycle calls the scene's demo program (while it runs) and
+then the operator program (:mod:`plc.operator`), whose panels (:class:`~plc.operator.hmi.Panel`)
+turn the operator's request flags into function block calls. Nothing else touches the
+simulation: the GUI only sets request flags and reads :class:`Snapshot` objects, immutable copies
+of what it shows, which the simulation thread publishes up to ``snapshot_hz`` times per wall
+second. A viewer therefore never blocks the simulation and cannot perturb it.
 
 Commands (pause, step, speed, reset, scene, demo, save and restore state) are queued and applied
 by the simulation thread between two PLC cycles, so they never race with a running cycle.
 """
 
 from __future__ import annotations
+
+__all__ = [
+    "EVENTS_KEPT",
+    "HISTORY_SAMPLE",
+    "SCOPE_SECONDS",
+    "DemoFactory",
+    "Session",
+    "choices",
+]
 
 import logging
 import math
@@ -30,9 +39,12 @@ import mcl
 import mcl.faults
 import scenes
 from plc.commissioning.step_test import StepListener
-from plc.operator.hmi import AxisRequests, Clock, OperatorProgram
+from plc.operator.axis import Clock
+from plc.operator.hmi import AxisRequests, Panel, panel_program
+from plc.operator.program import OperatorProgram
 from plc.st.runtime.watch import WatchedProgram, WatchRow
 from scenes import DemoProgram, MachineDef
+from scenes.pacing import Pacing, check_speed
 from scenes.scene import Scene
 from viewer.sim.cam_view import ProfileCache, cam_views
 from viewer.sim.demo_run import DemoRun
@@ -54,14 +66,6 @@ log = logging.getLogger(__name__)
 
 DemoFactory = Callable[[Scene], DemoProgram]
 """Makes the demo program of a loaded scene (``scenes.demo`` by default)."""
-
-MAX_LAG = 0.25
-"""Wall time [s] the simulation may fall behind before pacing gives up catching up (the
-real-time factor then drops below the speed instead of the simulation bursting)."""
-
-MAX_BATCH_WALL = 0.01
-"""Wall time [s] after which the simulation thread interrupts a run of PLC cycles to apply
-commands and publish a snapshot."""
 
 HISTORY_SAMPLE = 0.002
 """Sampling period [s] of simulated time of the scope channels (rounded to whole PLC cycles)."""
@@ -121,7 +125,7 @@ class Session:
         self._demo_factory = demo
         self._overrides = {"trace_every": 0, **(overrides or {})}
         self._snapshot_period = 1.0 / snapshot_hz
-        self._speed = _check_speed(speed)
+        self._pacing = Pacing(speed, clock)
         self._paused = paused
         self._steps = 0
         self._commands: queue.SimpleQueue[Callable[[], None]] = queue.SimpleQueue()
@@ -131,7 +135,6 @@ class Session:
         self._generation = 0
         self._fault = ""
         self._rate: deque[tuple[float, float]] = deque()
-        self._rebase = True
         self._last_publish = -math.inf
 
         self._scene_name = scene
@@ -153,14 +156,14 @@ class Session:
 
     # ------------------------------------------------------------------------------ building
 
-    def _build(self, name: str) -> tuple[Scene, OperatorProgram]:
+    def _build(self, name: str) -> tuple[Scene, OperatorProgram[Panel]]:
         """Load a scene and make its operator program (in the calling thread)."""
         scene = scenes.load(name, **self._overrides)
         return scene, self._operator_for(name, scene)
 
-    def _operator_for(self, name: str, scene: Scene) -> OperatorProgram:
+    def _operator_for(self, name: str, scene: Scene) -> OperatorProgram[Panel]:
         """A fresh operator program on the axes of ``scene`` (of the machine ``name``)."""
-        return OperatorProgram(
+        return panel_program(
             scene.axes,
             scenes.definition(name).homing,
             self._clock,
@@ -175,7 +178,7 @@ class Session:
         if listener is not None:
             listener(client_id, axis, start, length)
 
-    def _install(self, name: str, scene: Scene, operator: OperatorProgram) -> None:
+    def _install(self, name: str, scene: Scene, operator: OperatorProgram[Panel]) -> None:
         """Make a freshly built scene the running one (simulation thread or not yet running)."""
         definition = scenes.definition(name)
         self._scene_name = name
@@ -200,8 +203,7 @@ class Session:
         self._profiles = ProfileCache()
         self._generation += 1
         self._fault = ""
-        self._rebase = True
-        self._rate.clear()
+        self._restart_pacing()
         self._publish(force=True)
 
     # ------------------------------------------------------------------------------ queries
@@ -222,7 +224,7 @@ class Session:
         return self._definition
 
     @property
-    def operator(self) -> OperatorProgram:
+    def operator(self) -> OperatorProgram[Panel]:
         """The operator program of the current scene."""
         return self._operator
 
@@ -234,15 +236,15 @@ class Session:
     @property
     def speed(self) -> float:
         """Simulated seconds per wall second (``math.inf``: as fast as possible)."""
-        return self._speed
+        return self._pacing.speed
 
     @speed.setter
     def speed(self, speed: float) -> None:
-        checked = _check_speed(speed)
+        checked = check_speed(speed)
 
         def apply() -> None:
-            self._speed = checked
-            self._rebase = True
+            self._pacing.restart(checked)
+            self._rate.clear()
 
         self._post(apply)
 
@@ -305,7 +307,7 @@ class Session:
             KeyError: If the scene has no such axis; the message names its axes.
         """
         try:
-            return self._operator.requests[axis]
+            return self._operator.front_ends[axis].requests
         except KeyError:
             raise KeyError(
                 f"scene {self._scene_name!r} has no axis {axis!r}; axes: {list(self._scene.axes)}"
@@ -351,7 +353,7 @@ class Session:
         def apply() -> None:
             self._paused = False
             self._steps = 0
-            self._rebase = True
+            self._restart_pacing()
 
         self._post(apply)
 
@@ -465,7 +467,8 @@ class Session:
         """Make a fresh demo program and run it (simulation thread)."""
         factory = self.programs.factory(self._demo_factory)
         if self._demo.begin(factory, self._scene, self._scene_name):
-            self._operator.release_power()
+            for panel in self._operator.front_ends.values():
+                panel.release_power()
 
     def end_demo(self) -> None:
         """Stop calling the demo program and take its axes groups apart, so that every axis
@@ -487,7 +490,9 @@ class Session:
 
         def apply() -> None:
             self._demo.program = None
-            self._operator.stop_all()
+            for panel in self._operator.front_ends.values():
+                panel.stop_all()
+            self._operator.release_groups()
 
         self.record_event("viewer", "STOP all axes")
         self._post(apply)
@@ -611,7 +616,7 @@ class Session:
         if self.running:
             return
         self._stopping.clear()
-        self._rebase = True
+        self._restart_pacing()
         self._thread = threading.Thread(target=self._loop, name="viewer-simulation", daemon=True)
         self._thread.start()
 
@@ -636,49 +641,33 @@ class Session:
         self.close()
 
     def _loop(self) -> None:
-        """The simulation thread: apply commands, run due PLC cycles, publish, sleep."""
-        clock = self._clock
-        anchor_wall = anchor_sim = 0.0
-        while not self._stopping.is_set():
-            if self._drain():
-                self._publish(force=True)
-            scene = self._scene
-            plc = scene.runtime.plc_period
-            if self._rebase:
-                anchor_wall, anchor_sim = clock(), scene.time
-                self._rate.clear()
-                self._rebase = False
-            if self._paused:
-                if self._steps:
-                    self._run_steps()
-                    continue
-                self._idle(0.05)
-                continue
-            speed = self._speed
-            if math.isinf(speed):
-                start = clock()
-                while clock() - start < MAX_BATCH_WALL and not self._paused:
-                    self._run_cycles(8)
-                self._publish()
-                time.sleep(0)  # let the GUI threads have the interpreter
-                continue
-            now = clock()
-            behind = anchor_sim + speed * (now - anchor_wall) - scene.time
-            if behind > speed * MAX_LAG:  # cannot keep up: drop the backlog, do not burst
-                anchor_wall, anchor_sim = now, scene.time
-                behind = 0.0
-            due = int(behind / plc + 1e-9)
-            if due >= 1:
-                batch = max(1, min(due, int(speed * MAX_BATCH_WALL / plc) + 1))
-                self._run_cycles(batch)
-                self._publish()
-                continue
-            self._publish()
-            self._idle(min(max((plc - behind) / speed, 0.0005), 0.05))
+        """The simulation thread: the pacing loop (:mod:`scenes.pacing`) until :meth:`close`."""
+        self._pacing.run(_Paced(self), self._stopping)
+
+    def _held(self) -> bool:
+        """Before each look at the clock: apply the queued commands; while paused, run the
+        single steps asked for or wait. Whether nothing is to run now."""
+        if self._drain():
+            self._publish(force=True)
+        if not self._paused:
+            return False
+        if self._steps:
+            self._run_steps()
+        else:
+            self._idle(0.05)
+        return True
+
+    def _restart_pacing(self) -> None:
+        """Pace from now on (a new scene, resumed, started): no backlog, a fresh rate."""
+        self._pacing.restart()
+        self._rate.clear()
 
     def _idle(self, seconds: float) -> None:
-        """Sleep up to ``seconds`` [s] of wall time, or until a command arrives."""
-        if self._wake.wait(seconds):
+        """Sleep up to ``seconds`` [s] of wall time, or until a command arrives (0: just let
+        the GUI threads have the interpreter)."""
+        if seconds <= 0.0:
+            time.sleep(0)
+        elif self._wake.wait(seconds):
             self._wake.clear()
 
     # ------------------------------------------------------------------------------ snapshots
@@ -701,10 +690,10 @@ class Session:
         demo.sample()
         program = demo.program
         self._watch = program.rows() if isinstance(program, WatchedProgram) else ()
-        operators, info = self._operator.axes, self._axis_info
+        panels, info = self._operator.front_ends, self._axis_info
         peak = self._peaks.peak
         views = {
-            name: axis_view(scene, name, operators[name], info[name], peak(name))
+            name: axis_view(scene, name, panels[name], info[name], peak(name))
             for name in scene.axes
         }
         model, data = self._model, self._data
@@ -721,7 +710,7 @@ class Session:
             axes=MappingProxyType(views),
             signals=tuple(self._signal_view(name) for name in scene.signals),
             paused=self._paused,
-            speed=self._speed,
+            speed=self._pacing.speed,
             realtime_factor=0.0 if self._paused else factor,
             demo=demo.view(self.demo_available()),
             fault=self._fault,
@@ -745,9 +734,25 @@ class Session:
         return SignalView(name=name, value=value, unit=signal.unit, label=label)
 
 
-def _check_speed(speed: float) -> float:
-    """Validate a speed factor (> 0, ``inf`` allowed)."""
-    speed = float(speed)
-    if not speed > 0.0:
-        raise ValueError(f"speed must be > 0 (math.inf: as fast as possible), got {speed}")
-    return speed
+class _Paced:
+    """The session as its pacing loop sees it (:class:`scenes.pacing.Paced`; the simulation
+    thread)."""
+
+    def __init__(self, session: Session) -> None:
+        self.session = session
+
+    def simulated(self) -> tuple[float, float]:
+        scene = self.session.scene
+        return scene.time, scene.runtime.plc_period
+
+    def held(self) -> bool:
+        return self.session._held()
+
+    def run_cycles(self, cycles: int) -> None:
+        self.session._run_cycles(cycles)
+
+    def ran(self) -> None:
+        self.session._publish()
+
+    def idle(self, seconds: float) -> None:
+        self.session._idle(seconds)

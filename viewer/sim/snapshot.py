@@ -3,6 +3,23 @@ physics), and how the simulation thread copies them from a scene between two PLC
 
 from __future__ import annotations
 
+__all__ = [
+    "RESULTS_SHOWN",
+    "AxisInfo",
+    "AxisView",
+    "Channel",
+    "DemoView",
+    "Event",
+    "SignalView",
+    "Snapshot",
+    "axis_info",
+    "axis_view",
+    "copy_array",
+    "mujoco_of",
+    "results_of",
+    "sw_limits_reached",
+]
+
 import logging
 import math
 from collections.abc import Mapping
@@ -14,7 +31,7 @@ import numpy.typing as npt
 
 import mcl
 from plc.commissioning.axis import CommissioningView
-from plc.operator.hmi import AxisOperator
+from plc.operator.hmi import Panel
 from scenes import DemoProgram, MachineDef
 from scenes.plant.mujoco import MujocoAxisIO
 from scenes.scene import Scene
@@ -274,19 +291,18 @@ class AxisInfo:
     homeable: bool
 
 
-def axis_view(
-    scene: Scene, name: str, op: AxisOperator, info: AxisInfo, peak: float = 0.0
-) -> AxisView:
+def axis_view(scene: Scene, name: str, panel: Panel, info: AxisInfo, peak: float = 0.0) -> AxisView:
     """What the panel of the axis ``name`` of ``scene`` shows now.
 
     Args:
         scene: The scene.
         name: The axis' name in the scene.
-        op: Its operator (request flags, last command's outcome).
+        panel: Its operator panel (request flags; its operator: the last command's outcome).
         info: What the machine definition says about it.
         peak: Its peak |following error| since the last reset [u].
     """
     axis = scene.axes[name]
+    op = panel.operator
     io = axis.io
     drive = axis.has_drive
     powered = axis.state != mcl.AxisState.Disabled
@@ -304,8 +320,8 @@ def axis_view(
         volts=axis.volts,
         joint_position=scene.joint_position(name),
         vmax=axis.constants.Vmax if axis.constants is not None else math.nan,
-        state=op.status.StatStr,
-        error=op.error_text.ErrStr,
+        state=panel.status.StatStr,
+        error=panel.error_text.ErrStr,
         error_id=axis.AxErrorID,
         referenced=axis.Ref,
         powered=powered,
@@ -315,7 +331,7 @@ def axis_view(
         index=bool(io.index),
         inputs=tuple(bool(i) for i in io.inputs),
         outputs=tuple(bool(o) for o in io.outputs),
-        power_request=op.power_request,
+        power_request=panel.power_request,
         jogging=op.jogging,
         homing=op.homing,
         stopping=op.stopping,
@@ -335,7 +351,7 @@ def axis_view(
         in_position_window=axis.config.in_position,
         sw_limit_pos=limit_pos,
         sw_limit_neg=limit_neg,
-        commissioning=op.commissioning_view,
+        commissioning=panel.commissioning_view,
     )
 
 

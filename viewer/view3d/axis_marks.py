@@ -18,6 +18,25 @@ the error number; viser 1.1.1 draws labels in one colour, so the text carries th
 
 from __future__ import annotations
 
+__all__ = [
+    "ARC_SEGMENTS",
+    "ARC_TURN",
+    "ARROW_SHARE",
+    "HINGE",
+    "MARK_COLOR",
+    "MARK_ERROR_COLOR",
+    "MAX_ARROW",
+    "MIN_ARROW",
+    "SLIDE",
+    "AxisJoint",
+    "AxisMarks",
+    "axis_joints",
+    "label_text",
+    "mark_length",
+    "quat_z_to",
+    "rotate",
+]
+
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 

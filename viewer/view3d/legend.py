@@ -10,6 +10,22 @@ models/README.md (``<axis>_<kind>_geom``, ``<axis>_<kind>_cam_geom``, ``<axis>_s
 
 from __future__ import annotations
 
+__all__ = [
+    "ERROR_TINT",
+    "LAMP_LIMIT",
+    "LAMP_REF",
+    "MARKINGS",
+    "SWITCHES",
+    "LegendRow",
+    "Rgb",
+    "body_row",
+    "body_rows",
+    "legend_html",
+    "legend_rows",
+    "marking_rows",
+    "overlay_rows",
+]
+
 import html
 from collections.abc import Mapping
 from dataclasses import dataclass

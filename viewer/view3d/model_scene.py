@@ -30,6 +30,19 @@ Every geom shows its *base* colour (the model's, or a tint of its body:
 
 from __future__ import annotations
 
+__all__ = [
+    "DEFAULT_MAX_GROUP",
+    "GRID_LIFT",
+    "PLANE_DEFAULT_HALF_SIZE",
+    "PLANE_THICKNESS",
+    "TINT_SHARE",
+    "GeomHandle",
+    "ModelScene",
+    "Rgb",
+    "capsule_mesh",
+    "geom_rgba",
+]
+
 from collections.abc import Callable, Collection, Mapping, Sequence
 from types import MappingProxyType
 from typing import Any, TypeAlias

@@ -19,6 +19,32 @@ simulation thread takes both out of the live ``MjData`` for each snapshot.
 
 from __future__ import annotations
 
+__all__ = [
+    "CONSTRAINT_COLOR",
+    "CONTACT_COLOR",
+    "CONTACT_FIELDS",
+    "CONTACT_POINT_SIZE",
+    "DEFAULT_FORCE_SCALE",
+    "FORCE_SCALES",
+    "GHOST_COLOR",
+    "GHOST_OPACITY",
+    "LIMIT_JOINT",
+    "LIMIT_TENDON",
+    "MAX_CONSTRAINT_FORCES",
+    "MAX_CONTACTS",
+    "SLIDE",
+    "ContactOverlay",
+    "ForceMarks",
+    "GhostAxis",
+    "SetPointGhost",
+    "constraint_forces",
+    "contact_forces",
+    "force_text",
+    "ghost_axes",
+    "moved_bodies",
+    "tendon_spring_forces",
+]
+
 from collections.abc import Sequence
 from dataclasses import dataclass
 

@@ -4,6 +4,17 @@ in error tinted red, the legend; a click on a part names it on that page); for e
 
 from __future__ import annotations
 
+__all__ = [
+    "FOLLOW_OFF",
+    "FOLLOW_STEP",
+    "FRAME_OUTLIER",
+    "OFF",
+    "ON",
+    "SWITCH_CHOICES",
+    "VIEWS",
+    "Views",
+]
+
 from collections.abc import Callable, Sequence
 from typing import Any
 

@@ -8,6 +8,8 @@ operation rounds its result to 32 bits, so REAL arithmetic is IEEE single precis
 
 from __future__ import annotations
 
+__all__ = ["arithmetic", "coerce", "result_type"]
+
 from typing import TYPE_CHECKING, Any
 
 from plc.st.runtime import functions as F  # noqa: N812
@@ -35,12 +37,18 @@ def _fold(op: str, a: Any, b: Any, integral: bool) -> Any:
 
 def result_type(x: Expressions, node: Any, op: str, a: E, b: E) -> Elementary:
     """The type of ``a op b``, or a type error."""
-    ta, tb = a.type, b.type
+    ta, tb = T.plain(a.type), T.plain(b.type)
     if not (isinstance(ta, Elementary) and isinstance(tb, Elementary)):
         raise x.error(node, f"{ta.name} {op} {tb.name}", "numbers")
     if op == "**":
         if ta.numeric and tb.numeric:
             return T.REAL if ta is T.REAL else T.LREAL
+    elif {ta.kind, tb.kind} & {"date", "tod", "dt"}:
+        from plc.st.codegen.dates import result_type as date_result
+
+        found = date_result(op, ta, tb)
+        if found is not None:
+            return found
     elif ta.kind == "time" or tb.kind == "time":
         if ta.kind == tb.kind == "time" and op in "+-":
             return ta if ta is not T.TIME else tb
@@ -64,13 +72,15 @@ def arithmetic(x: Expressions, node: Any, op: str, a: E, b: E) -> E:
     from plc.st.codegen.expressions import E, const
 
     t = result_type(x, node, op, a, b)
-    integral = t.integral or t.kind == "time"
+    integral = t.integral or t.kind in ("time", "date", "tod", "dt")
     if a.const and b.const:
         try:
             value = _fold(op, a.value, b.value, integral and op != "**")
         except F.STFault as fault:
             raise x.error(node, str(fault), "a divisor other than 0") from None
-        if t.kind == "time":
+        if t is T.TOD:
+            value %= F.DAY
+        elif not t.integral and integral:
             value = int(value)
         elif integral:
             value = T.wrap_value(value, t)
@@ -91,6 +101,8 @@ def arithmetic(x: Expressions, node: Any, op: str, a: E, b: E) -> E:
         code = f"({ca} {op} {cb})"
         if t.kind == "time" and "real" in (a.type.kind, b.type.kind):
             code = f"_f.to_int{code}"
+        elif t is T.TOD:
+            code = f"({code} % {F.DAY})"
     if t is T.REAL:
         code = f"_f.f32({code})"
     elif t.integral and t.bits >= 32 and op in "+-*":
@@ -105,6 +117,8 @@ def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
     src = e.type
     if src == to and isinstance(to, Elementary) and to.kind != "string" and not e.wide:
         return e.code
+    if isinstance(to, T.Subrange):
+        return _within(x, e, to, coerce(x, e, to.parent, node), node)
     if isinstance(to, Elementary) and isinstance(src, Elementary):
         code = _elementary(x, e, src, to, node)
         if code is not None:
@@ -116,6 +130,9 @@ def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
             return f"_f.clone({e.code})"
     elif isinstance(to, T.EnumType) and isinstance(src, T.EnumType) and to.name == src.name:
         return e.code
+    elif isinstance(to, T.ReferenceType) and isinstance(src, T.ReferenceType):
+        if src is T.NULL or _same_target(to, src):
+            return e.code
     elif to is T.ANY_STRUCT and src.kind == "struct":
         return e.code  # a profile table: the block reads it on its rising edge
     elif to.kind == "struct" and src.name == to.name:
@@ -142,7 +159,7 @@ def _elementary(x: Expressions, e: E, src: Elementary, to: Elementary, node: Any
         if to is T.REAL and src is not T.REAL:
             return f"_f.f32({e.code})"
         return e.code if src.kind == "real" else f"float({e.code})"
-    if to.kind == src.kind == "time":
+    if to.kind == src.kind and to.kind in ("time", "date", "tod", "dt"):
         return e.code
     if to.kind == src.kind == "bool":
         return e.code
@@ -153,6 +170,27 @@ def _elementary(x: Expressions, e: E, src: Elementary, to: Elementary, node: Any
     if to.kind == "time" and src.integral and e.const:
         return repr(e.value)
     return None
+
+
+def _within(x: Expressions, e: E, to: T.Subrange, code: str, node: Any) -> str:
+    """``code`` (``e`` as the subrange's integer type) checked against the subrange: a
+    constant outside is an error, a value at run time a fault (IEC 61131-3 2.3.3.1)."""
+    if e.const:
+        if not to.low <= T.wrap_value(int(e.value), to.parent) <= to.high:
+            raise x.error(node, f"{e.value} outside {to.name}", f"{to.low}..{to.high}")
+        return code
+    src = e.type
+    if isinstance(src, T.Subrange) and to.low <= src.low and src.high <= to.high and not e.wide:
+        return code
+    return f"_f.within({code}, {to.low}, {to.high})"
+
+
+def _same_target(a: T.ReferenceType, b: T.ReferenceType) -> bool:
+    """Two REF_TO types refer to the same type (arrays: the same bounds and elements)."""
+    ta, tb = a.target, b.target
+    if isinstance(ta, T.ArrayType) and isinstance(tb, T.ArrayType):
+        return _shape(ta) == _shape(tb)
+    return ta == tb
 
 
 def _shape(t: T.ArrayType) -> tuple[Any, ...]:

@@ -4,6 +4,8 @@ outputs are copied after the call, ``instance.Output`` reads the same member).""
 
 from __future__ import annotations
 
+__all__ = ["Calls"]
+
 import re
 from typing import TYPE_CHECKING, Any
 
@@ -55,7 +57,7 @@ _PARAMS = {
 _VARIADIC = ("MIN", "MAX", "CONCAT", "MUX")
 """The standard functions of any number of inputs."""
 
-_CONVERSION = re.compile(r"^(?:([A-Z]+)_)?TO_([A-Z]+)$")
+_CONVERSION = re.compile(r"^(?:([A-Z_]+?)_)?TO_([A-Z_]+)$")
 
 
 class Calls:
@@ -63,6 +65,8 @@ class Calls:
 
     def __init__(self, x: Expressions) -> None:
         self.x = x
+        self.temps = 0
+        """Temporaries taken for calls with outputs (``_c1``, ...)."""
 
     # ------------------------------------------------------------------ functions
     def arguments(self, node: tf.FunctionCall, names: tuple[str, ...] = ()) -> list[E]:
@@ -81,7 +85,7 @@ class Calls:
             while len(args) <= position:
                 args.append(None)
             args[position] = self.x.expr(p.value)
-        if any(a is None for a in args):
+        if any(a is None for a in args) or len(args) < len(names):
             raise self.x.error(node, "a parameter is missing", ", ".join(names))
         return args
 
@@ -109,9 +113,22 @@ class Calls:
             from plc.st.codegen.standard import standard
 
             return standard(self.x, node, upper, self.arguments(node, _PARAMS[upper]))
+        if upper == "REF":
+            from plc.st.codegen.access import reference
+
+            (param,) = self._count(node, list(node.parameters or []), 1)
+            value = param.value
+            target = self.x.variable(value) if _is_variable(value) else self.x.expr(value)
+            return reference(self.x, target, value)
+        from plc.st.codegen import operators
+
+        found = operators.operator_call(self.x, node, upper)
+        if found is not None:
+            return found
         if self.x.unit.block_named(name) is not None or self.x.scope.get(name) is not None:
             raise self.x.error(node, f"{name} is a function block", "a call as a statement")
-        known = [*self.x.unit.functions, *_MATH, *_PARAMS, *_VARIADIC, "SIM_TIME"]
+        known = [*self.x.unit.functions, *_MATH, *_PARAMS, *_VARIADIC, "SIM_TIME", "REF"]
+        known += operators.names()
         close = nearest(name, known)
         hint = f" (did you mean {', '.join(close)}?)" if close else ""
         raise self.x.error(node, f"unknown function {name!r}{hint}", "a declared function")
@@ -122,26 +139,63 @@ class Calls:
         return args
 
     def user_function(self, node: tf.FunctionCall, f: Any) -> E:
-        """A call of the file's FUNCTION: every input in order, a missing one its default."""
-        names = tuple(n.upper() for n, _, _ in f.inputs)
-        given: dict[int, E] = {}
-        for i, p in enumerate(node.parameters or []):
-            if isinstance(p, tf.OutputParameterAssignment):
-                raise self.x.error(p, "an output (=>) in a function call", "inputs only")
-            key = str(p.name.name).upper() if p.name is not None else None
-            if key is not None and key not in names:
-                raise self.x.error(p, f"{f.name} has no input {key!r}", ", ".join(names))
-            position = names.index(key) if key is not None else i
-            if position >= len(names):
-                raise self.x.error(p, f"too many arguments to {f.name}", f"{len(names)}")
-            given[position] = self.x.expr(p.value)
-        codes = [
-            self.x.convert(given[i], t, node) if i in given else default
-            for i, (_, t, default) in enumerate(f.inputs)
-        ]
+        """A call of the file's FUNCTION: its inputs (a missing one its default), its in-outs
+        (variables: copied in, and back after the call), its outputs (``o => v``: copied after
+        the call); a call without names lists them in declaration order."""
+        from plc.st.codegen.access import store_expression
         from plc.st.codegen.expressions import E
 
-        return E(f"{f.python}({', '.join(codes)})", f.result)
+        given = self._parameters(node, f)
+        codes = []
+        for n, t, default in f.inputs:
+            p = given.get(n.upper())
+            value = None if p is None else self.x.expr_as(p.value, t)
+            codes.append(default if value is None else self.x.convert(value, t, p))
+        targets: list[tuple[int, E, Any]] = []
+        for k, (n, t) in enumerate([*f.in_outs, *f.outputs], start=1):
+            p = given.get(n.upper())
+            if p is None and k <= len(f.in_outs):
+                raise self.x.error(node, f"{f.name}'s VAR_IN_OUT {n} is not given", f"{n} := x")
+            if p is None or p.value is None:
+                continue
+            target = self.x.variable(p.value) if _is_variable(p.value) else None
+            if target is None or target.const:
+                raise self.x.error(p, f"{p.value} cannot take {f.name}'s {n}", "a variable")
+            if k <= len(f.in_outs):
+                codes.append(self.x.convert(target, t, p))
+            targets.append((k, target, p))
+        call = f"{f.python}({', '.join(codes)})"
+        if not (f.in_outs or f.outputs):
+            return E(call, f.result)
+        self.temps += 1
+        temp = f"_c{self.temps}"
+        params = [*f.in_outs, *f.outputs]
+        stores = []
+        for k, target, p in targets:
+            value = E(f"{temp}[{k}]", params[k - 1][1])
+            stores.append(store_expression(target, self.x.convert(value, target.type, p)))
+        return E(f"(({temp} := {call}), {''.join(s + ', ' for s in stores)})[0][0]", f.result)
+
+    def _parameters(self, node: tf.FunctionCall, f: Any) -> dict[str, Any]:
+        """The parameters of a call of FUNCTION ``f`` by its upper-case names."""
+        kinds = {n.upper(): "input" for n, _, _ in f.inputs}
+        kinds |= {n.upper(): "in_out" for n, _ in f.in_outs}
+        kinds |= {n.upper(): "output" for n, _ in f.outputs}
+        order = [n.upper() for n in f.order]
+        given: dict[str, Any] = {}
+        for i, p in enumerate(node.parameters or []):
+            key = str(p.name.name).upper() if p.name is not None else None
+            if key is None and i >= len(order):
+                raise self.x.error(p, f"too many arguments to {f.name}", f"{len(order)}")
+            key = key or order[i]
+            if key not in kinds:
+                raise self.x.error(p, f"{f.name} has no parameter {key!r}", ", ".join(order))
+            output = isinstance(p, tf.OutputParameterAssignment)
+            if p.name is not None and output != (kinds[key] == "output"):
+                expected = f"{key} => variable" if kinds[key] == "output" else f"{key} := value"
+                raise self.x.error(p, f"{key} is {'not ' * output}an output of {f.name}", expected)
+            given[key] = p
+        return given
 
     def math(self, node: tf.FunctionCall, upper: str) -> E:
         """ABS, SQRT, LN, ... on one number."""
@@ -205,3 +259,8 @@ class Calls:
             ):
                 raise self.x.error(node, f"{source}_TO_{to.name} of a {arg.type.name}", source)
         return conversion(self.x, node, arg, to)
+
+
+def _is_variable(node: Any) -> bool:
+    """A node naming a variable (that a call can write)."""
+    return isinstance(node, tf.SimpleVariable | tf.MultiElementVariable)

@@ -3,6 +3,8 @@ constants are folded so that a literal costs nothing at run time."""
 
 from __future__ import annotations
 
+__all__ = ["E", "Expressions", "const", "literal_code"]
+
 import math
 import re
 from dataclasses import dataclass
@@ -26,6 +28,9 @@ class E:
     value: Any = None
     wide: bool = False
     """Integer arithmetic narrower than 32 bits, not yet wrapped (a store wraps it)."""
+    part: tuple[E, int, int] | None = None
+    """A part of a variable (``w.3``, ``w.%B1``): the variable, the part's shift and width
+    [bits] (:mod:`plc.st.codegen.access` writes it)."""
 
     @property
     def const(self) -> bool:
@@ -94,6 +99,19 @@ class Expressions:
             return self.enum_literal(node)
         raise self.error(node, f"{type(node).__name__} is not supported here", "an expression")
 
+    def expr_as(self, node: Any, t: Type) -> E:
+        """``node`` where a value of type ``t`` is expected: a bare name that is a value of the
+        enumeration ``t`` is that value (IEC names are case-insensitive across kinds: ``HomeZ``
+        beside a block ``homeZ``), unless a variable of type ``t`` has that name."""
+        name = _bare_name(node)
+        if name is not None and isinstance(t, T.EnumType):
+            var = self.scope.get(name)
+            if var is None or var.type != t:
+                for value_name, value in t.values.items():
+                    if value_name.lower() == name.lower():
+                        return const(value, t)
+        return self.expr(node)
+
     # ------------------------------------------------------------------ literals
     def literal(self, node: Any) -> E:
         """A literal: integer (any base), real, BOOL, TIME/LTIME, STRING."""
@@ -124,6 +142,10 @@ class Expressions:
             return const(_duration(node, 1), T.TIME)
         if isinstance(node, tf.String):
             return const(_string(str(node.value)), T.STRING)
+        if isinstance(node, tf.Date | tf.TimeOfDay | tf.DateTime):
+            from plc.st.codegen.dates import literal
+
+            return literal(self, node)
         raise self.error(node, f"the literal {node} is not supported", "a number, TIME or STRING")
 
     @staticmethod
@@ -132,16 +154,23 @@ class Expressions:
         return f32(value) if t is T.REAL else value
 
     def enum_literal(self, node: tf.EnumeratedValue) -> E:
-        """``Type#Value`` (a bare value in a CASE label)."""
-        if node.type_name is None:
-            return self.name(tf.SimpleVariable(node.name, False))
-        t = self.unit.type_named(str(node.type_name), node)
+        """``Type#Value``, ``Type.Value`` or a bare value (in an array's initial value)."""
+        type_name, name = node.type_name, str(node.name)
+        if type_name is None and "." in name:
+            type_name, _, name = name.rpartition(".")
+        if type_name is None:
+            simple = tf.SimpleVariable(node.name, False)
+            simple.meta = node.meta
+            return self.name(simple)
+        t = self.unit.type_named(str(type_name), node)
         if not isinstance(t, T.EnumType):
             raise self.error(node, f"{t.name} is not an enumeration", "an enumeration type")
-        for name, value in t.values.items():
-            if name.lower() == str(node.name).lower():
+        for value_name, value in t.values.items():
+            if value_name.lower() == name.lower():
                 return const(value, t)
-        raise self.error(node, f"{t.name} has no value {node.name!r}", ", ".join(t.values))
+        close = nearest(name, t.values)
+        hint = f" (did you mean {', '.join(close)}?)" if close else ""
+        raise self.error(node, f"{t.name} has no value {name!r}{hint}", ", ".join(t.values))
 
     # ------------------------------------------------------------------ variables
     def variable(self, node: Any) -> E:
@@ -155,26 +184,35 @@ class Expressions:
             if axis is not None:
                 return E(axis, T.AXIS)
             t = self.unit.types.get(str(head.name).upper()) or None
-            if isinstance(t, T.EnumType):
-                return self.enum_literal(
-                    tf.EnumeratedValue(head.name, node.elements[0].field.name, None)
-                )
+            if isinstance(t, T.EnumType) and len(node.elements) == 1:
+                value = tf.EnumeratedValue(head.name, node.elements[0].field.name, None)
+                value.meta = node.meta
+                return self.enum_literal(value)
         current = self.name(head)
         for element in node.elements:
             if isinstance(element, tf.FieldSelector):
-                current = self.field(current, element)
-            elif isinstance(element, tf.SubscriptList):
-                current = self.subscript(current, element)
+                current = self.field(self._deref(current, element), element)
             else:
-                raise self.error(element, "a dereference is not supported", "a field or index")
+                current = self._deref(self.subscript(current, element), element)
         return current
+
+    def _deref(self, e: E, element: Any) -> E:
+        """``e^`` where ``element`` (a name, ``.field`` or ``[i]``) carries the ``^``."""
+        if not getattr(element, "dereferenced", False):
+            return e
+        from plc.st.codegen.access import dereference
+
+        return dereference(self, e, element)
 
     @staticmethod
     def _dotted(node: tf.MultiElementVariable) -> str | None:
         """``A.B.C`` when the variable is only field selections, else None."""
         parts = [str(node.name.name)]
         for element in node.elements:
-            if not isinstance(element, tf.FieldSelector):
+            if not (
+                isinstance(element, tf.FieldSelector)
+                and isinstance(element.field, tf.SimpleVariable)
+            ):
                 return None
             parts.append(str(element.field.name))
         return ".".join(parts)
@@ -186,19 +224,25 @@ class Expressions:
         if var is not None:
             if var.constant is not None:
                 return E(literal_code(var.constant), var.type, var.constant)
-            return E(var.code, var.type)
+            return self._deref(E(var.code, var.type), node)
         found = self.unit.enum_value(name)
         if found is not None:
             return const(found[1], found[0])
         axis = self.unit.axis(name)
         if axis is not None:
             return E(axis, T.AXIS)
-        close = nearest(name, self.scope.names())
+        if name.upper() == "NULL":  # the reference to nothing (IEC 3rd ed. 6.4.4.10.2)
+            return E("_f.NULL", T.NULL)
+        close = nearest(name, [*self.scope.names(), *self.unit.enum_names()])
         hint = f" (did you mean {', '.join(close)}?)" if close else ""
         raise self.error(node, f"unknown variable {name!r}{hint}", "a declared variable")
 
     def field(self, base: E, element: tf.FieldSelector) -> E:
-        """``base.field`` of a STRUCT or a block's member."""
+        """``base.field`` of a STRUCT or a block's member; ``base.3``, ``base.%B1`` a part."""
+        if not isinstance(element.field, tf.SimpleVariable):
+            from plc.st.codegen.access import partial
+
+            return partial(self, base, element.field, element)
         name = str(element.field.name)
         t = base.type
         if isinstance(t, T.StructType):
@@ -241,7 +285,7 @@ class Expressions:
         """``-x``, ``+x``, ``NOT x`` (bitwise on bit strings and integers)."""
         e = self.expr(node.expr)
         op = str(node.op).upper()
-        t = e.type
+        t = T.plain(e.type)
         if not isinstance(t, Elementary):
             raise self.error(node, f"{op} on {t.name}", "a number or BOOL")
         if op == "NOT":
@@ -262,9 +306,17 @@ class Expressions:
         return E(f"(-{e.code})", t, wide=t.integral)
 
     def binary(self, node: tf.BinaryOperation) -> E:
-        """A binary operation with its IEC result type."""
+        """A binary operation with its IEC result type (a comparison with a value of an
+        enumeration reads a bare name on the other side as that enumeration's value)."""
         op = str(node.op).upper()
-        a, b = self.expr(node.left), self.expr(node.right)
+        a = self.expr(node.left)
+        b = self.expr_as(node.right, a.type) if op in _COMPARE else self.expr(node.right)
+        if op in _COMPARE and isinstance(b.type, T.EnumType) and a.type != b.type:
+            a = self.expr_as(node.left, b.type)
+        return self.combine(node, op, a, b)
+
+    def combine(self, node: Any, op: str, a: E, b: E) -> E:
+        """``a op b`` (``op`` an ST operator in upper case) with its IEC result type."""
         if op in _COMPARE:
             return self.compare(node, op, a, b)
         if op in _LOGIC:
@@ -290,13 +342,15 @@ class Expressions:
         same = ta.kind == tb.kind and (ta.kind not in ("enum", "struct", "array") or ta == tb)
         if not (numeric or same) or ta.kind in ("block", "array", "struct"):
             raise self.error(node, f"{ta.name} {op} {tb.name}", "operands of one type")
+        if ta.kind == "ref" and (op not in ("=", "<>") or (T.NULL not in (ta, tb) and ta != tb)):
+            raise self.error(node, f"{ta.name} {op} {tb.name}", "= or <> of references alike")
         if a.const and b.const:
             return const(bool(eval(f"{a.value!r} {_COMPARE[op]} {b.value!r}")), T.BOOL)
         return E(f"({a.code} {_COMPARE[op]} {b.code})", T.BOOL)
 
     def logic(self, node: Any, op: str, a: E, b: E) -> E:
         """AND, OR, XOR: on BOOL, else bitwise on integers and bit strings."""
-        ta, tb = a.type, b.type
+        ta, tb = T.plain(a.type), T.plain(b.type)
         if ta.kind == "bool" and tb.kind == "bool":
             t: Elementary = T.BOOL
         elif (
@@ -324,6 +378,15 @@ class Expressions:
         from plc.st.codegen.arithmetic import coerce
 
         return coerce(self, e, to, node)
+
+
+def _bare_name(node: Any) -> str | None:
+    """The name of a plain name node (a variable or an enumeration value), else None."""
+    if isinstance(node, tf.SimpleVariable) and not node.dereferenced:
+        return str(node.name)
+    if isinstance(node, tf.EnumeratedValue) and node.type_name is None and "." not in node.name:
+        return str(node.name)
+    return None
 
 
 def _duration(node: Any, scale: int) -> int:

@@ -16,6 +16,17 @@ has set the block's own constant inputs. Everything else is set at each call.
 
 from __future__ import annotations
 
+__all__ = [
+    "BIND",
+    "Slot",
+    "fixed_inputs",
+    "hoisted",
+    "own_fixed",
+    "self_written",
+    "uncopied",
+    "written",
+]
+
 import dataclasses
 import re
 from collections.abc import Iterable, Iterator
@@ -54,11 +65,15 @@ def _nodes(node: Any) -> Iterator[Any]:
 
 
 def _code(x: Expressions, node: Any) -> str | None:
-    """The Python code of a variable node, None where it does not translate (reported later)."""
+    """The Python code of a variable node (of the whole variable for a part, ``w.3``), None
+    where it does not translate (reported later)."""
     try:
-        return x.variable(node).code
+        e = x.variable(node)
     except (STError, AttributeError, TypeError):
         return None
+    while e.part is not None:
+        e = e.part[0]
+    return e.code
 
 
 def _instance(x: Expressions, node: tf.FunctionCallStatement) -> Var | None:
@@ -70,7 +85,8 @@ def _instance(x: Expressions, node: tf.FunctionCallStatement) -> Var | None:
 
 def written(x: Expressions, body: Any) -> set[str]:
     """The codes of everything a POU's statements write: assignment, S=/R= and FOR targets,
-    ``=>`` outputs, and what a user block's in-out copies back."""
+    ``=>`` outputs, what a user block's or function's in-out copies back, and every variable
+    a REF() refers to (it may be written through the reference)."""
     codes: set[str | None] = set()
     for node in _nodes(body):
         if isinstance(node, tf.AssignmentStatement):
@@ -93,7 +109,21 @@ def written(x: Expressions, body: Any) -> set[str]:
                     member.direction == "in_out" and member.type.kind not in ("axis", "group")
                 ):
                     codes.add(_code(x, p.value))
+        elif isinstance(node, tf.FunctionCall) and _writes_back(x, node):
+            for p in node.parameters or []:
+                if isinstance(p.value, tf.SimpleVariable | tf.MultiElementVariable):
+                    codes.add(_code(x, p.value))
     return {c.split("[")[0] for c in codes if c is not None}  # an element: the whole array
+
+
+def _writes_back(x: Expressions, node: tf.FunctionCall) -> bool:
+    """A call in an expression that may write its arguments: REF(), or a FUNCTION with
+    VAR_IN_OUT or VAR_OUTPUT."""
+    name = str(getattr(node.name, "name", node.name)).upper()
+    function = x.unit.functions.get(name)
+    if function is not None:
+        return bool(function.in_outs or function.outputs)
+    return name == "REF"
 
 
 def _calls(x: Expressions, body: Any) -> Iterator[tuple[Var, dict[str, Any]]]:
@@ -159,7 +189,7 @@ def _constant(
         member.direction == "in_out" and member.type.kind not in ("axis", "group")
     ):
         return None
-    value = x.expr(p.value)
+    value = x.expr_as(p.value, member.type)
     if value.const:
         return str(convert(member, value, p))
     if value.type.kind == "axis" and value.code.startswith("_g."):

@@ -10,10 +10,13 @@ call and back after it.
 
 from __future__ import annotations
 
+__all__ = ["invoke"]
+
 from typing import TYPE_CHECKING, Any
 
 import blark.transform as tf
 
+from plc.st.codegen.access import store
 from plc.st.codegen.expressions import E
 from plc.st.errors import nearest
 from plc.st.semantics import types as T  # noqa: N812
@@ -50,7 +53,7 @@ def invoke(st: Statements, s: tf.FunctionCallStatement) -> None:
             continue
         if member.direction == "output":
             raise x.error(p, f"{member.python} is an output", f"{member.python} => variable")
-        value = x.expr(p.value)
+        value = x.expr_as(p.value, member.type)
         copy = (inst.code, member.python) not in st.uncopied
         inputs.append((member, _input(st, member, value, p, copy)))
         if member.direction == "in_out" and block.origin == "user" and member.type.kind != "axis":
@@ -67,7 +70,7 @@ def invoke(st: Statements, s: tf.FunctionCallStatement) -> None:
     st.out.emit(f"{ref}.__call__()" if block.origin in ("user", "std") else f"{ref}()")
     for member, target in [*outputs, *in_outs]:
         value = E(f"{ref}.{member.python}", member.type)
-        st.out.emit(f"{target.code} = {x.convert(value, target.type, s)}")
+        st.out.emit(store(target, x.convert(value, target.type, s)))
 
 
 def _member(st: Statements, block: BlockType, p: Any) -> Member:

@@ -3,6 +3,8 @@ TRUNC, MOVE) and the type conversions ``*_TO_*``, translated to Python."""
 
 from __future__ import annotations
 
+__all__ = ["conversion", "standard"]
+
 from typing import TYPE_CHECKING, Any
 
 from plc.st.runtime import functions as F  # noqa: N812
@@ -71,6 +73,13 @@ def conversion(x: Expressions, node: Any, arg: E, to: Elementary) -> E:
             return E(c, to)
         raise x.error(node, f"a {src.name} converted to {to.name}", "an elementary value")
     kind = src.kind
+    if {kind, to.kind} & {"date", "tod", "dt"}:
+        from plc.st.codegen.dates import conversion as date_conversion
+
+        found = date_conversion(x, node, arg, to)
+        if found is None:
+            raise x.error(node, f"a {src.name} converted to {to.name}", "DT_TO_DATE, DT_TO_TOD")
+        return const(eval(found, {"_f": F}), to) if arg.const else E(found, to)
     if to.integral:
         if kind == "real":
             code = T.wrap_code(f"_f.to_int({c})", to)
@@ -91,7 +100,7 @@ def conversion(x: Expressions, node: Any, arg: E, to: Elementary) -> E:
             code = f"({c} * 1000000)" if to is T.LTIME else f"({c} // 1000000)"
     elif to.kind == "string":
         code = {
-            "real": f"_f.real_text({c})",
+            "real": f"_f.real_text({c}, True)" if src is T.REAL else f"_f.real_text({c})",
             "bool": f"('TRUE' if {c} else 'FALSE')",
             "time": f"_f.time_text({c})",
             "string": c,

@@ -3,11 +3,16 @@ source line so that a run-time fault names ``file:line``."""
 
 from __future__ import annotations
 
+__all__ = ["Emitter", "Statements"]
+
+import dataclasses
 from typing import Any
 
 import blark.transform as tf
 
+from plc.st.codegen.access import store
 from plc.st.codegen.expressions import E, Expressions
+from plc.st.errors import STError
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import BlockType
 
@@ -68,7 +73,16 @@ class Statements:
         handler = getattr(self, f"do_{type(s).__name__}", None)
         if handler is None:
             raise self.x.error(s, f"{type(s).__name__} is not supported", "an IEC statement")
-        handler(s)
+        try:
+            handler(s)
+        except STError:
+            raise
+        except Exception as error:  # a construct not foreseen: its line, never a traceback
+            raise self.x.error(
+                s,
+                f"the statement cannot be translated ({type(error).__name__}: {error})",
+                "an IEC 61131-3 statement",
+            ) from None
 
     def condition(self, node: Any) -> str:
         """A BOOL expression."""
@@ -79,21 +93,19 @@ class Statements:
 
     # ------------------------------------------------------------------ statements
     def do_AssignmentStatement(self, s: tf.AssignmentStatement) -> None:
-        value = self.x.expr(s.expression)
-        for target in s.variables:
-            self.assign(target, value)
-
-    def assign(self, target: Any, value: E) -> None:
-        """``target := value``."""
-        t = self.target(target)
-        self.out.emit(f"{t.code} = {self.x.convert(value, t.type, target)}")
+        targets = [self.target(target) for target in s.variables]
+        value = self.x.expr_as(s.expression, targets[0].type)
+        for node, t in zip(s.variables, targets, strict=True):
+            self.out.emit(store(t, self.x.convert(value, t.type, node)))
 
     def target(self, node: Any) -> E:
         """A variable written to (not a constant, not a block instance)."""
-        if isinstance(node, tf.SimpleVariable):
-            var = self.x.scope.get(str(node.name))
-            if var is not None and var.constant is not None:
+        head = node.name if isinstance(node, tf.MultiElementVariable) else node
+        if isinstance(head, tf.SimpleVariable):
+            var = self.x.scope.get(str(head.name))
+            if var is not None and (var.constant is not None or var.read_only):
                 raise self.x.error(node, f"{var.name} is a CONSTANT", "a variable")
+        self._not_an_output(node)
         t = self.x.variable(node)
         if (
             t.const
@@ -103,13 +115,30 @@ class Statements:
             raise self.x.error(node, f"{node} cannot be assigned", "a variable")
         return t
 
+    def _not_an_output(self, node: Any) -> None:
+        """An output of a block instance is the block's to write (IEC 61131-3 2.5.2.1: read
+        it, ``inst.Q``, or take it with ``inst(Q => v)``)."""
+        if not isinstance(node, tf.MultiElementVariable):
+            return
+        last = node.elements[-1]
+        if not isinstance(last, tf.FieldSelector) or not isinstance(last.field, tf.SimpleVariable):
+            return
+        inner = node.elements[:-1]
+        base = self.x.variable(dataclasses.replace(node, elements=inner) if inner else node.name)
+        members = base.type.members if isinstance(base.type, BlockType) else {}
+        member = members.get(str(last.field.name).upper())
+        if member is not None and member.direction == "output":
+            raise self.x.error(
+                node, f"{node} is an output of {base.type.name}", "an input or a variable"
+            )
+
     def do_SetStatement(self, s: tf.SetStatement) -> None:
         self.out.emit(f"if {self.condition(s.expression)}:")
-        self.out.emit(f"    {self.target(s.variable).code} = True")
+        self.out.emit(f"    {store(self.target(s.variable), 'True')}")
 
     def do_ResetStatement(self, s: tf.ResetStatement) -> None:
         self.out.emit(f"if {self.condition(s.expression)}:")
-        self.out.emit(f"    {self.target(s.variable).code} = False")
+        self.out.emit(f"    {store(self.target(s.variable), 'False')}")
 
     def do_IfStatement(self, s: tf.IfStatement) -> None:
         self.nested(f"if {self.condition(s.if_expression)}:", s.statements)
@@ -130,7 +159,7 @@ class Statements:
             code = temp
         keyword = "if"
         for case in s.cases:
-            tests = [self.match(code, m) for m in case.matches]
+            tests = [self.match(code, m, selector.type) for m in case.matches]
             self.out.st_line = self.x.unit.line(case) or self.out.st_line
             self.nested(f"{keyword} {' or '.join(tests)}:", case.statements)
             keyword = "elif"
@@ -140,17 +169,28 @@ class Statements:
             else:
                 self.nested("else:", s.else_clause.statements)
 
-    def match(self, code: str, m: Any) -> str:
-        """One CASE label: a value or a range ``lo..hi`` (constants)."""
+    def match(self, code: str, m: Any, t: Any) -> str:
+        """One CASE label: a value or a range ``lo..hi`` (constant expressions of the
+        selector's type ``t``)."""
         if isinstance(m, tf.Subrange):
-            low, high = self.x.expr(m.start), self.x.expr(m.stop)
+            low, high = self.x.expr_as(m.start, t), self.x.expr_as(m.stop, t)
             if not (low.const and high.const):
                 raise self.x.error(m, "a CASE range of variables", "constant bounds")
+            self._label(m, low, t)
+            self._label(m, high, t)
             return f"{low.value!r} <= {code} <= {high.value!r}"
-        label = self.x.expr(m)
+        label = self.x.expr_as(m, t)
         if not label.const:
             raise self.x.error(m, "a CASE label that is not constant", "a constant")
+        self._label(m, label, t)
         return f"{code} == {label.value!r}"
+
+    def _label(self, m: Any, label: E, t: Any) -> None:
+        """A CASE label must be of the selector's type (an integer for an integer selector,
+        a value of its enumeration for an enumeration)."""
+        integers = t.kind in ("int", "bits") and label.type.kind in ("int", "bits")
+        if not integers and label.type != t:
+            raise self.x.error(m, f"a {label.type.name} label", f"a {t.name} value")
 
     def do_ForStatement(self, s: tf.ForStatement) -> None:
         control = self.target(s.control)

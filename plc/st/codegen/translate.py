@@ -4,6 +4,8 @@ class per STRUCT, the globals in ``_g``. Every Python line knows its ST line (:c
 
 from __future__ import annotations
 
+__all__ = ["POU", "Module", "translate"]
+
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -15,7 +17,7 @@ from plc.st.codegen.hoist import hoisted as hoisted_inputs
 from plc.st.codegen.statements import Emitter, Statements
 from plc.st.runtime.task import Task, configurations, task_of
 from plc.st.semantics.catalog import python_name
-from plc.st.semantics.declarations import STErrorAt, constant_of, declare_type, initial, spec_type
+from plc.st.semantics.declarations import STErrorAt, declare_type, folded, initial, spec_type
 from plc.st.semantics.scope import Callable_, Scope, Unit, Var
 from plc.st.semantics.types import BlockType, Member, Type
 
@@ -52,9 +54,9 @@ class Module:
     """The cyclic task the configuration runs the program in (None: none declared)."""
 
 
-def _variables(block: Any) -> list[tuple[str, Any, Any, Any]]:
-    """(name, type spec, initial value node, location node or None) of every variable a
-    declaration block declares."""
+def _variables(block: Any) -> list[tuple[str, Any, Any, Any, Any]]:
+    """(name, type spec, initial value node, location node or None, the node naming it) of
+    every variable a declaration block declares."""
     found = []
     for item in block.items:
         init = getattr(item, "init", None)
@@ -63,10 +65,11 @@ def _variables(block: Any) -> list[tuple[str, Any, Any, Any]]:
             value = init.init
         if isinstance(item, tf.LocatedVariableDeclaration):  # name AT %IX0.2 : BOOL
             name = getattr(item.name, "name", item.name)
-            found.append((str(name), init, value, item.location))
+            found.append((str(name), init, value, item.location, item))
         for v in getattr(item, "variables", []):
             name = getattr(getattr(v, "variable", v), "name", v)
-            found.append((str(name), init, value, getattr(v, "location", None)))
+            at = v if getattr(v, "meta", None) is not None else item
+            found.append((str(name), init, value, getattr(v, "location", None), at))
     return found
 
 
@@ -84,6 +87,10 @@ class POU:
         self.temps: list[str] = []
         self.members: dict[str, Member] = {}
         self.inputs: list[tuple[str, Type, str]] = []
+        self.in_outs: list[tuple[str, Type]] = []
+        self.outputs: list[tuple[str, Type]] = []
+        self.order: list[str] = []
+        """A function's inputs, in-outs and outputs in declaration order."""
         self.reads: list[str] = []
         """Lines reading the located inputs when a scan begins (a PROGRAM's)."""
         self.writes: list[str] = []
@@ -104,9 +111,9 @@ class POU:
             if section is None:
                 raise STErrorAt(self.unit, block, f"{type(block).__name__}", "a VAR section")
             constant = "CONSTANT" in str(getattr(block, "attrs", "") or "").upper()
-            for name, spec, value, location in _variables(block):
-                self.variable(name, spec, value, section, constant, owner, block)
-                self.locate(name, location, block if location is None else location)
+            for name, spec, value, location, at in _variables(block):
+                self.variable(name, spec, value, section, constant, owner, at)
+                self.locate(name, location, at if location is None else location)
 
     def variable(
         self, name: str, spec: Any, value: Any, section: str, constant: bool, owner: str, at: Any
@@ -118,10 +125,11 @@ class POU:
         code = py if local else f"{owner}{py}"
         where = self.unit.where(at)
         if constant:
-            folded = constant_of(self.unit, value, self.scope).value if value is not None else 0
-            self.scope.add(Var(name, t, code, section, folded), where)
-            return
-        self.scope.add(Var(name, t, code, section), where)
+            fixed = folded(self.unit, t, value, spec, self.scope)
+            if fixed is not None:
+                self.scope.add(Var(name, t, code, section, fixed), where)
+                return
+        self.scope.add(Var(name, t, code, section, read_only=constant), where)
         if t.kind == "axis" and section not in ("in_out", "input"):
             bound = self.unit.axis(name)
             if bound is None:
@@ -133,13 +141,20 @@ class POU:
                 )
             lines = [f"{code} = {bound}"]
         else:
-            lines = initial(self.unit, code, t, value, self.scope)
+            lines = initial(self.unit, code, t, value, self.scope, spec)
         (self.temps if local else self.init).extend(lines)
         if not self.function:
             self.members[name.upper()] = Member(t, section, py)
-        elif section == "input":
+            return
+        if section in ("input", "in_out", "output"):
+            self.order.append(name)
+        if section == "input":
             default = lines[0].split(" = ", 1)[1] if len(lines) == 1 else "None"
             self.inputs.append((name, t, default))
+        elif section == "in_out":
+            self.in_outs.append((name, t))
+        elif section == "output":
+            self.outputs.append((name, t))
 
     def locate(self, name: str, location: Any, at: Any) -> None:
         """Bind variable ``name`` to the I/O point it is located at (or the mapping names)."""
@@ -167,7 +182,7 @@ class POU:
         if self.function:
             result = spec_type(self.unit, self.node.return_type, self.scope)
             self.unit.functions[self.name.upper()] = Callable_(
-                self.name, self.python, self.inputs, result
+                self.name, self.python, self.inputs, result, self.in_outs, self.outputs, self.order
             )
             self.scope.add(Var(self.name, result, "_r", "output"), self.unit.where(self.node))
             self.result = result
@@ -182,14 +197,18 @@ class POU:
         out.st_line = self.unit.line(self.node)
         x = Expressions(self.unit, self.scope)
         if self.function:
-            params = ", ".join(f"{python_name(n)}={d}" for n, _, d in self.inputs)
-            out.emit(f"def {self.python}({params}):")
+            params = [f"{python_name(n)}={d}" for n, _, d in self.inputs]
+            params += [f"{python_name(n)}=None" for n, _ in self.in_outs]
+            out.emit(f"def {self.python}({', '.join(params)}):")
             out.depth += 1
             out.emit(f"_r = {_default_code(self.unit, self.result)}")
-            for line in _non_input_lines(self.temps, self.inputs):
+            passed = [n for n, _, _ in self.inputs] + [n for n, _ in self.in_outs]
+            for line in _non_input_lines(self.temps, passed):
                 out.emit(line)
-            Statements(x, out, result="_r").block(self.node.body)
-            out.emit("return _r")
+            returned = [python_name(n) for n, _ in [*self.in_outs, *self.outputs]]
+            result = ", ".join(["_r", *returned])  # with in-outs or outputs: a tuple
+            Statements(x, out, result=result).block(self.node.body)
+            out.emit(f"return {result}")
             out.depth -= 1
         else:
             block = isinstance(self.node, tf.FunctionBlock)
@@ -250,9 +269,10 @@ def _default_code(unit: Unit, t: Type) -> str:
     return default(unit, t)
 
 
-def _non_input_lines(lines: list[str], inputs: list[tuple[str, Type, str]]) -> list[str]:
-    """A function's local initial lines without those of its inputs (they are parameters)."""
-    names = {python_name(n) for n, _, _ in inputs}
+def _non_input_lines(lines: list[str], passed: list[str]) -> list[str]:
+    """A function's local initial lines without those of its parameters (its inputs and
+    in-outs, ``passed``)."""
+    names = {python_name(n) for n in passed}
     return [line for line in lines if line.split(" = ", 1)[0].split("[")[0] not in names]
 
 
@@ -264,14 +284,16 @@ def _globals(unit: Unit, blocks: list[tf.GlobalVariableDeclarations], out: Emitt
         for item in block.items:
             t = spec_type(unit, item.init)
             value = getattr(item.init, "value", None)
+            if isinstance(item.init, tf.InitializedStructure):
+                value = item.init.init
             for name in item.spec.variables:
                 py = python_name(str(name))
                 where = unit.where(item)
-                if constant:
-                    folded = constant_of(unit, value).value if value is not None else 0
-                    unit.globals.add(Var(str(name), t, f"_g.{py}", "global", folded), where)
+                fixed = folded(unit, t, value, item.init) if constant else None
+                if fixed is not None:
+                    unit.globals.add(Var(str(name), t, f"_g.{py}", "global", fixed), where)
                     continue
-                unit.globals.add(Var(str(name), t, f"_g.{py}", "global"), where)
+                unit.globals.add(Var(str(name), t, f"_g.{py}", "global", read_only=constant), where)
                 _locate_global(unit, str(name), t, item.spec.location, item)
                 if t.kind == "axis":
                     bound = unit.axis(str(name))
@@ -286,7 +308,7 @@ def _globals(unit: Unit, blocks: list[tf.GlobalVariableDeclarations], out: Emitt
                 else:
                     init += [
                         line.replace("_g.", "self.", 1)
-                        for line in initial(unit, f"_g.{py}", t, value)
+                        for line in initial(unit, f"_g.{py}", t, value, None, item.init)
                     ]
     out.emit("class _Globals:")
     out.emit("    def __init__(self):")
@@ -312,6 +334,31 @@ def _locate_global(unit: Unit, name: str, t: Type, location: Any, at: Any) -> No
     (unit.writes if point.output else unit.reads).append(
         f"{io} = _g.{python_name(name)}" if point.output else f"_g.{python_name(name)} = {io}"
     )
+
+
+def _check_items(unit: Unit, items: list[Any], configs: list[Any]) -> None:
+    """Raise STError at the first of a file's ``items`` that is none of PROGRAM,
+    FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL or one of its ``configs`` (CONFIGURATION)."""
+    unsupported = [
+        i
+        for i in items
+        if i not in configs
+        and not isinstance(
+            i,
+            tf.DataTypeDeclaration
+            | tf.GlobalVariableDeclarations
+            | tf.Program
+            | tf.FunctionBlock
+            | tf.Function,
+        )
+    ]
+    if unsupported:
+        raise STErrorAt(
+            unit,
+            unsupported[0],
+            f"{type(unsupported[0]).__name__}",
+            "PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL",
+        )
 
 
 def translate(tree: tf.SourceCode, unit: Unit) -> Module:
@@ -349,26 +396,7 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     ]
     if not any(p.node.__class__ is tf.Program for p in pous):
         raise STErrorAt(unit, tree, "no PROGRAM in the file", "a PROGRAM ... END_PROGRAM")
-    known = [
-        i
-        for i in items
-        if i not in configs
-        and not isinstance(
-            i,
-            tf.DataTypeDeclaration
-            | tf.GlobalVariableDeclarations
-            | tf.Program
-            | tf.FunctionBlock
-            | tf.Function,
-        )
-    ]
-    if known:
-        raise STErrorAt(
-            unit,
-            known[0],
-            f"{type(known[0]).__name__}",
-            "PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL",
-        )
+    _check_items(unit, items, configs)
     body = Emitter()
     _globals(unit, global_blocks, body)
     for pou in pous:  # blocks and functions first: a program may use them

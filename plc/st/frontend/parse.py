@@ -1,14 +1,13 @@
 """Parse IEC 61131-3 Structured Text with blark into its typed tree (line and column on every
 node); a syntax error is one :class:`~plc.st.errors.STError` naming ``file:line:column``.
 
-blark's grammar (TwinCAT's flavour) lacks the IEC exponent operator ``**``; it is added here as
-its own level between the unary operators and ``*``/``/``/``MOD`` (IEC 61131-3 ed. 3, Tab. 71),
-left-associative like every IEC operator. It also lacks IEC's CONFIGURATION (B.1.7): added here
-as CONFIGURATION, RESOURCE ... ON, TASK (name and ``:=`` items) and PROGRAM ... WITH; its nodes
-stay lark trees (read by :mod:`plc.st.runtime.task`).
+blark's grammar (TwinCAT's flavour) is extended to the IEC constructs it lacks (``**``,
+CONFIGURATION, several types per TYPE block, REF_TO, ...) by :mod:`plc.st.frontend.grammar`.
 """
 
 from __future__ import annotations
+
+__all__ = ["parse", "parser"]
 
 import dataclasses
 import importlib.resources
@@ -22,31 +21,8 @@ import lark
 from blark import util
 
 from plc.st.errors import STError
-from plc.st.frontend import tree_cache
+from plc.st.frontend import grammar, tree_cache
 
-_TERM = "expression_term: unary_expression ( MULTIPLY_OPERATOR unary_expression )*"
-_POWER = (
-    "expression_term: power_expression ( MULTIPLY_OPERATOR power_expression )*\n"
-    "power_expression: unary_expression ( POWER_OPERATOR unary_expression )*\n"
-    'POWER_OPERATOR: "**"\n'
-)
-_LIBRARY = "_library_element_declaration: data_type_declaration"
-_CONFIGURATION = r"""
-configuration_declaration: _CONFIGURATION IDENTIFIER _configuration_body _END_CONFIGURATION ";"*
-_configuration_body: [ global_var_declarations ] resource_declaration+
-resource_declaration: _RESOURCE IDENTIFIER _ON IDENTIFIER _resource_body _END_RESOURCE ";"*
-_resource_body: [ global_var_declarations ] task_configuration* program_configuration*
-task_configuration: _TASK IDENTIFIER "(" task_initialization ( "," task_initialization )* ")" ";"+
-task_initialization: IDENTIFIER ":=" expression
-program_configuration: _PROGRAM IDENTIFIER [ _WITH IDENTIFIER ] ":" IDENTIFIER ";"+
-_CONFIGURATION: /\bCONFIGURATION\b/i
-_END_CONFIGURATION: /\bEND_CONFIGURATION\b/i
-_RESOURCE: /\bRESOURCE\b/i
-_END_RESOURCE: /\bEND_RESOURCE\b/i
-_ON: /\bON\b/i
-_TASK: /\bTASK\b/i
-_WITH: /\bWITH\b/i
-"""
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
 
@@ -62,32 +38,19 @@ _READABLE = {
 """Names for the grammar's terminals in messages."""
 
 
-class _Transformer(tf.GrammarTransformer):
-    """blark's transformer, with the ``**`` level as a binary operation."""
-
-    power_expression = tf._annotator_wrapper(tf.BinaryOperation.from_lark)
-
-
 @cache
 def parser() -> lark.Lark:
-    """blark's Earley parser with ``**`` (built once per process)."""
-    grammar = importlib.resources.files("blark").joinpath("iec.lark").read_text()
-    if _TERM not in grammar or _LIBRARY not in grammar:
-        raise RuntimeError("blark's grammar changed: pin the version pyproject.toml names")
+    """blark's Earley parser with the IEC extensions of :mod:`plc.st.frontend.grammar` (built
+    once per process)."""
+    text = importlib.resources.files("blark").joinpath("iec.lark").read_text()
     return lark.Lark(
-        _extended(grammar),
+        grammar.extended(text),
         parser="earley",
         maybe_placeholders=True,
         propagate_positions=True,
         start=_STARTS,
         import_paths=[str(importlib.resources.files("blark"))],
     )
-
-
-def _extended(grammar: str) -> str:
-    """blark's grammar with ``**`` and CONFIGURATION."""
-    library = _LIBRARY + " | configuration_declaration"
-    return grammar.replace(_TERM, _POWER).replace(_LIBRARY, library) + _CONFIGURATION
 
 
 def parse(source: str, filename: str) -> tf.SourceCode:
@@ -104,8 +67,9 @@ def parse(source: str, filename: str) -> tf.SourceCode:
 
 @cache
 def _parser_identity() -> bytes:
-    """What changes when the grammar or the transformer does: this module's own code."""
-    return Path(__file__).read_bytes()
+    """What changes when the grammar or the transformer does: this module's and the grammar's
+    code."""
+    return Path(__file__).read_bytes() + Path(grammar.__file__).read_bytes()
 
 
 def _parse(source: str, filename: str) -> tf.SourceCode:
@@ -116,18 +80,26 @@ def _parse(source: str, filename: str) -> tf.SourceCode:
         raise STError.at(
             f"{filename}:{error.line}:{error.column}", _found(error, cleaned), _expected(error)
         ) from None
-    transformer = _Transformer(comments=comments, fn=filename, source_code=source)
+    transformer = grammar.Transformer(comments=comments, fn=filename, source_code=source)
     result: Any = transformer.transform(tree)
+    if isinstance(result, tf.SourceCode):  # a TYPE block of several types: one item each
+        result.items = [i for item in result.items for i in _listed(item)]
     _untangle(result)
     if not isinstance(result, tf.SourceCode):
         raise STError.at(f"{filename}:1:1", "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
 
 
+def _listed(item: Any) -> list[Any]:
+    """A list as it is, anything else as a list of one."""
+    return item if isinstance(item, list) else [item]
+
+
 def _untangle(node: Any) -> None:
-    """Undo an ambiguity of blark's grammar, in place: in ``(A := 1.0, B := 2.0, C := 3.0)``
-    it may read ``1.0, B := 2.0`` as a bare array of A (TwinCAT's ``:=`` as an operator);
-    such an element is split back into ``A := 1.0`` and ``B := 2.0``."""
+    """Undo the ambiguities of blark's grammar, in place (TwinCAT's ``:=`` is an operator
+    too): in ``(A := 1.0, B := 2.0, C := 3.0)`` it may read ``1.0, B := 2.0`` as a bare array
+    of A, split back into ``A := 1.0`` and ``B := 2.0``; ``(p := (x := 1))`` may hold the
+    inner structure in a bare array of one; ``(A := 1)`` may be a parenthesized assignment."""
     if isinstance(node, list):
         for item in node:
             _untangle(item)
@@ -138,7 +110,18 @@ def _untangle(node: Any) -> None:
         node.elements = [part for e in node.elements for part in _split(e)]
     for f in dataclasses.fields(node):
         if f.name != "meta":
-            _untangle(getattr(node, f.name))
+            value = _structure(getattr(node, f.name))
+            setattr(node, f.name, value)
+            _untangle(value)
+
+
+def _structure(value: Any) -> Any:
+    """``(A := 1)`` read as a parenthesized assignment: the structure value it is."""
+    if isinstance(value, tf.ParenthesizedExpression) and _is_assignment(value.expr):
+        inner = value.expr
+        element = tf.StructureElementInitialization(inner.left.name, inner.right, inner.meta)
+        return tf.StructureInitialization([element], value.meta)
+    return value
 
 
 def _split(element: Any) -> list[Any]:
@@ -148,6 +131,9 @@ def _split(element: Any) -> list[Any]:
         return [element]
     items = _flat(value)
     rest = items[1:]
+    nested = tf.StructureInitialization | tf.ArrayInitialization
+    if not rest and value.elements[0].count is None and isinstance(items[0], nested):
+        return [dataclasses.replace(element, value=items[0])]  # (p := (x := 1, y := 2))
     if not rest or not all(_is_assignment(i) for i in rest):
         return [element]
     parts = [dataclasses.replace(element, value=items[0])]
@@ -164,7 +150,7 @@ def _flat(array: Any) -> list[Any]:
         if isinstance(inner, tf.ArrayInitialization) and not inner.brackets and i.count is None:
             items += _flat(inner)
         else:
-            items.append(inner)
+            items.append(_structure(inner))
     return items
 
 

@@ -10,6 +10,8 @@ private (0700). A file that does not load is parsed again and replaced.
 
 from __future__ import annotations
 
+__all__ = ["cached", "directory", "key"]
+
 import hashlib
 import os
 import pickle

@@ -4,6 +4,24 @@ simulated time, TIME in ms), edges (R_TRIG, F_TRIG), counters (CTU, CTD, CTUD) a
 
 from __future__ import annotations
 
+__all__ = [
+    "CTD",
+    "CTU",
+    "CTUD",
+    "F_TRIG",
+    "INT_MAX",
+    "INT_MIN",
+    "RS",
+    "R_TRIG",
+    "SR",
+    "STANDARD",
+    "TOF",
+    "TON",
+    "TP",
+    "Clock",
+    "Timer",
+]
+
 from collections.abc import Callable
 
 Clock = Callable[[], int]
@@ -106,7 +124,10 @@ class F_TRIG:
 
 
 class CTU:
-    """Up counter: a rising edge of CU counts CV up (to 32767), R resets; Q = CV >= PV."""
+    """Up counter: a rising edge of CU counts CV up (to its type's largest value, 32767 for
+    INT), R resets; Q = CV >= PV."""
+
+    MAX = INT_MAX
 
     def __init__(self, clock: Clock | None = None) -> None:
         self.CU = self.R = self.Q = False
@@ -117,13 +138,16 @@ class CTU:
         edge, self._cu = self.CU and not self._cu, self.CU
         if self.R:
             self.CV = 0
-        elif edge and self.CV < INT_MAX:
+        elif edge and self.CV < self.MAX:
             self.CV += 1
         self.Q = self.CV >= self.PV
 
 
 class CTD:
-    """Down counter: a rising edge of CD counts CV down (to -32768), LD loads PV; Q = CV <= 0."""
+    """Down counter: a rising edge of CD counts CV down (to its type's smallest value, -32768
+    for INT), LD loads PV; Q = CV <= 0."""
+
+    MIN = INT_MIN
 
     def __init__(self, clock: Clock | None = None) -> None:
         self.CD = self.LD = self.Q = False
@@ -134,7 +158,7 @@ class CTD:
         edge, self._cd = self.CD and not self._cd, self.CD
         if self.LD:
             self.CV = self.PV
-        elif edge and self.CV > INT_MIN:
+        elif edge and self.CV > self.MIN:
             self.CV -= 1
         self.Q = self.CV <= 0
 
@@ -142,6 +166,8 @@ class CTD:
 class CTUD:
     """Up/down counter: R resets, LD loads PV, else the edges of CU and CD count (both at once:
     no change); QU = CV >= PV, QD = CV <= 0."""
+
+    MAX, MIN = INT_MAX, INT_MIN
 
     def __init__(self, clock: Clock | None = None) -> None:
         self.CU = self.CD = self.R = self.LD = self.QU = self.QD = False
@@ -155,9 +181,9 @@ class CTUD:
             self.CV = 0
         elif self.LD:
             self.CV = self.PV
-        elif up and not down and self.CV < INT_MAX:
+        elif up and not down and self.CV < self.MAX:
             self.CV += 1
-        elif down and not up and self.CV > INT_MIN:
+        elif down and not up and self.CV > self.MIN:
             self.CV -= 1
         self.QU = self.CV >= self.PV
         self.QD = self.CV <= 0
@@ -210,3 +236,24 @@ STANDARD: dict[str, tuple[type, dict[str, tuple[str, str]]]] = {
     "RS": (RS, {"S": ("BOOL", "input"), "R1": ("BOOL", "input"), "Q1": ("BOOL", "output")}),
 }
 """Each standard block: its class and its members (name → (type, direction))."""
+
+
+_COUNTED = {"INT": (16, True), "DINT": (32, True), "LINT": (64, True)}
+_COUNTED |= {"UDINT": (32, False), "ULINT": (64, False)}
+"""The types of the typed counters (IEC 61131-3 3rd ed. 6.6.3.5.4, Table 45): width, signed."""
+
+
+def _typed_counters() -> None:
+    """CTU_INT, CTU_DINT, ... CTUD_ULINT: the counters with PV and CV of another integer type."""
+    for type_name, (bits, signed) in _COUNTED.items():
+        low, high = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signed else (0, (1 << bits) - 1)
+        for base in (CTU, CTD, CTUD):
+            name = f"{base.__name__}_{type_name}"
+            cls = type(name, (base,), {"MAX": high, "MIN": low, "__doc__": base.__doc__})
+            globals()[name] = cls  # the generated code makes it as _std.CTU_DINT(_clock)
+            members = dict(STANDARD[base.__name__][1])
+            members |= {"PV": (type_name, "input"), "CV": (type_name, "output")}
+            STANDARD[name] = (cls, members)
+
+
+_typed_counters()

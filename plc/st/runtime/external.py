@@ -6,6 +6,8 @@ program declare ``gauge : FS_CutGauge;``; a call sets its inputs and calls it, a
 
 from __future__ import annotations
 
+__all__ = ["External"]
+
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any

@@ -7,6 +7,39 @@ A fault a PLC stops on (an integer division by zero, an array index out of range
 
 from __future__ import annotations
 
+__all__ = [
+    "STFault",
+    "clone",
+    "delete",
+    "div",
+    "expt",
+    "f32",
+    "fdiv",
+    "find",
+    "index",
+    "insert",
+    "left",
+    "limit",
+    "ln",
+    "log10",
+    "mid",
+    "mod",
+    "mux",
+    "real_text",
+    "replace",
+    "right",
+    "rol",
+    "ror",
+    "shl",
+    "shr",
+    "sqrt",
+    "time_text",
+    "to_int",
+    "to_number",
+    "trunc",
+]
+
+import datetime
 import math
 import struct
 from typing import Any
@@ -44,9 +77,10 @@ def fdiv(a: float, b: float) -> float:
 
 
 def mod(a: int, b: int) -> int:
-    """``a MOD b``: the remainder of :func:`div`, with the sign of ``a``; by zero: a fault."""
+    """``a MOD b``: the remainder of :func:`div`, with the sign of ``a``; 0 where ``b`` is 0
+    (IEC 61131-3 2.5.1.5.2, 3rd ed. 6.6.2.5.8: ``IF IN2 = 0 THEN OUT := 0``)."""
     if not b:
-        raise STFault("MOD by zero")
+        return 0
     return a - b * div(a, b)
 
 
@@ -58,6 +92,13 @@ def expt(a: float, b: float) -> float:
         return math.nan
     except OverflowError:
         return math.inf
+
+
+def within(value: int, low: int, high: int) -> int:
+    """``value`` stored into a subrange ``low..high``; outside: :class:`STFault`."""
+    if low <= value <= high:
+        return value
+    raise STFault(f"{value} outside the subrange {low}..{high}")
 
 
 def index(i: int, low: int, size: int) -> int:
@@ -176,12 +217,19 @@ def find(s: str, t: str) -> int:
     return s.find(t) + 1
 
 
-def real_text(x: float) -> str:
-    """A real as a STRING (REAL_TO_STRING): the shortest text that reads back as the value."""
+def real_text(x: float, single: bool = False) -> str:
+    """A real as a STRING (REAL_TO_STRING, LREAL_TO_STRING): the shortest text that reads back
+    as the value, at the precision of its type (``single``: a 32-bit REAL, 0.1 not
+    0.10000000149011612)."""
     if math.isnan(x):
         return "NaN"
     if math.isinf(x):
         return "INF" if x > 0 else "-INF"
+    if single:
+        for digits in range(1, 10):
+            text = repr(float(f"{x:.{digits}g}"))
+            if f32(float(text)) == x:
+                return text
     return repr(x)
 
 
@@ -205,6 +253,87 @@ def time_text(ms: int) -> str:
     if ms or not parts:
         parts.append(f"{ms}ms")
     return f"T#{sign}{''.join(parts)}"
+
+
+def set_bits(x: int, shift: int, width: int, value: int) -> int:
+    """``x`` with its ``width`` bits from bit ``shift`` replaced by ``value`` (a partial write
+    ``w.3 := TRUE``, ``w.%B1 := 16#FF``)."""
+    mask = ((1 << width) - 1) << shift
+    return (x & ~mask) | ((int(value) << shift) & mask)
+
+
+class Ref:
+    """A REF_TO value (IEC 61131-3 3rd ed. 6.4.4.10): the variable ``key`` of ``owner`` (an
+    attribute name, or an index of a list); :attr:`v` reads and writes it (``r^``)."""
+
+    __slots__ = ("key", "owner")
+
+    def __init__(self, owner: Any, key: str | int) -> None:
+        self.owner = owner
+        self.key = key
+
+    @property
+    def v(self) -> Any:
+        """The variable referred to."""
+        key = self.key
+        return self.owner[key] if isinstance(key, int) else getattr(self.owner, key)
+
+    @v.setter
+    def v(self, value: Any) -> None:
+        key = self.key
+        if isinstance(key, int):
+            self.owner[key] = value
+        else:
+            setattr(self.owner, key, value)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Ref) and self.owner is other.owner and self.key == other.key
+
+    def __hash__(self) -> int:
+        return hash((id(self.owner), self.key))
+
+
+class _Null(Ref):
+    """NULL: a reference to nothing; a dereference is a fault."""
+
+    @property
+    def v(self) -> Any:
+        raise STFault("dereference of a NULL reference")
+
+    @v.setter
+    def v(self, value: Any) -> None:
+        raise STFault("dereference of a NULL reference")
+
+
+NULL = _Null(None, "")
+"""The REF_TO value of no variable (a REF_TO's initial value)."""
+
+DAY = 86_400_000
+"""A day [ms]: the range of a TIME_OF_DAY."""
+
+
+def date_text(ms: int) -> str:
+    """A DATE as its literal, ``D#2024-03-01``."""
+    day = (_EPOCH + datetime.timedelta(milliseconds=ms - ms % DAY)).date()
+    return f"D#{day.isoformat()}"
+
+
+def tod_text(ms: int) -> str:
+    """A TIME_OF_DAY as its literal, ``TOD#12:30:05.25`` (the fraction where there is one)."""
+    ms %= DAY
+    seconds, fraction = divmod(ms % 60_000, 1000)
+    text = f"{ms // 3_600_000:02d}:{ms // 60_000 % 60:02d}:{seconds:02d}"
+    return f"TOD#{text}.{fraction:03d}".rstrip("0") if fraction else f"TOD#{text}"
+
+
+def dt_text(ms: int) -> str:
+    """A DATE_AND_TIME as its literal, ``DT#2024-03-01-12:30:00``."""
+    return f"DT#{date_text(ms)[2:]}-{tod_text(ms)[4:]}"
+
+
+_EPOCH = datetime.datetime(1970, 1, 1)
+FIRST_DAY = (datetime.datetime(1, 1, 1) - _EPOCH) // datetime.timedelta(milliseconds=1)
+"""D#0001-01-01 [ms from 1970-01-01]: the initial value of a DATE and a DATE_AND_TIME."""
 
 
 def clone(value: Any) -> Any:

@@ -19,6 +19,8 @@ an output owns it (an MC_WriteDigitalOutput on the same output is overwritten ev
 
 from __future__ import annotations
 
+__all__ = ["Address", "Channels", "address", "channels", "location_text"]
+
 import re
 from dataclasses import dataclass
 from typing import Any

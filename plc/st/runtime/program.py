@@ -10,6 +10,8 @@ stops: it is no longer scanned, every axis of the machine ramps down and is disa
 
 from __future__ import annotations
 
+__all__ = ["STProgram", "compile_source", "from_source", "load", "stored"]
+
 import math
 import sys
 from collections.abc import Callable, Mapping
@@ -166,7 +168,7 @@ class STProgram:
 
     def __setattr__(self, name: str, value: Any) -> None:
         var = self._var(name)
-        if var.constant is not None:
+        if var.constant is not None or var.read_only:
             raise AttributeError(f"{var.name} is a CONSTANT")
         owner, _, attr = var.code.partition(".")
         target = self._namespace["_g"] if owner == "_g" else self._instance
@@ -257,7 +259,17 @@ def compile_source(
             )
     unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}), channels=channels(axes))
     unit.types.update({n.upper(): b.block_type(n) for n, b in (blocks or {}).items()})
-    return translate(parse(source, filename), unit)
+    tree = parse(source, filename)
+    try:
+        return translate(tree, unit)
+    except STError:
+        raise
+    except Exception as error:  # a construct not foreseen: one message, never a traceback
+        raise STError.at(
+            filename,
+            f"the program cannot be translated ({type(error).__name__}: {error})",
+            "IEC 61131-3 Structured Text this translator supports (docs/st.md)",
+        ) from None
 
 
 def load(

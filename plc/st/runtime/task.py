@@ -8,6 +8,8 @@ INTERVAL is its period. A task without INTERVAL (event-triggered, ``SINGLE :=``)
 
 from __future__ import annotations
 
+__all__ = ["Task", "configurations", "declared_task", "task_of", "ticks"]
+
 from dataclasses import dataclass
 from typing import Any
 

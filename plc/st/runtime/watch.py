@@ -9,11 +9,14 @@ in the simulation thread, which publishes its :class:`WatchRow` tuples for the p
 
 from __future__ import annotations
 
+__all__ = ["FORCEABLE", "WATCHED_SECTIONS", "WatchRow", "WatchedProgram", "value_text"]
+
 import math
 from dataclasses import dataclass
 from typing import Any
 
 from plc.st import STProgram
+from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.runtime.program import stored
 from plc.st.semantics.scope import Var
 from plc.st.semantics.types import BlockType, Elementary, EnumType, Member
@@ -145,6 +148,8 @@ class WatchedProgram:
             elif isinstance(t, EnumType):
                 named = next((n for n, v in t.values.items() if v == value), str(value))
                 rows.append(WatchRow(name, t.name, named))
+            elif isinstance(t, Elementary) and t.kind in ("date", "tod", "dt"):
+                rows.append(WatchRow(name, t.name, getattr(F, f"{t.kind}_text")(value)))
             elif isinstance(t, Elementary):
                 rows.append(
                     WatchRow(name, t.name, value_text(value), name in forced, _forceable(var))

@@ -4,6 +4,16 @@ code uses for ST identifiers."""
 
 from __future__ import annotations
 
+__all__ = [
+    "ANY",
+    "builtin_names",
+    "builtin_type",
+    "mcl_blocks",
+    "mcl_enums",
+    "python_name",
+    "standard_blocks",
+]
+
 import enum
 import keyword
 from functools import cache

@@ -4,6 +4,8 @@ variables of a POU and the globals (:class:`Scope`), and what the whole file dec
 
 from __future__ import annotations
 
+__all__ = ["Callable_", "Scope", "Unit", "Var"]
+
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -24,6 +26,7 @@ class Var:
         code: the Python expression that reads it (and is assigned to write it).
         section: ``input``, ``output``, ``in_out``, ``local``, ``temp``, ``global``.
         constant: its value when declared CONSTANT (inlined where it is read), else None.
+        read_only: a CONSTANT ARRAY or STRUCT (a variable no statement may write).
     """
 
     name: str
@@ -31,6 +34,7 @@ class Var:
     code: str
     section: str = "local"
     constant: Any = None
+    read_only: bool = False
 
 
 class Scope:
@@ -43,6 +47,8 @@ class Scope:
     def add(self, var: Var, where: str) -> None:
         """Declare ``var``; a second declaration of a name is an error."""
         key = var.name.lower()
+        if "__" in var.name:  # IEC 61131-3 2.1.2: no multiple embedded underscores
+            raise STError.at(where, f"the name {var.name} has two underscores in a row", "one")
         if key in self.vars:
             raise STError.at(where, f"{var.name!r} is declared twice", "each name once")
         self.vars[key] = var
@@ -62,13 +68,22 @@ class Scope:
 
 @dataclass
 class Callable_:
-    """A user FUNCTION: its inputs in order with their defaults, its result type."""
+    """A user FUNCTION: its inputs in order with their defaults, its in-outs and outputs, its
+    result type. The Python function takes the inputs, then the in-outs; it returns the
+    result, or with in-outs or outputs the tuple (result, in-outs..., outputs...)."""
 
     name: str
     python: str
     inputs: list[tuple[str, Type, str]]
     """(name, type, default code) of each VAR_INPUT, in declaration order."""
     result: Type
+    in_outs: list[tuple[str, Type]] = field(default_factory=list)
+    """(name, type) of each VAR_IN_OUT, in declaration order."""
+    outputs: list[tuple[str, Type]] = field(default_factory=list)
+    """(name, type) of each VAR_OUTPUT, in declaration order."""
+    order: list[str] = field(default_factory=list)
+    """The names of the inputs, in-outs and outputs in declaration order (a call without
+    names lists them so)."""
 
 
 @dataclass
@@ -85,6 +100,9 @@ class Unit:
     axes: Mapping[str, str] = field(default_factory=dict)
     mapping: Mapping[str, str] = field(default_factory=dict)
     types: dict[str, Type] = field(default_factory=dict)
+    initials: dict[str, Any] = field(default_factory=dict)
+    """The initial value of each derived type that declares one (upper name → its value's
+    node, :func:`plc.st.semantics.declarations.default_node`)."""
     functions: dict[str, Callable_] = field(default_factory=dict)
     globals: Scope = field(default_factory=Scope)
     bound: dict[str, str] = field(default_factory=dict)
@@ -136,6 +154,10 @@ class Unit:
                     if value_name.lower() == name.lower():
                         return t, value
         return None
+
+    def enum_names(self) -> list[str]:
+        """The values of the file's enumerations (for suggestions)."""
+        return [n for t in self.types.values() if isinstance(t, EnumType) for n in t.values]
 
     def axis(self, name: str) -> str | None:
         """The Python access code of the axis an ST name is bound to (the mapping first, then

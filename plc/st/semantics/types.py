@@ -3,11 +3,45 @@ IEC widths, and the derived ones (ARRAY, STRUCT, enumeration, function block, AX
 
 Values at run time: BOOL is ``bool``; every integer and bit string is ``int`` (wrapped to its
 width on every store); REAL and LREAL are ``float`` (REAL rounded to 32 bits); TIME is ``int``
-milliseconds, LTIME ``int`` nanoseconds; STRING is ``str``; an enumeration value is ``int``; an
-ARRAY is a ``list`` per dimension; a STRUCT and a function block are objects.
+milliseconds, LTIME ``int`` nanoseconds; DATE, TIME_OF_DAY and DATE_AND_TIME ``int``
+milliseconds (since 1970-01-01, since midnight, since 1970-01-01 00:00); STRING is ``str``; an
+enumeration value is ``int``; an ARRAY is a ``list`` per dimension; a STRUCT and a function block
+are objects; a REF_TO is a :class:`plc.st.runtime.functions.Ref` (NULL: ``_f.NULL``).
 """
 
 from __future__ import annotations
+
+__all__ = [
+    "ANY_INT",
+    "ANY_REAL",
+    "ANY_STRUCT",
+    "AXIS",
+    "BOOL",
+    "DINT",
+    "ELEMENTARY",
+    "GROUP",
+    "LINT",
+    "LREAL",
+    "LTIME",
+    "REAL",
+    "SEQUENCE",
+    "STRING",
+    "TIME",
+    "ArrayType",
+    "BlockType",
+    "Elementary",
+    "EnumType",
+    "Member",
+    "RefType",
+    "StructType",
+    "Type",
+    "mask",
+    "real_of",
+    "string_of",
+    "wider",
+    "wrap_code",
+    "wrap_value",
+]
 
 from dataclasses import dataclass, field
 
@@ -20,8 +54,8 @@ class Type:
 
     @property
     def kind(self) -> str:
-        """``bool``, ``int``, ``bits``, ``real``, ``time``, ``string``, ``enum``, ``array``,
-        ``struct``, ``block``, ``axis``, ``group``."""
+        """``bool``, ``int``, ``bits``, ``real``, ``time``, ``date``, ``tod``, ``dt``, ``string``,
+        ``enum``, ``array``, ``struct``, ``block``, ``axis``, ``group``, ``ref``."""
         return "?"
 
 
@@ -70,8 +104,13 @@ ELEMENTARY: dict[str, Elementary] = {
     "TIME": Elementary("TIME", "time", 32, False),
     "LTIME": Elementary("LTIME", "time", 64, False),
     "STRING": Elementary("STRING", "string", 80),
+    "DATE": Elementary("DATE", "date", 64),
+    "TOD": Elementary("TOD", "tod", 32),
+    "DT": Elementary("DT", "dt", 64),
 }
 """The elementary types by name; STRING's ``bits`` is its default length [characters]."""
+ELEMENTARY["TIME_OF_DAY"] = ELEMENTARY["TOD"]
+ELEMENTARY["DATE_AND_TIME"] = ELEMENTARY["DT"]
 
 BOOL = ELEMENTARY["BOOL"]
 DINT = ELEMENTARY["DINT"]
@@ -81,10 +120,33 @@ LREAL = ELEMENTARY["LREAL"]
 TIME = ELEMENTARY["TIME"]
 LTIME = ELEMENTARY["LTIME"]
 STRING = ELEMENTARY["STRING"]
+DATE = ELEMENTARY["DATE"]
+TOD = ELEMENTARY["TOD"]
+DT = ELEMENTARY["DT"]
 ANY_INT = Elementary("ANY_INT", "int", 0, True)
 """An integer literal without a type: it takes the type of the other operand."""
 ANY_REAL = Elementary("ANY_REAL", "real", 0, True)
 """A real literal without a type: REAL next to a REAL, else LREAL."""
+
+
+@dataclass(frozen=True)
+class Subrange(Elementary):
+    """An integer subrange ``INT (low..high)`` (IEC 61131-3 2.3.3.1, 3rd ed. 6.4.4.4): values
+    of its integer type ``of`` within ``low``..``high``."""
+
+    low: int = 0
+    high: int = 0
+    of: str = "INT"
+
+    @property
+    def parent(self) -> Elementary:
+        """The integer type it is a subrange of."""
+        return ELEMENTARY[self.of]
+
+
+def plain(t: Type) -> Type:
+    """``t``, or the integer type of a subrange (the type of arithmetic on its values)."""
+    return t.parent if isinstance(t, Subrange) else t
 
 
 def string_of(length: int) -> Elementary:
@@ -163,6 +225,20 @@ class RefType(Type):
     def kind(self) -> str:
         return self.ref
 
+
+@dataclass(frozen=True)
+class ReferenceType(Type):
+    """REF_TO target (IEC 61131-3 ed. 3, 6.4.4.10): a reference to a variable of ``target``."""
+
+    target: Type = BOOL
+
+    @property
+    def kind(self) -> str:
+        return "ref"
+
+
+NULL = ReferenceType("NULL", Type("ANY"))
+"""The type of the literal NULL: a reference to nothing, assignable to every REF_TO."""
 
 AXIS = RefType("AXIS_REF", "axis")
 GROUP = RefType("AXES_GROUP_REF", "group")

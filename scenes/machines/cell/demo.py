@@ -3,7 +3,9 @@ gantry is done, at once, each machine's own demo unchanged, under the zone inter
 
 from __future__ import annotations
 
-from scenes.machines import gantry, press
+__all__ = ["RAM_UP", "ZONE_X", "Demo", "gantry_in_zone", "own_demo", "ram_up"]
+
+from plc.sequence import DemoProgram
 from scenes.machines.cell.interlock import ZoneInterlock, ZoneUser
 from scenes.scene import Scene
 
@@ -14,14 +16,23 @@ RAM_UP = 0.020
 """The press's ram counts as up above 20 mm of stroke (it returns to 10 mm) [m]."""
 
 
+def own_demo(scene: Scene, machine: str) -> DemoProgram:
+    """A new run of machine ``machine``'s own demo, in its own view of the cell's scene."""
+    view = scene.machine(machine)
+    (definition,) = view.machines
+    if definition.demo is None:
+        raise LookupError(f"machine {machine!r} of the cell has no demo")
+    return definition.demo(view)
+
+
 def gantry_in_zone(scene: Scene) -> bool:
     """The gantry's X joint is in the shared zone (from the physics)."""
-    return scene.joint("gantry/X").position > ZONE_X
+    return scene.machine("gantry").joint("X").position > ZONE_X
 
 
 def ram_up(scene: Scene) -> bool:
     """The press's ram is up, out of the shared zone (from the physics)."""
-    return scene.joint("press/R").position < RAM_UP
+    return scene.machine("press").joint("R").position < RAM_UP
 
 
 class Demo:
@@ -36,13 +47,13 @@ class Demo:
     def __init__(self, scene: Scene, interlock: bool = True) -> None:
         self.scene = scene
         self.gantry = ZoneUser(
-            gantry.Demo(scene.machine("gantry")),
+            own_demo(scene, "gantry"),
             enter="carry to the place position",
             leave="return to park",
             left=lambda: not gantry_in_zone(scene),
         )
         self.press = ZoneUser(
-            press.Demo(scene.machine("press")),
+            own_demo(scene, "press"),
             enter="rapid approach",
             leave="return",
             left=lambda: ram_up(scene),
@@ -60,10 +71,10 @@ class Demo:
     @property
     def error(self) -> str:
         """The first machine's error (empty: none)."""
-        for name, user in (("gantry", self.gantry), ("press", self.press)):
-            if user.demo.error:
-                return f"{name}: {user.demo.error}"
-        return ""
+        gantry, press = self.gantry.demo.error, self.press.demo.error
+        if gantry:
+            return f"gantry: {gantry}"
+        return f"press: {press}" if press else ""
 
     @property
     def step(self) -> str:
@@ -75,6 +86,6 @@ class Demo:
         if self.error:
             return
         if self.press.demo.done and not self.gantry.demo.done and not self.press.holding:
-            self.press.demo = press.Demo(self.scene.machine("press"))
+            self.press.demo = own_demo(self.scene, "press")
             self.cycles += 1
         self.interlock()

@@ -11,6 +11,8 @@ signals ``gantry_in_zone`` and ``ram_up``.
 
 from __future__ import annotations
 
+__all__ = ["ZoneInterlock", "ZoneUser"]
+
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -61,9 +63,10 @@ class ZoneInterlock:
     def __call__(self) -> None:
         """One PLC scan of every demo the interlock lets run."""
         for user in self.users:
-            user.release_if_done()
+            if user.holding:
+                user.release_if_done()
         for user in self.users:
-            if self.enabled and user.demo.step == user.enter and not user.holding:
+            if self.enabled and not user.holding and user.demo.step == user.enter:
                 if any(o.holding or not o.left() for o in self.users if o is not user):
                     user.waited += self.plc_period
                     continue  # held before the step that enters the zone

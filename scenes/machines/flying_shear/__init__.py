@@ -17,10 +17,8 @@ scale from the print pitch). :mod:`.zeroing` measures Zeroing 2 from the physics
 from scenes.machines.flying_shear.axes import (
     AXES,
     HOMING,
-    PREFIX,
     ROLL_RADIUS,
     SENSOR_DELAY,
-    WHEEL_RADIUS,
 )
 from scenes.machines.flying_shear.definition import DEVICES, MACHINE
 from scenes.machines.flying_shear.demo import (
@@ -39,10 +37,10 @@ from scenes.machines.flying_shear.devices import (
     CutRecorder,
     EccentricRoll,
     KnifeCylinder,
-    MeasuringWheel,
     mark_at,
 )
 from scenes.machines.flying_shear.zeroing import ZeroingRecorder
+from scenes.parts import WHEEL_RADIUS, MeasuringWheel
 
 COMPILED_MODULES = ("devices",)
 """The modules of this package that the compiled build covers (its devices, run every physics
@@ -57,7 +55,6 @@ __all__ = [
     "MARKS",
     "MARK_PITCH",
     "PHASES",
-    "PREFIX",
     "RATIO_BASE",
     "ROLL_RADIUS",
     "SENSOR_DELAY",

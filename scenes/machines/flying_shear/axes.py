@@ -9,21 +9,24 @@ Kv = 30 1/s, Ka = J_eff/Kamp + 2 ms = 1.11/115 + 2 ms = 12 ms.
 
 from __future__ import annotations
 
+__all__ = [
+    "AXES",
+    "HOMING",
+    "ROLL_RADIUS",
+    "SENSOR_DELAY",
+]
+
 import math
 
 import mcl
 from plc.procedures import HomingRecipe
 from scenes.definition import AxisDef
 from scenes.machines.flying_shear.devices import MARKS
-from scenes.plant.mujoco import Probe
+from scenes.parts import line_axis, wheel_axis
 
-PREFIX = "flying_shear/"
-"""The prefix of the machine's names in a scene's model."""
 ROLL_RADIUS = 0.48 / (2.0 * math.pi)
 """Pinch-roll radius [m]: 480 mm circumference (2.08 turns per second at 60 m/min, so a 1.5 m
 piece sees the ripple at a new phase each cut)."""
-WHEEL_RADIUS = 0.25 / (2.0 * math.pi)
-"""Measuring-wheel radius [m]: 250 mm circumference."""
 SENSOR_DELAY = 0.001
 """Mark sensor delay [s] (contrast scanner and input filter)."""
 
@@ -36,33 +39,16 @@ HOMING = {
 """The homing recipe of each homed axis (the carriage)."""
 
 AXES = {
-    "L": AxisDef(
-        config=mcl.AxisConfig(
-            resolution=0.0096,
-            dev_max=20.0,
-            in_position=0.1,
-            acceleration=500.0,
-            deceleration=500.0,
-            max_acceleration=2000.0,
-            max_deceleration=2000.0,
-        ),
+    "L": line_axis(
+        ROLL_RADIUS,
+        resolution=0.0096,
+        acceleration=500.0,
+        max_acceleration=2000.0,
         constants=mcl.ServoConstants(
             Kp=0.125, Ki=1.25, Ff=1.0, Kc=50.0, Vmax=2400.0, Filter=2.0, Ka=0.012
         ),
-        joint="L",
-        unit="mm",
-        scale=1000.0 * ROLL_RADIUS,
-        switches=(),
     ),
-    "W": AxisDef(
-        config=mcl.AxisConfig(resolution=0.025, dev_max=20.0, in_position=0.1),
-        drive="encoder",
-        joint="W",
-        unit="mm",
-        scale=1000.0 * WHEEL_RADIUS,
-        switches=(),
-        probe=Probe(marks=MARKS, joint="M", delay=SENSOR_DELAY),
-    ),
+    "W": wheel_axis(MARKS, SENSOR_DELAY),
     "S": AxisDef(
         config=mcl.AxisConfig(
             resolution=0.001,

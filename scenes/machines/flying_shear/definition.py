@@ -3,15 +3,13 @@ every physics step), its demo and the signals it publishes."""
 
 from __future__ import annotations
 
+__all__ = ["DEVICES", "MACHINE"]
+
 from scenes.definition import MachineDef, Signal
-from scenes.machines.flying_shear.axes import AXES, PREFIX
+from scenes.machines.flying_shear.axes import AXES
 from scenes.machines.flying_shear.demo import Demo
-from scenes.machines.flying_shear.devices import (
-    CutRecorder,
-    EccentricRoll,
-    KnifeCylinder,
-    MeasuringWheel,
-)
+from scenes.machines.flying_shear.devices import CutRecorder, EccentricRoll, KnifeCylinder
+from scenes.parts import MeasuringWheel
 from scenes.scene import Scene
 
 DEVICES = {
@@ -24,7 +22,7 @@ DEVICES = {
 
 
 def _signal_knife(scene: Scene) -> float:
-    return 1000.0 * scene.joint(f"{PREFIX}K").position
+    return 1000.0 * scene.joint("K").position
 
 
 def _signal_valve(scene: Scene) -> float:
@@ -44,11 +42,11 @@ def _signal_mark(scene: Scene) -> float:
 
 
 def _signal_speed(scene: Scene) -> float:
-    return 60.0 * scene.joint(f"{PREFIX}M").velocity
+    return 60.0 * scene.joint("M").velocity
 
 
 def _signal_relative(scene: Scene) -> float:
-    return 1000.0 * (scene.joint(f"{PREFIX}S").velocity - scene.joint(f"{PREFIX}M").velocity)
+    return 1000.0 * (scene.joint("S").velocity - scene.joint("M").velocity)
 
 
 MACHINE = MachineDef(

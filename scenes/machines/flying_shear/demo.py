@@ -5,6 +5,17 @@ register that learns the wheel's scale from the print pitch); :class:`CutJob` sa
 
 from __future__ import annotations
 
+__all__ = [
+    "CORRECTION_PIECES",
+    "PHASES",
+    "PHASE_OF",
+    "RATIO_BASE",
+    "START",
+    "SYNC_LIMIT",
+    "CutJob",
+    "Demo",
+]
+
 from dataclasses import dataclass
 from typing import Any, Literal
 

@@ -6,6 +6,8 @@ their parameters and a seed, each returning the metrics a user would study.
 
 from __future__ import annotations
 
+__all__ = ["cut_length"]
+
 import statistics
 
 import mcl

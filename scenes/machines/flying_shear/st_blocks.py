@@ -4,6 +4,8 @@ reads the pieces with it for the cut-length correction)."""
 
 from __future__ import annotations
 
+__all__ = ["CutGauge", "blocks"]
+
 from typing import ClassVar
 
 import plc.st

@@ -3,10 +3,11 @@ physics (a runtime observer of a flying-shear scene)."""
 
 from __future__ import annotations
 
+__all__ = ["ZeroingRecorder"]
+
 from typing import Any
 
 import mcl
-from scenes.machines.flying_shear.axes import PREFIX
 from scenes.machines.flying_shear.devices import MARKS, mark_at
 from scenes.scene import Scene
 
@@ -28,7 +29,7 @@ class ZeroingRecorder:
         self.master = scene.axes["W"]
         self.marks = marks
         self._strip: Any = memoryview(scene.data.qpos)
-        self._m = int(scene.model.joint(f"{PREFIX}M").qposadr[0])
+        self._m = scene.joint("M").qpos_adr
         self._last = self.master.POS
         self.errors: list[float] = []
         """Per zeroing: master coordinate minus the true travel since the mark [mm]."""

@@ -11,6 +11,8 @@ Vmax the error-stop ramp (max_deceleration) ends before the hard stops.
 
 from __future__ import annotations
 
+__all__ = ["AXES", "HOMING", "SW_MARGIN"]
+
 import mcl
 from plc.procedures import HomingRecipe
 from scenes.definition import AxisDef

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+__all__ = ["MACHINE", "ZIGZAG", "ZIGZAG_START", "build"]
+
 from typing import Any
 
 from scenes.definition import MachineDef
@@ -39,6 +41,5 @@ MACHINE = MachineDef(
     axes=AXES,
     demo=Demo,
     demo_start={"X": 0.43, "Y": 0.27, "Z": -0.12},
-    group=("X", "Y", "Z"),
 )
 """The gantry in the registry."""

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+__all__ = ["DWELL", "PATH", "PATH_VELOCITY", "PICK", "PLACE", "SAFE_Z", "B", "Demo"]
+
 from typing import Any, ClassVar
 
 import mcl

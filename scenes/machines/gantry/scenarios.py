@@ -6,6 +6,8 @@ parameters and a seed, each returning the metrics a user would study.
 
 from __future__ import annotations
 
+__all__ = ["homing_repeatability"]
+
 import statistics
 
 import mcl
@@ -57,8 +59,8 @@ def homing_repeatability(
     for _ in range(50):
         scene.run(program, timeout=0.002)
         origins.append(scene.joint_position("X") - (X.POS - recipe.set_position) / 1000.0)
-    lead = float(scene.model.numeric("gantry/X_lead").data[0])
-    edge = float(scene.model.numeric("gantry/X_ref_edge").data[0])
+    lead = float(scene.model.numeric(scene.model_name("X_lead")).data[0])
+    edge = float(scene.model.numeric(scene.model_name("X_ref_edge")).data[0])
     index = -(-edge // lead) * lead  # the first index above the REF edge
     return {
         "origin_error_um": (statistics.fmean(origins) - index) * 1e6,

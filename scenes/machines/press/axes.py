@@ -10,6 +10,18 @@ delays (1.5 ms).
 
 from __future__ import annotations
 
+__all__ = [
+    "AXES",
+    "BLOCK_HOMING",
+    "HOMING",
+    "MASS",
+    "MODEL",
+    "RAM_SSI",
+    "REFERENCE",
+    "STEP_BLOCK_INPUTS",
+    "WEIGHT",
+]
+
 import mcl
 from plc.procedures import BlockHoming
 from scenes.definition import AxisDef
@@ -17,8 +29,6 @@ from scenes.machines.press.devices import ANALOG_INPUTS
 
 MODEL = "hydraulic_press.xml"
 """The press's MJCF model (in models/)."""
-PREFIX = "press/"
-"""The prefix of the machine's names in a scene's model."""
 MASS = 200.0
 """Moving mass of the ram with piston and rod [kg]."""
 WEIGHT = MASS * 9.81 / 1000.0

@@ -3,6 +3,8 @@ it publishes (pressures, forces, the valve's spool)."""
 
 from __future__ import annotations
 
+__all__ = ["MACHINE"]
+
 from scenes.definition import MachineDef, Signal
 from scenes.machines.press.axes import AXES, MODEL
 from scenes.machines.press.demo import Demo

@@ -12,6 +12,22 @@ near 55 rad/s (see mcl.force).
 
 from __future__ import annotations
 
+__all__ = [
+    "BAR_PER_VOLT",
+    "DECOMPRESSION",
+    "DWELL",
+    "FORCE_GAIN",
+    "HOLD_FORCE",
+    "PART",
+    "PRESSURE_STOP",
+    "STEPS",
+    "TOP",
+    "WATCHED",
+    "Demo",
+    "force_inputs",
+    "model_force_inputs",
+]
+
 from functools import cache
 from typing import Any
 

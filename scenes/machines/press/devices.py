@@ -5,6 +5,16 @@ under the part (:class:`ContactForce`); :func:`make_cylinder` makes it from the 
 
 from __future__ import annotations
 
+__all__ = [
+    "ANALOG_INPUTS",
+    "AnalogReader",
+    "ContactForce",
+    "CylinderDevice",
+    "Transducer",
+    "cylinder_data",
+    "make_cylinder",
+]
+
 import math
 from collections.abc import Sequence
 from typing import Any

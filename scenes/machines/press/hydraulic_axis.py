@@ -4,6 +4,8 @@ cylinder (:class:`.hydraulics.ValveCylinder`) moving a mass without a physics en
 
 from __future__ import annotations
 
+__all__ = ["HydraulicAxis", "HydraulicPlant", "ValveDrive"]
+
 from mcl.channel import IDEAL, AxisChannel, Drive, Sensors
 from mcl.simaxis import after_friction
 from scenes.machines.press.hydraulics import BAR, ValveCylinder

@@ -9,20 +9,26 @@ feed Kv = 30 1/s, Ka = J_eff/Kamp + 1.5 ms = 0.118/12 + 1.5 ms = 11.3 ms.
 
 from __future__ import annotations
 
+__all__ = [
+    "AXES",
+    "CUT_FORCE",
+    "GEAR_RATIO",
+    "HOMING",
+    "ROLL_RADIUS",
+    "SENSOR_DELAY",
+    "TIP_CIRCUMFERENCE",
+]
+
 import math
 
 import mcl
 from plc.procedures import HomingRecipe
 from scenes.definition import AxisDef
 from scenes.machines.rotary_cutter.marks import MARKS
-from scenes.plant.mujoco import Probe
+from scenes.parts import line_axis, wheel_axis
 
-PREFIX = "rotary_cutter/"
-"""The prefix of the machine's names in a scene's model."""
 ROLL_RADIUS = 0.4 / (2.0 * math.pi)
 """Pinch-roll radius [m]: 400 mm circumference."""
-WHEEL_RADIUS = 0.25 / (2.0 * math.pi)
-"""Measuring-wheel radius [m]: 250 mm circumference."""
 TIP_CIRCUMFERENCE = 500.0
 """The blades' tip circle [mm] (r = 79.577 mm)."""
 SENSOR_DELAY = 0.0005
@@ -41,33 +47,16 @@ HOMING = {
 """The homing recipe of each homed axis (the drum)."""
 
 AXES = {
-    "L": AxisDef(
-        config=mcl.AxisConfig(
-            resolution=0.008,
-            dev_max=20.0,
-            in_position=0.1,
-            acceleration=1000.0,
-            deceleration=1000.0,
-            max_acceleration=4000.0,
-            max_deceleration=4000.0,
-        ),
+    "L": line_axis(
+        ROLL_RADIUS,
+        resolution=0.008,
+        acceleration=1000.0,
+        max_acceleration=4000.0,
         constants=mcl.ServoConstants(
             Kp=0.075, Ki=0.75, Ff=1.0, Kc=50.0, Vmax=4000.0, Filter=2.0, Ka=0.0113
         ),
-        joint="L",
-        unit="mm",
-        scale=1000.0 * ROLL_RADIUS,
-        switches=(),
     ),
-    "W": AxisDef(
-        config=mcl.AxisConfig(resolution=0.025, dev_max=20.0, in_position=0.1),
-        drive="encoder",
-        joint="W",
-        unit="mm",
-        scale=1000.0 * WHEEL_RADIUS,
-        switches=(),
-        probe=Probe(marks=MARKS, joint="M", delay=SENSOR_DELAY),
-    ),
+    "W": wheel_axis(MARKS, SENSOR_DELAY),
     "D": AxisDef(
         config=mcl.AxisConfig(
             resolution=0.0036,

@@ -9,6 +9,16 @@ what it cuts.
 
 from __future__ import annotations
 
+__all__ = [
+    "COUPLED",
+    "CUT_ANGLE",
+    "REGISTER_MARKS",
+    "Batch",
+    "CamDemo",
+    "CamJob",
+    "stopping_distance",
+]
+
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -375,10 +385,10 @@ class CamDemo(StepSequence):
 
     def sensor_to_cut(self) -> float:
         """Web distance from the mark sensor to the cut line (under the drum axis) [m]."""
-        model = self.scene.model
-        sensor = model.site(f"{self.drum.prefix}mark_sensor").id
-        data = self.scene.data
-        axis = data.xanchor[model.joint(f"{self.drum.prefix}D").id]
+        scene = self.scene
+        sensor = scene.model.site(scene.model_name("mark_sensor")).id
+        data = scene.data
+        axis = data.xanchor[scene.model.joint(scene.model_name("D")).id]
         return float(axis[0] - data.site_xpos[sensor][0])
 
     # ------------------------------------------------------------------ results

@@ -3,13 +3,15 @@ before every physics step), its demo and the signals it publishes."""
 
 from __future__ import annotations
 
+__all__ = ["DEVICES", "MACHINE"]
+
 import math
 
 from scenes.definition import MachineDef, Signal
-from scenes.machines.flying_shear.devices import MeasuringWheel
-from scenes.machines.rotary_cutter.axes import AXES, PREFIX
+from scenes.machines.rotary_cutter.axes import AXES
 from scenes.machines.rotary_cutter.cam_demo import CamDemo
 from scenes.machines.rotary_cutter.devices import KnifeDrum
+from scenes.parts import MeasuringWheel
 from scenes.scene import Scene
 
 DEVICES = {
@@ -24,15 +26,13 @@ def _drum(scene: Scene) -> KnifeDrum:
 
 
 def _signal_speed(scene: Scene) -> float:
-    return 60.0 * scene.joint(f"{PREFIX}M").velocity
+    return 60.0 * scene.joint("M").velocity
 
 
 def _signal_tip_minus_web(scene: Scene) -> float:
     """Tip speed at the bottom of the drum (r·Ḋ) minus web speed [mm/s]."""
     drum = _drum(scene)
-    return 1000.0 * (
-        drum.radius * scene.joint(f"{PREFIX}D").velocity - scene.joint(f"{PREFIX}M").velocity
-    )
+    return 1000.0 * (drum.radius * scene.joint("D").velocity - scene.joint("M").velocity)
 
 
 def _signal_drag(scene: Scene) -> float:
@@ -45,7 +45,7 @@ def _signal_piece(scene: Scene) -> float:
 
 def _signal_torque(scene: Scene) -> float:
     """The drum amplifier's torque at the drum, its cutting-force feed-forward included [N·m]."""
-    amplifier = float(scene.data.actuator(f"{PREFIX}D_amp").force[0])
+    amplifier = float(scene.data.actuator(scene.model_name("D_amp")).force[0])
     return amplifier + _drum(scene).feed_torque
 
 
@@ -56,7 +56,7 @@ def _signal_current(scene: Scene) -> float:
 
 
 def _signal_angle(scene: Scene) -> float:
-    return math.degrees(scene.joint(f"{PREFIX}D").position) % 360.0
+    return math.degrees(scene.joint("D").position) % 360.0
 
 
 MACHINE = MachineDef(

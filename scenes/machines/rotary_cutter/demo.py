@@ -5,6 +5,8 @@ blade pitch long (tip circumference / blades). :class:`CutterJob` says what it c
 
 from __future__ import annotations
 
+__all__ = ["DRUM_SPEED_LIMIT", "CutterJob", "Demo"]
+
 import math
 from dataclasses import dataclass
 from typing import Any

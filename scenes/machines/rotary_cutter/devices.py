@@ -1,10 +1,12 @@
 """The rotary cross cutter's devices, integrated before every physics step (compiled with the
 plant where a C compiler exists): the knife drum's blades in the web (the cutting force, the
 blade's grip along the web, every cut taken from the physics). The measuring wheel and its
-errors are the flying shear's (:class:`scenes.machines.flying_shear.devices.MeasuringWheel`).
+errors are the web line's (:class:`scenes.parts.MeasuringWheel`).
 """
 
 from __future__ import annotations
+
+__all__ = ["CUT_FIELDS", "Cut", "KnifeDrum", "cut_of", "cut_values"]
 
 import math
 from dataclasses import dataclass

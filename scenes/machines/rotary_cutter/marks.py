@@ -4,6 +4,17 @@ against) and where the sensor switches on it (print error and sensor jitter)."""
 
 from __future__ import annotations
 
+__all__ = [
+    "COUNT",
+    "MARKS",
+    "MARK_FIRST",
+    "MARK_PITCH",
+    "PRINT_ERROR",
+    "PRINT_MARKS",
+    "SENSOR_JITTER",
+    "PrintMarks",
+]
+
 import random
 from dataclasses import dataclass
 

@@ -9,6 +9,8 @@ once.
 
 from __future__ import annotations
 
+__all__ = ["CONSTANTS", "MACHINE", "STEPS", "Demo"]
+
 from typing import Any
 
 import mcl

@@ -20,7 +20,7 @@ BAD = [
     ("t : TON; q : BOOL", "t(IN => q);", "IN is not an output"),
     ("x : INT", "x := 1 / 0;", "integer division by zero"),
     ("a : ARRAY[1..3] OF INT", "a[4] := 1;", "3:3: index 4 outside 1..3"),
-    ("x : INT", "x := MOD(1);", "3:6: unexpected 'MOD'; expected an expression"),
+    ("x : INT", "x := MOD(1);", "3:6: a parameter is missing; expected IN1, IN2"),
     ("x : INT", "x := FOO(1);", "3:6: unknown function 'FOO'"),
     ("x : INT", "IF x THEN x := 1; END_IF", "a condition of type INT; expected BOOL"),
     ("x : INT", "EXIT;", "EXIT outside a loop"),
@@ -54,3 +54,25 @@ def test_an_index_out_of_range_at_run_time_stops_the_program_naming_its_line():
         prog()
     assert prog.error == "run.st:5: array index 4 outside 1..3; the program stopped"
     assert prog.n == 2  # no longer scanned after the fault
+
+
+@pytest.mark.parametrize(
+    ("source", "message"),
+    [
+        (
+            "INTERFACE I\nEND_INTERFACE\n"
+            + "PROGRAM p\nVAR x : INT; END_VAR\nx := 1;\nEND_PROGRAM\n",
+            "bad.st:1:1: Interface; expected PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL",
+        ),
+        (
+            "PROGRAM p\nVAR x : INT; END_VAR\nx := 1;\nEND_PROGRAM\n"
+            + "ACTION a:\nx := 2;\nEND_ACTION\n",
+            "bad.st:5:1: Action; expected PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL",
+        ),
+    ],
+    ids=["interface", "action"],
+)
+def test_an_item_of_a_kind_the_translator_does_not_run_is_named_at_its_line(source, message):
+    with pytest.raises(plc.st.STError) as raised:
+        plc.st.from_source(source, filename="bad.st")
+    assert str(raised.value) == message

@@ -1,5 +1,6 @@
 """The bridge's commands beyond single moves, through the signal table in-process: a command
-requested as a method call does (Done stays visible, a repeat starts again), a pulse shorter
+requested as a method call does (Done stays visible, a repeat starts again; a requested stop
+ends when the next command comes, which is taken), a pulse shorter
 than a scan, MoveAdditive buffered behind a move, commands the axis cannot take, the PLC out of
 control, a cell's one table per machine; measured on the joints."""
 
@@ -41,6 +42,35 @@ def test_a_requested_command_keeps_its_done_and_a_repeat_starts_again(gantry: In
         table.request("X", "enable")  # a level, not a command
     with pytest.raises(WriteRefused):
         table.request("X", "move_relative", {"status": 1.0})  # not a parameter
+
+
+def test_a_requested_stop_ends_when_the_next_command_comes(gantry: InProcess) -> None:
+    table, plc = gantry.table, gantry
+
+    def stop_a_velocity_move() -> float:
+        """A requested MC_MoveVelocity stopped by a requested MC_Stop: Done, and the axis held in
+        Stopping (its Execute stays set); where X stands [m]."""
+        table.request("X", "move_velocity", {"velocity": 50.0})
+        plc.run(0.3)
+        assert plc.status("X", "in_velocity")
+        table.request("X", "stop")
+        plc.until(lambda: plc.status("X", "done"), 2.0, "the stop")
+        plc.run(0.1)
+        assert plc.read("X.state") == mcl.AxisState.Stopping  # until Done AND NOT Execute
+        return plc.scene.joint_position("X")
+
+    start = stop_a_velocity_move()
+    table.request("X", "move_relative", {"distance": 20.0, "velocity": 200.0})
+    plc.until(lambda: plc.status("X", "done"), 5.0, "the requested move")
+    assert plc.read("X.error_id") == 0  # taken: no EAxStop
+    assert plc.scene.joint_position("X") - start == pytest.approx(0.020, abs=20e-6)
+    start = stop_a_velocity_move()
+    plc.write_all({"X.distance": 30.0, "X.velocity": 200.0})
+    plc.write("X.control", bits("enable", "move_relative"))
+    plc.until(lambda: plc.status("X", "done"), 5.0, "the move of the control word")
+    assert plc.read("X.error_id") == 0
+    assert plc.scene.joint_position("X") - start == pytest.approx(0.030, abs=20e-6)
+    assert table.get("X.command") == 1 + CONTROL_BITS.index("move_relative")
 
 
 def test_a_pulse_shorter_than_a_scan_starts_the_command(gantry: InProcess) -> None:

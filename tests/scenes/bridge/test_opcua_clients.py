@@ -1,6 +1,7 @@
 """The OPC UA server in its own process as asyncua clients written from docs/bridge.md meet it:
 a control-word command after a method call is taken; each command has its number
-(``command_count``), so a repeated call is never judged by the previous Done; a client's
+(``command_count``), so a repeated call is never judged by the previous Done; a called stop
+ends when the next command comes, and that command is taken; a client's
 keep-alive is answered during a long Advance in lockstep; a channel with a security mode the
 server has no endpoint for is refused at once; idle TCP connections do not lock clients out."""
 
@@ -19,6 +20,8 @@ from asyncua.crypto.cert_gen import setup_self_signed_certificate
 from asyncua.crypto.security_policies import SecurityPolicyBasic256Sha256
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
+import mcl
+from scenes.bridge.opcua_nodes import MAX_ADVANCE
 from scenes.bridge.table import CONTROL_BITS
 from tests.bridge_clients import NAMESPACE, opcua_server
 
@@ -129,6 +132,50 @@ def test_each_command_has_its_number(tmp_path: Path) -> None:
         asyncio.run(body(port))
 
 
+def test_a_called_stop_ends_when_the_next_command_comes(tmp_path: Path) -> None:
+    """MC_Stop called on a velocity move: Done, and the axis held in Stopping (its Execute
+    stays set) until the next command; then a call of MC_MoveRelative and, after another
+    MC_Stop, a move of the control word are taken (no EAxStop): X moves by 20 and by 30 mm,
+    measured at the actual position."""
+
+    async def stopped(x: Axis) -> None:
+        count = await x.value("command_count")
+        velocity = [ua.Variant(v, D) for v in (50.0, 1000.0, 1000.0, 0.0)]
+        positive = ua.Variant(int(mcl.MC_Direction.MC_Positive), ua.VariantType.Int32)
+        await x.call("MC_MoveVelocity", *velocity, positive, ua.Variant(0, ua.VariantType.UInt16))
+        await until(lambda: x.value("status.in_velocity"), 5.0, "at velocity")
+        await x.call("MC_Stop", ua.Variant(0.0, D), ua.Variant(0.0, D))
+        await x.done_after(count + 1)
+        await asyncio.sleep(0.1)
+        assert await x.value("state") == mcl.AxisState.Stopping  # until Done AND NOT Execute
+
+    async def body(port: int) -> None:
+        async with Client(f"opc.tcp://127.0.0.1:{port}/", timeout=10) as client:
+            x = Axis(client, await client.get_namespace_index(NAMESPACE), "X")
+            await x.call("MC_Power", ua.Variant(True, ua.VariantType.Boolean))
+            await until(lambda: x.value("status.power"), 5.0, "power")
+            await stopped(x)
+            start = await x.value("actual_position")
+            count = await x.value("command_count")
+            await x.call("MC_MoveRelative", *relative(20.0))
+            await x.done_after(count)
+            assert await x.value("error_id") == 0
+            assert await x.value("actual_position") == pytest.approx(start + 20.0, abs=0.02)
+            await stopped(x)
+            start = await x.value("actual_position")
+            count = await x.value("command_count")
+            await client.write_values(
+                [x.node("distance"), x.node("control")],
+                [ua.Variant(30.0, D), ua.Variant(9, ua.VariantType.UInt16)],  # enable, move
+            )
+            await x.done_after(count)
+            assert await x.value("error_id") == 0
+            assert await x.value("actual_position") == pytest.approx(start + 30.0, abs=0.02)
+
+    with opcua_server("gantry", tmp_path / "stderr.txt") as port:
+        asyncio.run(body(port))
+
+
 def test_the_keep_alive_is_answered_during_a_long_advance(tmp_path: Path) -> None:
     """asyncua's client probes the server every second and drops the session when a probe
     is not answered within a second; an Advance answered after 2 s must not cost it."""
@@ -146,10 +193,10 @@ def test_the_keep_alive_is_answered_during_a_long_advance(tmp_path: Path) -> Non
             sim = client.get_node(f"ns={ns};s=sim")
             started = time.monotonic()
             cycle = await sim.call_method(
-                f"{ns}:Advance", ua.Variant(20_000, ua.VariantType.UInt32)
+                f"{ns}:Advance", ua.Variant(MAX_ADVANCE, ua.VariantType.UInt32)
             )
             assert time.monotonic() - started > 1.5  # longer than a probe waits
-            assert 0 <= cycle <= 20_000  # answered after 2 s, the step not yet done
+            assert 0 <= cycle < MAX_ADVANCE  # answered after 2 s, the step not yet done
             await asyncio.sleep(1.5)  # the next probes
             assert not lost
             assert await client.get_node(f"ns={ns};s=sim.cycle").read_value() >= cycle

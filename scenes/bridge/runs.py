@@ -1,7 +1,10 @@
 """How the bridge's simulation advances, in its own thread: free-running, paced to the wall clock
-at a speed (:class:`PacedRun`), or in lockstep with the client (:class:`LockstepRun`)."""
+at a speed (:class:`PacedRun`, with the testbench's pacing loop, :mod:`scenes.pacing`), or in
+lockstep with the client (:class:`LockstepRun`)."""
 
 from __future__ import annotations
+
+__all__ = ["CHUNK", "IDLE_WAIT", "MAX_LAG", "LockstepRun", "PacedRun", "Run"]
 
 import logging
 import threading
@@ -9,11 +12,12 @@ import time
 from collections.abc import Callable
 
 from scenes.bridge.program import BridgeProgram
+from scenes.pacing import Pacing
 
 log = logging.getLogger(__name__)
 
 CHUNK = 0.01
-"""Simulated time a free run runs between two looks at the wall clock [s] (whole PLC cycles)."""
+"""Simulated time a free run runs between two publishes [s] (whole PLC cycles)."""
 
 MAX_LAG = 0.1
 """A free run that falls further behind the wall clock [s] gives the time up."""
@@ -117,7 +121,8 @@ class Run:
 
 
 class PacedRun(Run):
-    """Free-running at ``speed`` × real time.
+    """Free-running at ``speed`` × real time, publishing after each :data:`CHUNK` of simulated
+    time.
 
     Args:
         program: the bridge program (its scene is run).
@@ -131,24 +136,32 @@ class PacedRun(Run):
         speed: float = 1.0,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
-        if not speed > 0.0:
-            raise ValueError(f"speed must be > 0, got {speed}")
+        self.pacing = Pacing(speed, clock, max_lag=MAX_LAG, chunk=CHUNK, batch_wall=0.0)
         super().__init__(program)
-        self.speed = speed
-        self._clock = clock
-        plc = self.scene.runtime.plc_period
-        self.chunk = max(1, round(CHUNK / plc)) * plc
 
     def _run(self) -> None:
-        scene, start_wall, start_sim = self.scene, self._clock(), self.scene.time
-        while not self._stop.is_set():
-            scene.run(self.program, timeout=self.chunk)
+        self.pacing.run(self, self._stop)
+
+    def simulated(self) -> tuple[float, float]:
+        """Simulated time and PLC period [s] (:class:`scenes.pacing.Paced`)."""
+        return self.scene.time, self.scene.runtime.plc_period
+
+    def held(self) -> bool:
+        """Never held: the run has no commands of its own."""
+        return False
+
+    def run_cycles(self, cycles: int) -> None:
+        """Run ``cycles`` PLC cycles of the program."""
+        self.scene.run(self.program, timeout=cycles * self.scene.runtime.plc_period)
+
+    def ran(self) -> None:
+        """Publish after each run of cycles (also before a wait: nothing new then)."""
+        if self.program.cycles != self._published:
             self._publish()
-            ahead = (scene.time - start_sim) / self.speed - (self._clock() - start_wall)
-            if ahead > 0:
-                self._stop.wait(ahead)
-            elif ahead < -MAX_LAG:  # fell behind: go on from now, no burst to catch up
-                start_wall, start_sim = self._clock(), scene.time
+
+    def idle(self, seconds: float) -> None:
+        """Wait for the next chunk, or until the run stops."""
+        self._stop.wait(seconds)
 
 
 class LockstepRun(Run):
