@@ -40,7 +40,7 @@ TUTORIALS = [README] + [
 ]
 """The pages whose every Python and Structured Text block runs in this file."""
 TESTED_ELSEWHERE = {
-    "own-machine.md": "tests/scenes/test_own_machine_guide.py writes the guide's files and runs them",
+    "own-machine.md": "tests/scenes/test_own_machine_guide.py writes the guide's files, runs them",
     "bridge.md": "tests/scenes/bridge/test_docs.py follows its settings; its Python block is a "
     "fragment of a client of a PLC's network, whose whole clients are examples/bridge_*_client.py",
 }
@@ -168,7 +168,9 @@ def test_the_links_are_checked_at_all():
     let every broken link pass)."""
     assert "docs/getting-started.md#the-first-five-minutes-in-the-browser" in local_links(README)
     assert "the-first-five-minutes-in-the-browser" in anchors(DOCS / "getting-started.md")
-    assert "gantry-gantryxml" in anchors(DOCS / "models.md")  # a heading of the included models/README.md
+    assert "gantry-gantryxml" in anchors(
+        DOCS / "models.md"
+    )  # a heading of the included models/README.md
     assert slug("Free-running and lockstep") == "free-running-and-lockstep"
     assert slug("`scene.faults` — the *faults*") == "scenefaults-the-faults"
 
@@ -235,11 +237,21 @@ def test_a_python_block_runs(block: Block, tmp_path: Path):
         (tmp_path / args[1]).write_text(st_block_before(block).body, encoding="utf-8")
     if args[:1] == ["pytest"]:
         (tmp_path / "test_snippet.py").write_text(block.body, encoding="utf-8")
-        command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "test_snippet.py"]
+        command = [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            "test_snippet.py",
+        ]
     else:
         command = [sys.executable, "-c", block.body]
     result = run(command, tmp_path)
-    assert result.returncode == 0, f"{block} failed:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}"
+    assert result.returncode == 0, (
+        f"{block} failed:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}"
+    )
     if args[:1] == ["pytest"]:
         assert re.search(r"\b1 passed\b", result.stdout), result.stdout
 
