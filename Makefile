@@ -1,13 +1,14 @@
 # The two commands of the README: `make run` (the viewer) and `make test`; `make mutate` tests
-# the tests of a change (mutation testing, see the README).
+# the tests of a change (mutation testing, see docs/mutation-testing.md).
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 UV     := python3 -m uv
 SCENE  ?= gantry
 HOST   ?= 127.0.0.1
 PORT   ?= 8080
+DOCS_PORT ?= 8000
 
-.PHONY: setup run demo test lint typecheck pytest bench mutate clean
+.PHONY: setup run demo docs test lint typecheck pytest bench mutate clean
 
 $(VENV)/.installed: pyproject.toml
 	@$(UV) --version >/dev/null 2>&1 || python3 -m pip install --quiet --disable-pip-version-check uv
@@ -28,11 +29,17 @@ run: $(VENV)/.installed
 demo: $(VENV)/.installed
 	$(PY) -m scenes run $(SCENE)
 
-# ruff, then the layers and the extras' boundaries ([tool.importlinter] in pyproject.toml)
+# the documentation site (mkdocs.yml) on this machine only, rebuilt as its pages change
+docs: $(VENV)/.installed
+	$(VENV)/bin/mkdocs serve --dev-addr $(HOST):$(DOCS_PORT)
+
+# ruff, then the layers and the extras' boundaries ([tool.importlinter] in pyproject.toml), then
+# the documentation site built strictly into .build/site (a broken link or reference fails)
 lint: setup
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/lint-imports
+	$(VENV)/bin/mkdocs build --strict --quiet --site-dir .build/site
 
 typecheck: setup
 	$(VENV)/bin/mypy

@@ -19,7 +19,7 @@ from tests.helpers import CONSTANTS, ROOT
 pytestmark = pytest.mark.once  # new interpreters, pure Python (see the marker in pyproject.toml)
 
 PROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
-EXTRAS = [e for e in PROJECT["optional-dependencies"] if e not in ("all", "test")]
+EXTRAS = [e for e in PROJECT["optional-dependencies"] if e not in ("all", "test", "docs")]
 """The extras (their names)."""
 EXTRA_PACKAGES = sorted(
     {

@@ -17,11 +17,11 @@ SELF = re.compile(rf"{extras.DISTRIBUTION}\[(?P<extras>[a-z,]+)\]")
 
 
 def table() -> dict[str, tuple[set[str], set[str]]]:
-    """pyproject.toml's extras but ``all`` and ``test``: extra → (its packages, the extras it
-    builds on)."""
+    """pyproject.toml's extras but ``all`` and the tools' ``test`` and ``docs``: extra → (its
+    packages, the extras it builds on)."""
     out = {}
     for extra, requirements in PROJECT["optional-dependencies"].items():
-        if extra in ("all", "test"):
+        if extra in ("all", "test", "docs"):
             continue
         packages, included = set(), set()
         for requirement in requirements:

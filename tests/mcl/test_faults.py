@@ -5,7 +5,7 @@ a simulated axis: the error the module reports, or the documented behaviour wher
 cannot detect the fault, measured from the joint (``scene.joint_position``), never from the
 library's own view. Every scenario also checks that no value went NaN, that a moving axis came
 to rest within a stated distance, and that the fault is in ``faults.events``. The figures are
-the README's table "Faults" (measured with these scenarios; the bounds leave honest margins).
+the table of docs/faults.md (measured with these scenarios; the bounds leave honest margins).
 """
 
 from __future__ import annotations

@@ -28,7 +28,7 @@ MODES = [
 SCRIPT = """
 {imports}
 import json, sys
-scene = scenes.load("gantry", start={{"X": 0.3}})   # the README's first example
+scene = scenes.load("gantry", start={{"X": 0.3}})   # the first example of docs/first-scenario.md
 X = scene.axes["X"]
 power, move = mcl.MC_Power(), mcl.MC_MoveRelative()
 
