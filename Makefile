@@ -31,7 +31,7 @@ demo: $(VENV)/.installed
 
 # the documentation site (mkdocs.yml) on this machine only, rebuilt as its pages change
 docs: $(VENV)/.installed
-	$(VENV)/bin/mkdocs serve --dev-addr $(HOST):$(DOCS_PORT)
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs serve --dev-addr $(HOST):$(DOCS_PORT)
 
 # ruff, then the layers and the extras' boundaries ([tool.importlinter] in pyproject.toml), then
 # the documentation site built strictly into .build/site (a broken link or reference fails)
@@ -39,7 +39,7 @@ lint: setup
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/lint-imports
-	$(VENV)/bin/mkdocs build --strict --quiet --site-dir .build/site
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --quiet --site-dir .build/site
 
 typecheck: setup
 	$(VENV)/bin/mypy
