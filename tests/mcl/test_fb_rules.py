@@ -40,6 +40,40 @@ def exclusive(fb: Any) -> None:
     assert bool(fb.Error) == (fb.ErrorID != 0), f"Error={fb.Error} ErrorID={fb.ErrorID}"
 
 
+def outputs_after_execute_fell(
+    machine: mcl.SimMachine, fb: Any, *names: str, seconds: float = 1.0
+) -> list[tuple[bool, ...]]:
+    """Call ``fb`` with Execute FALSE every scan for ``seconds`` (rule 2 checked on every scan);
+    the named outputs of every scan."""
+    scans: list[tuple[bool, ...]] = []
+
+    def scan() -> None:
+        fb(Execute=False)
+        exclusive(fb)
+        scans.append(tuple(bool(getattr(fb, name)) for name in names))
+
+    machine.run(scan, timeout=seconds)
+    return scans
+
+
+def seen_while_taken_over(
+    machine: mcl.SimMachine, fb: Any, successor: Any, output: str, timeout: float = 5.0
+) -> bool:
+    """Call ``fb`` and then ``successor`` (both Execute TRUE; rule 2 checked on ``fb``) every scan
+    until ``successor`` is Done: whether ``output`` of ``fb`` was ever TRUE."""
+    seen = False
+
+    def scan() -> None:
+        nonlocal seen
+        fb(Execute=True)
+        successor(Execute=True)
+        exclusive(fb)
+        seen |= bool(getattr(fb, output))
+
+    machine.run(scan, until=lambda: successor.Done, timeout=timeout)
+    return seen
+
+
 # ------------------------------------------ rule 1: instances of one FB type are independent
 def test_rule1_instances_of_one_type_in_one_cycle_are_independent():
     machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
