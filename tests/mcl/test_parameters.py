@@ -587,6 +587,7 @@ def model_samples(m: mcl.SimMachine, x: mcl.Axis) -> list[tuple[float, float]]:
 
 def sampled_move(
     fb_name: str = "MC_MoveVelocity",
+    *,
     config: mcl.AxisConfig | None = None,
     **inputs: Any,
 ) -> tuple[mcl.Axis, list[tuple[float, float]], Any]:
@@ -628,7 +629,9 @@ def test_velocity_above_vmax_is_clamped(velocity: float):
 
 @pytest.mark.parametrize("fb_name", ["MC_MoveAbsolute", "MC_MoveRelative", "GT_MoveAbsBlock"])
 def test_move_velocity_above_vmax_is_clamped_and_reaches_target(fb_name: str):
-    inputs = {"Distance": 400.0} if fb_name == "MC_MoveRelative" else {"Position": 400.0}
+    inputs: dict[str, Any] = (
+        {"Distance": 400.0} if fb_name == "MC_MoveRelative" else {"Position": 400.0}
+    )
     x, samples, _ = sampled_move(fb_name, Velocity=1e9, **inputs)
     assert max(v for v, _ in samples) == pytest.approx(500.0)
     assert abs(x.POS - 400.0) < 0.05
@@ -700,7 +703,7 @@ def test_zero_acceleration_means_axis_default():
 def test_zero_deceleration_means_axis_default():
     """AxisConfig.deceleration (1000 mm/s²) when Deceleration = 0."""
     config = mcl.AxisConfig(acceleration=500.0, deceleration=2500.0)
-    _, samples, _ = sampled_move("MC_MoveAbsolute", config, Position=100.0, Velocity=200.0)
+    _, samples, _ = sampled_move("MC_MoveAbsolute", config=config, Position=100.0, Velocity=200.0)
     assert max(a for _, a in samples) == pytest.approx(500.0)
     assert min(a for _, a in samples) == pytest.approx(-2500.0)
 
