@@ -22,7 +22,7 @@ from tests.helpers import (
     carriage_mm_s,
     configure,
     fresh_axis,
-    power_on,
+    make_machine,
     scan,
     tick,
 )
@@ -806,11 +806,8 @@ def test_administrative_fbs_never_change_the_state(state):
 
 # -------------------------------------------------------------------------------- GT_EStop
 def test_estop_disables_every_axis_of_the_module():
-    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
+    machine = make_machine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
     X, Y = machine.axes["X"], machine.axes["Y"]
-    for axis in (X, Y):
-        configure(axis)
-        power_on(machine, axis)
     vel = mcl.MC_MoveVelocity()
     machine.run(
         lambda: vel(Axis=X, Execute=True, Velocity=100.0), until=lambda: vel.InVelocity, timeout=2.0

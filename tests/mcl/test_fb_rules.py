@@ -20,7 +20,7 @@ from tests.helpers import (
     assert_at,
     configure,
     fresh_axis,
-    power_on,
+    make_machine,
     tick,
     true_position,
 )
@@ -76,11 +76,8 @@ def seen_while_taken_over(
 
 # ------------------------------------------ rule 1: instances of one FB type are independent
 def test_rule1_instances_of_one_type_in_one_cycle_are_independent():
-    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
+    machine = make_machine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
     X, Y = machine.axes["X"], machine.axes["Y"]
-    for axis in (X, Y):
-        configure(axis)
-        power_on(machine, axis)
     a, b = mcl.MC_MoveAbsolute(), mcl.MC_MoveAbsolute()
     a_done_scan = b_done_scan = -1
     for k in range(1500):
