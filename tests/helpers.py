@@ -126,6 +126,18 @@ def reset(machine: mcl.Machine, axis: mcl.Axis, power: mcl.MC_Power | None = Non
     assert axis.state == mcl.AxisState.StandStill and axis.AxErrorID == 0
 
 
+def in_velocity(machine: mcl.Machine, axis: mcl.Axis, velocity: float) -> mcl.MC_MoveVelocity:
+    """MC_MoveVelocity at ``velocity`` [mm/s], called every scan until InVelocity (at most 2 s);
+    returns the block."""
+    fb = mcl.MC_MoveVelocity()
+    machine.run(
+        lambda: fb(Axis=axis, Execute=True, Velocity=velocity),
+        until=lambda: fb.InVelocity,
+        timeout=2.0,
+    )
+    return fb
+
+
 def carriage_mm(machine: mcl.SimMachine, name: str = "X") -> float:
     """Where the simulated carriage of axis ``name`` really is: mm from its power-up position,
     which is the coordinate 0 of an axis referenced by :func:`power_on` (the physics, not the

@@ -20,6 +20,7 @@ from tests.helpers import (
     assert_at,
     configure,
     fresh_axis,
+    in_velocity,
     make_machine,
     tick,
     true_position,
@@ -357,12 +358,7 @@ def test_rule5_aborted_held_while_execute_true_and_reset_by_falling_edge(machine
 
 
 def test_rule5_invelocity_reset_by_falling_edge_motion_continues(machine, X):
-    fb = mcl.MC_MoveVelocity()
-    machine.run(
-        lambda: fb(Axis=X, Execute=True, Velocity=100.0),
-        until=lambda: fb.InVelocity,
-        timeout=2.0,
-    )
+    fb = in_velocity(machine, X, 100.0)
     fb(Execute=False)
     assert not fb.InVelocity
     tick(machine, 50)
@@ -554,12 +550,7 @@ def test_rule8_interrupted_fb_reports_aborted_and_never_done(machine, X):
 
 
 def test_rule8_aborted_velocity_fb_resets_invelocity(machine, X):
-    vel, move = mcl.MC_MoveVelocity(), mcl.MC_MoveAbsolute()
-    machine.run(
-        lambda: vel(Axis=X, Execute=True, Velocity=100.0),
-        until=lambda: vel.InVelocity,
-        timeout=2.0,
-    )
+    vel, move = in_velocity(machine, X, 100.0), mcl.MC_MoveAbsolute()
     move(Axis=X, Execute=True, Position=0.0, Velocity=100.0)
     vel(Execute=True)
     assert vel.CommandAborted and not vel.InVelocity and not vel.Done
