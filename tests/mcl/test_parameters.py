@@ -204,17 +204,11 @@ def modulo(move: bool) -> Scenario:
     if not move:
         return Scenario(m, x, lambda: power(Axis=x, Enable=True), after(m, 0.05))
     mv = mcl.MC_MoveAbsolute()
-
-    def program() -> None:
-        power(Axis=x, Enable=True)
-        mv(
-            Axis=x,
-            Execute=True,
-            Position=300.0,
-            Velocity=200.0,
-            Direction=MC_Direction.MC_Positive,
-        )
-
+    positive = MC_Direction.MC_Positive
+    program = scan(
+        lambda: power(Axis=x, Enable=True),
+        lambda: mv(Axis=x, Execute=True, Position=300.0, Velocity=200.0, Direction=positive),
+    )
     return Scenario(m, x, program, lambda: x.POS >= 100.0, [mv], scans=800, target=300.0)
 
 
