@@ -113,6 +113,31 @@ def scan(*calls: Callable[[], object]) -> Callable[[], None]:
     return program
 
 
+def reset(machine: mcl.Machine, axis: mcl.Axis, power: mcl.MC_Power | None = None) -> None:
+    """MC_Reset (``power``, or a new MC_Power, held enabled) brings the axis back to StandStill
+    without an error within 1 s."""
+    power = power or mcl.MC_Power()
+    fb = mcl.MC_Reset()
+    machine.run(
+        scan(lambda: power(Axis=axis, Enable=True), lambda: fb(Axis=axis, Execute=True)),
+        until=lambda: fb.Done,
+        timeout=1,
+    )
+    assert axis.state == mcl.AxisState.StandStill and axis.AxErrorID == 0
+
+
+def in_velocity(machine: mcl.Machine, axis: mcl.Axis, velocity: float) -> mcl.MC_MoveVelocity:
+    """MC_MoveVelocity at ``velocity`` [mm/s], called every scan until InVelocity (at most 2 s);
+    returns the block."""
+    fb = mcl.MC_MoveVelocity()
+    machine.run(
+        lambda: fb(Axis=axis, Execute=True, Velocity=velocity),
+        until=lambda: fb.InVelocity,
+        timeout=2.0,
+    )
+    return fb
+
+
 def carriage_mm(machine: mcl.SimMachine, name: str = "X") -> float:
     """Where the simulated carriage of axis ``name`` really is: mm from its power-up position,
     which is the coordinate 0 of an axis referenced by :func:`power_on` (the physics, not the

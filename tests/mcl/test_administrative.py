@@ -5,13 +5,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
 
 import pytest
 
 import mcl
 from mcl import AxisState, ErrorID, MC_Direction
-from tests.helpers import CONSTANTS, configure, power_on
+from tests.helpers import CONSTANTS, configure, power_on, scan
 
 PLC = 0.002
 VMAX = CONSTANTS["Vmax"]
@@ -34,14 +33,6 @@ def fresh(
     if powered:
         power_on(m, x, referenced)
     return m, x
-
-
-def scan_of(*calls: Callable[[], Any]) -> Callable[[], None]:
-    def program() -> None:
-        for call in calls:
-            call()
-
-    return program
 
 
 # ---------------------------------------------------------------------------- GT_SetConstant
@@ -104,7 +95,7 @@ def test_power_speed_mode_1_is_open_loop_volts_follow_the_model_velocity():
     samples: list[tuple[float, float, float]] = []
     m.runtime.observers.append(lambda t: samples.append((x.sp_vel, x.volts, x.following_error)))
     m.run(
-        scan_of(
+        scan(
             lambda: power(Axis=x, Enable=True, SpeedMode=1),
             lambda: move(Axis=x, Execute=True, Velocity=100.0),
         ),
@@ -131,7 +122,7 @@ def test_power_status_stays_true_while_the_drive_quick_stops_after_a_following_e
     m, x = fresh()
     sim = m.sims["X"]
     power, move = mcl.MC_Power(), mcl.MC_MoveVelocity()
-    program = scan_of(
+    program = scan(
         lambda: power(Axis=x, Enable=True), lambda: move(Axis=x, Execute=True, Velocity=200.0)
     )
     m.run(program, until=lambda: move.InVelocity, timeout=2.0)
@@ -161,7 +152,7 @@ def test_a_reset_during_the_quick_stop_waits_until_the_drive_is_off():
     m, x = fresh()
     sim = m.sims["X"]
     power, move, reset = mcl.MC_Power(), mcl.MC_MoveVelocity(), mcl.MC_Reset()
-    program = scan_of(
+    program = scan(
         lambda: power(Axis=x, Enable=True), lambda: move(Axis=x, Execute=True, Velocity=200.0)
     )
     m.run(program, until=lambda: move.InVelocity, timeout=2.0)
@@ -539,7 +530,7 @@ def test_estop_disables_every_axis_of_the_module_and_only_that_module():
     moving, faulty, other = axes[0], axes[1], axes[6]
     vel, fault, far = mcl.MC_MoveVelocity(), mcl.MC_MoveVelocity(), mcl.MC_MoveVelocity()
     m.run(
-        scan_of(
+        scan(
             lambda: vel(Axis=moving, Execute=True, Velocity=100.0, Direction=NEGATIVE),
             lambda: fault(Axis=faulty, Execute=True, Velocity=200.0),
             lambda: far(Axis=other, Execute=True, Velocity=100.0, Direction=NEGATIVE),

@@ -22,7 +22,8 @@ from tests.helpers import (
     carriage_mm_s,
     configure,
     fresh_axis,
-    power_on,
+    make_machine,
+    scan,
     tick,
 )
 
@@ -66,14 +67,20 @@ def trip_following_error(machine: mcl.SimMachine, axis: mcl.Axis) -> mcl.MC_Move
     return fb
 
 
-def scan_of(*calls: Callable[[], Any]) -> Callable[[], None]:
-    """A PLC program made of calls."""
-
-    def program() -> None:
-        for call in calls:
-            call()
-
-    return program
+def busy_until_done(
+    machine: mcl.SimMachine, fb: Any, state: AxisState, scans: int, **inputs: Any
+) -> None:
+    """Call ``fb`` on X (Execute TRUE, ``inputs``) every scan: Busy, with X in ``state``, until it
+    is Done within ``scans``."""
+    X = machine.axes["X"]
+    for _ in range(scans):
+        fb(Axis=X, Execute=True, **inputs)
+        if fb.Done:
+            return
+        assert fb.Busy
+        assert X.state == state
+        tick(machine)
+    raise AssertionError(f"{type(fb).__name__} not Done within {scans} scans")
 
 
 def shown_states(axis: mcl.Axis) -> set[str]:
@@ -170,7 +177,7 @@ STATES = [
 def test_power_off_goes_to_disabled_from_every_state(state):
     machine, X, program = _scenario(state)
     power = mcl.MC_Power()
-    machine.run(scan_of(program, lambda: power(Axis=X, Enable=False)), timeout=0.5)
+    machine.run(scan(program, lambda: power(Axis=X, Enable=False)), timeout=0.5)
     assert X.state == AxisState.Disabled
     assert not power.Status
     assert not machine.sims["X"].enabled
@@ -371,15 +378,7 @@ def test_reset_reports_done_when_standstill_is_reached(machine, X):
     )
     assert X.AxErrorID == mcl.ErrorID.ERRLIP
     assert X.OPT2n > 100.0, "the error stop ramp is still running"
-    fb = mcl.MC_Reset()
-    for _ in range(200):
-        fb(Axis=X, Execute=True)
-        if fb.Done:
-            break
-        assert fb.Busy
-        assert X.state == AxisState.ErrorStop
-        tick(machine)
-    assert fb.Done
+    busy_until_done(machine, mcl.MC_Reset(), AxisState.ErrorStop, scans=200)
     # the model ramp has ended (the actual speed lags it by a few ms: well below 300 mm/s)
     assert abs(X.VEL) < 60.0, "Done only once the stop ramp has ended"
     assert X.state == AxisState.StandStill and X.AxErrorID == 0
@@ -415,15 +414,7 @@ DISCRETE_MOVES: list[tuple[type[Any], dict[str, Any]]] = [
 def test_discrete_move_goes_discrete_motion_and_back_to_standstill_when_done(
     machine, X, fb_type, inputs
 ):
-    fb = fb_type()
-    for _ in range(1000):
-        fb(Axis=X, Execute=True, **inputs)
-        if fb.Done:
-            break
-        assert fb.Busy
-        assert X.state == AxisState.DiscreteMotion
-        tick(machine)
-    assert fb.Done
+    busy_until_done(machine, fb_type(), AxisState.DiscreteMotion, scans=1000, **inputs)
     assert X.state == AxisState.StandStill
     assert pytest.approx(40.0, abs=POS_TOL) == X.POS
 
@@ -815,11 +806,8 @@ def test_administrative_fbs_never_change_the_state(state):
 
 # -------------------------------------------------------------------------------- GT_EStop
 def test_estop_disables_every_axis_of_the_module():
-    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
+    machine = make_machine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
     X, Y = machine.axes["X"], machine.axes["Y"]
-    for axis in (X, Y):
-        configure(axis)
-        power_on(machine, axis)
     vel = mcl.MC_MoveVelocity()
     machine.run(
         lambda: vel(Axis=X, Execute=True, Velocity=100.0), until=lambda: vel.InVelocity, timeout=2.0

@@ -79,6 +79,23 @@ def select(master: mcl.Axis, slave: mcl.Axis, table: object, **inputs: bool) -> 
     return fb.CamTableID
 
 
+def cam_in(
+    master: mcl.Axis,
+    slave: mcl.Axis,
+    table: object = LIFT,
+    *,
+    absolute: bool = False,
+    periodic: bool = True,
+    **inputs: object,
+) -> mcl.MC_CamIn:
+    """MC_CamIn (with ``inputs``) of ``table`` selected for master and slave: ``periodic``, master
+    and slave both ``absolute`` or both relative."""
+    table_id = select(
+        master, slave, table, Periodic=periodic, MasterAbsolute=absolute, SlaveAbsolute=absolute
+    )
+    return mcl.MC_CamIn(Master=master, Slave=slave, CamTableID=table_id, **inputs)
+
+
 @pytest.fixture
 def machine() -> mcl.SimMachine:
     machine = make_machine("MS")
@@ -88,8 +105,7 @@ def machine() -> mcl.SimMachine:
 
 def test_cam_in_follows_the_table_and_pulses_end_of_profile_once_per_period(machine):
     M, S = machine.axes["M"], machine.axes["S"]
-    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
-    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    cam = cam_in(M, S)
     start: list[tuple[float, float]] = []
     scans: list[tuple[float, bool, bool]] = []
 
@@ -121,11 +137,10 @@ def test_cam_in_follows_the_table_and_pulses_end_of_profile_once_per_period(mach
 
 def test_ramp_in_meets_the_absolute_cam_at_the_sync_position_without_a_jump(machine):
     M, S = machine.axes["M"], machine.axes["S"]
-    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=True, SlaveAbsolute=True)
-    cam = mcl.MC_CamIn(
-        Master=M,
-        Slave=S,
-        CamTableID=table_id,
+    cam = cam_in(
+        M,
+        S,
+        absolute=True,
         StartMode=mcl.MC_StartMode.mcRampIn,
         MasterSyncPosition=50.0,
         MasterStartDistance=40.0,
@@ -156,8 +171,7 @@ def test_ramp_in_meets_the_absolute_cam_at_the_sync_position_without_a_jump(mach
 def test_cam_out_leaves_the_slave_at_constant_velocity(machine):
     M, S = machine.axes["M"], machine.axes["S"]
     slope = mcl.MC_CAM_REF(Points=[(0.0, 0.0), (200.0, 100.0)])
-    table_id = select(M, S, slope, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
-    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    cam = cam_in(M, S, slope)
     out = mcl.MC_CamOut(Slave=S)
     machine.run(lambda: cam(Execute=True), timeout=0.5)
     assert cam.InSync and S.sp_vel == pytest.approx(0.5 * SPEED)
@@ -173,14 +187,7 @@ def test_cam_out_leaves_the_slave_at_constant_velocity(machine):
 
 def test_phasing_shifts_the_master_phase_by_exactly_phase_shift(machine):
     M, S = machine.axes["M"], machine.axes["S"]
-    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=True, SlaveAbsolute=True)
-    cam = mcl.MC_CamIn(
-        Master=M,
-        Slave=S,
-        CamTableID=table_id,
-        StartMode=mcl.MC_StartMode.mcRampIn,
-        MasterStartDistance=20.0,
-    )
+    cam = cam_in(M, S, absolute=True, StartMode=mcl.MC_StartMode.mcRampIn, MasterStartDistance=20.0)
     phasing = mcl.MC_Phasing(Master=M, Slave=S, Velocity=50.0, Acceleration=500.0)
     machine.run(lambda: cam(Execute=True), until=lambda: cam.InSync, timeout=3.0)
     machine.run(
@@ -283,8 +290,7 @@ def test_a_new_knife_table_takes_over_at_the_period_boundary_without_a_jump():
 def test_cam_in_follows_an_encoder_only_master():
     line = Line(rippling(SPEED))
     M, S = line.axes["M"], line.axes["S"]
-    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
-    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    cam = cam_in(M, S)
     line.run(lambda: None, timeout=0.3)  # the wheel runs
     start: list[tuple[float, float]] = []
 
@@ -365,8 +371,7 @@ def test_a_table_of_other_axes_and_blocks_without_a_cam_are_refused(moving):
 )
 def test_bad_phasing_inputs_give_eparam_and_leave_the_cam_alone(machine, inputs):
     M, S = machine.axes["M"], machine.axes["S"]
-    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
-    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    cam = cam_in(M, S)
     phasing = mcl.MC_Phasing(Master=M, Slave=S, **{"PhaseShift": 5.0, "Velocity": 10.0, **inputs})
     machine.run(lambda: cam(Execute=True), timeout=0.1)
     command = S.active
@@ -446,8 +451,7 @@ def test_a_non_periodic_table_ends_once_and_the_slave_goes_on_along_its_end_slop
     ramp = mcl.MC_CAM_REF(
         Points=[MC_CamPoint(0.0, 0.0, 0.0, 0.0, CamLaw.Polynomial5), MC_CamPoint(100.0, 30.0, 0.5)]
     )
-    table_id = select(M, S, ramp, Periodic=False, MasterAbsolute=False, SlaveAbsolute=False)
-    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    cam = cam_in(M, S, ramp, periodic=False)
     ends: list[float] = []
     start: list[float] = []
 
@@ -465,8 +469,7 @@ def test_a_non_periodic_table_ends_once_and_the_slave_goes_on_along_its_end_slop
 
 def test_a_master_too_fast_for_the_cam_stops_the_slave_with_ecamlimit(machine):
     M, S = machine.axes["M"], machine.axes["S"]
-    table_id = select(M, S, LIFT, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
-    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id, SlaveScaling=1.5)
+    cam = cam_in(M, S, SlaveScaling=1.5)
     faster = mcl.MC_MoveVelocity(Axis=M, Velocity=400.0, Acceleration=500.0)
     machine.run(lambda: cam(Execute=True), timeout=0.1)
     assert cam.InSync  # 1.5 × 0.88 × 100 mm/s = 132 mm/s at the steepest
@@ -541,8 +544,7 @@ def test_a_table_beyond_only_the_slaves_acceleration_is_refused_and_the_move_goe
     lift = _lift_and_return(rise, length)
     assert S.constants is not None
     assert 1.875 * rise / length * SPEED < 0.5 * S.constants.Vmax, "the speed is not the limit"
-    table_id = select(M, S, lift, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
-    cam = mcl.MC_CamIn(Master=M, Slave=S, CamTableID=table_id)
+    cam = cam_in(M, S, lift)
     if share > 1.0:
         _left_alone(machine, lambda: cam(Execute=True))
         assert cam.Error and cam.ErrorID == mcl.ErrorID.ECamLimit and not cam.Active

@@ -21,7 +21,7 @@ import mcl
 from mcl import AxisState, ErrorID
 from mcl import faults as flt
 from tests.helpers import configure, make_machine, scan
-from tests.mcl.test_cam import LIFT, select
+from tests.mcl.test_cam import cam_in
 
 AXES = {
     # the axis under test: 0 at 500 mm, LIM− and LIM+ at ∓100, its hard stops at ∓110, REF
@@ -91,8 +91,7 @@ def cam_limit() -> Setup:
     """The master speeds up beyond what the cam allows the slave X: ECamLimit 23."""
     machine = _machine()
     M, X = machine.axes["M"], machine.axes["X"]
-    table = select(M, X, LIFT, Periodic=True, MasterAbsolute=False, SlaveAbsolute=False)
-    cam = mcl.MC_CamIn(Master=M, Slave=X, CamTableID=table, SlaveScaling=1.5)
+    cam = cam_in(M, X, SlaveScaling=1.5)
     line = mcl.MC_MoveVelocity(Axis=M, Velocity=100.0, Acceleration=2000.0)
     faster = mcl.MC_MoveVelocity(Axis=M, Velocity=400.0, Acceleration=500.0)
     machine.run(scan(lambda: line(Execute=True), lambda: cam(Execute=True)), timeout=0.3)
@@ -115,24 +114,23 @@ def master_error() -> Setup:
     return Setup(machine, program)
 
 
+def _search_stopped_by(error: ErrorID, **inputs: float) -> Setup:
+    """A REF search away from the cam (MC_StepAbsSwitch with ``inputs``) ends in ``error``."""
+    machine = _machine()
+    search = mcl.MC_StepAbsSwitch(Axis=machine.axes["X"], Direction=POSITIVE, **inputs)
+    program = scan(lambda: search(Execute=True))
+    _until_error_stop(machine, program, error)
+    return Setup(machine, program)
+
+
 def homing_time_limit() -> Setup:
     """A REF search away from the cam runs out of its TimeLimit: ETime 1."""
-    machine = _machine()
-    X = machine.axes["X"]
-    search = mcl.MC_StepAbsSwitch(Axis=X, Direction=POSITIVE, Velocity=20.0, TimeLimit=0.05)
-    program = scan(lambda: search(Execute=True))
-    _until_error_stop(machine, program, ErrorID.ETime)
-    return Setup(machine, program)
+    return _search_stopped_by(ErrorID.ETime, Velocity=20.0, TimeLimit=0.05)
 
 
 def homing_torque_limit() -> Setup:
     """A REF search whose TorqueLimit the following error exceeds: EDev 3 (stops pushing)."""
-    machine = _machine()
-    X = machine.axes["X"]
-    search = mcl.MC_StepAbsSwitch(Axis=X, Direction=POSITIVE, Velocity=200.0, TorqueLimit=0.0005)
-    program = scan(lambda: search(Execute=True))
-    _until_error_stop(machine, program, ErrorID.EDev)
-    return Setup(machine, program)
+    return _search_stopped_by(ErrorID.EDev, Velocity=200.0, TorqueLimit=0.0005)
 
 
 def powered_with_error() -> Setup:

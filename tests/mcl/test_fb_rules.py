@@ -20,7 +20,8 @@ from tests.helpers import (
     assert_at,
     configure,
     fresh_axis,
-    power_on,
+    in_velocity,
+    make_machine,
     tick,
     true_position,
 )
@@ -40,13 +41,44 @@ def exclusive(fb: Any) -> None:
     assert bool(fb.Error) == (fb.ErrorID != 0), f"Error={fb.Error} ErrorID={fb.ErrorID}"
 
 
+def outputs_after_execute_fell(
+    machine: mcl.SimMachine, fb: Any, *names: str, seconds: float = 1.0
+) -> list[tuple[bool, ...]]:
+    """Call ``fb`` with Execute FALSE every scan for ``seconds`` (rule 2 checked on every scan);
+    the named outputs of every scan."""
+    scans: list[tuple[bool, ...]] = []
+
+    def scan() -> None:
+        fb(Execute=False)
+        exclusive(fb)
+        scans.append(tuple(bool(getattr(fb, name)) for name in names))
+
+    machine.run(scan, timeout=seconds)
+    return scans
+
+
+def seen_while_taken_over(
+    machine: mcl.SimMachine, fb: Any, successor: Any, output: str, timeout: float = 5.0
+) -> bool:
+    """Call ``fb`` and then ``successor`` (both Execute TRUE; rule 2 checked on ``fb``) every scan
+    until ``successor`` is Done: whether ``output`` of ``fb`` was ever TRUE."""
+    seen = False
+
+    def scan() -> None:
+        nonlocal seen
+        fb(Execute=True)
+        successor(Execute=True)
+        exclusive(fb)
+        seen |= bool(getattr(fb, output))
+
+    machine.run(scan, until=lambda: successor.Done, timeout=timeout)
+    return seen
+
+
 # ------------------------------------------ rule 1: instances of one FB type are independent
 def test_rule1_instances_of_one_type_in_one_cycle_are_independent():
-    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
+    machine = make_machine({"X": mcl.SimAxisParams(start=0.2), "Y": mcl.SimAxisParams(start=0.3)})
     X, Y = machine.axes["X"], machine.axes["Y"]
-    for axis in (X, Y):
-        configure(axis)
-        power_on(machine, axis)
     a, b = mcl.MC_MoveAbsolute(), mcl.MC_MoveAbsolute()
     a_done_scan = b_done_scan = -1
     for k in range(1500):
@@ -326,12 +358,7 @@ def test_rule5_aborted_held_while_execute_true_and_reset_by_falling_edge(machine
 
 
 def test_rule5_invelocity_reset_by_falling_edge_motion_continues(machine, X):
-    fb = mcl.MC_MoveVelocity()
-    machine.run(
-        lambda: fb(Axis=X, Execute=True, Velocity=100.0),
-        until=lambda: fb.InVelocity,
-        timeout=2.0,
-    )
+    fb = in_velocity(machine, X, 100.0)
     fb(Execute=False)
     assert not fb.InVelocity
     tick(machine, 50)
@@ -523,12 +550,7 @@ def test_rule8_interrupted_fb_reports_aborted_and_never_done(machine, X):
 
 
 def test_rule8_aborted_velocity_fb_resets_invelocity(machine, X):
-    vel, move = mcl.MC_MoveVelocity(), mcl.MC_MoveAbsolute()
-    machine.run(
-        lambda: vel(Axis=X, Execute=True, Velocity=100.0),
-        until=lambda: vel.InVelocity,
-        timeout=2.0,
-    )
+    vel, move = in_velocity(machine, X, 100.0), mcl.MC_MoveAbsolute()
     move(Axis=X, Execute=True, Position=0.0, Velocity=100.0)
     vel(Execute=True)
     assert vel.CommandAborted and not vel.InVelocity and not vel.Done

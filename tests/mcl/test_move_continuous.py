@@ -14,7 +14,11 @@ import mcl
 from mcl.command import ProfileCommand
 from mcl.trajectory import Profile
 from tests.helpers import carriage_mm_s, fresh_axis, tick
-from tests.mcl.test_fb_rules import exclusive
+from tests.mcl.test_fb_rules import (
+    exclusive,
+    outputs_after_execute_fell,
+    seen_while_taken_over,
+)
 
 Modes = mcl.MC_BufferMode
 
@@ -165,17 +169,9 @@ def test_in_end_velocity_pulses_one_scan_when_reached_after_execute_fell():
     machine, X = fresh_axis()
     fb = mcl.MC_MoveContinuousAbsolute(Axis=X, Position=30.0, Velocity=200.0, EndVelocity=40.0)
     fb(Execute=True)
-    shown = 0
-
-    def scan() -> None:
-        nonlocal shown
-        fb(Execute=False)
-        exclusive(fb)
-        shown += fb.InEndVelocity
-        assert fb.Busy
-
-    machine.run(scan, timeout=1.0)
-    assert shown == 1
+    scans = outputs_after_execute_fell(machine, fb, "InEndVelocity", "Busy")
+    assert sum(shown for shown, _ in scans) == 1
+    assert all(busy for _, busy in scans)
 
 
 def test_a_continuous_move_taken_over_reports_aborted_and_drops_in_end_velocity():
@@ -198,15 +194,7 @@ def test_aborted_before_the_target_it_never_shows_in_end_velocity():
     fb = mcl.MC_MoveContinuousAbsolute(Axis=X, Position=300.0, Velocity=200.0, EndVelocity=40.0)
     halt = mcl.MC_Halt(Axis=X)
     machine.run(lambda: fb(Execute=True), timeout=0.2)
-    seen = False
-
-    def scan() -> None:
-        nonlocal seen
-        fb(Execute=True)
-        halt(Execute=True)
-        seen |= fb.InEndVelocity
-
-    machine.run(scan, until=lambda: halt.Done, timeout=5.0)
+    seen = seen_while_taken_over(machine, fb, halt, "InEndVelocity")
     assert fb.CommandAborted and not seen
 
 
@@ -269,15 +257,7 @@ def test_a_successor_starts_at_in_end_velocity_from_the_end_velocity(mode):
     machine, X = fresh_axis()
     fb = mcl.MC_MoveContinuousAbsolute(Axis=X, Position=50.0, Velocity=200.0, EndVelocity=80.0)
     move = mcl.MC_MoveAbsolute(Axis=X, Position=120.0, Velocity=150.0, BufferMode=mode)
-    shown = False
-
-    def scan() -> None:
-        nonlocal shown
-        fb(Execute=True)
-        move(Execute=True)
-        shown |= fb.InEndVelocity
-
-    machine.run(scan, until=lambda: move.Done, timeout=5.0)
+    seen_while_taken_over(machine, fb, move, "InEndVelocity")
     assert fb.CommandAborted and not fb.Busy  # taken over once it reached its end
     assert command(move).t0 == pytest.approx(command(fb).t0 + planned(fb).duration)
     assert planned(move).at(0.0)[:2] == pytest.approx((50.0, 80.0), abs=1e-9)

@@ -6,12 +6,14 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable
+from typing import Any
 
 import pytest
 
 import mcl
 from mcl.time_scale import ramp_rate
 from tests.helpers import assert_at, carriage_mm, carriage_mm_s, fresh_axis
+from tests.helpers import scan as program
 
 MOVE = dict(Velocity=200.0, Acceleration=2000.0, Deceleration=2000.0)
 """A move of the simulated axis (Vmax 500 mm/s): 200 mm/s, ramps of 0.1 s."""
@@ -34,12 +36,16 @@ class Recorder:
         return max(abs(b - a) for a, b in itertools.pairwise(v))
 
 
-def program(*blocks: Callable[[], object]) -> Callable[[], None]:
-    def scan() -> None:
-        for block in blocks:
-            block()
-
-    return scan
+def overridden(
+    move: Any, factor: list[float], **inputs: Any
+) -> tuple[mcl.MC_SetOverride, Callable[[], None]]:
+    """MC_SetOverride on the axis of ``move`` and the program that calls it (Enable TRUE, VelFactor
+    ``factor[0]`` as it is at that scan), then ``move`` (Execute TRUE, ``inputs``)."""
+    override = mcl.MC_SetOverride(Axis=move.Axis)
+    return override, program(
+        lambda: override(Enable=True, VelFactor=factor[0]),
+        lambda: move(Execute=True, **inputs),
+    )
 
 
 def mean_velocity(
@@ -55,12 +61,8 @@ def mean_velocity(
 def test_half_override_halves_the_cruise_and_the_move_still_ends_at_its_target() -> None:
     machine, X = fresh_axis()
     recorder = Recorder(machine, X)
-    move, override = mcl.MC_MoveAbsolute(Axis=X), mcl.MC_SetOverride(Axis=X)
-    factor = [1.0]
-    scan = program(
-        lambda: override(Enable=True, VelFactor=factor[0]),
-        lambda: move(Execute=True, Position=500.0, **MOVE),
-    )
+    move, factor = mcl.MC_MoveAbsolute(Axis=X), [1.0]
+    override, scan = overridden(move, factor, Position=500.0, **MOVE)
     machine.run(scan, timeout=0.3)
     assert carriage_mm_s(machine) == pytest.approx(200.0, rel=0.01)
     factor[0] = 0.5
@@ -83,12 +85,8 @@ def test_the_ramp_of_the_factor_limits_the_change_of_velocity() -> None:
     """A step of the factor from 100 % to 20 % during the cruise: no velocity step larger than
     the ramp (the axis' default deceleration per servo cycle), and 40 mm/s once it is over."""
     machine, X = fresh_axis()
-    move, override = mcl.MC_MoveVelocity(Axis=X), mcl.MC_SetOverride(Axis=X)
-    factor = [1.0]
-    scan = program(
-        lambda: override(Enable=True, VelFactor=factor[0]),
-        lambda: move(Execute=True, **MOVE),
-    )
+    move, factor = mcl.MC_MoveVelocity(Axis=X), [1.0]
+    _, scan = overridden(move, factor, **MOVE)
     machine.run(scan, timeout=0.2)
     recorder = Recorder(machine, X)
     factor[0] = 0.2
@@ -102,12 +100,8 @@ def test_the_ramp_of_the_factor_limits_the_change_of_velocity() -> None:
 
 def test_zero_holds_the_axis_in_motion_at_standstill_and_one_resumes_to_the_target() -> None:
     machine, X = fresh_axis()
-    move, override = mcl.MC_MoveRelative(Axis=X), mcl.MC_SetOverride(Axis=X)
-    factor = [1.0]
-    scan = program(
-        lambda: override(Enable=True, VelFactor=factor[0]),
-        lambda: move(Execute=True, Distance=300.0, **MOVE),
-    )
+    move, factor = mcl.MC_MoveRelative(Axis=X), [1.0]
+    _, scan = overridden(move, factor, Distance=300.0, **MOVE)
     machine.run(scan, timeout=0.4)
     factor[0] = 0.0
     machine.run(scan, timeout=1.0 / ramp_rate(X) + 0.1)

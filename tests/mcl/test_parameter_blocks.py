@@ -21,6 +21,7 @@ from tests.helpers import (
     carriage_mm_s,
     configure,
     fresh_axis,
+    in_velocity,
     make_machine,
     power_on,
     tick,
@@ -69,12 +70,7 @@ def peak_speed(machine: mcl.SimMachine, fb: Any, **inputs: Any) -> float:
 
 
 def test_every_real_parameter_reads_what_the_axis_holds(machine, X):
-    move = mcl.MC_MoveVelocity()
-    machine.run(
-        lambda: move(Axis=X, Execute=True, Velocity=120.0),
-        until=lambda: move.InVelocity,
-        timeout=2.0,
-    )
+    in_velocity(machine, X, 120.0)
     config, c = X.config, X.constants
     assert c is not None
     expected = {
@@ -147,12 +143,8 @@ def test_constants_are_needed_for_vmax_and_the_servo_constants():
 
 
 def test_actual_velocity_is_the_measured_velocity_within_a_count_per_servo_period(machine, X):
-    move, r = mcl.MC_MoveVelocity(), mcl.MC_ReadParameter(ParameterNumber=10)
-    machine.run(
-        lambda: move(Axis=X, Execute=True, Velocity=237.0),
-        until=lambda: move.InVelocity,
-        timeout=2.0,
-    )
+    in_velocity(machine, X, 237.0)
+    r = mcl.MC_ReadParameter(ParameterNumber=10)
     count_per_period = X.config.resolution / X.servo_period  # 1 mm/s
     worst = 0.0
     for _ in range(100):

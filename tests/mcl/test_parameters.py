@@ -29,7 +29,7 @@ import pytest
 
 import mcl
 from mcl import AxisState, ErrorID, MC_Direction
-from tests.helpers import CONSTANTS, configure, power_on
+from tests.helpers import CONSTANTS, configure, power_on, scan
 
 PLC = 0.002
 LIMITS = {"LimNeg": -100.0, "LimPos": 700.0}
@@ -153,7 +153,7 @@ def analog() -> Scenario:
     """Disabled axis driven by GT_Analog (about +0.5 V: the axis drifts forward)."""
     m, x = machine()
     dac = mcl.GT_Analog()
-    program = scan_of(lambda: dac(Axis=x, Execute=True, Analog=-200, Par=0))
+    program = scan(lambda: dac(Axis=x, Execute=True, Analog=-200, Par=0))
     return Scenario(m, x, program, after(m, 0.2), [dac])
 
 
@@ -204,26 +204,18 @@ def modulo(move: bool) -> Scenario:
     if not move:
         return Scenario(m, x, lambda: power(Axis=x, Enable=True), after(m, 0.05))
     mv = mcl.MC_MoveAbsolute()
-
-    def program() -> None:
-        power(Axis=x, Enable=True)
-        mv(
-            Axis=x,
-            Execute=True,
-            Position=300.0,
-            Velocity=200.0,
-            Direction=MC_Direction.MC_Positive,
-        )
-
+    positive = MC_Direction.MC_Positive
+    program = scan(
+        lambda: power(Axis=x, Enable=True),
+        lambda: mv(Axis=x, Execute=True, Position=300.0, Velocity=200.0, Direction=positive),
+    )
     return Scenario(m, x, program, lambda: x.POS >= 100.0, [mv], scans=800, target=300.0)
 
 
-def scan_of(*calls: Callable[[], None]) -> Callable[[], None]:
-    def program() -> None:
-        for call in calls:
-            call()
-
-    return program
+def run_powered(m: mcl.SimMachine, x: mcl.Axis, call: Callable[[], None], **run: Any) -> None:
+    """Power `x` and run `call` every scan with MC_Power enabled (`run`: until or timeout)."""
+    power = power_on(m, x)
+    m.run(scan(lambda: power(Axis=x, Enable=True), call), **run)
 
 
 SCENARIOS: dict[str, Callable[[], Scenario]] = {
@@ -461,15 +453,9 @@ def test_bad_new_edge_on_the_running_instance_leaves_its_move_running(name: str,
 
     def run(bad: bool) -> tuple[list[tuple[Any, ...]], mcl.MC_MoveAbsolute]:
         m, x = machine()
-        power = power_on(m, x)
         move = mcl.MC_MoveAbsolute()
-        m.run(
-            scan_of(
-                lambda: power(Axis=x, Enable=True),
-                lambda: move(Axis=x, Execute=True, Position=TARGET, Velocity=200.0),
-            ),
-            until=lambda: x.POS >= 100.0,
-        )
+        start = functools.partial(move, Axis=x, Execute=True, Position=TARGET, Velocity=200.0)
+        run_powered(m, x, start, until=lambda: x.POS >= 100.0)
         m.run(lambda: move(Axis=x, Execute=False), timeout=PLC)
         if bad:
             move(Axis=x, Execute=True, **{name: value})
@@ -505,15 +491,11 @@ def test_jog_press_with_bad_input_during_its_own_ramp(button: str, inputs: dict[
 
     def run(bad: bool) -> tuple[list[tuple[Any, ...]], list[tuple[bool, int, bool]]]:
         m, x = machine()
-        power = power_on(m, x)
         jog = mcl.GT_Jog()
-        m.run(
-            scan_of(
-                lambda: power(Axis=x, Enable=True),
-                lambda: jog(Axis=x, Enable=True, JogPos=True, JogVelo=200.0, JogDec=200.0),
-            ),
-            timeout=0.5,
+        start = functools.partial(
+            jog, Axis=x, Enable=True, JogPos=True, JogVelo=200.0, JogDec=200.0
         )
+        run_powered(m, x, start, timeout=0.5)
         m.run(lambda: jog(Axis=x, JogPos=False), timeout=0.2)  # released: ramps down (1 s)
         trace: list[tuple[Any, ...]] = []
         outputs: list[tuple[bool, int, bool]] = []
@@ -538,13 +520,11 @@ def test_jog_switching_to_a_refused_direction_still_releases_the_first():
 
     def run(press_neg: bool) -> list[tuple[Any, ...]]:
         m, x = machine()
-        power = power_on(m, x)
         jog = mcl.GT_Jog()
-        m.run(
-            scan_of(
-                lambda: power(Axis=x, Enable=True),
-                lambda: jog(Axis=x, Enable=True, JogPos=True, JogVelo=100.0),
-            ),
+        run_powered(
+            m,
+            x,
+            functools.partial(jog, Axis=x, Enable=True, JogPos=True, JogVelo=100.0),
             timeout=0.5,
         )
         jog(Axis=x, JogPos=False, **({"JogNeg": True, "JogVelo": NAN} if press_neg else {}))
@@ -599,13 +579,43 @@ def model_samples(m: mcl.SimMachine, x: mcl.Axis) -> list[tuple[float, float]]:
     return samples
 
 
-@pytest.mark.parametrize("velocity", [501.0, 1e6, 1e300, 1.7e308])
-def test_velocity_above_vmax_is_clamped(velocity: float):
-    m, x = machine()
+def sampled_move(
+    fb_name: str = "MC_MoveVelocity",
+    *,
+    config: mcl.AxisConfig | None = None,
+    **inputs: Any,
+) -> tuple[mcl.Axis, list[tuple[float, float]], Any]:
+    """A powered axis runs `fb_name` (Execute held) until InVelocity (MC_MoveVelocity) or Done.
+
+    Returns the axis, its model samples (velocity, acceleration) and the block."""
+    m, x = machine(config=config)
     power_on(m, x)
     samples = model_samples(m, x)
+    fb = getattr(mcl, fb_name)()
+    output = "InVelocity" if fb_name == "MC_MoveVelocity" else "Done"
+    m.run(lambda: fb(Axis=x, Execute=True, **inputs), until=lambda: getattr(fb, output))
+    return x, samples, fb
+
+
+def sampled_stop(
+    fb_name: str, deceleration: float, config: mcl.AxisConfig | None = None
+) -> tuple[list[tuple[float, float]], Any]:
+    """`fb_name` (MC_Stop or MC_Halt) with `deceleration` stops an axis running at 200 mm/s.
+
+    Returns the model samples of the stop (velocity, acceleration) and the stopping block."""
+    m, x = machine(config=config)
     move = mcl.MC_MoveVelocity()
-    m.run(lambda: move(Axis=x, Execute=True, Velocity=velocity), until=lambda: move.InVelocity)
+    start = functools.partial(move, Axis=x, Execute=True, Velocity=200.0)
+    run_powered(m, x, start, until=lambda: move.InVelocity)
+    samples = model_samples(m, x)
+    stop = getattr(mcl, fb_name)()
+    m.run(lambda: stop(Axis=x, Execute=True, Deceleration=deceleration), until=lambda: stop.Done)
+    return samples, stop
+
+
+@pytest.mark.parametrize("velocity", [501.0, 1e6, 1e300, 1.7e308])
+def test_velocity_above_vmax_is_clamped(velocity: float):
+    x, samples, move = sampled_move(Velocity=velocity)
     assert not move.Error
     assert max(v for v, _ in samples) == pytest.approx(500.0)
     assert x.OPT2n == pytest.approx(500.0)  # model velocity = Vmax
@@ -613,12 +623,10 @@ def test_velocity_above_vmax_is_clamped(velocity: float):
 
 @pytest.mark.parametrize("fb_name", ["MC_MoveAbsolute", "MC_MoveRelative", "GT_MoveAbsBlock"])
 def test_move_velocity_above_vmax_is_clamped_and_reaches_target(fb_name: str):
-    m, x = machine()
-    power_on(m, x)
-    samples = model_samples(m, x)
-    fb = getattr(mcl, fb_name)()
-    inputs = {"Distance": 400.0} if fb_name == "MC_MoveRelative" else {"Position": 400.0}
-    m.run(lambda: fb(Axis=x, Execute=True, Velocity=1e9, **inputs), until=lambda: fb.Done)
+    inputs: dict[str, Any] = (
+        {"Distance": 400.0} if fb_name == "MC_MoveRelative" else {"Position": 400.0}
+    )
+    x, samples, _ = sampled_move(fb_name, Velocity=1e9, **inputs)
     assert max(v for v, _ in samples) == pytest.approx(500.0)
     assert abs(x.POS - 400.0) < 0.05
 
@@ -636,14 +644,7 @@ def test_jog_velocity_above_vmax_is_clamped():
 @pytest.mark.parametrize("acceleration", [1e6, 1e300])
 def test_acceleration_above_maximum_is_clamped(acceleration: float):
     """AxisConfig.max_acceleration (20000 mm/s²) caps Acceleration."""
-    m, x = machine()
-    power_on(m, x)
-    samples = model_samples(m, x)
-    move = mcl.MC_MoveVelocity()
-    m.run(
-        lambda: move(Axis=x, Execute=True, Velocity=200.0, Acceleration=acceleration),
-        until=lambda: move.InVelocity,
-    )
+    _, samples, move = sampled_move(Velocity=200.0, Acceleration=acceleration)
     assert not move.Error
     assert max(a for _, a in samples) == pytest.approx(20000.0)
     speeds = [v for v, _ in samples]
@@ -654,19 +655,7 @@ def test_acceleration_above_maximum_is_clamped(acceleration: float):
 def test_deceleration_above_maximum_is_clamped(fb_name: str):
     """AxisConfig.max_deceleration (20000 mm/s²) caps Deceleration: from 200 mm/s the stop takes
     at least 10 ms."""
-    m, x = machine()
-    power = power_on(m, x)
-    move = mcl.MC_MoveVelocity()
-    m.run(
-        scan_of(
-            lambda: power(Axis=x, Enable=True),
-            lambda: move(Axis=x, Execute=True, Velocity=200.0),
-        ),
-        until=lambda: move.InVelocity,
-    )
-    samples = model_samples(m, x)
-    stop = getattr(mcl, fb_name)()
-    m.run(lambda: stop(Axis=x, Execute=True, Deceleration=1e12), until=lambda: stop.Done)
+    samples, stop = sampled_stop(fb_name, 1e12)
     assert not stop.Error
     assert min(a for _, a in samples) == pytest.approx(-20000.0)
     assert sum(1 for v, _ in samples if v > 0.0) >= 9  # servo cycles of 1 ms
@@ -674,14 +663,8 @@ def test_deceleration_above_maximum_is_clamped(fb_name: str):
 
 def test_jerk_above_maximum_is_clamped():
     """AxisConfig.max_jerk caps Jerk."""
-    m, x = machine(config=mcl.AxisConfig(max_jerk=1e5))
-    power_on(m, x)
-    samples = model_samples(m, x)
-    move = mcl.MC_MoveVelocity()
-    m.run(
-        lambda: move(Axis=x, Execute=True, Velocity=200.0, Jerk=1e12),
-        until=lambda: move.InVelocity,
-    )
+    config = mcl.AxisConfig(max_jerk=1e5)
+    _, samples, move = sampled_move(config=config, Velocity=200.0, Jerk=1e12)
     assert not move.Error
     accelerations = [a for _, a in samples]
     steps = [abs(b - a) for a, b in itertools.pairwise(accelerations)]
@@ -704,14 +687,7 @@ def test_lowest_valid_values_are_accepted():
 # ---------------------------------------------------------------------------- 0 = default
 def test_zero_acceleration_means_axis_default():
     """AxisConfig.acceleration (1000 mm/s²) when Acceleration = 0; no jerk limit (default 0)."""
-    m, x = machine()
-    power_on(m, x)
-    samples = model_samples(m, x)
-    move = mcl.MC_MoveVelocity()
-    m.run(
-        lambda: move(Axis=x, Execute=True, Velocity=200.0, Acceleration=0.0, Jerk=0.0),
-        until=lambda: move.InVelocity,
-    )
+    _, samples, move = sampled_move(Velocity=200.0, Acceleration=0.0, Jerk=0.0)
     assert not move.Error
     assert samples[0][1] == pytest.approx(1000.0)  # full acceleration at once: no jerk limit
     assert max(a for _, a in samples) == pytest.approx(1000.0)
@@ -720,45 +696,22 @@ def test_zero_acceleration_means_axis_default():
 
 def test_zero_deceleration_means_axis_default():
     """AxisConfig.deceleration (1000 mm/s²) when Deceleration = 0."""
-    m, x = machine(config=mcl.AxisConfig(acceleration=500.0, deceleration=2500.0))
-    power_on(m, x)
-    samples = model_samples(m, x)
-    move = mcl.MC_MoveAbsolute()
-    m.run(
-        lambda: move(Axis=x, Execute=True, Position=100.0, Velocity=200.0),
-        until=lambda: move.Done,
-    )
+    config = mcl.AxisConfig(acceleration=500.0, deceleration=2500.0)
+    _, samples, _ = sampled_move("MC_MoveAbsolute", config=config, Position=100.0, Velocity=200.0)
     assert max(a for _, a in samples) == pytest.approx(500.0)
     assert min(a for _, a in samples) == pytest.approx(-2500.0)
 
 
 @pytest.mark.parametrize("fb_name", ["MC_Stop", "MC_Halt"])
 def test_zero_stop_deceleration_means_axis_default(fb_name: str):
-    m, x = machine(config=mcl.AxisConfig(deceleration=2500.0))
-    power = power_on(m, x)
-    move = mcl.MC_MoveVelocity()
-    m.run(
-        scan_of(
-            lambda: power(Axis=x, Enable=True),
-            lambda: move(Axis=x, Execute=True, Velocity=200.0),
-        ),
-        until=lambda: move.InVelocity,
-    )
-    samples = model_samples(m, x)
-    stop = getattr(mcl, fb_name)()
-    m.run(lambda: stop(Axis=x, Execute=True, Deceleration=0.0), until=lambda: stop.Done)
+    samples, _ = sampled_stop(fb_name, 0.0, config=mcl.AxisConfig(deceleration=2500.0))
     assert min(a for _, a in samples) == pytest.approx(-2500.0)
 
 
 def test_zero_jerk_means_axis_default_jerk():
     """AxisConfig.jerk (here 50000 mm/s³) when Jerk = 0: the acceleration ramps up."""
-    m, x = machine(config=mcl.AxisConfig(jerk=50000.0))
-    power_on(m, x)
-    samples = model_samples(m, x)
-    move = mcl.MC_MoveVelocity()
-    m.run(
-        lambda: move(Axis=x, Execute=True, Velocity=200.0, Jerk=0.0), until=lambda: move.InVelocity
-    )
+    config = mcl.AxisConfig(jerk=50000.0)
+    _, samples, _ = sampled_move(config=config, Velocity=200.0, Jerk=0.0)
     accelerations = [a for _, a in samples]
     assert accelerations[0] == pytest.approx(50.0)  # 1 ms at 50000 mm/s³
     steps = [abs(b - a) for a, b in itertools.pairwise(accelerations)]

@@ -24,7 +24,7 @@ from tests.helpers import (
     power_on,
     tick,
 )
-from tests.mcl.test_fb_rules import exclusive
+from tests.mcl.test_fb_rules import exclusive, outputs_after_execute_fell, seen_while_taken_over
 
 Sample = tuple[float, float, float, float, mcl.AxisState]
 """A servo instant: time [s], model position [mm], velocity [mm/s], acceleration, axis state."""
@@ -89,20 +89,30 @@ def done_after(machine: mcl.SimMachine, fb: Any, scan: Callable[[], None]) -> fl
 
 
 # ------------------------------------------------------------------------------ following
-def test_position_profile_passes_every_point_at_its_time_and_stands_at_the_last():
-    machine, X = fresh_axis()
-    samples = recorder(machine, X)
-    fb = mcl.MC_PositionProfile(Axis=X, TimePosition=TP)
+def follow(
+    machine: mcl.SimMachine, fb: Any, state: mcl.AxisState, duration: float
+) -> tuple[float, float]:
+    """Run ``fb`` (Execute TRUE) until Done: rule 2 holds on every scan and, until Done, the block
+    is Busy and Active and the axis is in ``state``; Done comes ``duration`` [s] after the
+    profile's start, within a PLC cycle. Returns that start time [s] and position [mm]."""
+    X = fb.Axis
 
     def scan() -> None:
         fb(Execute=True)
         exclusive(fb)
         if not fb.Done:
             assert fb.Busy and fb.Active
-            assert X.state == mcl.AxisState.DiscreteMotion
+            assert X.state == state
 
-    assert 0.45 <= done_after(machine, fb, scan) <= 0.45 + PLC + 0.001
-    t0, start = start_time(fb), start_position(fb)
+    assert duration <= done_after(machine, fb, scan) <= duration + PLC + 0.001
+    return start_time(fb), start_position(fb)
+
+
+def test_position_profile_passes_every_point_at_its_time_and_stands_at_the_last():
+    machine, X = fresh_axis()
+    samples = recorder(machine, X)
+    fb = mcl.MC_PositionProfile(Axis=X, TimePosition=TP)
+    t0, start = follow(machine, fb, mcl.AxisState.DiscreteMotion, 0.45)
     for t, p in ((0.1, 20.0), (0.3, 60.0), (0.45, 40.0)):
         assert at(samples, t0 + t)[1] == pytest.approx(start + p, abs=1e-9)
     # the spline: velocity continuous (no step beyond what the acceleration gives in a cycle)
@@ -169,16 +179,7 @@ def test_velocity_profile_ramps_linearly_then_keeps_its_last_velocity_in_continu
     machine, X = fresh_axis()
     samples = recorder(machine, X)
     fb = mcl.MC_VelocityProfile(Axis=X, TimeVelocity=TV)
-
-    def scan() -> None:
-        fb(Execute=True)
-        exclusive(fb)
-        if not fb.Done:
-            assert fb.Busy and fb.Active
-            assert X.state == mcl.AxisState.ContinuousMotion
-
-    assert 0.4 <= done_after(machine, fb, scan) <= 0.4 + PLC + 0.001
-    t0, start = start_time(fb), start_position(fb)
+    t0, start = follow(machine, fb, mcl.AxisState.ContinuousMotion, 0.4)
     for t, v in ((0.05, 50.0), (0.1, 100.0), (0.3, 100.0), (0.35, 25.0), (0.4, -50.0)):
         assert at(samples, t0 + t)[2] == pytest.approx(v, abs=1e-9)
     assert at(samples, t0 + 0.05)[3] == pytest.approx(1000.0)
@@ -251,16 +252,8 @@ def test_done_is_shown_for_one_scan_when_execute_fell_before_the_end():
     machine, X = fresh_axis()
     fb = mcl.MC_VelocityProfile(Axis=X, TimeVelocity=TV)
     fb(Execute=True)
-    done_scans = 0
-
-    def scan() -> None:
-        nonlocal done_scans
-        fb(Execute=False)
-        exclusive(fb)
-        done_scans += fb.Done
-
-    machine.run(scan, timeout=1.0)
-    assert done_scans == 1
+    scans = outputs_after_execute_fell(machine, fb, "Done")
+    assert sum(done for (done,) in scans) == 1
     assert not fb.Busy and not fb.Done
 
 
@@ -279,16 +272,7 @@ def test_a_profile_aborted_by_another_command_reports_aborted_and_never_done():
     fb = mcl.MC_PositionProfile(Axis=X, TimePosition=TP)
     halt = mcl.MC_Halt(Axis=X)
     machine.run(lambda: fb(Execute=True), timeout=0.1)
-    seen_done = False
-
-    def scan() -> None:
-        nonlocal seen_done
-        fb(Execute=True)
-        halt(Execute=True)
-        exclusive(fb)
-        seen_done |= fb.Done
-
-    run_until(machine, scan, lambda: halt.Done)
+    seen_done = seen_while_taken_over(machine, fb, halt, "Done")
     assert fb.CommandAborted and not fb.Busy and not fb.Active and not seen_done
     assert X.state == mcl.AxisState.StandStill
 

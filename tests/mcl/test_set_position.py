@@ -23,6 +23,7 @@ from tests.helpers import (
     carriage_mm_s,
     configure,
     fresh_axis,
+    in_velocity,
     make_machine,
     power_on,
     scan,
@@ -202,12 +203,7 @@ def test_on_an_accelerating_axis_the_actual_position_becomes_position_not_the_se
 
 def test_a_velocity_motion_keeps_its_speed_and_a_sw_limit_acts_in_the_new_coordinate():
     machine, X = fresh_axis(LimPos=400.0, LimNeg=-400.0)
-    vel, sp = mcl.MC_MoveVelocity(), mcl.MC_SetPosition()
-    machine.run(
-        lambda: vel(Axis=X, Execute=True, Velocity=100.0),
-        until=lambda: vel.InVelocity,
-        timeout=2.0,
-    )
+    vel, sp = in_velocity(machine, X, 100.0), mcl.MC_SetPosition()
     start = carriage_mm(machine)
     sp(Axis=X, Execute=True, Position=300.0)  # 100 mm before LimPos now
     assert sp.Done

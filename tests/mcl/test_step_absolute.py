@@ -56,6 +56,16 @@ def run_block(machine: mcl.SimMachine, fb: Any, cycles: int = 50, **inputs: Any)
     raise AssertionError(f"{type(fb).__name__} neither Done nor Error in {cycles} scans")
 
 
+def move_done(machine: mcl.Machine, X: mcl.Axis, move: Any, **inputs: float) -> None:
+    """The move block ``move`` with ``inputs`` reaches its target within 5 s."""
+    machine.run(
+        lambda: move(Axis=X, Execute=True, **inputs),
+        until=lambda: move.Done or move.Error,
+        timeout=5.0,
+    )
+    assert move.Done
+
+
 # ---------------------------------------------------------------------- the sensor
 def test_ssi_word_is_the_position_in_counts_and_wraps_after_its_word_length() -> None:
     enc = AbsoluteEncoder.ssi(resolution=5.0e-6, bits=25, offset=-0.1)
@@ -154,13 +164,7 @@ def test_homing_again_gives_the_same_coordinate_after_a_move() -> None:
     coordinate agree)."""
     machine, X = absolute_axis()
     run_block(machine, mcl.MC_StepAbsolute())
-    move = mcl.MC_MoveRelative()
-    machine.run(
-        lambda: move(Axis=X, Execute=True, Distance=37.5, Velocity=50.0),
-        until=lambda: move.Done or move.Error,
-        timeout=5.0,
-    )
-    assert move.Done
+    move_done(machine, X, mcl.MC_MoveRelative(), Distance=37.5, Velocity=50.0)
     tick(machine, 50)
     before = X.POS
     fb = mcl.MC_StepAbsolute()
@@ -182,21 +186,24 @@ def test_no_absolute_sensor_is_an_error_and_leaves_the_axis_alone() -> None:
     assert X.AxErrorID == 0
 
 
+def assert_refused(X: mcl.Axis, error: ErrorID, **inputs: float) -> None:
+    """MC_StepAbsolute (Execute with ``inputs``) reports ``error``; the axis stays unreferenced."""
+    fb = mcl.MC_StepAbsolute()
+    fb(Axis=X, Execute=True, **inputs)
+    assert fb.Error and fb.ErrorID == error and not X.Ref
+
+
 @pytest.mark.parametrize("offset", [math.nan, math.inf, -math.inf])
 def test_offset_not_finite_is_eparam(offset: float) -> None:
     _, X = absolute_axis()
-    fb = mcl.MC_StepAbsolute()
-    fb(Axis=X, Execute=True, Offset=offset)
-    assert fb.Error and fb.ErrorID == ErrorID.EParam and not X.Ref
+    assert_refused(X, ErrorID.EParam, Offset=offset)
 
 
 def test_refused_when_disabled() -> None:
     machine, X = absolute_axis()
     power = mcl.MC_Power()
     machine.run(lambda: power(Axis=X, Enable=False), timeout=0.01)
-    fb = mcl.MC_StepAbsolute()
-    fb(Axis=X, Execute=True)
-    assert fb.Error and fb.ErrorID == ErrorID.Epower and not X.Ref
+    assert_refused(X, ErrorID.Epower)
 
 
 def test_refused_in_errorstop_and_stopping() -> None:
@@ -204,16 +211,12 @@ def test_refused_in_errorstop_and_stopping() -> None:
     stop = mcl.MC_Stop()
     machine.run(lambda: stop(Axis=X, Execute=True, Deceleration=100.0), timeout=0.05)
     assert X.state == AxisState.Stopping
-    fb = mcl.MC_StepAbsolute()
-    fb(Axis=X, Execute=True)
-    assert fb.Error and fb.ErrorID == ErrorID.EAxStop and not X.Ref
+    assert_refused(X, ErrorID.EAxStop)
     machine.run(lambda: stop(Axis=X, Execute=False), timeout=0.05)
     X.fault(ErrorID.ERRPOS)
     tick(machine, 5)
     assert X.state == AxisState.ErrorStop
-    fb = mcl.MC_StepAbsolute()
-    fb(Axis=X, Execute=True)
-    assert fb.Error and fb.ErrorID == ErrorID.Eerrstop and not X.Ref
+    assert_refused(X, ErrorID.Eerrstop)
 
 
 def test_aborting_a_moving_axis_is_refused() -> None:
@@ -221,9 +224,7 @@ def test_aborting_a_moving_axis_is_refused() -> None:
     move = mcl.MC_MoveVelocity()
     machine.run(lambda: move(Axis=X, Execute=True, Velocity=20.0), timeout=0.3)
     assert X.moving
-    fb = mcl.MC_StepAbsolute()
-    fb(Axis=X, Execute=True)
-    assert fb.Error and fb.ErrorID == ErrorID.EParam and not X.Ref
+    assert_refused(X, ErrorID.EParam)
 
 
 # ---------------------------------------------------------------------- from the physics
@@ -296,13 +297,7 @@ def test_gantry_after_a_power_cycle_the_same_point_gets_the_same_coordinate() ->
     scene = absolute_gantry(START_GANTRY)
     home_absolute(scene)
     X = scene.axes["X"]
-    move = mcl.MC_MoveAbsolute()
-    scene.run(
-        lambda: move(Axis=X, Execute=True, Position=512.25, Velocity=100.0),
-        until=lambda: move.Done or move.Error,
-        timeout=5.0,
-    )
-    assert move.Done
+    move_done(scene, X, mcl.MC_MoveAbsolute(), Position=512.25, Velocity=100.0)
     scene.run(timeout=0.2)
     assert_coordinate_is_the_joint(scene)
     before = {name: axis.actual for name, axis in scene.axes.items()}

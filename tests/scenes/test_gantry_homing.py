@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import math
 import random
+from collections.abc import Callable
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -21,7 +23,7 @@ from mcl import AxisState, MC_BufferMode, MC_Direction, MC_SwitchMode
 from scenes.machines import gantry
 from scenes.machines.gantry.scenarios import homing_repeatability
 from scenes.scene import Scene
-from tests.helpers import scan
+from tests.helpers import reset, scan
 
 PARK = {"X": 0.3, "Y": 0.3, "Z": -0.1}
 """Start positions of the axes a test does not move [m] (they stay disabled; Z on its brake)."""
@@ -92,30 +94,46 @@ def move_by(scene: Scene, axis: str, distance: float, velocity: float = 50.0) ->
     assert ax.state == AxisState.StandStill and ax.AxErrorID == 0
 
 
+def homing_program(
+    ax: mcl.Axis, power: mcl.MC_Power, *steps: tuple[Any, dict[str, Any]]
+) -> Callable[[], None]:
+    """PLC program: MC_Power enabled, then each homing step (block, inputs) called with
+    Execute = power.Status."""
+
+    def program() -> None:
+        power(Axis=ax, Enable=True)
+        for fb, inputs in steps:
+            fb(Axis=ax, Execute=power.Status, **inputs)
+
+    return program
+
+
 def home_ref_index(scene: Scene, axis: str) -> tuple[mcl.MC_StepAbsSwitch, mcl.MC_StepRefPulse]:
     """REF switch (approached from below, falling edge) then the next index pulse upwards;
     returns after 0.3 s of standstill with the power still on."""
     ax = scene.axes[axis]
     power, approach, pulse = mcl.MC_Power(), mcl.MC_StepAbsSwitch(), mcl.MC_StepRefPulse()
-
-    def program() -> None:
-        power(Axis=ax, Enable=True)
-        approach(
-            Axis=ax,
-            Execute=power.Status,
-            Direction=MC_Direction.MC_SwitchNegative,
-            SwitchMode=MC_SwitchMode.MC_EdgeOff,
-            Velocity=50.0,
-        )
-        pulse(
-            Axis=ax,
-            Execute=power.Status,
-            Direction=MC_Direction.MC_Positive,
-            Velocity=10.0,
-            SetPosition=0.0,
-            BufferMode=MC_BufferMode.Buffered,
-        )
-
+    program = homing_program(
+        ax,
+        power,
+        (
+            approach,
+            dict(
+                Direction=MC_Direction.MC_SwitchNegative,
+                SwitchMode=MC_SwitchMode.MC_EdgeOff,
+                Velocity=50.0,
+            ),
+        ),
+        (
+            pulse,
+            dict(
+                Direction=MC_Direction.MC_Positive,
+                Velocity=10.0,
+                SetPosition=0.0,
+                BufferMode=MC_BufferMode.Buffered,
+            ),
+        ),
+    )
     scene.run(program, until=lambda: pulse.Done or pulse.Error or approach.Error, timeout=60.0)
     scene.run(program, timeout=0.3)
     return approach, pulse
@@ -163,6 +181,16 @@ def test_ref_and_index_homing_sets_the_same_physical_origin_from_any_start(axis)
 
 BLOCK_STARTS = (0.05, 0.2, 0.4)
 
+BUFFERED_DIRECT = {"SetPosition": 0.0, "BufferMode": MC_BufferMode.Buffered}
+"""Inputs of the MC_StepDirect that ends a homing sequence at coordinate 0."""
+
+REF_SEARCH_UP = {
+    "Direction": MC_Direction.MC_Positive,
+    "SwitchMode": MC_SwitchMode.MC_EdgeOn,
+    "Velocity": 50.0,
+}
+"""Inputs of an MC_StepAbsSwitch that looks for the rising REF edge upwards."""
+
 
 def home_to_block(start: float) -> tuple[Scene, Recorder, mcl.MC_StepBlock, mcl.MC_StepDirect]:
     """MC_StepBlock toward the negative hard stop, then a buffered MC_StepDirect (SetPosition 0)."""
@@ -170,18 +198,12 @@ def home_to_block(start: float) -> tuple[Scene, Recorder, mcl.MC_StepBlock, mcl.
     X = scene.axes["X"]
     rec = Recorder(scene, "X")
     power, block, direct = mcl.MC_Power(), mcl.MC_StepBlock(), mcl.MC_StepDirect()
-
-    def program() -> None:
-        power(Axis=X, Enable=True)
-        block(
-            Axis=X,
-            Execute=power.Status,
-            Direction=MC_Direction.MC_Negative,
-            Velocity=20.0,
-            TorqueLimit=1.5,
-        )
-        direct(Axis=X, Execute=power.Status, SetPosition=0.0, BufferMode=MC_BufferMode.Buffered)
-
+    program = homing_program(
+        X,
+        power,
+        (block, dict(Direction=MC_Direction.MC_Negative, Velocity=20.0, TorqueLimit=1.5)),
+        (direct, BUFFERED_DIRECT),
+    )
     scene.run(program, until=lambda: direct.Done or block.Error or direct.Error, timeout=40)
     return scene, rec, block, direct
 
@@ -258,18 +280,8 @@ def test_ref_search_in_the_wrong_direction_reverses_at_the_limit_switch(velocity
     lim_pos = numeric(scene, "X_lim_pos_trip")
     _, stop_hi = hard_stops(scene, "X")
     power, approach, direct = mcl.MC_Power(), mcl.MC_StepAbsSwitch(), mcl.MC_StepDirect()
-
-    def program() -> None:
-        power(Axis=X, Enable=True)
-        approach(
-            Axis=X,
-            Execute=power.Status,
-            Direction=MC_Direction.MC_Positive,
-            SwitchMode=MC_SwitchMode.MC_EdgeOn,
-            Velocity=velocity,
-        )
-        direct(Axis=X, Execute=power.Status, SetPosition=0.0, BufferMode=MC_BufferMode.Buffered)
-
+    search = {**REF_SEARCH_UP, "Velocity": velocity}
+    program = homing_program(X, power, (approach, search), (direct, BUFFERED_DIRECT))
     scene.run(program, until=lambda: direct.Done or approach.Error or direct.Error, timeout=30)
     assert approach.Done or direct.Done, (approach.ErrorID, X.AxErrorID)
     assert direct.Done
@@ -285,18 +297,7 @@ def _search_with_limit(scene: Scene, **limit: float) -> tuple[mcl.MC_StepAbsSwit
     X = scene.axes["X"]
     rec = Recorder(scene, "X")
     power, approach = mcl.MC_Power(), mcl.MC_StepAbsSwitch()
-
-    def program() -> None:
-        power(Axis=X, Enable=True)
-        approach(
-            Axis=X,
-            Execute=power.Status,
-            Direction=MC_Direction.MC_Positive,
-            SwitchMode=MC_SwitchMode.MC_EdgeOn,
-            Velocity=50.0,
-            **limit,
-        )
-
+    program = homing_program(X, power, (approach, {**REF_SEARCH_UP, **limit}))
     scene.run(program, until=lambda: approach.Error or approach.Done, timeout=20)
     scene.run(lambda: power(Axis=X, Enable=True), timeout=0.5)
     return approach, rec
@@ -304,23 +305,23 @@ def _search_with_limit(scene: Scene, **limit: float) -> tuple[mcl.MC_StepAbsSwit
 
 def _reset_and_move(scene: Scene, distance: float) -> None:
     """MC_Reset brings the axis back to StandStill, and it moves again."""
-    X = scene.axes["X"]
-    power, reset = mcl.MC_Power(), mcl.MC_Reset()
-    scene.run(
-        scan(lambda: power(Axis=X, Enable=True), lambda: reset(Axis=X, Execute=True)),
-        until=lambda: reset.Done,
-        timeout=1,
-    )
-    assert X.state == AxisState.StandStill and X.AxErrorID == 0
+    reset(scene, scene.axes["X"])
     move_by(scene, "X", distance)
 
 
-def test_search_time_limit_gives_etime_and_errorstop_and_reset_recovers():
+def _search_stopped_by(error: mcl.ErrorID, code: int, **limit: float) -> tuple[Scene, Recorder]:
+    """A REF search from X = 0.5 m upwards with ``limit`` ends in Error ``error`` and ErrorStop
+    with AxErrorID ``code``."""
     scene = build(X=0.5)
     X = scene.axes["X"]
-    approach, rec = _search_with_limit(scene, TimeLimit=0.5)
-    assert approach.Error and approach.ErrorID == mcl.ErrorID.ETime
-    assert X.state == AxisState.ErrorStop and X.AxErrorID == 1
+    approach, rec = _search_with_limit(scene, **limit)
+    assert approach.Error and approach.ErrorID == error
+    assert X.state == AxisState.ErrorStop and X.AxErrorID == code
+    return scene, rec
+
+
+def test_search_time_limit_gives_etime_and_errorstop_and_reset_recovers():
+    scene, rec = _search_stopped_by(mcl.ErrorID.ETime, 1, TimeLimit=0.5)
     # stopped on a ramp with the loop closed: the drive is still enabled and holds
     assert scene.io("X").enabled
     assert abs(scene.data.qvel[scene.io("X").dof]) < 1e-4
@@ -330,11 +331,7 @@ def test_search_time_limit_gives_etime_and_errorstop_and_reset_recovers():
 
 
 def test_search_distance_limit_gives_edistance():
-    scene = build(X=0.5)
-    X = scene.axes["X"]
-    approach, rec = _search_with_limit(scene, DistanceLimit=20.0)
-    assert approach.Error and approach.ErrorID == mcl.ErrorID.EDistance
-    assert X.state == AxisState.ErrorStop and X.AxErrorID == 2
+    scene, rec = _search_stopped_by(mcl.ErrorID.EDistance, 2, DistanceLimit=20.0)
     travel = rec.q_max - 0.5
     assert 0.020 <= travel < 0.022, f"travelled {travel * 1e3:.3f} mm"
     assert abs(scene.data.qvel[scene.io("X").dof]) < 1e-4

@@ -17,7 +17,7 @@ from mcl import AxisState, MC_Direction
 from mcl import faults as flt
 from scenes.machines import gantry
 from scenes.scene import Scene
-from tests.helpers import scan
+from tests.helpers import reset, scan
 
 PARK = {"X": 0.3, "Y": 0.3, "Z": -0.1}
 """Start positions of the axes [m]."""
@@ -109,13 +109,8 @@ def test_overrunning_lim_pos_stops_short_of_the_hard_stop_and_reset_recovers(com
     assert rec.finite
 
     # MC_Reset, then back off the switch
-    reset, back = mcl.MC_Reset(), mcl.MC_MoveRelative()
-    scene.run(
-        scan(lambda: power(Axis=X, Enable=True), lambda: reset(Axis=X, Execute=True)),
-        until=lambda: reset.Done,
-        timeout=1,
-    )
-    assert X.state == AxisState.StandStill and X.AxErrorID == 0
+    reset(scene, X, power)
+    back = mcl.MC_MoveRelative()
     q0 = scene.joint_position("X")
     scene.run(
         scan(

@@ -45,6 +45,22 @@ def press(workpiece: str = "none") -> tuple[scenes.Scene, CylinderDevice]:
     return scene, dev
 
 
+def altered(
+    h: ValveCylinder,
+    *,
+    valve: dict[str, float] | None = None,
+    cylinder: dict[str, float] | None = None,
+    supply: dict[str, float] | None = None,
+) -> ValveCylinder:
+    """``h`` with some data of its valve, cylinder and supply changed (the same step)."""
+    return ValveCylinder(
+        replace(h.valve, **(valve or {})),
+        replace(h.cylinder, **(cylinder or {})),
+        replace(h.supply, **(supply or {})),
+        h.dt,
+    )
+
+
 def place(scene: scenes.Scene, dev: CylinderDevice, q: float) -> None:
     """Put the ram at rest at ``q`` [m], hanging on its oil."""
     import mujoco
@@ -88,9 +104,7 @@ def test_extend_and_retract_differ_as_the_areas_say_and_the_constants_know_it():
     h = dev.hydraulics
     # a symmetric valve on a differential cylinder, no load, no friction: the flow law gives
     # extend/retract = √(A_A/A_B) (the large side's outflow edge limits the retraction)
-    ideal = ValveCylinder(
-        h.valve, replace(h.cylinder, coulomb=0.0, pressure_friction=0.0), h.supply, h.dt
-    )
+    ideal = altered(h, cylinder={"coulomb": 0.0, "pressure_friction": 0.0})
     extend, _, _ = steady_state(ideal, 1.0, 0.0)
     retract, _, _ = steady_state(ideal, -1.0, 0.0)
     assert extend / -retract == pytest.approx(math.sqrt(h.area_a / h.area_b), rel=0.002)
@@ -133,10 +147,7 @@ def test_ringing_after_a_valve_step_is_the_hydraulic_natural_frequency(q0):
 # ------------------------------------------------------------------------------ 0 V
 def test_at_0_V_without_leakage_the_ram_hangs_on_its_oil_without_sinking():
     scene, dev = press()
-    h = dev.hydraulics
-    tight = ValveCylinder(
-        replace(h.valve, leakage=0.0), replace(h.cylinder, internal_leakage=0.0), h.supply, h.dt
-    )
+    tight = altered(dev.hydraulics, valve={"leakage": 0.0}, cylinder={"internal_leakage": 0.0})
     dev.hydraulics = tight
     place(scene, dev, 0.15)
     drive(scene, dev, 0.0, 0.3)
@@ -214,9 +225,9 @@ def test_full_valve_into_either_end_stop_is_stable(q0, volts):
 
 def test_a_supply_above_the_relief_setting_is_held_at_the_setting_plus_its_override():
     scene, dev = press("solid")
-    h = dev.hydraulics
-    supply = replace(h.supply, supply=300.0 * BAR)  # a pump compensator set too high
-    dev.hydraulics = ValveCylinder(h.valve, h.cylinder, supply, h.dt)
+    # a pump compensator set too high
+    dev.hydraulics = altered(dev.hydraulics, supply={"supply": 300.0 * BAR})
+    supply = dev.hydraulics.supply
     place(scene, dev, 0.2499)  # touching the block
     rows = drive(scene, dev, 10.0, 0.3)
     assert np.all(np.isfinite(rows))

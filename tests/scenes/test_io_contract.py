@@ -72,6 +72,20 @@ class Channel:
         self.stops, self.vmax, self.fmax = stops, vmax, fmax
         self.origin = self.position
 
+    def sample(self) -> Sample:
+        """The physical state and the inputs as they are now."""
+        io = self.io
+        return Sample(
+            *self._physics(),
+            io.counts,
+            io.index,
+            io.index_count,
+            io.index_seq,
+            io.lim_pos,
+            io.lim_neg,
+            io.ref,
+        )
+
     @property
     def position(self) -> float:
         return self._physics()[0]
@@ -97,26 +111,11 @@ class Channel:
     ) -> list[Sample]:
         """Write the command once, then step the plant for ``seconds`` (or until ``until()``),
         sampling the inputs after every step."""
-        io = self.io
-        io.write(volts, enable)
+        self.io.write(volts, enable)
         samples = []
         for _ in range(round(seconds / self.timestep)):
             self._step()
-            x, v, f = self._physics()
-            samples.append(
-                Sample(
-                    x,
-                    v,
-                    f,
-                    io.counts,
-                    io.index,
-                    io.index_count,
-                    io.index_seq,
-                    io.lim_pos,
-                    io.lim_neg,
-                    io.ref,
-                )
-            )
+            samples.append(self.sample())
             if until is not None and until():
                 break
         return samples
@@ -284,27 +283,11 @@ def index_events(samples: list[Sample], before: Sample) -> list[tuple[Sample, Sa
     return events
 
 
-def start_sample(ch: Channel) -> Sample:
-    io = ch.io
-    return Sample(
-        ch.position,
-        ch.velocity,
-        ch.force,
-        io.counts,
-        io.index,
-        io.index_count,
-        io.index_seq,
-        io.lim_pos,
-        io.lim_neg,
-        io.ref,
-    )
-
-
 @pytest.mark.parametrize("sign", [1.0, -1.0])
 def test_index_pulse_once_per_lead_latched_where_the_axis_was(ch, sign):
     ch.run(0.1, ch.volts(sign * 0.033))  # leave the power-up position (it may be on a mark)
     ch.run(0.1, 0.0)
-    before = start_sample(ch)
+    before = ch.sample()
     travel = 5.5 * ch.lead
     speed = 0.1
     samples = ch.run(travel / speed, ch.volts(sign * speed))
@@ -332,7 +315,7 @@ def test_index_latched_at_the_same_place_on_every_pass(ch):
     backward: dict[int, set[int]] = {}
     for _ in range(3):
         for sign in (1.0, -1.0):
-            before = start_sample(ch)
+            before = ch.sample()
             samples = ch.run(2.5 * ch.lead / speed, ch.volts(sign * speed))
             ch.run(0.1, 0.0)
             seen = forward if sign > 0 else backward

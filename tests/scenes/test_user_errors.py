@@ -21,6 +21,11 @@ pytestmark = pytest.mark.once  # see the marker in pyproject.toml
 PAYLOAD = 'scenario = "scenes.tools.examples:payload_following_error"\n'
 
 
+def assert_refused(result: subprocess.CompletedProcess[str], line: str) -> None:
+    """The command stopped with exit status 2 and said ``line``, one line on stderr."""
+    assert (result.returncode, result.stderr.splitlines()) == (2, [line])
+
+
 def cli(folder: Path, *args: str) -> subprocess.CompletedProcess[str]:
     """``python -m scenes ARGS`` run in ``folder`` (the same interpreter and build mode)."""
     env = {**os.environ, "MCL_PURE_PYTHON": os.environ.get("MCL_PURE_PYTHON", "")}
@@ -126,10 +131,10 @@ def test_a_sweep_file_mistake_is_one_line_and_exit_status_2(tmp_path, mistake):
 
 def test_a_missing_sweep_file_says_where_it_was_looked_for(tmp_path):
     result = cli(tmp_path, "sweep", "nosuch.toml")
-    assert result.returncode == 2
-    assert result.stderr.splitlines() == [
-        f"nosuch.toml: no such file; expected a sweep file (TOML), relative to {tmp_path}"
-    ]
+    assert_refused(
+        result,
+        f"nosuch.toml: no such file; expected a sweep file (TOML), relative to {tmp_path}",
+    )
 
 
 @pytest.fixture(scope="module")
@@ -158,7 +163,7 @@ def test_plot_mistakes_are_one_line_each(tmp_path, trace_csv):
     }
     for file, line in cases.items():
         result = cli(tmp_path, "plot", file)
-        assert (result.returncode, result.stderr.splitlines()) == (2, [line])
+        assert_refused(result, line)
 
 
 MODEL = Path(scenes.__file__).resolve().parent.parent / "models" / "gantry.xml"
@@ -210,24 +215,24 @@ def test_a_renamed_joint_says_which_name_the_machine_expects(tmp_path):
     model = edited_model(tmp_path, '<joint name="X"', '<joint name="X_slide"')
     result = run_gantry(tmp_path, model)
     x, y, z = (line_of(model, f'<joint name="{name}"') for name in ("X_slide", "Y", "Z"))
-    assert result.returncode == 2
-    assert result.stderr.splitlines() == [
+    assert_refused(
+        result,
         f"{model}: <joint name='X'>: not in the file, but machine 'gantry' needs it for axis X "
         f"(AxisDef.joint); expected one of the file's joints: 'X_slide' (line {x}), "
-        f"'Y' (line {y}), 'Z' (line {z})"
-    ]
+        f"'Y' (line {y}), 'Z' (line {z})",
+    )
 
 
 def test_a_compile_error_points_into_the_users_file_not_the_combined_model(tmp_path):
     model = edited_model(tmp_path, 'range="-0.050 1.050"', 'range="1.050 -0.050"')
     result = run_gantry(tmp_path, model)
     line = line_of(model, '<joint name="X"')
-    assert result.returncode == 2
-    assert result.stderr.splitlines() == [
+    assert_refused(
+        result,
         f"{model}:{line}: <joint name='X'>: range[0] should be "
         "smaller than range[1] in joint; expected a model MuJoCo compiles "
-        "(https://mujoco.readthedocs.io/en/stable/XMLreference.html)"
-    ]
+        "(https://mujoco.readthedocs.io/en/stable/XMLreference.html)",
+    )
 
 
 def test_a_removed_amplifier_names_it_at_the_keyframe_that_no_longer_fits(tmp_path):
@@ -241,13 +246,13 @@ def test_a_removed_amplifier_names_it_at_the_keyframe_that_no_longer_fits(tmp_pa
     model.write_text(text)
     result = run_gantry(tmp_path, model)
     line = line_of(model, '<key name="home"')
-    assert result.returncode == 2
-    assert result.stderr.splitlines() == [
+    assert_refused(
+        result,
         f"{model}:{line}: <key name='home'>: act has 3 values, the model has 2 actuator "
         "activations (one per actuator with dynamics, dyntype); expected the file to have "
         "actuator 'Y_amp' (machine 'gantry' needs it as the amplifier of axis Y), or act with "
-        "2 values"
-    ]
+        "2 values",
+    )
 
 
 FLAKY = '''
