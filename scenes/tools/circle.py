@@ -352,7 +352,7 @@ def evaluate(points: np.ndarray, radius: float, speed: float, ccw: bool) -> Figu
     theta = np.arctan2(points[:, 1], points[:, 0]) % (2.0 * math.pi)
     dr = r - radius
     basis = np.column_stack(
-        [np.ones_like(theta)] + [f(k * theta) for k in (1, 2) for f in (np.cos, np.sin)]  # type: ignore[operator]
+        [np.ones_like(theta)] + [f(k * theta) for k in (1, 2) for f in (np.cos, np.sin)]
     )
     coefficients = np.linalg.lstsq(basis, dr, rcond=None)[0]
     residual = dr - basis @ coefficients
@@ -383,7 +383,23 @@ def _spike(angle: np.ndarray, residual: np.ndarray, at: float) -> Spike:
     hi = peak
     while hi < len(values) - 1 and above[hi + 1]:
         hi += 1
-    return Spike(at, height, float(near[hi] - near[lo]))
+    half = 0.5 * abs(height)
+    magnitude = np.abs(values)
+    return Spike(
+        at,
+        height,
+        _crossing(near, magnitude, hi, 1, half) - _crossing(near, magnitude, lo, -1, half),
+    )
+
+
+def _crossing(angle: np.ndarray, magnitude: np.ndarray, k: int, step: int, half: float) -> float:
+    """Where ``magnitude`` falls to ``half`` between sample ``k`` (above it) and its neighbour
+    ``k + step``, interpolated linearly [deg] (``angle[k]`` at the window's edge)."""
+    j = k + step
+    if not 0 <= j < len(angle):
+        return float(angle[k])
+    share = (magnitude[k] - half) / (magnitude[k] - magnitude[j])
+    return float(angle[k] + share * (angle[j] - angle[k]))
 
 
 def _ellipse(c: np.ndarray, radius: float, speed: float, ccw: bool) -> Ellipse:
