@@ -208,6 +208,7 @@ def gantry_circle_test() -> dict[str, Any]:
                 friction[key] = {
                     d: round(f.spike * 1e3, 2) for d, f in result.figures["joints"].items()
                 }
+            print(key, on[key], off[key], friction.get(key), file=sys.stderr, flush=True)
     return {"feed_forward_on": on, "feed_forward_off": off, "spike_without_Kf_um": friction}
 
 
