@@ -42,7 +42,7 @@ class AxisSnapshot:
     Ref: bool
     opt_select: tuple[int, int]
     constants: ServoConstants | None
-    regulator: tuple[float, float] | None
+    regulator: tuple[float, float, float, float] | None
     """Integral action [V] and last following error [u] (None: no constants yet)."""
     speed_mode: int
     loop_closed: bool

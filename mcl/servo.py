@@ -1,7 +1,8 @@
 """Servo core of one GT-x75x axis: position regulator and DAC.
 
 ``u = Kp·e + Ki·∫e + Kd·ė + (10 V/Vmax)·(Ff·v + Ka·a) + clip((10 V/Vmax)·v, ±Kf)`` (for
-``v < 0`` the feed-forward scaled by FfNeg/Ff; plus the deadband compensation), with
+``v < 0`` the feed-forward scaled by FfNeg/Ff; plus the deadband compensation and the friction
+pulse at a reversal of the model velocity, ``Kfp`` decaying with ``Tfp``), with
 back-calculation anti-windup (``Kc``) when the 12-bit DAC output saturates at ±10 V, and ``Ki1``
 integral action that only works while the model stands still and the axis is outside its
 in-position window.
@@ -77,6 +78,12 @@ class ServoConstants:
             friction while the axis moves, so the integrator need not build it up at each
             start; it adds ``clip((10 V/Vmax)·v, ±Kf)`` (v = model velocity), i.e. it fades in
             over the first ``Kf·Vmax/10`` of speed (beyond the Teco library).
+        Kfp: friction pulse [V]: when the model velocity changes its sign, ``±Kfp`` (the new
+            direction) is added and decays with the time constant Tfp, so that the drive
+            breaks loose from the Coulomb friction at once instead of standing until the
+            following error has built up the force (the reversal spikes of a circle test);
+            Kf alone passes through 0 V there. 0 = off (beyond the Teco library).
+        Tfp: decay time constant of the friction pulse [s].
         FfNeg: velocity feed-forward for negative model velocities [-]; 0 = the same as Ff.
             For a drive whose speed per volt differs by direction (a differential cylinder:
             extend and retract differ by the area ratio); the acceleration feed-forward is
@@ -101,6 +108,8 @@ class ServoConstants:
     Kf: float = 0.0
     FfNeg: float = 0.0
     Deadband: float = 0.0
+    Kfp: float = 0.0
+    Tfp: float = 0.0
 
     @property
     def sw_limits_active(self) -> bool:
@@ -111,7 +120,7 @@ class ServoConstants:
 class Regulator:
     """Discrete PID position regulator with feed-forward, anti-windup and DAC output."""
 
-    __slots__ = ("_e_prev", "_ff", "_integral", "_neg", "c", "period")
+    __slots__ = ("_direction", "_e_prev", "_ff", "_integral", "_neg", "_pulse", "c", "period")
 
     def __init__(self, constants: ServoConstants, period: float) -> None:
         """Args: constants: the axis' servo constants; period: servo period [s]."""
@@ -123,29 +132,35 @@ class Regulator:
         """Feed-forward factor for negative model velocities (FfNeg/Ff)."""
         self._integral = 0.0
         self._e_prev = 0.0
+        self._pulse = 0.0
+        """The friction pulse now [V]."""
+        self._direction = 0.0
+        """The sign of the last non-zero model velocity (0: none yet)."""
 
     def reset(self) -> None:
-        """Clear the integrator and the derivative memory (loop (re)closed)."""
+        """Clear the integrator, the derivative memory and the friction pulse (loop (re)closed)."""
         self._integral = 0.0
         self._e_prev = 0.0
+        self._pulse = 0.0
+        self._direction = 0.0
 
     def clear_integral(self) -> None:
         """Clear the integral action (Ki and Ki1 share one integrator); the derivative memory
         stays, so no derivative kick follows."""
         self._integral = 0.0
 
-    def memory(self) -> tuple[float, float]:
-        """The regulator's state: integral action [V] and the last following error [u]."""
-        return self._integral, self._e_prev
+    def memory(self) -> tuple[float, float, float, float]:
+        """The regulator's state: integral action [V], the last following error [u], the
+        friction pulse [V] and the sign of the last model velocity."""
+        return self._integral, self._e_prev, self._pulse, self._direction
 
-    def set_memory(self, memory: tuple[float, float]) -> None:
+    def set_memory(self, memory: tuple[float, float, float, float]) -> None:
         """Restore a state taken with :meth:`memory`."""
-        self._integral, self._e_prev = memory
+        self._integral, self._e_prev, self._pulse, self._direction = memory
 
     def carry_over(self, other: Regulator) -> None:
-        """Take over the integrator of the regulator this one replaces (no bump)."""
-        self._integral = other._integral
-        self._e_prev = other._e_prev
+        """Take over the state of the regulator this one replaces (no bump)."""
+        self.set_memory(other.memory())
 
     def output(self, e: float, v_model: float, a_model: float, settle: bool) -> float:
         """One regulator step.
@@ -170,6 +185,7 @@ class Regulator:
             + c.Kd * (e - self._e_prev) / period
             + (feed * self._neg if v_model < 0.0 else feed)
             + max(-c.Kf, min(c.Kf, ff * v_model))
+            + self._friction_pulse(v_model)
         )
         db = c.Deadband
         if db > 0.0:
@@ -180,6 +196,21 @@ class Regulator:
         self._integral += period * ki * e + min(1.0, c.Kc * period) * (out - u)
         self._e_prev = e
         return out
+
+    def _friction_pulse(self, v_model: float) -> float:
+        """The friction pulse of this cycle [V]: ``±Kfp`` from the cycle the model velocity
+        changes its sign, decaying by ``exp(−period/Tfp)`` per cycle."""
+        c = self.c
+        if c.Kfp <= 0.0:
+            return 0.0
+        sign = 1.0 if v_model > 0.0 else -1.0 if v_model < 0.0 else 0.0
+        if sign != 0.0 and sign != self._direction:
+            if self._direction != 0.0:
+                self._pulse = sign * c.Kfp
+            self._direction = sign
+        pulse = self._pulse
+        self._pulse = pulse * math.exp(-self.period / c.Tfp) if c.Tfp > 0.0 else 0.0
+        return pulse
 
     def open_loop(self, v_model: float) -> float:
         """SpeedMode 1: the analog command proportional to the model velocity [V]."""

@@ -4,6 +4,8 @@ a machine's demo program headless and prints every FB edge, the positions and st
 ``python -m scenes cam TABLE.csv`` (or ``--cut-length L --circumference C``, the rotary knife's
 cam) plots a cam table's profile as PNG (see :mod:`scenes.tools.cam_plot`);
 ``python -m scenes sweep FILE.toml`` runs a parameter sweep (see :mod:`scenes.tools.sweep`);
+``python -m scenes circle gantry --plane XY --radius 50 --feed 1000 --direction both [--plot
+FILE]`` runs the circle test of ISO 230-4 and prints its figures (see :mod:`scenes.tools.circle`);
 ``python -m scenes bridge map NAME`` prints a machine's register map, ``python -m scenes bridge
 modbus NAME`` runs it with its Modbus TCP server and ``python -m scenes bridge opcua NAME`` with
 its OPC UA server (docs/bridge.md).
@@ -190,6 +192,7 @@ def main(argv: list[str] | None = None) -> int:
         metavar="NAME=VALUES",
         help="override a grid parameter: x=[1,2,3] or x=1,2,3",
     )
+    _circle_parser(sub)
     _bridge_parser(sub)
     args = parser.parse_args(argv)
     try:
@@ -216,6 +219,8 @@ def _command(args: argparse.Namespace) -> int:
         return sweep(args.file, args.workers, args.address, args.out, [*args.set, *grid])
     if args.command == "bridge":
         return _bridge(args)
+    if args.command == "circle":
+        return _circle(args)
     if args.command == "list":
         width = max(len(n) for n in scenes.MACHINES)
         for name in sorted(scenes.MACHINES):
@@ -271,6 +276,39 @@ def _cam(args: argparse.Namespace) -> int:
         cam = checked(table, True, "rotary knife", [])
         out = Path(args.out) if args.out else Path("rotary_knife")
     print(plot_cam(table, cam, out))
+    return 0
+
+
+def _circle_parser(sub: Any) -> None:
+    from scenes.tools.circle import DIRECTIONS, PLANES
+
+    circle = sub.add_parser("circle", help="the circle test of ISO 230-4 on two axes")
+    circle.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+    circle.add_argument("--plane", default="XY", choices=sorted(PLANES), help="the two axes")
+    circle.add_argument("--radius", type=float, default=50.0, help="nominal radius [mm]")
+    circle.add_argument("--feed", type=float, default=1000.0, help="path velocity [mm/min]")
+    circle.add_argument("--direction", default="both", choices=list(DIRECTIONS))
+    circle.add_argument("--plot", help="write the polar plot to this PNG file")
+
+
+def _circle(args: argparse.Namespace) -> int:
+    """Run the circle test about the middle of the plane's axes' travel (between their software
+    limits; linear axes in mm) from the demo's start otherwise; print its figures."""
+    from scenes.tools.circle import PLANES, circle_test
+
+    definition = scenes.definition(args.name)
+    start = dict(definition.demo_start)
+    for axis in PLANES[args.plane]:
+        c = definition.axes[axis].constants if axis in definition.axes else None
+        if c is not None and c.sw_limits_active:
+            start[axis] = 0.5 * (c.LimPos + c.LimNeg) / 1000.0  # mm → m
+    scene = scenes.load(args.name, start=start, trace_every=0)
+    result = circle_test(scene, args.plane, args.radius, args.feed, args.direction)
+    print(result.summary())
+    if args.plot:
+        from scenes.tools.circle import plot
+
+        print(plot(result, args.plot))
     return 0
 
 

@@ -6,6 +6,9 @@ Fixtures:
   test fails, the trace of every scene it made is plotted (PNG and HTML) into the directory of
   ``--scene-plots`` (default ``scene-plots/``), named after the test (with the ``[plot]`` extra).
 - ``scans``: a :class:`ScanLog` factory that records values once per PLC scan.
+- ``circle``: the circle test of ISO 230-4, :func:`scenes.tools.circle.circle_test`:
+  ``circle(scene("gantry"), plane="XY", radius=50.0, feed=1000.0)`` → its figures (G, mean
+  radial deviation, reversal spikes, ellipse), from the encoders and from the joints.
 - ``st_program``: a factory of IEC 61131-3 Structured Text programs for a scene,
   ``st_program("move.st", gantry, mapping={"Pohon.Ax1": "X"})`` → :class:`plc.st.STProgram`
   (a relative path is found beside the test's file); its variables read and write as
@@ -47,6 +50,7 @@ __all__ = [
     "ScanLog",
     "Window",
     "assert_pulsed_once",
+    "circle",
     "home",
     "load_st",
     "max_following_error",
@@ -73,6 +77,7 @@ import scenes
 from mcl import extras
 from plc.procedures import HomeAxis, Recipe
 from scenes.scene import Scene
+from scenes.tools.circle import CircleResult, circle_test
 
 
 def run_until(
@@ -341,3 +346,10 @@ def st_program(request: pytest.FixtureRequest) -> Callable[..., plc.st.STProgram
 def scans() -> type[ScanLog]:
     """The :class:`ScanLog` class: ``log = scans(done=lambda: move.Done)``."""
     return ScanLog
+
+
+@pytest.fixture
+def circle() -> Callable[..., CircleResult]:
+    """The circle test of ISO 230-4: ``circle(scene, plane, radius, feed, direction, center)``
+    (:func:`scenes.tools.circle.circle_test`)."""
+    return circle_test

@@ -11,20 +11,32 @@ Prints JSON:
   [µm], and the time it took;
 - ``gantry_gcode_contour_F3000``: the G-code contour of tests/scenes/test_gantry_arcs.py (lines
   and arcs, tangent and non-tangent corners): the tool's and the encoders' largest distance from
-  the commanded lines and arcs [µm] (corner tolerance 20 µm).
+  the commanded lines and arcs [µm] (corner tolerance 20 µm);
+- ``gantry_circle_test``: the circle test of ISO 230-4 (:mod:`scenes.tools.circle`) in XY, R 50
+  and 150 mm at F1000/F3000/F5000, both directions, measured at the joints (and G at the
+  encoders): with the feed-forward on (as commissioned) G, the largest radial deviation and
+  the largest reversal spike [µm]; with the velocity and acceleration feed-forward off (Ff =
+  Ka = 0) the mean radius change against the first-order estimate ``−v²/(2·R·Kv²)`` (Kv =
+  Kp·Vmax/10) and against the loop's linear model (:func:`loop_radius_change`); and, R 50, the
+  spikes with the friction feed-forward Kf off, and G and the spikes with the friction pulse
+  (Kfp = 2·Kf, Tfp = 0.2 s) on.
 
-Run: ``python -m tests.benchmarks.arcs``.
+Run: ``python -m tests.benchmarks.arcs`` (``--circle`` for the circle test alone).
 """
 
 from __future__ import annotations
 
+import copy
 import json
 import math
+import sys
 from typing import Any
 
 import numpy as np
 
 import mcl
+from scenes.machines import gantry
+from scenes.tools.circle import circle_test
 from tests.helpers import make_machine
 from tests.mcl.test_group import build_group, record
 from tests.scenes.test_gantry_arcs import CONTOUR, contour_pieces, run_on_gantry
@@ -125,12 +137,113 @@ def gantry_contour() -> dict[str, float]:
     }
 
 
+PULSE = 2.0
+"""The friction pulse of the benchmark: Kfp = PULSE·Kf (tried on R 50 F1000: 1·Kf with 20, 50,
+200 and 500 ms left 8, 7, 5 and 4.5 µm spikes; 2·Kf with 50 ms 5 µm, with 200 ms 1.7 µm). A
+pulse of fixed height and time suits one feed: at F3000 and F5000 the same pulse outlasts the
+reversal and pushes the axis out (spikes 7 and 11 µm instead of 5 and 3 µm)."""
+PULSE_TIME = 0.2
+"""Its decay time constant Tfp [s]."""
+CIRCLE_START = {"X": 0.5, "Y": 0.3, "Z": -0.1}
+"""Joint coordinates of the circle test's centre [m]: the middle of X's and Y's travel."""
+
+
+def _circle(radius: float, feed: float, pulse: float = 0.0, **changes: float) -> Any:
+    """The circle test on a fresh gantry, both directions, X's and Y's servo constants changed
+    by ``changes`` (e.g. ``Ff=0.0``), and a friction pulse ``Kfp = pulse·Kf`` of each axis
+    decaying with PULSE_TIME (``pulse`` > 0)."""
+    scene = gantry.build(start=CIRCLE_START, trace_every=0)
+    for name in ("X", "Y"):
+        axis = scene.axes[name]
+        assert axis.constants is not None
+        constants = copy.copy(axis.constants)
+        for key, value in changes.items():
+            setattr(constants, key, value)
+        if pulse > 0.0:
+            constants.Kfp, constants.Tfp = pulse * constants.Kf, PULSE_TIME
+        axis.set_constants(constants)
+    return circle_test(scene, "XY", radius, feed, "both"), scene
+
+
+def loop_radius_change(constants: mcl.ServoConstants, radius: float, speed: float) -> float:
+    """The radius change [mm] the linear model of one axis' loop predicts for a circle without
+    feed-forward: ``R·(|H(jω)| − 1)``, ω = v/R, H = C·P/(1 + C·P) with the PI regulator
+    ``C = Kp + Ki/s`` [V/mm], the amplifier's velocity ``P = (Vmax/10)·e^(−sT)/(s·(1 + s·τ))``,
+    τ = 1/(2·Kv) (the commissioned lag that Kv = 1/(2·lag) was chosen for) and T = 1 ms
+    (the module's one-cycle output delay)."""
+    s = 1j * speed / radius
+    kv = constants.Kp * constants.Vmax / 10.0
+    tau = 1.0 / (2.0 * kv)
+    c = constants.Kp + constants.Ki / s
+    p = constants.Vmax / 10.0 * np.exp(-s * 0.001) / (s * (1.0 + s * tau))
+    return float(radius * (abs(c * p / (1.0 + c * p)) - 1.0))
+
+
+def gantry_circle_test() -> dict[str, Any]:
+    """The circle test with and without feed-forward, and the spikes without Kf."""
+    on: dict[str, Any] = {}
+    off: dict[str, Any] = {}
+    friction: dict[str, Any] = {}
+    pulsed: dict[str, Any] = {}
+    for radius in (50.0, 150.0):
+        for feed in (1000.0, 3000.0, 5000.0):
+            key = f"R{radius:g}_F{feed:g}"
+            result, _ = _circle(radius, feed)
+            joints = result.figures["joints"]
+            on[key] = {
+                d: {
+                    "G_um": round(f.G * 1e3, 2),
+                    "G_encoders_um": round(result.figures["encoders"][d].G * 1e3, 2),
+                    "radial_um": round(f.radial * 1e3, 2),
+                    "spike_um": round(f.spike * 1e3, 2),
+                }
+                for d, f in joints.items()
+            }
+            on[key]["G_bidirectional_um"] = round(result.bidirectional["joints"] * 1e3, 2)
+            result, scene = _circle(radius, feed, Ff=0.0, Ka=0.0)
+            constants = scene.axes["X"].constants
+            kv = np.mean([scene.axes[n].constants.Kp for n in "XY"]) * constants.Vmax / 10.0
+            speed = feed / 60.0
+            measured = np.mean([f.mean_radial for f in result.figures["joints"].values()])
+            first_order = -(speed**2) / (2.0 * radius * float(kv) ** 2)
+            model = np.mean(
+                [loop_radius_change(scene.axes[n].constants, radius, speed) for n in "XY"]
+            )
+            off[key] = {
+                "mean_radial_um": round(float(measured) * 1e3, 3),
+                "first_order_um": round(first_order * 1e3, 3),
+                "loop_model_um": round(float(model) * 1e3, 3),
+                "G_um": round(max(f.G for f in result.figures["joints"].values()) * 1e3, 2),
+            }
+            if radius == 50.0:
+                result, _ = _circle(radius, feed, Kf=0.0)
+                friction[key] = {
+                    d: round(f.spike * 1e3, 2) for d, f in result.figures["joints"].items()
+                }
+                result, _ = _circle(radius, feed, pulse=PULSE)
+                pulsed[key] = {
+                    d: {"G_um": round(f.G * 1e3, 2), "spike_um": round(f.spike * 1e3, 2)}
+                    for d, f in result.figures["joints"].items()
+                }
+            print(key, on[key], off[key], friction.get(key), pulsed.get(key), file=sys.stderr)
+    return {
+        "feed_forward_on": on,
+        "feed_forward_off": off,
+        "spike_without_Kf_um": friction,
+        f"friction_pulse_{PULSE:g}Kf_{PULSE_TIME * 1e3:g}ms": pulsed,
+    }
+
+
 def main() -> None:
     """Print the benchmark as JSON."""
+    if "--circle" in sys.argv[1:]:
+        print(json.dumps({"gantry_circle_test": gantry_circle_test()}, indent=2))
+        return
     report = {
         "commanded_radius_error": commanded_radius_error(),
         "gantry_circle_R50": gantry_circles(),
         "gantry_gcode_contour_F3000": gantry_contour(),
+        "gantry_circle_test": gantry_circle_test(),
     }
     print(json.dumps(report, indent=2))
 

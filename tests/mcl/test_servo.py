@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 
 import pytest
 
@@ -208,3 +209,52 @@ def test_ki1_is_inactive_while_the_model_moves():
     without = _moving_error(0.0)
     assert without > 0.01  # friction needs force: a visible steady error
     assert _moving_error(400.0) == pytest.approx(without, abs=1e-6)
+
+
+# ------------------------------------------------------------------ friction pulse
+def _reversal(reg: Regulator, cycles: int = 400) -> list[float]:
+    """The regulator's output [V] while the model velocity sweeps from +0.5 to −0.5 u/s in
+    ``cycles`` servo cycles (no following error, no velocity feed-forward)."""
+    return [reg.output(0.0, 0.5 - k / (cycles - 1), 0.0, False) for k in range(cycles)]
+
+
+def test_the_friction_pulse_is_off_by_default():
+    """Without Kfp the output passes through 0 V at the reversal (only Kf's ramp)."""
+    out = _reversal(regulator(Ff=0.0, Kf=0.1))
+    assert max(abs(v) for v in out) < 0.011  # 10 V/500 · 0.5 u/s = 0.01 V at the ends
+
+
+def test_the_friction_pulse_jumps_at_the_reversal_and_decays():
+    """Kfp = 0.2 V, Tfp = 20 ms: in the first cycle of negative model velocity the output jumps
+    by −0.2 V, after one time constant it is down to 1/e of that, after 10 of them gone; a
+    second reversal back gives a pulse of the other sign; the start from standstill none."""
+    reg = regulator(Ff=0.0, Kfp=0.2, Tfp=0.02)
+    assert reg.output(0.0, 0.0, 0.0, False) == 0.0
+    assert reg.output(0.0, 0.001, 0.0, False) == pytest.approx(dac(0.0))  # a start: no pulse
+    out = _reversal(reg)
+    first = next(k for k in range(400) if 0.5 - k / 399 < 0.0)
+    assert max(abs(v) for v in out[:first]) < STEP
+    assert out[first] == pytest.approx(dac(-0.2))
+    assert out[first + 20] == pytest.approx(-0.2 / math.e, abs=3 * STEP)
+    assert abs(out[-1]) < STEP  # 199 cycles later
+    back = [reg.output(0.0, 0.1, 0.0, False) for _ in range(2)]
+    assert back[0] == pytest.approx(dac(0.2))
+    assert back[1] < back[0]
+
+
+def test_the_friction_pulse_is_part_of_the_regulator_state():
+    """memory()/set_memory() carry the pulse, so a restored state repeats it."""
+    reg = regulator(Ff=0.0, Kfp=0.2, Tfp=0.02)
+    _reversal(reg, 250)
+    saved = reg.memory()
+    again = [reg.output(0.0, -0.1, 0.0, False) for _ in range(5)]
+    reg.set_memory(saved)
+    assert [reg.output(0.0, -0.1, 0.0, False) for _ in range(5)] == again
+
+
+def test_gt_setconstant_refuses_a_negative_friction_pulse(machine, X):
+    """Kfp and Tfp are checked like the other gains (>= 0)."""
+    for name in ("Kfp", "Tfp"):
+        block = mcl.GT_SetConstant(Axis=X, Kp=1.0, Vmax=500.0, **{name: -0.1})
+        block(Execute=True)
+        assert block.Error and block.ErrorID == mcl.ErrorID.EParam
