@@ -74,6 +74,7 @@ CHAPTER_ORDER = (
     "touch_probe",
     "inputs_outputs",
     "group_fb",
+    "group_control",
     "path_table",
     "gcode",
 )
