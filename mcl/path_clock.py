@@ -10,8 +10,9 @@ kinematics are v = f·v_τ and a = f²·a_τ + ḟ·v_τ.
 ``f`` follows its target (the override, or 0 while held) along a jerk-limited ramp: its rate ḟ
 is at most D / v_τ and changes by at most J / v_τ per second, with v_τ the path velocity in path
 time and D, J the deceleration and jerk of the ramp (the feed hold's inputs, or the members'
-defaults for an override change); so the ramp adds at most D to the path acceleration and about
-J to its jerk. It comes to rest on its target without overshoot.
+defaults for an override change); so the ramp adds at most D to the path acceleration and J to
+its jerk (up to 1.5·J in the last servo cycle, where the discrete ramp lands on its target). It
+comes to rest on its target without overshoot.
 """
 
 from __future__ import annotations
@@ -88,7 +89,11 @@ class PathClock:
         speed = max(abs(speed), _SLOW)
         most = self.deceleration / speed
         change = self.jerk / speed * dt
-        brake = math.sqrt(2.0 * self.jerk / speed * abs(err)) if err else 0.0
+        # the fastest rate from which the ramp can still stop on the target when it brakes from
+        # the next step on (r²/2q + r·dt = |err|)
+        brake = math.sqrt(change * change + 2.0 * self.jerk / speed * abs(err)) - change
+        if math.isinf(change):  # no jerk limit: an acceleration-limited ramp
+            brake = most
         wanted = math.copysign(min(most, brake), err)
         rate = self.rate + min(max(wanted - self.rate, -change), change)
         f1 = f0 + 0.5 * (self.rate + rate) * dt
