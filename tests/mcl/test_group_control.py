@@ -364,7 +364,7 @@ def test_a_move_aborts_a_halt(xy: tuple[mcl.SimMachine, mcl.AxesGroup]) -> None:
 
 
 def test_halt_errors(xy: tuple[mcl.SimMachine, mcl.AxesGroup]) -> None:
-    machine, group = xy
+    _, group = xy
     for inputs in ({"Deceleration": -1.0}, {"Jerk": math.inf}, {"BufferMode": 1}):
         halt = mcl.MC_GroupHalt(AxesGroup=group, **inputs)
         halt(Execute=True)
@@ -392,12 +392,14 @@ def test_set_position_shifts_the_group_coordinates(
     shift(Execute=True)
     assert shift.Done and not shift.Busy
     assert (x.actual, y.actual) == pytest.approx((100.0, -50.0), abs=1e-9)
-    assert x.POS == pytest.approx(100.0, abs=1e-9) and y.POS == pytest.approx(-50.0, abs=1e-9)
+    shown = (x.POS, y.POS)
+    assert shown == pytest.approx((100.0, -50.0), abs=1e-9)
     shift(Execute=False)
     assert not shift.Done
     relative = mcl.MC_GroupSetPosition(AxesGroup=group, Position=[1.0, 2.0], Relative=True)
     relative(Execute=True)
-    assert (x.POS, y.POS) == pytest.approx((101.0, -48.0), abs=1e-9)
+    shown = (x.POS, y.POS)
+    assert shown == pytest.approx((101.0, -48.0), abs=1e-9)
     assert x.state == y.state == AxisState.StandStill
     assert group.state == GroupState.GroupStandby
     line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=[111.0, -48.0], **DYN)
