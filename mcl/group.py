@@ -24,7 +24,9 @@ otherwise the current motion first ramps to standstill on its path with the new 
 Deceleration, then the command starts from the stop point (the new block is Active during the
 ramp; an arc is then drawn from there). MC_GroupStop, MC_GroupDisable and member faults ramp the
 path velocity to zero on the path (corner blends included: :func:`mcl.path.stop_element`); a
-member fault uses the other members' fastest ramp (max_deceleration).
+member fault uses the other members' fastest ramp (max_deceleration). The profiles run on the
+group's path clock (:mod:`mcl.path_clock`: override and feed hold scale their time); these stops
+ignore the override.
 
 Member faults are acted on by :meth:`AxesGroup.update`, which runs with every path evaluation
 (each servo cycle while the group moves) and in the group blocks; reading
@@ -497,17 +499,10 @@ class AxesGroup:
         self._active = ramp
         self._engage()
 
-    def interrupt(self, deceleration: float, jerk: float) -> int:
-        """MC_GroupInterrupt: hold the path (its factor ramps to 0 with ``deceleration``
-        [mm/s²] and ``jerk`` [mm/s³] along it, 0 = defaults) without ending its commands; an
-        error code (:meth:`check_ready`; EAxStop 6 while held already)."""
-        error = self.check_ready()
-        if error or self._active is None:
-            return error
-        limits = self.nominal_limits(1.0, 0.0, deceleration, jerk)
-        self.clock.deceleration, self.clock.jerk = limits.deceleration, limits.jerk
-        self.clock.held = True
-        return 0
+    @property
+    def has_path(self) -> bool:
+        """A path runs (a stop ramp included) or is held."""
+        return self._active is not None
 
     @property
     def interrupted(self) -> bool:

@@ -103,7 +103,7 @@ class MC_GroupInterrupt(_HoldFB):
         ramp = _ramp_inputs(self.Deceleration, self.Jerk)
         if ramp is None:
             return ErrorID.EParam
-        return self.group.interrupt(ramp[0], ramp[1])
+        return interrupt(self.group, ramp[0], ramp[1])
 
     def _poll(self) -> Status | None:
         group = self.group
@@ -113,6 +113,20 @@ class MC_GroupInterrupt(_HoldFB):
         if group.moving or group.stopping:  # the hold was ended by a stop
             return Status.Aborted
         return Status.Done  # nothing held, or the path ended during the ramp
+
+
+def interrupt(group: AxesGroup, deceleration: float, jerk: float) -> int:
+    """Hold the path of ``group`` (the clock's factor ramps to 0 with ``deceleration``
+    [mm/s²] and ``jerk`` [mm/s³] along it, 0 = defaults) without ending its commands; the error
+    code of :meth:`AxesGroup.check_ready` (EAxStop 6 while held already). A standing group has
+    nothing to hold."""
+    error = group.check_ready()
+    if error or not group.has_path:
+        return error
+    limits = group.nominal_limits(1.0, 0.0, deceleration, jerk)
+    group.clock.deceleration, group.clock.jerk = limits.deceleration, limits.jerk
+    group.clock.held = True
+    return 0
 
 
 class MC_GroupContinue(_HoldFB):
@@ -200,7 +214,7 @@ def set_override(group: AxesGroup, factor: float) -> None:
         limits = group.nominal_limits(1.0, 0.0, 0.0, 0.0)
         clock.deceleration, clock.jerk = limits.deceleration, limits.jerk
     clock.override = factor
-    if not group.moving:
+    if not group.has_path:
         clock.factor, clock.rate = factor, 0.0
 
 
@@ -361,6 +375,7 @@ __all__ = [
     "MC_GroupReadConfiguration",
     "MC_GroupSetOverride",
     "MC_GroupSetPosition",
+    "interrupt",
     "set_override",
     "set_position",
 ]
