@@ -66,6 +66,7 @@ from mcl.group import AxesGroup
 from mcl.group_control import (
     MC_GroupContinue,
     MC_GroupHalt,
+    MC_GroupHome,
     MC_GroupInterrupt,
     MC_GroupReadActualAcceleration,
     MC_GroupReadActualVelocity,
@@ -204,6 +205,7 @@ __all__ = [
     "MC_GroupDisable",
     "MC_GroupEnable",
     "MC_GroupHalt",
+    "MC_GroupHome",
     "MC_GroupInterrupt",
     "MC_GroupReadActualAcceleration",
     "MC_GroupReadActualPosition",

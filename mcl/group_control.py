@@ -31,7 +31,7 @@ from mcl.axis import Axis
 from mcl.command import Status
 from mcl.enums import AxisState, MC_BufferMode
 from mcl.errors import ErrorID
-from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, integer, non_negative, number
+from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB, integer, non_negative, number
 from mcl.group import AxesGroup
 from mcl.group_fb import COORD_SYSTEMS, GroupMotionFB, _vector
 from mcl.path import PathCommand
@@ -366,9 +366,109 @@ class MC_GroupReadConfiguration(_GroupReadFB):
         self.Member = None
 
 
+class MC_GroupHome(ExecuteFB):
+    """Homes every member of the group (PLCopen Part 4, whose homing procedure is the vendor's):
+    each member runs its own homing procedure, a sequence of this library's homing step blocks
+    (:mod:`mcl.homing`: MC_StepAbsSwitch, MC_StepLimitSwitch, MC_StepBlock, MC_StepRefPulse,
+    MC_StepDirect, MC_StepAbsolute, MC_FinishHoming) with their inputs bound, the later ones
+    Buffered as in a single-axis procedure. ``Steps`` holds one such sequence per member, in
+    member order; the block connects each step to its member and calls them every scan with
+    Execute TRUE, all members at once (the group is GroupHoming meanwhile). Done once every
+    member's last step is Done (the members then have Ref, the group is GroupStandby).
+
+    Only from GroupStandby: errors of the moves (1005, Epower 10, Eerrstop 11, EAxStop 6) and
+    EParam 5 while the group moves, homes or holds a path; Steps not one non-empty sequence of
+    homing step blocks per member (a block used twice included) → EParam 5. A step's error ends
+    the block with that step's ErrorID; the other members' steps run on to their ends. PLCopen's
+    Position and HomingMode are the steps' own inputs here (SetPosition, the kind of step).
+    """
+
+    REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
+    INPUTS: ClassVar[tuple[str, ...]] = ("Steps",)
+    Steps: Sequence[Sequence[MotionFB]] = ()
+
+    def __init__(self, **inputs: Any) -> None:
+        self._steps: list[list[MotionFB]] = []
+        self._error = 0
+        super().__init__(**inputs)
+
+    def _begin(self) -> int:
+        group = self.group
+        self._steps = []
+        error = group.check_ready() or group.busy_error()
+        if error:
+            return error
+        steps = _homing_steps(self.Steps, len(group.axes))
+        if steps is None:
+            return ErrorID.EParam
+        self._steps = steps
+        self._call(False)  # a rising edge for every step
+        return self._poll_error()
+
+    def _poll(self) -> Status | None:
+        self._call(True)
+        error = self._poll_error()
+        if error:
+            return Status.Error
+        self._error = 0
+        if all(sequence[-1].Done for sequence in self._steps):
+            self._call(False)
+            return Status.Done
+        return None
+
+    def _poll_error(self) -> int:
+        """The first step's error (0 = none), kept for :meth:`_error_of_poll`."""
+        for sequence in self._steps:
+            for step in sequence:
+                if step.Error:
+                    self._error = step.ErrorID
+                    return self._error
+        return 0
+
+    def _error_of_poll(self) -> int:
+        return self._error
+
+    def _call(self, execute: bool) -> None:
+        """One scan of every member's steps (their homing not refused as group members')."""
+        for axis, sequence in zip(self.group.axes, self._steps, strict=True):
+            axis.group_homing = True
+            try:
+                for step in sequence:
+                    step(Axis=axis, Execute=execute)
+            finally:
+                axis.group_homing = False
+
+
+def _homing_steps(value: Any, size: int) -> list[list[MotionFB]] | None:
+    """MC_GroupHome's Steps as lists, or None unless one non-empty sequence of distinct homing
+    step blocks per member."""
+    if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != size:
+        return None
+    result: list[list[MotionFB]] = []
+    seen: list[MotionFB] = []
+    for sequence in value:
+        if isinstance(sequence, str | bytes) or not isinstance(sequence, Sequence):
+            return None
+        steps = list(sequence)
+        if not steps or not all(_is_homing_step(step) for step in steps):
+            return None
+        if any(any(step is other for other in seen) for step in steps) or len(
+            {id(step) for step in steps}
+        ) != len(steps):
+            return None
+        seen.extend(steps)
+        result.append(steps)
+    return result
+
+
+def _is_homing_step(step: object) -> bool:
+    return isinstance(step, MotionFB) and type(step).__module__ == "mcl.homing"
+
+
 __all__ = [
     "MC_GroupContinue",
     "MC_GroupHalt",
+    "MC_GroupHome",
     "MC_GroupInterrupt",
     "MC_GroupReadActualAcceleration",
     "MC_GroupReadActualVelocity",

@@ -501,3 +501,99 @@ def test_read_velocity_acceleration_and_configuration(
     empty = mcl.MC_GroupReadActualVelocity(AxesGroup=mcl.AxesGroup(), Enable=True)
     empty()
     assert empty.Error and empty.ErrorID == ErrorID.EGroupEmpty and empty.Velocity == []
+
+
+# ---------------------------------------------------------------------- homing
+NEG, POS = mcl.MC_Direction.MC_Negative, mcl.MC_Direction.MC_Positive
+
+
+def homing(set_position: float, velocity: float = 100.0) -> list[mcl.MotionFB]:
+    """A REF switch and index pulse procedure: the coordinate ``set_position`` at the pulse."""
+    return [
+        mcl.MC_StepAbsSwitch(
+            Direction=NEG, Velocity=velocity, SwitchMode=mcl.MC_SwitchMode.MC_EdgeOn
+        ),
+        mcl.MC_StepRefPulse(
+            Direction=POS,
+            Velocity=20.0,
+            SetPosition=set_position,
+            BufferMode=mcl.MC_BufferMode.Buffered,
+        ),
+    ]
+
+
+def test_group_home_homes_every_member() -> None:
+    """Both members run their procedures at once (GroupHoming), get Ref and the coordinate of
+    their last step; Done held while Execute is TRUE; then the group moves absolutely."""
+    machine = make_machine("XY", referenced=False)
+    group = build_group(machine, "XY")
+    x, y = group.axes
+    line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=[10.0, 10.0], **DYN)
+    line(Execute=True)
+    assert line.Error and line.ErrorID == ErrorID.Ehome
+    home = mcl.MC_GroupHome(AxesGroup=group, Steps=[homing(5.0), homing(-3.0)])
+    states: set[tuple[GroupState, AxisState, AxisState]] = set()
+
+    def program() -> None:
+        home(Execute=True)
+        exclusive(home)
+        states.add((group.state, x.state, y.state))
+
+    program()
+    assert home.Busy and group.state == GroupState.GroupHoming
+    machine.run(program, until=lambda: home.Done or home.Error, timeout=20.0)
+    assert home.Done and not home.Error
+    assert (GroupState.GroupHoming, AxisState.Homing, AxisState.Homing) in states
+    assert x.Ref and y.Ref
+    shown = (x.POS, y.POS)
+    assert shown == pytest.approx((5.0, -3.0), abs=0.01)
+    assert group.state == GroupState.GroupStandby
+    scans(machine, program, 0.02)
+    assert home.Done
+    home(Execute=False)
+    assert not (home.Done or home.Busy)
+    line(Execute=False)
+    machine.run(lambda: line(Execute=True), until=lambda: line.Done, timeout=3.0)
+    assert [x.actual, y.actual] == pytest.approx([10.0, 10.0], abs=0.05)
+
+
+def test_group_home_errors_leave_the_group_alone() -> None:
+    machine = make_machine("XY", referenced=False)
+    group = build_group(machine, "XY")
+    shared = homing(0.0)
+    bad_steps: list[Any] = [
+        [homing(0.0)],
+        [homing(0.0), []],
+        [homing(0.0), [mcl.MC_MoveRelative(Distance=1.0, Velocity=10.0)]],
+        [shared, shared],
+        [homing(0.0), "ab"],
+        7,
+    ]
+    for steps in bad_steps:
+        home = mcl.MC_GroupHome(AxesGroup=group, Steps=steps)
+        home(Execute=True)
+        assert home.Error and home.ErrorID == ErrorID.EParam, steps
+    assert group.state == GroupState.GroupStandby
+    failing = mcl.MC_GroupHome(AxesGroup=group, Steps=[homing(0.0), homing(0.0, velocity=0.0)])
+    machine.run(lambda: failing(Execute=True), until=lambda: not failing.Busy, timeout=5.0)
+    assert failing.Error and failing.ErrorID == ErrorID.EParam
+    group.disable()
+    machine.run(timeout=1.0)
+    home = mcl.MC_GroupHome(AxesGroup=group, Steps=[homing(0.0), homing(0.0)])
+    home(Execute=True)
+    assert home.Error and home.ErrorID == ErrorID.Epower
+
+
+def test_group_home_is_refused_while_the_group_moves(
+    xy: tuple[mcl.SimMachine, mcl.AxesGroup],
+) -> None:
+    machine, group = xy
+    move = full_circle(group)
+    scans(machine, lambda: move(Execute=True), 0.1)
+    home = mcl.MC_GroupHome(AxesGroup=group, Steps=[homing(0.0), homing(0.0)])
+    home(Execute=True)
+    assert home.Error and home.ErrorID == ErrorID.EParam
+    assert move.Active and all(a.state == AxisState.SynchronizedMotion for a in group.axes)
+    single = mcl.MC_StepAbsSwitch(Axis=group.axes[0], Direction=NEG, Velocity=100.0)
+    single(Execute=True)
+    assert single.Error and single.ErrorID == ErrorID.EGroupMember
