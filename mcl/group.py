@@ -114,7 +114,7 @@ class AxesGroup:
     - GroupStopping from MC_GroupStop until its Done AND NOT Execute (or a member in Stopping);
     - GroupHoming while a member is homing;
     - GroupMoving while a group command runs or a member moves by a command;
-    - GroupStandby otherwise (all members StandStill).
+    - GroupStandby otherwise (all members StandStill, or the path held by MC_GroupInterrupt).
 
     Args:
         name: the group's name in messages.

@@ -133,8 +133,9 @@ class MC_GroupContinue(_HoldFB):
     """Resumes a path held by MC_GroupInterrupt (PLCopen Part 4): from the held point the path
     clock's factor ramps back to the override (with the interrupt's Deceleration and Jerk), and
     the interrupted commands go on to their ends. Done once the path runs at the override again
-    (or has ended); CommandAborted when it is interrupted or stopped again first. Errors: the
-    group holds no path → EParam 5.
+    (or has ended); CommandAborted when it is interrupted again, or MC_GroupStop,
+    MC_GroupDisable or a member's fault stops it first. Errors: the group holds no path →
+    EParam 5.
     """
 
     def _begin(self) -> int:
@@ -148,8 +149,8 @@ class MC_GroupContinue(_HoldFB):
     def _poll(self) -> Status | None:
         group = self.group
         group.update()
-        if group.interrupted or group.stopping:
-            return Status.Aborted
+        if group.interrupted or group.stopping or group.clock.unscaled:
+            return Status.Aborted  # held again, or a stop, a disable or a fault took over
         if not group.moving or group.clock.at_rest:
             return Status.Done
         return None

@@ -597,3 +597,24 @@ def test_group_home_is_refused_while_the_group_moves(
     single = mcl.MC_StepAbsSwitch(Axis=group.axes[0], Direction=NEG, Velocity=100.0)
     single(Execute=True)
     assert single.Error and single.ErrorID == ErrorID.EGroupMember
+
+
+@pytest.mark.parametrize("ender", [mcl.MC_GroupStop, mcl.MC_GroupDisable])
+def test_a_stop_during_the_resume_aborts_the_continue(
+    xy: tuple[mcl.SimMachine, mcl.AxesGroup], ender: Any
+) -> None:
+    """MC_GroupStop or MC_GroupDisable while MC_GroupContinue ramps the path up again."""
+    machine, group = xy
+    program = FeedHold(group)
+    scans(machine, program, 0.2)
+    program.interrupt = True
+    machine.run(program, until=lambda: program.hold.Done, timeout=2.0)
+    program.interrupt = False
+    program.resume = True
+    scans(machine, program, 0.02)
+    assert program.cont.Busy
+    stop = ender(AxesGroup=group)
+    stop(Execute=True)
+    program()
+    assert program.cont.CommandAborted and not program.cont.Done
+    assert program.move.CommandAborted
