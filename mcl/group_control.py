@@ -214,9 +214,7 @@ def set_override(group: AxesGroup, factor: float) -> None:
     if not clock.held:
         limits = group.nominal_limits(1.0, 0.0, 0.0, 0.0)
         clock.deceleration, clock.jerk = limits.deceleration, limits.jerk
-    clock.override = factor
-    if not group.has_path:
-        clock.factor, clock.rate = factor, 0.0
+    clock.override = factor  # a motion that starts from rest takes it at once (restart)
 
 
 class MC_GroupSetPosition(ExecuteFB):

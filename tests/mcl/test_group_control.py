@@ -192,15 +192,16 @@ def test_moves_are_refused_while_held_and_a_stop_ends_the_hold() -> None:
     assert group.state == GroupState.GroupStandby
 
 
+@pytest.mark.parametrize("ender", [mcl.MC_GroupStop, mcl.MC_GroupDisable])
 def test_a_stop_during_the_hold_ramp_aborts_the_interrupt(
-    xy: tuple[mcl.SimMachine, mcl.AxesGroup],
+    xy: tuple[mcl.SimMachine, mcl.AxesGroup], ender: Any
 ) -> None:
     machine, group = xy
     program = FeedHold(group)
     scans(machine, program, 0.2)
     program.interrupt = True
     scans(machine, program, 0.02)
-    stop = mcl.MC_GroupStop(AxesGroup=group)
+    stop = ender(AxesGroup=group)
     stop(Execute=True)
     program()
     assert program.hold.CommandAborted and not program.hold.Done
@@ -392,6 +393,9 @@ def test_set_position_shifts_the_group_coordinates(
     shift(Execute=True)
     assert shift.Done and not shift.Busy
     assert (x.actual, y.actual) == pytest.approx((100.0, -50.0), abs=1e-9)
+    shift(Execute=False)
+    shift(Execute=True)  # again from there: the same coordinates
+    assert (x.actual, y.actual) == pytest.approx((100.0, -50.0), abs=1e-9)
     shown = (x.POS, y.POS)
     assert shown == pytest.approx((100.0, -50.0), abs=1e-9)
     shift(Execute=False)
@@ -438,6 +442,12 @@ def test_set_position_is_refused_while_the_group_moves(
     shift(Execute=True)
     assert shift.Error and shift.ErrorID == ErrorID.EParam
     assert [a.sp_pos for a in group.axes] == before and move.Active
+    stop = mcl.MC_GroupStop(AxesGroup=group)
+    stop(Execute=True)
+    machine.run(lambda: stop(), until=lambda: stop.Done, timeout=2.0)
+    shift(Execute=False)
+    shift(Execute=True)
+    assert shift.Error and shift.ErrorID == ErrorID.EAxStop  # GroupStopping
     empty = mcl.MC_GroupSetPosition(AxesGroup=mcl.AxesGroup(), Position=[])
     empty(Execute=True)
     assert empty.Error and empty.ErrorID == ErrorID.EGroupEmpty
@@ -497,7 +507,13 @@ def test_read_velocity_acceleration_and_configuration(
     configuration(CoordSystem=mcl.MC_COORD_SYSTEM.PCS)
     assert configuration.Member is x
     velocity(Enable=False)
-    assert velocity.Velocity == [] and not velocity.Valid
+    assert velocity.Velocity == [] and velocity.PathVelocity == 0.0 and not velocity.Valid
+    acceleration(CoordSystem=9)
+    assert acceleration.ErrorID == ErrorID.EParam and acceleration.Acceleration == []
+    acceleration(Enable=False, CoordSystem=mcl.MC_COORD_SYSTEM.ACS)
+    assert acceleration.PathAcceleration == 0.0 and not acceleration.Error
+    configuration(Enable=False)
+    assert configuration.Member is None
     empty = mcl.MC_GroupReadActualVelocity(AxesGroup=mcl.AxesGroup(), Enable=True)
     empty()
     assert empty.Error and empty.ErrorID == ErrorID.EGroupEmpty and empty.Velocity == []
@@ -618,3 +634,22 @@ def test_a_stop_during_the_resume_aborts_the_continue(
     program()
     assert program.cont.CommandAborted and not program.cont.Done
     assert program.move.CommandAborted
+
+
+def test_fresh_blocks_show_nothing(xy: tuple[mcl.SimMachine, mcl.AxesGroup]) -> None:
+    """Before their first call every output is FALSE, 0, empty or None."""
+    _, group = xy
+    override = mcl.MC_GroupSetOverride(AxesGroup=group)
+    assert not (override.Enabled or override.Busy or override.Error) and override.ErrorID == 0
+    for block in (mcl.MC_GroupInterrupt(), mcl.MC_GroupContinue()):
+        assert not (block.CommandAborted or block.Done or block.Busy or block.Error)
+    home = mcl.MC_GroupHome()
+    assert not (home.Done or home.Busy or home.Error) and home.ErrorID == 0
+    velocity = mcl.MC_GroupReadActualVelocity()
+    assert velocity.Velocity == [] and velocity.PathVelocity == 0.0
+    acceleration = mcl.MC_GroupReadActualAcceleration()
+    assert acceleration.Acceleration == [] and acceleration.PathAcceleration == 0.0
+    assert mcl.MC_GroupReadConfiguration().Member is None
+    full = mcl.MC_GroupSetOverride(AxesGroup=group, Enable=True, VelFactor=2.0)
+    full()
+    assert full.Enabled and group.clock.override == 2.0
