@@ -63,6 +63,17 @@ from mcl.force import MC_ForceControl
 from mcl.gcode import GCodeError, MC_PathSelect, parse_gcode, read_gcode
 from mcl.gearing import MC_GearIn, MC_GearInPos, MC_GearOut
 from mcl.group import AxesGroup
+from mcl.group_control import (
+    MC_GroupContinue,
+    MC_GroupHalt,
+    MC_GroupHome,
+    MC_GroupInterrupt,
+    MC_GroupReadActualAcceleration,
+    MC_GroupReadActualVelocity,
+    MC_GroupReadConfiguration,
+    MC_GroupSetOverride,
+    MC_GroupSetPosition,
+)
 from mcl.group_fb import (
     MC_AddAxisToGroup,
     MC_GroupDisable,
@@ -190,12 +201,21 @@ __all__ = [
     "MC_GearIn",
     "MC_GearInPos",
     "MC_GearOut",
+    "MC_GroupContinue",
     "MC_GroupDisable",
     "MC_GroupEnable",
+    "MC_GroupHalt",
+    "MC_GroupHome",
+    "MC_GroupInterrupt",
+    "MC_GroupReadActualAcceleration",
     "MC_GroupReadActualPosition",
+    "MC_GroupReadActualVelocity",
+    "MC_GroupReadConfiguration",
     "MC_GroupReadError",
     "MC_GroupReadStatus",
     "MC_GroupReset",
+    "MC_GroupSetOverride",
+    "MC_GroupSetPosition",
     "MC_GroupStop",
     "MC_Halt",
     "MC_MoveAbsolute",

@@ -63,6 +63,8 @@ class Axis:
         self.servo_period = config.servo_period
         self.module: Module | None = None
         self.group: object | None = None
+        self.group_homing = False
+        """MC_GroupHome runs this member's homing steps now: they are not refused (1000)."""
         """The AxesGroup this axis belongs to (None: single axis)."""
 
         self.AxErrorID = 0
@@ -285,7 +287,7 @@ class Axis:
             return ErrorID.Eerrstop
         if state == AxisState.Stopping and not stopping_ok:
             return ErrorID.EAxStop
-        if self.group is not None and not group_ok:
+        if self.group is not None and not (group_ok or (homing_ok and self.group_homing)):
             return ErrorID.EGroupMember
         if state == AxisState.Homing and not homing_ok:
             return ErrorID.Ehome

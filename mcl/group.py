@@ -24,7 +24,9 @@ otherwise the current motion first ramps to standstill on its path with the new 
 Deceleration, then the command starts from the stop point (the new block is Active during the
 ramp; an arc is then drawn from there). MC_GroupStop, MC_GroupDisable and member faults ramp the
 path velocity to zero on the path (corner blends included: :func:`mcl.path.stop_element`); a
-member fault uses the other members' fastest ramp (max_deceleration).
+member fault uses the other members' fastest ramp (max_deceleration). The profiles run on the
+group's path clock (:mod:`mcl.path_clock`: override and feed hold scale their time); these stops
+ignore the override.
 
 Member faults are acted on by :meth:`AxesGroup.update`, which runs with every path evaluation
 (each servo cycle while the group moves) and in the group blocks; reading
@@ -53,6 +55,7 @@ from mcl.geometry import (
     dot,
 )
 from mcl.path import Blend, Element, Move, PathCommand, stop_element
+from mcl.path_clock import PathClock
 from mcl.path_planner import PathPlanner
 from mcl.trajectory import Limits, PlanningError, Profile
 
@@ -111,7 +114,7 @@ class AxesGroup:
     - GroupStopping from MC_GroupStop until its Done AND NOT Execute (or a member in Stopping);
     - GroupHoming while a member is homing;
     - GroupMoving while a group command runs or a member moves by a command;
-    - GroupStandby otherwise (all members StandStill).
+    - GroupStandby otherwise (all members StandStill, or the path held by MC_GroupInterrupt).
 
     Args:
         name: the group's name in messages.
@@ -146,6 +149,8 @@ class AxesGroup:
         self._a: Vector = []
         self._end: Vector | None = None
         """Where the last motion ended (InPosition) [mm]."""
+        self.clock = PathClock()
+        """Path time, override and feed hold (:mod:`mcl.path_clock`)."""
 
     def __repr__(self) -> str:
         names = ", ".join(axis.name for axis in self.axes)
@@ -233,7 +238,7 @@ class AxesGroup:
             )
         else:
             path = self._active is not None or bool(self._queue)
-        if path:
+        if path and not (self.clock.held and self.clock.at_rest):
             return True
         for axis, member in zip(self.axes, self._members, strict=True):
             if axis.state in _MOTION_STATES and (member is None or not member.busy):
@@ -280,7 +285,7 @@ class AxesGroup:
             return ErrorID.EInOtherGroup
         if len(self.axes) >= self.MAX_AXES:
             return ErrorID.EGroupFull
-        error = self._busy_error()
+        error = self.busy_error()
         if error:
             return error
         axis.group = self
@@ -289,16 +294,23 @@ class AxesGroup:
         self._end = None
         return 0
 
-    def _busy_error(self) -> int:
+    def busy_error(self) -> int:
+        """Error code that forbids a change of the members or of their coordinates now (0 =
+        none): Eerrstop 11, EAxStop 6 in GroupStopping, EParam 5 moving, homing or held."""
         self.update()
         state = self.state
         if state == GroupState.GroupErrorStop:
             return ErrorID.Eerrstop
         if state == GroupState.GroupStopping:
             return ErrorID.EAxStop
-        if state in (GroupState.GroupMoving, GroupState.GroupHoming):
+        if state in (GroupState.GroupMoving, GroupState.GroupHoming) or self.interrupted:
             return ErrorID.EParam
         return 0
+
+    def shift_end(self, deltas: Sequence[float]) -> None:
+        """The members' coordinates moved by ``deltas`` [mm] (MC_GroupSetPosition)."""
+        if self._end is not None:
+            self._end = [e + d for e, d in zip(self._end, deltas, strict=True)]
 
     def enable(self) -> int:
         """MC_GroupEnable: GroupDisabled → GroupStandby; 1005 when the group has no axes."""
@@ -380,7 +392,7 @@ class AxesGroup:
         state = self.state
         if state == GroupState.GroupErrorStop:
             return ErrorID.Eerrstop
-        if state == GroupState.GroupStopping and not stopping_ok:
+        if (state == GroupState.GroupStopping or self.interrupted) and not stopping_ok:
             return ErrorID.EAxStop
         for axis in self.axes:
             if axis.group is not self:  # detached behind the group's back
@@ -469,18 +481,33 @@ class AxesGroup:
             self._active = ramp
         self._engage()
 
-    def submit_stop(self, ticket: PathCommand, deceleration: float, jerk: float) -> None:
-        """MC_GroupStop: abort everything and ramp the path velocity to zero on the path with
-        ``deceleration`` [mm/s²] and ``jerk`` [mm/s³] (0 = defaults); the group stays in
-        GroupStopping until the ticket is Done and no longer held."""
+    def submit_stop(
+        self, ticket: PathCommand, deceleration: float, jerk: float, halt: bool = False
+    ) -> None:
+        """MC_GroupStop: abort everything (a feed hold included) and ramp the path velocity to
+        zero on the path with ``deceleration`` [mm/s²] and ``jerk`` [mm/s³] (0 = defaults),
+        unaffected by the override; the group stays in GroupStopping until the ticket is Done
+        and no longer held. ``halt`` (MC_GroupHalt): the ramp runs on the path clock (the
+        override acts on it), the group stays GroupMoving and the next move may abort it."""
         t = self._current()[0]
         self._abort_tickets(except_ticket=ticket)
         self._queue.clear()
-        ramp = self._ramp(t, deceleration, jerk, ticket)
+        ramp = self._ramp(t, deceleration, jerk, ticket, unscaled=not halt)
         ticket.status = Status.Active
-        self._stop = ticket
+        if not halt:
+            self._stop = ticket
         self._active = ramp
         self._engage()
+
+    @property
+    def has_path(self) -> bool:
+        """A path runs (a stop ramp included) or is held."""
+        return self._active is not None
+
+    @property
+    def interrupted(self) -> bool:
+        """A feed hold is in force on a path that has not ended."""
+        return self.clock.held and self._active is not None
 
     def cancel(self, ticket: PathCommand) -> None:
         """Withdraw the queued part of a command whose FB was restarted by a new Execute edge."""
@@ -507,7 +534,8 @@ class AxesGroup:
             self._p = [axis.start_position(MC_BufferMode.Aborting) for axis in self.axes]
             self._v = [axis.sp_vel for axis in self.axes]
             self._a = [axis.sp_acc for axis in self.axes]
-        return self._t, list(self._p), list(self._v), list(self._a)
+            self.clock.restart(self._t)
+        return self.clock.tau, list(self._p), list(self._v), list(self._a)
 
     def _last_end(self) -> Vector:
         last = self._queue[-1] if self._queue else self._active
@@ -535,10 +563,12 @@ class AxesGroup:
         ticket: PathCommand | None = None,
         completes: bool = True,
         following: Sequence[bool] | None = None,
+        unscaled: bool = False,
     ) -> Element:
-        """A stop on the current path from the path state at ``t`` with ``deceleration`` and
-        ``jerk`` (0 = defaults), or the ``following`` members' fastest ramp; without a path the
-        members' own motion is stopped straight on."""
+        """A stop on the current path from the path state at path time ``t`` with
+        ``deceleration`` and ``jerk`` (0 = defaults), or the ``following`` members' fastest ramp;
+        without a path the members' own motion is stopped straight on. ``unscaled``: the ramp
+        ignores the override (:meth:`PathClock.unscale`)."""
         planner = self._planner()
         active = self._active
         blends: tuple[Blend | None, Blend | None] = (None, None)
@@ -551,6 +581,9 @@ class AxesGroup:
             unit = direction(vel)
             geometry = Line(p, along(p, unit, 1.0))
             s, v, a = 0.0, dot(vel, unit), dot(acc, unit)
+        if unscaled:
+            (v,), (a,) = self.clock.wall([v], [a])
+            self.clock.unscale()
         if following is not None:
             limits = planner.max_ramp(geometry, following, v)
         else:
@@ -604,7 +637,7 @@ class AxesGroup:
         if element is None or element.move is None or element.profile is None:
             return
         blend = element.blend_out
-        t = self._t
+        t = self.clock.tau
         if blend is not None and t >= blend.begin:
             return  # the blend has begun: the corner stays as it is
         s, v, a = element.profile.at(t - element.t0)
@@ -669,8 +702,11 @@ class AxesGroup:
         if t <= self._t:
             return
         self.update()
+        if self._active is not None and math.isfinite(self._t):
+            self.clock.advance(t - self._t, math.sqrt(dot(self._v, self._v)))
+        tau = self.clock.tau
         element = self._active
-        while element is not None and t - element.t0 >= element.duration:
+        while element is not None and tau - element.t0 >= element.duration:
             element = self._next(element)
         if element is None:
             self._p = list(self._end) if self._end is not None else self._p
@@ -685,13 +721,15 @@ class AxesGroup:
                         member.release(self._p[i])
                         self._members[i] = None
         else:
-            self._p, self._v, self._a = element.point(t)
+            self._p, self._v, self._a = element.point(tau)
         self._t = t
 
     def _setpoint(self, index: int, t: float) -> tuple[float, float, float]:
-        """Member ``index``'s component of the path point at the servo instant ``t`` [s]."""
+        """Member ``index``'s component of the path point at the servo instant ``t`` [s] (the
+        velocity and acceleration in wall-clock time: :mod:`mcl.path_clock`)."""
         self._advance(t)
-        return self._p[index], self._v[index], self._a[index]
+        f, rate, v = self.clock.factor, self.clock.rate, self._v[index]
+        return self._p[index], f * v, f * f * self._a[index] + rate * v
 
     def _engage(self) -> None:
         """Put every member under a GroupMember command (SynchronizedMotion)."""
@@ -736,7 +774,9 @@ class AxesGroup:
             self._active = None
             self._end = list(self._p)
             return
-        ramp = self._ramp(self._t, 0.0, 0.0, following=following if max_ramp else None)
+        ramp = self._ramp(
+            self.clock.tau, 0.0, 0.0, None, True, following if max_ramp else None, unscaled=True
+        )
         self._active = ramp
 
     def _lose(self, lost: list[GroupMember]) -> None:

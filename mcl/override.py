@@ -18,7 +18,7 @@ and the velocity motion MC_GearOut leaves. Not overridden (they run in real time
 ramps): MC_Stop, MC_Halt and GT_Jog's release ramp, error and power-off stops, a geared slave
 (MC_GearIn, MC_GearInPos: it follows its master), the homing steps (their search velocities set
 how exactly a switch is found), GT_MoveAbsBlock (its block detection and release are timed),
-MC_ForceControl and group motion (MC_GroupSetOverride is not implemented). A command that takes
+MC_ForceControl and group motion (its override is MC_GroupSetOverride's). A command that takes
 over a motion that was not overridden starts at 100 % and ramps to the factor. MC_GearInPos, while
 it waits for its start point, continues the slave's previous motion without the override.
 

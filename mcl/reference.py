@@ -74,6 +74,7 @@ CHAPTER_ORDER = (
     "touch_probe",
     "inputs_outputs",
     "group_fb",
+    "group_control",
     "path_table",
     "gcode",
 )
@@ -184,7 +185,7 @@ STATE_MEANING: dict[str, str] = {
     "Stopping": "MC_Stop, or the ramp before the loop opens at power-off",
     "ErrorStop": "an axis error; stopped; left with MC_Reset",
     "GroupDisabled": "not enabled; refuses motion commands (`Epower` 10)",
-    "GroupStandby": "enabled, all members at rest",
+    "GroupStandby": "enabled, all members at rest (or the path held by MC_GroupInterrupt)",
     "GroupMoving": "a group command runs or a member moves",
     "GroupHoming": "a member is homing",
     "GroupStopping": "MC_GroupStop, until its `Done` AND NOT `Execute`",

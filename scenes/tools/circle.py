@@ -235,8 +235,21 @@ def circle_test(
         scene.run(program, until=lambda: moves[-1].Done, timeout=timeout)
     finally:
         scene.runtime.observers.remove(observe)
-    data = np.array(samples)
     result = CircleResult(plane, radius, feed, {s: {} for s in SOURCES})
+    _split_laps(result, np.array(samples), laps, centre, offset)
+    _evaluate(result, feed / 60.0)
+    return result
+
+
+def _split_laps(
+    result: CircleResult,
+    data: np.ndarray,
+    laps: Sequence[str],
+    centre: np.ndarray,
+    offset: np.ndarray,
+) -> None:
+    """Each lap's points about the centre [mm], from the encoders and from the joints: the
+    samples of its full circle (the run-in and run-out arcs left out)."""
     for k, lap in enumerate(laps):
         rows = data[data[:, 0] == k + 1]
         sign = 1.0 if lap == "CCW" else -1.0
@@ -244,17 +257,21 @@ def circle_test(
         mask = _lap_mask(encoders, sign)
         result.laps["encoders"][lap] = encoders[mask]
         result.laps["joints"][lap] = joints[mask]
-    speed = feed / 60.0
+
+
+def _evaluate(result: CircleResult, speed: float) -> None:
+    """The figures of every source and lap at the path speed ``speed`` [mm/s], and the
+    bi-directional deviation where both directions ran."""
+    radius = result.radius
     for source in SOURCES:
         result.figures[source] = {
             lap: evaluate(points, radius, speed, lap == "CCW")
             for lap, points in result.laps[source].items()
         }
-        if len(laps) == 2:
+        if len(result.laps[source]) == 2:
             result.bidirectional[source] = circular_deviation(
                 np.vstack(list(result.laps[source].values()))
             )
-    return result
 
 
 _WHAT_FITS = "a circle within the axes' software limits and velocity"
