@@ -186,3 +186,66 @@ def test_out_of_control_the_group_is_left_alone_and_old_edges_are_dropped(bus: G
     bus.run(0.5)  # the bit was set while out of control: no edge
     assert bus.at() == pytest.approx([0.0, 0.0, 0.0], abs=0.01)
     assert bus.get("command_count") == 0
+
+
+def test_a_start_passes_every_field_to_its_block_and_segment(bus: GroupBus) -> None:
+    """The fields of a start reach the block's inputs (the arc's and the ramps') and the
+    segment appended; a refused append's Error and ErrorID clear when its bit falls."""
+    fields = {
+        "circ_mode": mcl.MC_CIRC_MODE.CENTER,
+        "path_choice": mcl.MC_CIRC_PATHCHOICE.COUNTERCLOCKWISE,
+        "plane": 17,
+        "turns": 1,
+        "aux_1": 10.0,
+        "aux_2": 2.0,
+        "end_1": 3.0,
+        "buffer_mode": mcl.MC_BufferMode.BlendingHigh,
+        "velocity": 120.0,
+        "acceleration": 1500.0,
+        "deceleration": 1700.0,
+        "jerk": 19000.0,
+        "relative": 1,
+    }
+    bus.write(**fields)
+    inputs = {
+        "CircMode": fields["circ_mode"],
+        "PathChoice": fields["path_choice"],
+        "Plane": 17,
+        "Turns": 1,
+        "Velocity": 120.0,
+        "Acceleration": 1500.0,
+        "Deceleration": 1700.0,
+        "Jerk": 19000.0,
+        "BufferMode": fields["buffer_mode"],
+    }
+    bus.table.request("group", "append_arc")
+    bus.run(0.004)
+    segment = bus.operator.path.Segments[0]
+    assert {name: getattr(segment, name) for name in inputs} == inputs
+    assert segment.Relative and segment.AuxRelative and segment.Circular
+    assert list(segment.AuxPoint) == [10.0, 2.0, 0.0] and list(segment.EndPoint) == [3.0, 0, 0]
+    bus.write(control=bits("enable", "move_circular"))
+    bus.run(0.004)
+    block = bus.operator.circular[1]
+    assert {name: getattr(block, name) for name in inputs} == inputs
+    assert list(block.AuxPoint) == [10.0, 2.0, 0.0]
+    bus.write(control=bits("enable", "stop"))
+    bus.run(0.004)
+    assert (bus.operator.stop.Deceleration, bus.operator.stop.Jerk) == (1700.0, 19000.0)
+    bus.write(control=bits("enable"))
+    bus.run(0.5)
+    append = bus.operator.append_line
+    bus.operator.path.Segments[:] = [segment] * plc.operator.group.MAX_SEGMENTS  # full
+    bus.write(control=bits("enable", "append_line"))
+    bus.run(0.004)
+    assert append.Error and append.ErrorID == mcl.ErrorID.EParam and not append.Done
+    bus.write(control=bits("enable"))
+    bus.run(0.004)
+    assert not append.Error and append.ErrorID == 0 and not append.Done
+    bus.operator.path.Segments.clear()
+    bus.write(control=bits("enable", "append_line"))
+    bus.run(0.004)
+    assert append.Done and not append.Error
+    bus.write(control=bits("enable"))
+    bus.run(0.004)
+    assert not append.Done
