@@ -55,6 +55,7 @@ __all__ = [
     "AxisOperator",
     "Orders",
     "no_parameters",
+    "showing",
     "whole",
 ]
 
@@ -318,7 +319,7 @@ class AxisOperator:
                 self.finished.discard(name)
                 if name in levels:
                     self._call(name, False, None)  # a fresh rising edge
-            if execute or name in levels or _showing(block):
+            if execute or name in levels or showing(block):
                 self._call(name, execute, params)
                 if execute and not block.Busy and name not in self.finished:
                     self._ended(name, block)
@@ -433,7 +434,7 @@ class AxisOperator:
             self.message = f"{command}: done"
 
 
-def _showing(block: Block) -> bool:
+def showing(block: Block) -> bool:
     """Whether a block is busy or shows an output (so it must see the next scan)."""
     return bool(block.Busy or block.Done or block.Error or getattr(block, "CommandAborted", False))
 

@@ -1,10 +1,12 @@
 """The PLC-side program of the bridge: the operator program (:mod:`plc.operator`) with one bus
 front end per axis (:class:`plc.operator.bus.CommandWords`) on the axis' block of its signal
-table, and the simulation fields and published signals of the tables.
+table, one per group (:class:`plc.operator.group_bus.GroupWords`) on the group block of a table
+whose machine names a group, and the simulation fields and published signals of the tables.
 
-Each scan every axis reads its control word and parameters from its table and calls the library's
-function blocks with them (the commands, their rules and ErrorIDs: :mod:`plc.operator.axis`,
-docs/reference.md); :meth:`BridgeProgram.publish` writes the status back.
+Each scan every axis, then every group, reads its control word and parameters from its table and
+calls the library's function blocks with them (the commands, their rules and ErrorIDs:
+:mod:`plc.operator.axis`, :mod:`plc.operator.group`, docs/reference.md);
+:meth:`BridgeProgram.publish` writes the status back.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ from collections.abc import Sequence
 
 from plc.operator.axis import AxisOperator
 from plc.operator.bus import CommandWords
+from plc.operator.group import GroupOperator
+from plc.operator.group_bus import GroupWords
 from plc.operator.program import OperatorProgram
 from plc.procedures import Recipe
 from scenes.bridge.table import AxisRegisters, SignalTable
@@ -22,10 +26,10 @@ from scenes.scene import Scene
 
 
 class BridgeProgram(OperatorProgram[CommandWords]):
-    """The bridge's PLC program for a scene: the axes of each table driven by its command words.
-    Call it once per PLC scan; :meth:`publish` writes the status, the simulation fields and the
-    published signals into the tables — every scan, or (``publish_every_scan`` False) when the
-    runner calls it, at the end of each run of scans.
+    """The bridge's PLC program for a scene: the axes and the group of each table driven by their
+    command words. Call it once per PLC scan; :meth:`publish` writes the status, the simulation
+    fields and the published signals into the tables — every scan, or (``publish_every_scan``
+    False) when the runner calls it, at the end of each run of scans.
 
     Args:
         scene: the running scene.
@@ -51,6 +55,15 @@ class BridgeProgram(OperatorProgram[CommandWords]):
                     axis, homing.get(axis.name), masters, sim_time=lambda: scene.time
                 )
                 front_ends.append(CommandWords(operator, AxisRegisters(table, axis.name)))
+        self.group_words = [
+            GroupWords(
+                GroupOperator(table.group, [scene.axes[a] for a in table.members]),
+                AxisRegisters(table, table.group),
+            )
+            for table in self.tables
+            if table.group
+        ]
+        """The front end of the group block of each table whose machine names a group."""
         super().__init__(front_ends)
         self.cycles = 0
         self.publish_every_scan = publish_every_scan
@@ -62,16 +75,22 @@ class BridgeProgram(OperatorProgram[CommandWords]):
         return max(int(table.get("sim.target")) for table in self.tables)
 
     def __call__(self) -> None:
-        """One PLC scan (the axes of a table whose PLC is not in control are left alone)."""
+        """One PLC scan: the axes first, then the groups of their axes (those of a table whose
+        PLC is not in control are left alone)."""
         super().__call__()
+        for group in self.group_words:
+            group()
         self.cycles += 1
         if self.publish_every_scan:
             self.publish()
 
     def publish(self) -> None:
-        """Write every axis' status, the simulation fields and the signals into the tables."""
+        """Write every axis' and group's status, the simulation fields and the signals into the
+        tables."""
         for words in self.front_ends.values():
             words.publish()
+        for group in self.group_words:
+            group.publish()
         scene = self.scene
         for table in self.tables:
             table.update(

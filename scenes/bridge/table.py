@@ -34,6 +34,10 @@ __all__ = [
     "CONTROL_BITS",
     "FORCE_FIELDS",
     "GEAR_FIELDS",
+    "GROUP_BASE",
+    "GROUP_BLOCK",
+    "GROUP_CONTROL_BITS",
+    "GROUP_STATUS_BITS",
     "LEVELS",
     "MAX_ANALOG",
     "OUTPUTS",
@@ -41,6 +45,7 @@ __all__ = [
     "STATUS_BITS",
     "WIDTH",
     "Access",
+    "AxisRegisters",
     "Field",
     "FieldSpec",
     "Kind",
@@ -51,6 +56,7 @@ __all__ = [
     "axis_specs",
     "decode",
     "encode",
+    "group_specs",
     "machine_fields",
     "published_signals",
     "tables_of",
@@ -64,6 +70,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from plc.operator.bus import CONTROL_BITS, LEVELS, STATUS_BITS
+from plc.operator.group_bus import GROUP_CONTROL_BITS, GROUP_STATUS_BITS
 from scenes.definition import AxisDef, MachineDef, Signal
 
 Kind = Literal["u16", "i16", "u32", "f32"]
@@ -139,24 +146,6 @@ FORCE_FIELDS = (
 )
 """The force-control fields of an axis with analog inputs (velocity and acceleration are the
 move's fields)."""
-
-GROUP_CONTROL_BITS = (
-    "enable",
-    "reset",
-    "move_linear",
-    "move_circular",
-    "append_line",
-    "append_arc",
-    "clear_path",
-    "move_path",
-    "stop",
-)
-"""Bits of the group's control word, bit 0 first: ``enable`` is a level (the axes are added to
-the group and it is enabled; cleared: disabled and ungrouped), the others Execute inputs."""
-
-GROUP_STATUS_BITS = ("done", "busy", "active", "error", "command_aborted", "enabled", "in_position")
-"""Bits of the group's status word: Done … CommandAborted of the current command, the group is
-enabled, and MC_GroupReadStatus' InPosition."""
 
 
 _MEMBER_FIELDS: tuple[tuple[str, int, Access, str, str], ...] = (
@@ -544,31 +533,37 @@ class SignalTable:
             self._rose[axis] = 0
         return word
 
+    def control_bits(self, block: str) -> tuple[str, ...]:
+        """The control bits of ``block``: :data:`GROUP_CONTROL_BITS` of the group, an axis'
+        :data:`CONTROL_BITS`."""
+        return GROUP_CONTROL_BITS if block == self.group else CONTROL_BITS
+
     def set_bit(self, axis: str, bit: str, on: bool) -> None:
-        """Set or clear control bit ``bit`` (of :data:`CONTROL_BITS`) of ``axis``, as a client
-        writes it.
+        """Set or clear control bit ``bit`` of ``axis`` (or of the group), as a client writes
+        it.
 
         Raises:
             WriteRefused: an unknown axis or bit; NotInControl: the PLC is not in control.
         """
-        if axis not in self._rose or bit not in CONTROL_BITS:
+        if axis not in self._rose or bit not in self.control_bits(axis):
             raise WriteRefused(f"no control bit {axis}.{bit}")
-        self.put_bit(f"{axis}.control", CONTROL_BITS.index(bit), on)
+        self.put_bit(f"{axis}.control", self.control_bits(axis).index(bit), on)
 
     def request(self, axis: str, command: str, params: Mapping[str, float] | None = None) -> None:
-        """Issue Execute command ``command`` of ``axis`` as a method call does: ``params``
-        (field name → value) are set at once and the command's bit of the control word is
-        cleared (the call takes the command over); the program raises the command's Execute at
-        its next scan (after one scan low if its bit was set) and holds it until the axis' next
-        command, so that its Done, Error, InVelocity and the like stay visible; the same command
-        requested again gets a fresh rising edge.
+        """Issue Execute command ``command`` of ``axis`` (or of the group) as a method call
+        does: ``params`` (field name → value) are set at once and the command's bit of the
+        control word is cleared (the call takes the command over); the program raises the
+        command's Execute at its next scan (after one scan low if its bit was set) and holds it
+        until the axis' next command, so that its Done, Error, InVelocity and the like stay
+        visible; the same command requested again gets a fresh rising edge.
 
         Raises:
             WriteRefused: an unknown axis, a level or unknown command, a field that is not a
                 writable parameter of the axis (nothing is set); NotInControl: the PLC is not
                 in control.
         """
-        if axis not in self._requests or command not in CONTROL_BITS or command in LEVELS:
+        bits = self.control_bits(axis)
+        if axis not in self._requests or command not in bits or command in LEVELS:
             raise WriteRefused(f"no command {axis}.{command}")
         self._check_control()
         fields = {}
@@ -578,7 +573,7 @@ class SignalTable:
                 raise WriteRefused(f"{axis} has no parameter {name!r}")
             fields[f.name] = value
         self.update(fields.items())
-        bit = CONTROL_BITS.index(command)
+        bit = bits.index(command)
         with self._lock:  # the call takes the command over from the control word's bit
             self._values[f"{axis}.control"] = float(
                 int(self._values[f"{axis}.control"]) & ~(1 << bit)
@@ -606,9 +601,9 @@ class SignalTable:
 
 
 class AxisRegisters:
-    """The block of axis ``axis`` in ``table`` as the operator program's bus front end reads and
-    writes it (:class:`plc.operator.bus.Registers`): its fields by their names without the
-    axis'."""
+    """The block of axis ``axis`` (or of the group, ``group``) in ``table`` as the operator
+    program's bus front ends read and write it (:class:`plc.operator.handshake.Registers`): its
+    fields by their names without the block's."""
 
     def __init__(self, table: SignalTable, axis: str) -> None:
         self.table = table

@@ -41,5 +41,6 @@ MACHINE = MachineDef(
     axes=AXES,
     demo=Demo,
     demo_start={"X": 0.43, "Y": 0.27, "Z": -0.12},
+    group=("X", "Y", "Z"),
 )
 """The gantry in the registry."""
