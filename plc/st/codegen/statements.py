@@ -127,6 +127,8 @@ class Statements:
         base = self.x.variable(dataclasses.replace(node, elements=inner) if inner else node.name)
         members = base.type.members if isinstance(base.type, BlockType) else {}
         member = members.get(str(last.field.name).upper())
+        if base.type.kind == "axis":
+            raise self.x.error(node, f"{node} is read-only (the axis')", "a variable")
         if member is not None and member.direction == "output":
             raise self.x.error(
                 node, f"{node} is an output of {base.type.name}", "an input or a variable"

@@ -6,11 +6,14 @@ those names (a ``step`` of an enumeration by its value's name).
 A run-time fault (division by zero, an array index out of range) stops the program as a PLC
 stops: it is no longer scanned, every axis of the machine ramps down and is disabled
 (MC_Power's Enable dropping), and :attr:`STProgram.error` names ``file:line`` and the fault.
+
+The program's variables come first: one named like an attribute of the runtime (``scans``,
+``name``, ``fault``, ...) is what ``prog.scans`` reads.
 """
 
 from __future__ import annotations
 
-__all__ = ["STProgram", "compile_source", "from_source", "load", "stored"]
+__all__ = ["STProgram", "compile_source", "from_source", "load", "program_name", "stored"]
 
 import math
 import sys
@@ -28,6 +31,23 @@ from plc.st.runtime.io import channels
 from plc.st.runtime.task import ticks
 from plc.st.semantics.scope import Unit, Var
 from plc.st.semantics.types import Elementary, EnumType
+
+
+def _runtime(key: str, doc: str) -> Any:
+    """An attribute of the runtime (``prog.scans``) that a program's variable of the same name
+    shadows (``prog.scans`` is then the variable, as every other name)."""
+
+    def get(self: STProgram) -> Any:
+        own = self.__dict__
+        var = own["_vars"].get(key)
+        return self._read(var) if var is not None else own[f"_{key}"]
+
+    return property(get, doc=doc)
+
+
+def program_name(prog: STProgram) -> str:
+    """The name of the PROGRAM ``prog`` runs (whatever variables it declares)."""
+    return str(prog.__dict__["_name"])
 
 
 class STProgram:
@@ -64,11 +84,11 @@ class STProgram:
             raise STError.at(filename, f"no PROGRAM {name!r}", ", ".join(module.programs))
         name = programs[name.upper()]
         own = self.__dict__
-        own["name"], own["module"], own["filename"] = name, module, filename
-        own["fault"], own["scans"], own["_axes"] = "", 0, dict(axes)
+        own["_name"], own["_module"], own["_filename"] = name, module, filename
+        own["_fault"], own["_scans"], own["_axes"] = "", 0, dict(axes)
         if period is None:
             period = task.interval if task is not None else 0.01
-        own["every"] = ticks(task, period) if task is not None else 1
+        own["_every"] = ticks(task, period) if task is not None else 1
         """The PLC scans per run of the program (its TASK's INTERVAL over the scene's period)."""
         own["_where"] = f"<st {filename}>"
         own["_vars"] = {
@@ -76,7 +96,7 @@ class STProgram:
             for k, v in {**module.globals, **module.programs[name]}.items()
             if "." in v.code or v.constant is not None
         }
-        clock = clock if clock is not None else (lambda: self.scans * period * self.every)
+        clock = clock if clock is not None else (lambda: own["_scans"] * period * own["_every"])
         namespace: dict[str, Any] = {"__name__": f"st_{Path(filename).stem}"}
         exec(compile(module.source, own["_where"], "exec"), namespace)
         namespace["_axes"] = own["_axes"]
@@ -90,24 +110,33 @@ class STProgram:
         """A cold restart: every variable at its initial value, every block new, the fault
         cleared; the program is scanned again (the axes as the stop left them: its MC_Power
         and MC_Reset bring them back)."""
-        namespace = self._namespace
-        namespace["_g"] = namespace["_Globals"]()
         own = self.__dict__
-        own["_instance"] = instance = namespace[_python(self.module, self.name)]()
-        own["fault"], own["_calls"] = "", 0
-        own["_tick"] = _ticker(own, instance.__call__, self.every, self._stop)
+        namespace, module = own["_namespace"], own["_module"]
+        namespace["_g"] = namespace["_Globals"]()
+        own["_instance"] = instance = namespace[_python(module, own["_name"])]()
+        own["_fault"], own["_calls"] = "", 0
+        own["_tick"] = _ticker(own, instance.__call__, own["_every"], self._stop)
+
+    name = _runtime("name", "The PROGRAM's name (its type, as declared).")
+    module = _runtime("module", "The translated file (:class:`Module`).")
+    filename = _runtime("filename", "The ST file, for messages.")
+    fault = _runtime("fault", "The run-time fault that stopped the program, else empty.")
+    scans = _runtime("scans", "The PLC scans the program ran.")
+    every = _runtime(
+        "every", "The PLC scans per run of the program (its TASK's INTERVAL over the period)."
+    )
 
     @property
     def stopped(self) -> bool:
         """A run-time fault stopped the program."""
-        return bool(self.fault)
+        return bool(self.__dict__["_fault"])
 
     @property
     def error(self) -> str:
         """The run-time fault that stopped the program (``file:line: ...``), else the program's
         own STRING ``error`` (if it declares one: why its sequence stopped), else empty."""
         var = self._vars.get("error")
-        return self.fault or (str(self._read(var)) if var is not None else "")
+        return self.__dict__["_fault"] or (str(self._read(var)) if var is not None else "")
 
     @property
     def done(self) -> bool:
@@ -121,7 +150,7 @@ class STProgram:
         error once one stopped it."""
         var = self._vars.get("step")
         if self.error or var is None:
-            return self.error or self.name
+            return self.error or self.__dict__["_name"]
         value = self._read(var)
         if isinstance(var.type, EnumType):  # the value's name, as declared
             return next((n for n, v in var.type.values.items() if v == value), str(value))
@@ -139,9 +168,11 @@ class STProgram:
             if tb.tb_frame.f_code.co_filename == self._where:
                 line = tb.tb_lineno
             tb = tb.tb_next
-        st_line = self.module.st_lines[line - 1] if 0 < line <= len(self.module.st_lines) else 0
+        own = self.__dict__
+        st_lines = own["_module"].st_lines
+        st_line = st_lines[line - 1] if 0 < line <= len(st_lines) else 0
         what = str(fault) if isinstance(fault, F.STFault) else f"{type(fault).__name__}: {fault}"
-        self.__dict__["fault"] = f"{self.filename}:{st_line}: {what}; the program stopped"
+        own["_fault"] = f"{own['_filename']}:{st_line}: {what}; the program stopped"
         for axis in self._axes.values():
             axis.power(False)
 
@@ -151,7 +182,7 @@ class STProgram:
         if var is None:
             close = nearest(name, [v.name for v in self._vars.values()])
             hint = f" (did you mean {', '.join(close)}?)" if close else ""
-            raise AttributeError(f"{self.name} has no variable {name!r}{hint}")
+            raise AttributeError(f"{program_name(self)} has no variable {name!r}{hint}")
         return var
 
     def _read(self, var: Var) -> Any:
@@ -186,18 +217,18 @@ def _ticker(
     stop: Callable[[Exception, TracebackType | None], None],
 ) -> Callable[[], None]:
     """One PLC scan of a program whose attributes are ``own``: ``scan()`` every ``every``-th
-    call, none once ``own["fault"]`` is set, a fault to ``stop``. A closure over the
+    call, none once ``own["_fault"]`` is set, a fault to ``stop``. A closure over the
     attributes: an attribute read of :class:`STProgram` (which has ``__getattr__``) costs
     more than the dictionary's."""
 
     def tick() -> None:
-        if own["fault"]:
+        if own["_fault"]:
             return
         try:
             scan()
         except Exception as fault:  # any fault stops the PLC, never a traceback
             stop(fault, sys.exc_info()[2])
-        own["scans"] += 1
+        own["_scans"] += 1
 
     def tick_every() -> None:
         calls = own["_calls"] = own["_calls"] + 1
