@@ -38,6 +38,7 @@ __all__ = [
     "to_int",
     "to_number",
     "trunc",
+    "watchdog",
 ]
 
 import datetime
@@ -336,6 +337,15 @@ def dt_text(ms: int) -> str:
 _EPOCH = datetime.datetime(1970, 1, 1)
 FIRST_DAY = (datetime.datetime(1, 1, 1) - _EPOCH) // datetime.timedelta(milliseconds=1)
 """D#0001-01-01 [ms from 1970-01-01]: the initial value of a DATE and a DATE_AND_TIME."""
+
+
+def watchdog(kind: str, line: int, limit: float) -> None:
+    """The task's watchdog tripped in the ``kind`` loop (WHILE, REPEAT, FOR) of ``line``:
+    :class:`STFault` (``limit`` the watchdog [s])."""
+    raise STFault(
+        f"the scan ran over the task's watchdog of {limit * 1e3:g} ms in the {kind} loop of "
+        f"line {line}"
+    )
 
 
 def reals(values: Sequence[float], size: int) -> list[float]:

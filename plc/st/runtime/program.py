@@ -17,6 +17,7 @@ __all__ = ["STProgram", "compile_source", "from_source", "load", "program_name",
 
 import math
 import sys
+import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import TracebackType
@@ -28,7 +29,7 @@ from plc.st.frontend.parse import parse
 from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.runtime.external import External
 from plc.st.runtime.io import channels
-from plc.st.runtime.task import ticks
+from plc.st.runtime.task import WATCHDOG, ticks
 from plc.st.semantics.scope import Unit, Var
 from plc.st.semantics.types import Elementary, EnumType
 
@@ -103,6 +104,9 @@ class STProgram:
         namespace["_clock"] = lambda: round(clock() * 1000.0)
         namespace["_now"] = clock
         namespace["_ext"] = dict(blocks or {})
+        namespace["_perf"], namespace["_deadline"] = time.perf_counter, math.inf
+        watchdog = task.watchdog if task is not None else None
+        namespace["_watchdog"] = watchdog if watchdog is not None else WATCHDOG
         own["_namespace"] = namespace
         self.restart()
 
@@ -115,7 +119,7 @@ class STProgram:
         namespace["_g"] = namespace["_Globals"]()
         own["_instance"] = instance = namespace[_python(module, own["_name"])]()
         own["_fault"], own["_calls"] = "", 0
-        own["_tick"] = _ticker(own, instance.__call__, own["_every"], self._stop)
+        own["_tick"] = _ticker(own, namespace, instance.__call__, self._stop)
 
     name = _runtime("name", "The PROGRAM's name (its type, as declared).")
     module = _runtime("module", "The translated file (:class:`Module`).")
@@ -212,18 +216,21 @@ class STProgram:
 
 def _ticker(
     own: dict[str, Any],
+    namespace: dict[str, Any],
     scan: Callable[[], None],
-    every: int,
     stop: Callable[[Exception, TracebackType | None], None],
 ) -> Callable[[], None]:
-    """One PLC scan of a program whose attributes are ``own``: ``scan()`` every ``every``-th
-    call, none once ``own["_fault"]`` is set, a fault to ``stop``. A closure over the
-    attributes: an attribute read of :class:`STProgram` (which has ``__getattr__``) costs
-    more than the dictionary's."""
+    """One PLC scan of a program whose attributes are ``own``: ``scan()`` every
+    ``own["_every"]``-th call, none once ``own["_fault"]`` is set, a fault to ``stop``; the
+    scan's watchdog deadline (wall time [s]) set in the generated code's ``namespace``. A
+    closure over the attributes: an attribute read of :class:`STProgram` (which has
+    ``__getattr__``) costs more than the dictionary's."""
+    every, limit, clock = own["_every"], namespace["_watchdog"], time.perf_counter
 
     def tick() -> None:
         if own["_fault"]:
             return
+        namespace["_deadline"] = clock() + limit
         try:
             scan()
         except Exception as fault:  # any fault stops the PLC, never a traceback

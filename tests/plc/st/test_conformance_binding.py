@@ -147,7 +147,6 @@ print(prog.error)
 
 
 @pytest.mark.once
-@pytest.mark.xfail(strict=True, reason="not built yet")
 def test_a_scan_beyond_the_watchdog_stops_the_program_naming_its_loop():
     """2.7.2 (6.8.2): a scan that never ends trips the task's watchdog: the program stops with
     file:line, the process goes on."""
