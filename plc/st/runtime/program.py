@@ -26,6 +26,7 @@ from typing import Any
 from plc.st.codegen.translate import Module, translate
 from plc.st.errors import STError, nearest
 from plc.st.frontend.parse import parse
+from plc.st.frontend.project import is_project, read_project
 from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.runtime.external import External
 from plc.st.runtime.io import channels
@@ -92,6 +93,8 @@ class STProgram:
         own["_every"] = ticks(task, period) if task is not None else 1
         """The PLC scans per run of the program (its TASK's INTERVAL over the scene's period)."""
         own["_where"] = f"<st {filename}>"
+        own["_place"] = lambda line: f"{filename}:{line}"
+        """``file:line`` of a line of the source (a project's: of its file)."""
         own["_vars"] = {
             k: v
             for k, v in {**module.globals, **module.programs[name]}.items()
@@ -176,7 +179,7 @@ class STProgram:
         st_lines = own["_module"].st_lines
         st_line = st_lines[line - 1] if 0 < line <= len(st_lines) else 0
         what = str(fault) if isinstance(fault, F.STFault) else f"{type(fault).__name__}: {fault}"
-        own["_fault"] = f"{own['_filename']}:{st_line}: {what}; the program stopped"
+        own["_fault"] = f"{own['_place'](st_line)}: {what}; the program stopped"
         for axis in self._axes.values():
             axis.power(False)
 
@@ -318,9 +321,11 @@ def load(
     period: float | None = None,
     blocks: Mapping[str, External] | None = None,
 ) -> STProgram:
-    """Load the ST file ``path`` for ``machine`` (an :class:`mcl.Machine`, e.g. a scene, or
-    None), with the machine's own block types ``blocks`` (:class:`plc.st.External`): its axes
-    bind AXIS_REFs by name or through ``mapping`` (``{"Pohon.Ax1": "X"}``),
+    """Load the ST file ``path`` (or a TwinCAT project's ``.TcPOU``/``.TcDUT``/``.TcGVL``
+    file, or a folder of them: :mod:`plc.st.frontend.project`) for ``machine`` (an
+    :class:`mcl.Machine`, e.g. a scene, or None), with the machine's own block types
+    ``blocks`` (:class:`plc.st.External`): its axes bind AXIS_REFs by name or through
+    ``mapping`` (``{"Pohon.Ax1": "X"}``),
     its I/O located variables (``AT %IX0.2``) or named I/O (``{"Knife": "S.DO0"}``, see
     :mod:`plc.st.runtime.io`), its simulated time runs the timers; a TASK's INTERVAL runs the
     program
@@ -331,11 +336,33 @@ def load(
             lacks, or a TASK INTERVAL that is no multiple of the PLC period.
     """
     file = Path(path)
+    if is_project(file):
+        return _load_project(file, machine, mapping, program, period, blocks)
     try:
         source = file.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
         raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
     return from_source(source, machine, mapping, program, str(file), period, blocks)
+
+
+def _load_project(
+    path: Path,
+    machine: Any,
+    mapping: Mapping[str, str] | None,
+    program: str | None,
+    period: float | None,
+    blocks: Mapping[str, External] | None,
+) -> STProgram:
+    """As :func:`load`, a TwinCAT project's source file or folder
+    (:mod:`plc.st.frontend.project`); messages name its files' lines."""
+    project = read_project(path)
+    generated = f"{path.name}.st"
+    try:
+        prog = from_source(project.source, machine, mapping, program, generated, period, blocks)
+    except STError as error:
+        raise project.relocated(error, generated) from None
+    prog.__dict__["_place"] = project.where
+    return prog
 
 
 def from_source(

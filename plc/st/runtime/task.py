@@ -21,7 +21,6 @@ from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.declarations import STErrorAt, constant_of
 from plc.st.semantics.scope import Unit
 
-
 WATCHDOG = 0.1
 """The wall time a scan may take by default [s]: a loop still running after it stops the
 program (a TASK's ``WATCHDOG := T#50ms`` sets its own)."""

@@ -173,7 +173,6 @@ END_VAR
 """
 
 
-@pytest.mark.xfail(strict=True, reason="not built yet")
 def test_a_twincat_pou_runs(tmp_path):
     """A TwinCAT project's .TcPOU runs as its PROGRAM."""
     path = tmp_path / "counter.TcPOU"
@@ -213,7 +212,7 @@ p.a := 2; n := p.a + 1;
 """
 
 
-@pytest.mark.xfail(strict=True, reason="not built yet")
+@pytest.mark.xfail(strict=True, reason="PLCopen XML (TC6) is not read yet")
 def test_a_plcopen_xml_export_runs(tmp_path):
     """A PLCopen XML (TC6) export runs with its data types."""
     path = tmp_path / "project.xml"

@@ -4,8 +4,6 @@ after any fault; a TASK's ``WATCHDOG := T#..`` sets its limit (default: 100 ms o
 
 from __future__ import annotations
 
-import pytest
-
 import mcl
 import plc.st
 from tests.plc.st.iec import program, refused, run
@@ -62,7 +60,10 @@ def test_a_long_loop_within_its_watchdog_runs_to_its_end():
 
 def test_a_loop_in_a_block_names_the_blocks_line():
     """The fault names the line of the loop where the scan was, inside a FUNCTION_BLOCK."""
-    spin = "FUNCTION_BLOCK Spin\nVAR k : INT; END_VAR\nWHILE TRUE DO k := k + 1; END_WHILE\nEND_FUNCTION_BLOCK"
+    spin = (
+        "FUNCTION_BLOCK Spin\nVAR k : INT; END_VAR\nWHILE TRUE DO k := k + 1; END_WHILE\n"
+        "END_FUNCTION_BLOCK"
+    )
     prog = plc.st.from_source(program("s : Spin;", "s();", spin), filename="spin.st")
     prog()
     assert prog.fault.startswith("spin.st:3: the scan ran over the task's watchdog of 100 ms")
