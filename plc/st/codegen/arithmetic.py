@@ -125,6 +125,10 @@ def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
             return code
     elif to.kind == src.kind and to.kind in ("axis", "group", "block"):
         return e.code
+    elif isinstance(to, T.ArrayType) and src is T.SEQUENCE:
+        if len(to.dims) == 1 and to.element is T.LREAL:  # a group block's per-axis values
+            low, high = to.dims[0]
+            return f"_f.reals({e.code}, {high - low + 1})"
     elif isinstance(to, T.ArrayType) and isinstance(src, T.ArrayType):
         if _shape(to) == _shape(src):
             return f"_f.clone({e.code})"

@@ -15,8 +15,9 @@ import blark.transform as tf
 from plc.st.errors import STError, nearest
 from plc.st.runtime.functions import f32
 from plc.st.semantics import types as T  # noqa: N812
+from plc.st.semantics.catalog import mcl_enums
 from plc.st.semantics.scope import Scope, Unit
-from plc.st.semantics.types import Elementary, Type
+from plc.st.semantics.types import AXIS_FIELDS, Elementary, Type
 
 
 @dataclass(frozen=True)
@@ -183,7 +184,8 @@ class Expressions:
             axis = self.unit.axis(dotted)
             if axis is not None:
                 return E(axis, T.AXIS)
-            t = self.unit.types.get(str(head.name).upper()) or None
+            upper = str(head.name).upper()
+            t = self.unit.types.get(upper) or mcl_enums().get(upper)
             if isinstance(t, T.EnumType) and len(node.elements) == 1:
                 value = tf.EnumeratedValue(head.name, node.elements[0].field.name, None)
                 value.meta = node.meta
@@ -257,6 +259,11 @@ class Expressions:
                 hint = f" (did you mean {', '.join(close)}?)" if close else ""
                 raise self.error(element, f"{t.name} has no member {name!r}{hint}", "its outputs")
             return E(f"{base.code}.{member.python}", member.type)
+        if t.kind == "axis":
+            field = AXIS_FIELDS.get(name.upper())
+            if field is None:
+                raise self.error(element, f"AXIS_REF has no field {name!r}", "POS, VEL, AxErrorID")
+            return E(f"{base.code}.{field[0]}", field[1])
         raise self.error(element, f"{base.type.name} has no fields", "a STRUCT or a block")
 
     def subscript(self, base: E, element: tf.SubscriptList) -> E:

@@ -127,6 +127,8 @@ class Statements:
         base = self.x.variable(dataclasses.replace(node, elements=inner) if inner else node.name)
         members = base.type.members if isinstance(base.type, BlockType) else {}
         member = members.get(str(last.field.name).upper())
+        if base.type.kind == "axis":
+            raise self.x.error(node, f"{node} is read-only (the axis')", "a variable")
         if member is not None and member.direction == "output":
             raise self.x.error(
                 node, f"{node} is an output of {base.type.name}", "an input or a variable"
@@ -216,6 +218,7 @@ class Statements:
         self.out.emit(f"while {test}:")
         self.loops.append(increment)
         self.out.depth += 1
+        self.watchdog(s, "FOR")
         self.block(s.statements)
         self.out.emit(increment)
         self.out.depth -= 1
@@ -223,18 +226,31 @@ class Statements:
 
     def do_WhileStatement(self, s: tf.WhileStatement) -> None:
         self.loops.append("")
-        self.nested(f"while {self.condition(s.expression)}:", s.statements)
+        self.out.emit(f"while {self.condition(s.expression)}:")
+        self.out.depth += 1
+        self.watchdog(s, "WHILE")
+        self.block(s.statements)
+        self.out.depth -= 1
         self.loops.pop()
 
     def do_RepeatStatement(self, s: tf.RepeatStatement) -> None:
         self.loops.append("")
         self.out.emit("while True:")
         self.out.depth += 1
+        self.watchdog(s, "REPEAT")
         self.block(s.statements)
         self.out.emit(f"if {self.condition(s.expression)}:")
         self.out.emit("    break")
         self.out.depth -= 1
         self.loops.pop()
+
+    def watchdog(self, s: Any, kind: str) -> None:
+        """The task's watchdog at the top of a loop's body (its back-edge): a scan past its
+        deadline (``_deadline``, wall time [s] set when the scan begins) faults here, at the
+        loop's line."""
+        line = self.x.unit.line(s) or self.out.st_line
+        self.out.st_line = line
+        self.out.emit(f"if _perf() > _deadline: _f.watchdog({kind!r}, {line}, _watchdog)")
 
     def do_ExitStatement(self, s: tf.ExitStatement) -> None:
         if not self.loops:

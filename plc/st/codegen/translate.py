@@ -102,10 +102,7 @@ class POU:
         for block in self.node.declarations or []:
             if isinstance(block, tf.ExternalVariableDeclarations):
                 for item in block.items:
-                    var = self.unit.globals.get(str(item.name))
-                    if var is None:
-                        raise STErrorAt(self.unit, item, f"no VAR_GLOBAL {item.name}", "a global")
-                    self.scope.add(var, self.unit.where(item))
+                    self.scope.add(self.external(item), self.unit.where(item))
                 continue
             section = _SECTIONS.get(type(block))
             if section is None:
@@ -114,6 +111,25 @@ class POU:
             for name, spec, value, location, at in _variables(block):
                 self.variable(name, spec, value, section, constant, owner, at)
                 self.locate(name, location, at if location is None else location)
+
+    def external(self, item: tf.ExternalVariableDeclaration) -> Var:
+        """The global a VAR_EXTERNAL names, of the type it declares; an AXIS_REF with no
+        VAR_GLOBAL is the machine's axis of that name (or the mapping's)."""
+        name = str(item.name)
+        t = spec_type(self.unit, item.spec, self.scope)
+        var = self.unit.globals.get(name)
+        if var is None and t.kind == "axis" and self.unit.axis(name) is not None:
+            return Var(name, t, str(self.unit.axis(name)), "global")
+        if var is None:
+            raise STErrorAt(self.unit, item, f"no VAR_GLOBAL {name}", "a global")
+        if var.type.name.upper() != t.name.upper():
+            raise STErrorAt(
+                self.unit,
+                item,
+                f"VAR_EXTERNAL {name} : {t.name}",
+                f"{var.type.name}, as the global",
+            )
+        return var
 
     def variable(
         self, name: str, spec: Any, value: Any, section: str, constant: bool, owner: str, at: Any

@@ -26,6 +26,7 @@ __all__ = [
     "mod",
     "mux",
     "real_text",
+    "reals",
     "replace",
     "right",
     "rol",
@@ -37,11 +38,13 @@ __all__ = [
     "to_int",
     "to_number",
     "trunc",
+    "watchdog",
 ]
 
 import datetime
 import math
 import struct
+from collections.abc import Sequence
 from typing import Any
 
 _F32 = struct.Struct("f")
@@ -334,6 +337,24 @@ def dt_text(ms: int) -> str:
 _EPOCH = datetime.datetime(1970, 1, 1)
 FIRST_DAY = (datetime.datetime(1, 1, 1) - _EPOCH) // datetime.timedelta(milliseconds=1)
 """D#0001-01-01 [ms from 1970-01-01]: the initial value of a DATE and a DATE_AND_TIME."""
+
+
+def watchdog(kind: str, line: int, limit: float) -> None:
+    """The task's watchdog tripped in the ``kind`` loop (WHILE, REPEAT, FOR) of ``line``:
+    :class:`STFault` (``limit`` the watchdog [s])."""
+    raise STFault(
+        f"the scan ran over the task's watchdog of {limit * 1e3:g} ms in the {kind} loop of "
+        f"line {line}"
+    )
+
+
+def reals(values: Sequence[float], size: int) -> list[float]:
+    """A group block's per-axis values (``MC_GroupReadActualPosition.Position`` [mm]) as an
+    ARRAY of ``size`` LREALs: the elements it lacks (a disabled block has none) are 0.0; more
+    values than elements: :class:`STFault`."""
+    if len(values) > size:
+        raise STFault(f"{len(values)} values into an ARRAY of {size}")
+    return [*values, *[0.0] * (size - len(values))]
 
 
 def clone(value: Any) -> Any:

@@ -6,14 +6,18 @@ those names (a ``step`` of an enumeration by its value's name).
 A run-time fault (division by zero, an array index out of range) stops the program as a PLC
 stops: it is no longer scanned, every axis of the machine ramps down and is disabled
 (MC_Power's Enable dropping), and :attr:`STProgram.error` names ``file:line`` and the fault.
+
+The program's variables come first: one named like an attribute of the runtime (``scans``,
+``name``, ``fault``, ...) is what ``prog.scans`` reads.
 """
 
 from __future__ import annotations
 
-__all__ = ["STProgram", "compile_source", "from_source", "load", "stored"]
+__all__ = ["STProgram", "compile_source", "from_source", "load", "program_name", "stored"]
 
 import math
 import sys
+import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import TracebackType
@@ -22,12 +26,30 @@ from typing import Any
 from plc.st.codegen.translate import Module, translate
 from plc.st.errors import STError, nearest
 from plc.st.frontend.parse import parse
+from plc.st.frontend.project import is_project, read_project
 from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.runtime.external import External
 from plc.st.runtime.io import channels
-from plc.st.runtime.task import ticks
+from plc.st.runtime.task import WATCHDOG, ticks
 from plc.st.semantics.scope import Unit, Var
 from plc.st.semantics.types import Elementary, EnumType
+
+
+def _runtime(key: str, doc: str) -> Any:
+    """An attribute of the runtime (``prog.scans``) that a program's variable of the same name
+    shadows (``prog.scans`` is then the variable, as every other name)."""
+
+    def get(self: STProgram) -> Any:
+        own = self.__dict__
+        var = own["_vars"].get(key)
+        return self._read(var) if var is not None else own[f"_{key}"]
+
+    return property(get, doc=doc)
+
+
+def program_name(prog: STProgram) -> str:
+    """The name of the PROGRAM ``prog`` runs (whatever variables it declares)."""
+    return str(prog.__dict__["_name"])
 
 
 class STProgram:
@@ -64,25 +86,30 @@ class STProgram:
             raise STError.at(filename, f"no PROGRAM {name!r}", ", ".join(module.programs))
         name = programs[name.upper()]
         own = self.__dict__
-        own["name"], own["module"], own["filename"] = name, module, filename
-        own["fault"], own["scans"], own["_axes"] = "", 0, dict(axes)
+        own["_name"], own["_module"], own["_filename"] = name, module, filename
+        own["_fault"], own["_scans"], own["_axes"] = "", 0, dict(axes)
         if period is None:
             period = task.interval if task is not None else 0.01
-        own["every"] = ticks(task, period) if task is not None else 1
+        own["_every"] = ticks(task, period) if task is not None else 1
         """The PLC scans per run of the program (its TASK's INTERVAL over the scene's period)."""
         own["_where"] = f"<st {filename}>"
+        own["_place"] = lambda line: f"{filename}:{line}"
+        """``file:line`` of a line of the source (a project's: of its file)."""
         own["_vars"] = {
             k: v
             for k, v in {**module.globals, **module.programs[name]}.items()
             if "." in v.code or v.constant is not None
         }
-        clock = clock if clock is not None else (lambda: self.scans * period * self.every)
+        clock = clock if clock is not None else (lambda: own["_scans"] * period * own["_every"])
         namespace: dict[str, Any] = {"__name__": f"st_{Path(filename).stem}"}
         exec(compile(module.source, own["_where"], "exec"), namespace)
         namespace["_axes"] = own["_axes"]
         namespace["_clock"] = lambda: round(clock() * 1000.0)
         namespace["_now"] = clock
         namespace["_ext"] = dict(blocks or {})
+        namespace["_perf"], namespace["_deadline"] = time.perf_counter, math.inf
+        watchdog = task.watchdog if task is not None else None
+        namespace["_watchdog"] = watchdog if watchdog is not None else WATCHDOG
         own["_namespace"] = namespace
         self.restart()
 
@@ -90,24 +117,33 @@ class STProgram:
         """A cold restart: every variable at its initial value, every block new, the fault
         cleared; the program is scanned again (the axes as the stop left them: its MC_Power
         and MC_Reset bring them back)."""
-        namespace = self._namespace
-        namespace["_g"] = namespace["_Globals"]()
         own = self.__dict__
-        own["_instance"] = instance = namespace[_python(self.module, self.name)]()
-        own["fault"], own["_calls"] = "", 0
-        own["_tick"] = _ticker(own, instance.__call__, self.every, self._stop)
+        namespace, module = own["_namespace"], own["_module"]
+        namespace["_g"] = namespace["_Globals"]()
+        own["_instance"] = instance = namespace[_python(module, own["_name"])]()
+        own["_fault"], own["_calls"] = "", 0
+        own["_tick"] = _ticker(own, namespace, instance.__call__, self._stop)
+
+    name = _runtime("name", "The PROGRAM's name (its type, as declared).")
+    module = _runtime("module", "The translated file (:class:`Module`).")
+    filename = _runtime("filename", "The ST file, for messages.")
+    fault = _runtime("fault", "The run-time fault that stopped the program, else empty.")
+    scans = _runtime("scans", "The PLC scans the program ran.")
+    every = _runtime(
+        "every", "The PLC scans per run of the program (its TASK's INTERVAL over the period)."
+    )
 
     @property
     def stopped(self) -> bool:
         """A run-time fault stopped the program."""
-        return bool(self.fault)
+        return bool(self.__dict__["_fault"])
 
     @property
     def error(self) -> str:
         """The run-time fault that stopped the program (``file:line: ...``), else the program's
         own STRING ``error`` (if it declares one: why its sequence stopped), else empty."""
         var = self._vars.get("error")
-        return self.fault or (str(self._read(var)) if var is not None else "")
+        return self.__dict__["_fault"] or (str(self._read(var)) if var is not None else "")
 
     @property
     def done(self) -> bool:
@@ -121,7 +157,7 @@ class STProgram:
         error once one stopped it."""
         var = self._vars.get("step")
         if self.error or var is None:
-            return self.error or self.name
+            return self.error or self.__dict__["_name"]
         value = self._read(var)
         if isinstance(var.type, EnumType):  # the value's name, as declared
             return next((n for n, v in var.type.values.items() if v == value), str(value))
@@ -139,9 +175,11 @@ class STProgram:
             if tb.tb_frame.f_code.co_filename == self._where:
                 line = tb.tb_lineno
             tb = tb.tb_next
-        st_line = self.module.st_lines[line - 1] if 0 < line <= len(self.module.st_lines) else 0
+        own = self.__dict__
+        st_lines = own["_module"].st_lines
+        st_line = st_lines[line - 1] if 0 < line <= len(st_lines) else 0
         what = str(fault) if isinstance(fault, F.STFault) else f"{type(fault).__name__}: {fault}"
-        self.__dict__["fault"] = f"{self.filename}:{st_line}: {what}; the program stopped"
+        own["_fault"] = f"{own['_place'](st_line)}: {what}; the program stopped"
         for axis in self._axes.values():
             axis.power(False)
 
@@ -151,7 +189,7 @@ class STProgram:
         if var is None:
             close = nearest(name, [v.name for v in self._vars.values()])
             hint = f" (did you mean {', '.join(close)}?)" if close else ""
-            raise AttributeError(f"{self.name} has no variable {name!r}{hint}")
+            raise AttributeError(f"{program_name(self)} has no variable {name!r}{hint}")
         return var
 
     def _read(self, var: Var) -> Any:
@@ -181,23 +219,26 @@ class STProgram:
 
 def _ticker(
     own: dict[str, Any],
+    namespace: dict[str, Any],
     scan: Callable[[], None],
-    every: int,
     stop: Callable[[Exception, TracebackType | None], None],
 ) -> Callable[[], None]:
-    """One PLC scan of a program whose attributes are ``own``: ``scan()`` every ``every``-th
-    call, none once ``own["fault"]`` is set, a fault to ``stop``. A closure over the
-    attributes: an attribute read of :class:`STProgram` (which has ``__getattr__``) costs
-    more than the dictionary's."""
+    """One PLC scan of a program whose attributes are ``own``: ``scan()`` every
+    ``own["_every"]``-th call, none once ``own["_fault"]`` is set, a fault to ``stop``; the
+    scan's watchdog deadline (wall time [s]) set in the generated code's ``namespace``. A
+    closure over the attributes: an attribute read of :class:`STProgram` (which has
+    ``__getattr__``) costs more than the dictionary's."""
+    every, limit, clock = own["_every"], namespace["_watchdog"], time.perf_counter
 
     def tick() -> None:
-        if own["fault"]:
+        if own["_fault"]:
             return
+        namespace["_deadline"] = clock() + limit
         try:
             scan()
         except Exception as fault:  # any fault stops the PLC, never a traceback
             stop(fault, sys.exc_info()[2])
-        own["scans"] += 1
+        own["_scans"] += 1
 
     def tick_every() -> None:
         calls = own["_calls"] = own["_calls"] + 1
@@ -280,9 +321,11 @@ def load(
     period: float | None = None,
     blocks: Mapping[str, External] | None = None,
 ) -> STProgram:
-    """Load the ST file ``path`` for ``machine`` (an :class:`mcl.Machine`, e.g. a scene, or
-    None), with the machine's own block types ``blocks`` (:class:`plc.st.External`): its axes
-    bind AXIS_REFs by name or through ``mapping`` (``{"Pohon.Ax1": "X"}``),
+    """Load the ST file ``path`` (or a TwinCAT project's ``.TcPOU``/``.TcDUT``/``.TcGVL``
+    file, or a folder of them: :mod:`plc.st.frontend.project`) for ``machine`` (an
+    :class:`mcl.Machine`, e.g. a scene, or None), with the machine's own block types
+    ``blocks`` (:class:`plc.st.External`): its axes bind AXIS_REFs by name or through
+    ``mapping`` (``{"Pohon.Ax1": "X"}``),
     its I/O located variables (``AT %IX0.2``) or named I/O (``{"Knife": "S.DO0"}``, see
     :mod:`plc.st.runtime.io`), its simulated time runs the timers; a TASK's INTERVAL runs the
     program
@@ -293,11 +336,33 @@ def load(
             lacks, or a TASK INTERVAL that is no multiple of the PLC period.
     """
     file = Path(path)
+    if is_project(file):
+        return _load_project(file, machine, mapping, program, period, blocks)
     try:
         source = file.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
         raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
     return from_source(source, machine, mapping, program, str(file), period, blocks)
+
+
+def _load_project(
+    path: Path,
+    machine: Any,
+    mapping: Mapping[str, str] | None,
+    program: str | None,
+    period: float | None,
+    blocks: Mapping[str, External] | None,
+) -> STProgram:
+    """As :func:`load`, a TwinCAT project's source file or folder
+    (:mod:`plc.st.frontend.project`); messages name its files' lines."""
+    project = read_project(path)
+    generated = f"{path.name}.st"
+    try:
+        prog = from_source(project.source, machine, mapping, program, generated, period, blocks)
+    except STError as error:
+        raise project.relocated(error, generated) from None
+    prog.__dict__["_place"] = project.where
+    return prog
 
 
 def from_source(

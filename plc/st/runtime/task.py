@@ -4,11 +4,13 @@ its scan period (:class:`Task`); :func:`task_of` reads them from the parsed file
 
 One program instance runs (the one the configuration names, or the one asked for); its task's
 INTERVAL is its period. A task without INTERVAL (event-triggered, ``SINGLE :=``) is refused.
+``WATCHDOG := T#50ms`` bounds the wall time of one scan (default :data:`WATCHDOG`): a loop
+(WHILE, REPEAT, FOR) still running after it stops the program with a run-time fault.
 """
 
 from __future__ import annotations
 
-__all__ = ["Task", "configurations", "declared_task", "task_of", "ticks"]
+__all__ = ["WATCHDOG", "Task", "configurations", "declared_task", "task_of", "ticks"]
 
 from dataclasses import dataclass
 from typing import Any
@@ -18,6 +20,10 @@ import lark
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.declarations import STErrorAt, constant_of
 from plc.st.semantics.scope import Unit
+
+WATCHDOG = 0.1
+"""The wall time a scan may take by default [s]: a loop still running after it stops the
+program (a TASK's ``WATCHDOG := T#50ms`` sets its own)."""
 
 
 @dataclass(frozen=True)
@@ -29,12 +35,15 @@ class Task:
         interval: its period [s].
         program: the PROGRAM type it runs (as the configuration spells it; empty: any).
         where: ``file:line:column`` of the TASK declaration, for messages.
+        watchdog: the longest wall time a scan may take [s] (``WATCHDOG := T#50ms``; None: the
+            default :data:`WATCHDOG`); a loop still running then stops the program.
     """
 
     name: str
     interval: float
     program: str
     where: str
+    watchdog: float | None = None
 
 
 def configurations(items: list[Any]) -> list[lark.Tree[Any]]:
@@ -74,7 +83,9 @@ def task_of(unit: Unit, items: list[Any], programs: list[str]) -> Task | None:
     if instances:
         with_task, program_type, _ = instances[0]
         task = tasks[with_task.upper()] if with_task else next(iter(tasks.values()))
-        return Task(task.name, task.interval, known[program_type.upper()], task.where)
+        return Task(
+            task.name, task.interval, known[program_type.upper()], task.where, task.watchdog
+        )
     return next(iter(tasks.values()))
 
 
@@ -90,7 +101,14 @@ def _task(unit: Unit, node: lark.Tree[Any]) -> Task:
     value = constant_of(unit, interval)
     if value.type is not T.TIME or not value.value > 0:
         raise STErrorAt(unit, node, f"TASK {name} INTERVAL {interval}", "a TIME > 0, T#2ms")
-    return Task(str(name), value.value / 1000.0, "", unit.where(node))
+    watchdog = None
+    if "WATCHDOG" in settings:
+        limit = constant_of(unit, settings["WATCHDOG"])
+        if limit.type is not T.TIME or not limit.value > 0:
+            where = settings["WATCHDOG"]
+            raise STErrorAt(unit, where, f"TASK {name} WATCHDOG {where}", "a TIME > 0, T#50ms")
+        watchdog = limit.value / 1000.0
+    return Task(str(name), value.value / 1000.0, "", unit.where(node), watchdog)
 
 
 def ticks(task: Task, period: float) -> int:

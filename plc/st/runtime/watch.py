@@ -17,7 +17,7 @@ from typing import Any
 
 from plc.st import STProgram
 from plc.st.runtime import functions as F  # noqa: N812
-from plc.st.runtime.program import stored
+from plc.st.runtime.program import program_name, stored
 from plc.st.semantics.scope import Var
 from plc.st.semantics.types import BlockType, Elementary, EnumType, Member
 
@@ -69,7 +69,7 @@ class WatchedProgram:
         module = program.module
         self._vars: dict[str, Var] = {
             v.name: v
-            for v in {**module.globals, **module.programs[program.name]}.values()
+            for v in {**module.globals, **module.programs[program_name(program)]}.values()
             if v.section in WATCHED_SECTIONS and ("." in v.code or v.constant is not None)
         }
 
@@ -111,7 +111,9 @@ class WatchedProgram:
         """
         var = self._vars.get(name)
         if var is None or not _forceable(var):
-            raise ValueError(f"{name!r} is no BOOL or number variable of {self.program.name}")
+            raise ValueError(
+                f"{name!r} is no BOOL or number variable of {program_name(self.program)}"
+            )
         if isinstance(value, float) and not math.isfinite(value):
             raise ValueError(f"{name}: {value!r} is no number")
         try:

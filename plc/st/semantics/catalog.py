@@ -48,6 +48,7 @@ _PYTHON_TYPES: dict[str, Type] = {
     "Axis": AXIS,
     "AxesGroup": GROUP,
     "Sequence[float]": SEQUENCE,
+    "list": SEQUENCE,
     "TableRef": ANY_STRUCT,
     "MC_PATH_DATA_REF": ANY_STRUCT,
 }
@@ -66,14 +67,24 @@ def mcl_blocks() -> dict[str, BlockType]:
     refs = {ref for cls in classes for ref in cls.REFS}  # a compiled block shows them all
     for cls in classes:
         members: dict[str, Member] = {}
+        defaults = reference.declared_inputs(cls)
         for name, kind, _ in reference.inputs(cls):
             direction = "in_out" if name in cls.REFS else "input"
-            members[name.upper()] = Member(_PYTHON_TYPES.get(kind, ANY), direction, name)
+            t = _enumeration_of(defaults.get(name)) or _PYTHON_TYPES.get(kind, ANY)
+            members[name.upper()] = Member(t, direction, name)
         for name, kind, _ in reference.outputs(cls):
             if name.upper() not in members and name not in refs and not name.isupper():
                 members[name.upper()] = Member(_PYTHON_TYPES.get(kind, ANY), "output", name)
         blocks[cls.__name__.upper()] = BlockType(cls.__name__, "mcl", members, cls.__name__)
     return blocks
+
+
+def _enumeration_of(default: object) -> EnumType | None:
+    """The enumeration of an input whose initial value is a value of one of mcl's
+    enumerations (``SwitchMode``: MC_SwitchMode), else None."""
+    if isinstance(default, enum.IntEnum):
+        return mcl_enums().get(type(default).__name__.upper())
+    return None
 
 
 @cache

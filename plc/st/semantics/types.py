@@ -16,6 +16,7 @@ __all__ = [
     "ANY_REAL",
     "ANY_STRUCT",
     "AXIS",
+    "AXIS_FIELDS",
     "BOOL",
     "DINT",
     "ELEMENTARY",
@@ -242,6 +243,13 @@ NULL = ReferenceType("NULL", Type("ANY"))
 
 AXIS = RefType("AXIS_REF", "axis")
 GROUP = RefType("AXES_GROUP_REF", "group")
+AXIS_FIELDS: dict[str, tuple[str, Type]] = {
+    "POS": ("POS", LREAL),
+    "VEL": ("VEL", LREAL),
+    "AXERRORID": ("AxErrorID", DINT),
+}
+"""The fields of an AXIS_REF a program reads (read-only), by upper-case name: (the axis'
+attribute, type): the actual position POS [u], velocity VEL [u/s], the error AxErrorID."""
 SEQUENCE = ArrayType("ARRAY OF LREAL", LREAL, ((0, -1),))
 """A group block's per-member values (any length)."""
 ANY_STRUCT = StructType("ANY STRUCT")

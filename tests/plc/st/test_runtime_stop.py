@@ -1,4 +1,5 @@
-"""A run-time fault in an ST program on the gantry while X moves: the PLC stops, every axis
+"""A run-time fault (or a scan beyond the task's watchdog) in an ST program on the gantry while X
+moves: the PLC stops, every axis
 ramps down to standstill (measured on the joints), the message names file:line, and after a
 restart of the program and homing (the stop switched the drives off) the machine moves again."""
 
@@ -14,7 +15,7 @@ VAR
   divisor : INT := 1;
   speed : LREAL;
   table : ARRAY[1..3] OF LREAL := [100.0, 200.0, 300.0];
-  pick : INT := 1;
+  pick : INT := 1; hang : BOOL;
   power : MC_Power;
   reset : MC_Reset;
   move : MC_MoveAbsolute;
@@ -23,6 +24,7 @@ power(Enable := TRUE, Axis := X);
 reset(Execute := power.Status, Axis := X);
 speed := table[pick] / divisor;
 move(Execute := Start, Position := 800.0, Velocity := speed, Axis := X);
+WHILE hang DO pick := pick; END_WHILE
 END_PROGRAM
 """
 
@@ -50,6 +52,7 @@ def joint_speeds(gantry):
     [
         ({"divisor": 0}, "mover.st:14: division by zero"),
         ({"pick": 4}, "mover.st:14: array index 4 outside 1..3"),
+        ({"hang": True}, "mover.st:16: the scan ran over the task's watchdog of 100 ms"),
     ],
 )
 def test_a_fault_while_x_moves_stops_the_program_and_every_axis(moving, fault, message):

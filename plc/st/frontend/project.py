@@ -1,0 +1,126 @@
+"""A TwinCAT project's source files as one ST source: ``.TcPOU`` (a PROGRAM, FUNCTION_BLOCK or
+FUNCTION: its declaration and its implementation), ``.TcDUT`` (a TYPE) and ``.TcGVL`` (a
+VAR_GLOBAL), read with blark's TwinCAT reader; a folder gives every such file under it. The
+text keeps each line as written; :class:`Project` maps its lines back to the files, so that a
+message names ``GantryDemo.TcPOU:12:5``.
+
+A POU's METHODs, ACTIONs and PROPERTYs (TwinCAT's object-oriented extensions) are refused.
+"""
+
+from __future__ import annotations
+
+__all__ = ["SUFFIXES", "Project", "is_project", "read_project"]
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from plc.st.errors import STError
+
+SUFFIXES = (".tcpou", ".tcdut", ".tcgvl")
+"""The TwinCAT source files read (case-insensitive)."""
+
+_ORDER = {".tcdut": 0, ".tcgvl": 1, ".tcpou": 2}
+"""Types first, then the globals, then the POUs."""
+
+_END = {
+    "PROGRAM": "END_PROGRAM",
+    "FUNCTION_BLOCK": "END_FUNCTION_BLOCK",
+    "FUNCTION": "END_FUNCTION",
+}
+
+_WHERE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<column>\d+): ", re.MULTILINE)
+
+
+@dataclass
+class Project:
+    """The ST text of a project and where each of its lines comes from.
+
+    Attributes:
+        name: the file or folder, for messages.
+        source: the ST text.
+        origins: per line of ``source`` (index = line - 1): (file, line in it).
+    """
+
+    name: str
+    source: str = ""
+    origins: list[tuple[str, int]] = field(default_factory=list)
+
+    def add(self, lines: list[tuple[int, str]], filename: str) -> None:
+        """Append ``lines`` ((line in ``filename``, text)) to the source."""
+        self.source += "".join(f"{text}\n" for _, text in lines)
+        self.origins += [(filename, number) for number, _ in lines]
+
+    def where(self, line: int) -> str:
+        """``file:line`` of a line of :attr:`source`."""
+        if 0 < line <= len(self.origins):
+            filename, number = self.origins[line - 1]
+            return f"{filename}:{number}"
+        return f"{self.name}:{line}"
+
+    def relocated(self, error: STError, generated: str) -> STError:
+        """``error`` (naming ``generated:line:column``) naming the project's file and line."""
+
+        def place(match: re.Match[str]) -> str:
+            if match["file"] != generated:
+                return match[0]
+            return f"{self.where(int(match['line']))}:{match['column']}: "
+
+        return STError(_WHERE.sub(place, str(error)))
+
+
+def is_project(path: Path) -> bool:
+    """``path`` is a TwinCAT source file or a folder (not an ``.st`` file)."""
+    return path.is_dir() or path.suffix.lower() in SUFFIXES
+
+
+def read_project(path: Path) -> Project:
+    """The project of a TwinCAT source file or of every one in a folder (its sub-folders too).
+
+    Raises:
+        STError: no such file or no TwinCAT source in the folder, a file blark cannot read, a
+            METHOD, ACTION or PROPERTY.
+    """
+    files = [path] if path.is_file() else _sources(path)
+    if not files:
+        raise STError.at(str(path), "no TwinCAT source here", "a .TcPOU, .TcDUT or .TcGVL file")
+    project = Project(str(path))
+    for file in sorted(files, key=lambda f: (_ORDER[f.suffix.lower()], f.name.lower())):
+        _read_file(project, file)
+    return project
+
+
+def _sources(folder: Path) -> list[Path]:
+    """The TwinCAT source files under ``folder``."""
+    if not folder.is_dir():
+        return []
+    return [f for f in folder.rglob("*") if f.is_file() and f.suffix.lower() in SUFFIXES]
+
+
+def _read_file(project: Project, file: Path) -> None:
+    """Append one file's declaration and implementation (and the POU's END_...)."""
+    import blark.input
+    from blark.util import SourceType
+
+    try:
+        items = blark.input.load_file_by_name(file)
+    except Exception as error:  # a malformed file: one message, never a traceback
+        raise STError.at(
+            f"{file}:1:1", f"cannot read it ({type(error).__name__}: {error})", "TwinCAT XML"
+        ) from None
+    for item in items:
+        parts = getattr(item, "parts", [item])
+        for part in parts:
+            if part.type in (SourceType.method, SourceType.action) or "property" in part.type.name:
+                line = part.lines[0].lineno if part.lines else 1
+                raise STError.at(
+                    f"{file}:{line}:1",
+                    f"a {part.type.name.upper()} ({str(part.identifier).split('/')[0]})",
+                    "a PROGRAM, FUNCTION_BLOCK or FUNCTION without methods, actions, properties",
+                )
+            project.add([(line.lineno, line.code) for line in part.lines], str(file))
+        words = (line.code.split()[:1] for p in parts for line in p.lines)
+        keyword = next((w[0].upper() for w in words if w and w[0].upper() in _END), "")
+        if keyword:
+            last = parts[-1].lines[-1].lineno if parts[-1].lines else 1
+            project.add([(last, _END[keyword])], str(file))
