@@ -1,0 +1,121 @@
+"""The scope of eight channels at 1280×800 in headless Chromium: on y axes shared by unit and
+in stacked tracks, every channel drawn over at least 60 % of the plot's width and inside its
+y range (the series and scales read from the page's uPlot chart)."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import pytest
+
+from tests.viewer.test_browser import browser, wait_for
+from viewer.pages.layout import Page as ViewerPage
+from viewer.scope.panel import PageScope
+from viewer.scope.tracks import SHARED, STACKED
+from viewer.serving.server import Viewer
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser, Page
+
+pytestmark = pytest.mark.browser
+
+__all__ = ["browser"]
+
+EIGHT = (
+    "X position",
+    "X set point",
+    "X velocity",
+    "X following error",
+    "X command",
+    "Y following error",
+    "Z following error",
+    "X error",
+)
+"""Eight channels in five units (mm, mm/s, µm, V, 0/1)."""
+
+DRAWN = """() => Object.values(window.__viserTestpoints?.uplots ?? {}).map((u) => {
+    const c = u.chart, xs = c.data[0], plot = c.bbox.width / devicePixelRatio;
+    return {
+        width: c.width,
+        plot: plot,
+        series: c.series.slice(1).map((s, i) => {
+            const ys = c.data[i + 1], sc = c.scales[s.scale];
+            let first = null, last = null, inside = 0, finite = 0;
+            for (let k = 0; k < xs.length; k++) {
+                if (ys[k] === null || !Number.isFinite(ys[k])) continue;
+                finite++;
+                if (ys[k] >= sc.min && ys[k] <= sc.max) inside++;
+                if (first === null) first = k;
+                last = k;
+            }
+            const span = first === null ? 0
+                : c.valToPos(xs[last], "x") - c.valToPos(xs[first], "x");
+            return {label: s.label, span: span, finite: finite, inside: inside};
+        }),
+    };
+})"""
+"""Per series of the page's chart: the width [CSS px] its points span and how many of its
+points lie inside its scale's range; the chart's width and its plotting area's width."""
+
+
+@pytest.fixture(scope="module")
+def viewer() -> Iterator[Viewer]:
+    """The gantry viewer on a free loopback port, without demo."""
+    with Viewer("gantry", port=0, demo=False) as v:
+        yield v
+
+
+def drawn(page: Page) -> dict[str, Any]:
+    charts: list[dict[str, Any]] = page.evaluate(DRAWN)
+    return charts[0] if charts else {"series": []}
+
+
+def scope_page(browser: Browser, viewer: Viewer) -> tuple[Page, PageScope]:
+    """A 1280×800 page and its scope."""
+    before = {p.client.client_id for p in viewer.app.pages.all()}
+    page = browser.new_context(viewport={"width": 1280, "height": 800}).new_page()
+    page.goto(viewer.url)
+    page.get_by_text("Acquisition").first.wait_for(timeout=60_000)
+
+    def new() -> ViewerPage | None:
+        fresh = [p for p in viewer.app.pages.all() if p.client.client_id not in before]
+        return fresh[0] if fresh and fresh[0].scope is not None else None
+
+    wait_for(lambda: new() is not None, 10.0, "the page's scope")
+    mine = new()
+    assert mine is not None and mine.scope is not None
+    return page, mine.scope
+
+
+@pytest.mark.parametrize("layout", [SHARED, STACKED])
+def test_eight_channels_are_each_drawn_over_most_of_the_plot_at_1280x800(
+    browser: Browser, viewer: Viewer, layout: str
+) -> None:
+    page, scope = scope_page(browser, viewer)
+    try:
+        scope.show_channels(EIGHT)
+        scope.set_layout(layout)
+        assert scope.channels == list(EIGHT)
+        wait_for(lambda: viewer.session.snapshot.time > 2.5, 30.0, "a full 2 s recording")
+
+        def complete() -> bool:
+            labels = [s["label"] for s in drawn(page)["series"]]
+            return all(any(label.startswith(n + " [") for label in labels) for n in EIGHT)
+
+        wait_for(complete, 20.0, "eight channels on the page")
+        chart = drawn(page)
+        if os.environ.get("SCOPE_SCREENSHOTS"):
+            folder = Path(os.environ["SCOPE_SCREENSHOTS"])
+            page.screenshot(
+                path=str(folder / f"scope-eight-{layout.split()[0]}.png"), timeout=120_000
+            )
+        traces = [s for s in chart["series"] if s["label"].split(" [")[0] in EIGHT]
+        assert len(traces) == len(EIGHT)
+        for trace in traces:
+            assert trace["span"] >= 0.6 * chart["width"], (trace, chart["width"])
+            assert trace["inside"] >= 0.95 * trace["finite"] > 0, trace
+    finally:
+        page.context.close()
