@@ -24,6 +24,7 @@ __all__ = [
     "TRIGGERS",
     "VALUE_LIMIT",
     "PageScope",
+    "length_of",
     "plot_rows",
     "plot_style",
 ]
@@ -39,6 +40,7 @@ import numpy.typing as npt
 import viser
 import viser.uplot
 
+import scenes
 from viewer.pages.panels import scope_status_html
 from viewer.pages.widgets import SceneGui
 from viewer.scope.capture import (
@@ -137,14 +139,21 @@ class PageScope:
         self._all = snapshot.channels
         self._index = {c.name: k for k, c in enumerate(self._all)}
         self._displays = {c.name: display_of(c) for c in self._all}
+        defaults = scenes.definition(snapshot.scene).scope
         first = next(iter(snapshot.axes), "")
-        wanted = [f"{first} following error", f"{first} command", f"{first} position"]
-        self.channels = [n for n in wanted if n in self._index] or [self._all[0].name]
-        """The channels shown (names)."""
+        wanted = defaults.channels or (
+            f"{first} following error",
+            f"{first} command",
+            f"{first} position",
+        )
+        self.channels = [n for n in wanted if n in self._index][:MAX_CHANNELS] or [
+            self._all[0].name
+        ]
+        """The channels shown (names): the machine's defaults at first."""
         self.manual: dict[str, tuple[float, float]] = {}
         """Manual y ranges by channel [display unit] (the others are auto-ranged)."""
-        self.acquisition = Acquisition()
-        """When the scope records."""
+        self.acquisition = Acquisition(length_of(defaults.seconds))
+        """When the scope records (the machine's recording length at first)."""
         self.history = History()
         """The last recordings."""
         self.overlay: Recording | None = None
@@ -219,7 +228,8 @@ class PageScope:
         """Recording length, trigger, source, edge, level, pre-trigger."""
         ui = self._ui
         analog = [c.name for c in self._all if not c.digital]
-        self._length = ui.dropdown("Recording", list(RECORDING_LENGTHS), "2 s", control=False)
+        length = next(k for k, v in RECORDING_LENGTHS.items() if v == self.acquisition.length)
+        self._length = ui.dropdown("Recording", list(RECORDING_LENGTHS), length, control=False)
         self._trigger = ui.dropdown("Trigger", TRIGGERS, FREE_RUN, control=False)
         self._source = ui.dropdown("Source", analog, analog[0] if analog else "", control=False)
         self._edge = ui.dropdown("Edge", EDGES, EDGES[0], control=False)
@@ -526,6 +536,12 @@ class PageScope:
                 if self.plot.aspect != aspect:
                     self.plot.aspect = aspect
             self.plot.data = (x, *rows)
+
+
+def length_of(seconds: float) -> float:
+    """The shortest recording length offered that holds ``seconds`` (the longest if none)."""
+    fitting = [v for v in RECORDING_LENGTHS.values() if v >= seconds - 1e-9]
+    return min(fitting) if fitting else max(RECORDING_LENGTHS.values())
 
 
 _EMPTY = Window(0.0, 0.0, 0.0, None, False, "")
