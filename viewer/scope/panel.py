@@ -466,8 +466,12 @@ class PageScope:
         same, or if the ring no longer holds the frozen window's samples)."""
         shown = self.recording
         names = tuple(self.channels)
-        if shown.window == window and (shown.names == names or ring.oldest > window.start):
-            return shown  # the same, or its samples are gone from the ring
+        if _span(shown.window) == _span(window) and (
+            shown.names == names or ring.oldest > window.start
+        ):
+            if shown.window == window:
+                return shown
+            return Recording(0, shown.names, shown.displays, shown.t, shown.values, window)
         rows = [self._index[n] for n in names]
         displays = [self._displays[n] for n in names]
         return recording_of(ring, window, rows, names, displays)
@@ -536,6 +540,11 @@ class PageScope:
                 if self.plot.aspect != aspect:
                     self.plot.aspect = aspect
             self.plot.data = (x, *rows)
+
+
+def _span(window: Window) -> tuple[float, float, float, float | None, bool]:
+    """What a window covers (its status aside)."""
+    return (window.start, window.end, window.origin, window.trigger_at, window.complete)
 
 
 def length_of(seconds: float) -> float:
