@@ -115,7 +115,8 @@ def test_the_peak_following_error_of_a_400_mm_s_move_with_the_a_to_peak_cursor(
     wait_for(lambda: page.get_by_text(header).count() > 0, 15.0, "the read-out at A")
     cell = page.locator("td", has_text="X following error [µm]").first
     value = cell.locator("xpath=following-sibling::td[2]")
-    assert abs(float(value.inner_text()) - peak) < 1.0  # µm
+    number, unit = value.inner_text().replace("−", "-").split()
+    assert abs(float(number) - peak) < 1.0 and unit == "µm"
     t, values = viewer.session.recorder.series()
     names = [c.name for c in viewer.session.recorder.channels]
     fe = values[names.index("X following error")]

@@ -1,6 +1,7 @@
 """The scope of eight channels at 1280×800 in headless Chromium: on y axes shared by unit and
 in stacked tracks, every channel drawn over at least 60 % of the plot's width and inside its
-y range (the series and scales read from the page's uPlot chart)."""
+y range (the series and scales read from the page's uPlot chart); a machine chosen on the page
+opens the scope on its own channels and runs its demo, Repeat demo on."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from tests.viewer.test_browser import browser, wait_for
+import scenes
+from tests.viewer.test_browser import browser, choose_scene, take_control, wait_for
 from viewer.pages.layout import Page as ViewerPage
 from viewer.scope.panel import PageScope
 from viewer.scope.tracks import SHARED, STACKED
@@ -119,3 +121,38 @@ def test_eight_channels_are_each_drawn_over_most_of_the_plot_at_1280x800(
             assert trace["inside"] >= 0.95 * trace["finite"] > 0, trace
     finally:
         page.context.close()
+
+
+SERIES = """() => Object.values(window.__viserTestpoints?.uplots ?? {}).map(
+    (u) => u.chart.series.map((s) => s.label))"""
+"""The series labels of the page's charts."""
+
+
+def test_a_machine_chosen_on_the_page_runs_its_demo_with_its_own_scope(browser: Browser) -> None:
+    with Viewer("gantry", port=0, demo=True) as viewer:
+        page, scope = scope_page(browser, viewer)
+        try:
+            assert viewer.session.repeat_demo
+            gantry = scenes.definition("gantry").scope
+            assert scope.channels == list(gantry.channels)
+            take_control(page, viewer)
+            choose_scene(page, viewer, "press")
+            press = scenes.definition("press").scope
+            wanted = [f"{n} [" for n in press.channels]
+
+            def shown() -> bool:
+                charts: list[list[str]] = page.evaluate(SERIES)
+                labels = charts[0][1 : 1 + len(wanted)] if charts else []
+                return len(labels) == len(wanted) and all(
+                    label.startswith(w) for label, w in zip(labels, wanted, strict=True)
+                )
+
+            wait_for(shown, 60.0, "the press's scope channels on the page")
+            session = viewer.session
+            wait_for(lambda: session.snapshot.demo.running, 30.0, "the press demo running")
+            assert session.repeat_demo and session.scene_name == "press"
+            mine = [p for p in viewer.app.pages.all() if p.scope is not None]
+            assert mine and mine[0].scope is not None
+            assert mine[0].scope.acquisition.length >= press.seconds
+        finally:
+            page.context.close()
