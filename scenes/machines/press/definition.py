@@ -51,7 +51,7 @@ MACHINE = MachineDef(
     plc_period=0.001,
     demo_start={"R": 0.03},
     scope=ScopeDefaults(
-        channels=("force", "pressure_A", "pressure_B", "R position", "R set point"), seconds=20.0
+        channels=("force", "pressure_A", "pressure_B", "R position", "R set point"), seconds=10.0
     ),
 )
 """The hydraulic press in the registry."""
