@@ -53,7 +53,7 @@ TICKS = 5
 AXIS_FONT = "11px system-ui, sans-serif"
 """Font of the y axes' values and labels."""
 
-CHAR_WIDTH = 6.2
+CHAR_WIDTH = 7.0
 """Width of a character of :data:`AXIS_FONT` [CSS px], to size an axis to its values."""
 
 LABEL_SIZE = 14.0
