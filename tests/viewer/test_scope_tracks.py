@@ -165,7 +165,7 @@ def test_the_history_of_minute_long_recordings_is_bounded() -> None:
     history = History()
     samples = round(max(RECORDING_LENGTHS.values()) / HISTORY_SAMPLE) + 1
     for number in range(20):
-        t = np.arange(samples) * HISTORY_SAMPLE + number * 60.0
+        t = np.arange(samples, dtype=np.float64) * HISTORY_SAMPLE + number * 60.0
         values = np.zeros((8, samples))
         window = Window(t[0], t[-1], t[0], None, True, "")
         history.add(Recording(0, ("a",) * 8, (), t, values, window))
