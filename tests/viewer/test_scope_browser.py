@@ -99,6 +99,9 @@ def test_the_peak_following_error_of_a_400_mm_s_move_with_the_a_to_peak_cursor(
     scope = scope_of(mine)
     width = chart(page)[0]["width"]
     assert 0.85 * COLUMN_WIDTH <= width <= COLUMN_WIDTH  # a wide plot in the left column
+    page.get_by_role("tab", name="Trigger").click()
+    choose(page, "Recording", "2 s")  # not the gantry's 20 s
+    wait_for(lambda: scope.acquisition.length == 2.0, 10.0, "the 2 s recording")
     page.get_by_role("button", name="Single", exact=True).click()
     wait_for(lambda: scope.acquisition.single, 10.0, "Single to arrive")
     viewer.session.requests("X").move(Move("relative", 150.0, 400.0, 4000.0))

@@ -14,6 +14,7 @@ import pytest
 
 import scenes
 from tests.viewer.test_browser import browser, choose_scene, take_control, wait_for
+from tests.viewer.test_scope_browser import choose
 from viewer.pages.layout import Page as ViewerPage
 from viewer.scope.panel import PageScope
 from viewer.scope.tracks import SHARED, STACKED
@@ -101,6 +102,9 @@ def test_eight_channels_are_each_drawn_over_most_of_the_plot_at_1280x800(
         scope.show_channels(EIGHT)
         scope.set_layout(layout)
         assert scope.channels == list(EIGHT)
+        page.get_by_role("tab", name="Trigger").click()
+        choose(page, "Recording", "2 s")  # not the gantry's 20 s
+        wait_for(lambda: scope.acquisition.length == 2.0, 10.0, "the 2 s recording")
         wait_for(lambda: viewer.session.snapshot.time > 2.5, 30.0, "a full 2 s recording")
 
         def complete() -> bool:
