@@ -62,7 +62,7 @@ def test_channels_of_a_unit_share_one_y_axis_and_the_digital_ones_a_band_below()
     layout = layout_of(SHARED, displays, ranges, COLORS)
     assert [len(g) for g in unit_groups(displays)] == [3, 1, 2, 1, 1]  # mm, mm/s, µm, V, 0/1
     assert len(layout.axes) == 4  # one per analog unit
-    assert [a["label"] for a in layout.axes] == ["mm", "mm/s", "µm", "V"]
+    assert [a["label"] for a in layout.axes] == ["[mm]", "[mm/s]", "[µm]", "[V]"]
     assert [a["side"] for a in layout.axes] == [3, 1, 3, 1]  # alternately left and right
     mm = layout.ranges[layout.scales[0]]
     assert layout.scales[0] == layout.scales[1] == layout.scales[6]

@@ -526,12 +526,12 @@ class PageScope:
             return
         self._sent = key
         x, rows = plot_rows(rec, overlay, self.cursors, self.peak_slot)
-        style = (rec.names, overlay is not None, ranges, rec.window.trigger_at, self.layout)
+        w = rec.window
+        x_range = (w.start - w.origin, w.start - w.origin + self.acquisition.length)
+        style = (rec.names, overlay is not None, ranges, w.trigger_at, self.layout, x_range)
         with self._atomic():
             if style != self._style:
                 self._style = style
-                w = rec.window
-                x_range = (w.start - w.origin, w.start - w.origin + self.acquisition.length)
                 series, axes, scales = plot_style(
                     rec, overlay, ranges, self.peak_slot, x_range, self.layout
                 )

@@ -160,7 +160,7 @@ def shared_layout(
         texts = [format_value(t, _resolution(step)) for t in ticks]
         color = colors[members[0]] if len(members) == 1 else NEUTRAL
         side = 3 if g % 2 == 0 else 1
-        axes.append(_axis(key, displays[members[0]].unit, color, side, ticks, texts))
+        axes.append(_axis(key, f"[{displays[members[0]].unit}]", color, side, ticks, texts))
     if digital:
         for k in digital:
             scales[k] = "d"
