@@ -16,6 +16,7 @@ __all__ = [
     "DriveKind",
     "MachineDef",
     "Part",
+    "ScopeDefaults",
     "Signal",
     "unit_and_scale",
 ]
@@ -145,6 +146,21 @@ class Part:
 
 
 @dataclass(frozen=True)
+class ScopeDefaults:
+    """What a viewer's scope shows first for a machine.
+
+    Attributes:
+        channels: Scope channel names (``"S velocity"``, ``"force"``: an axis' ``position``,
+            ``set point``, ``velocity``, ``following error``, ``command``, or a signal's name);
+            empty: the first axis' following error, command and position.
+        seconds: Recording length [s] (a whole cycle of the machine).
+    """
+
+    channels: tuple[str, ...] = ()
+    seconds: float = 2.0
+
+
+@dataclass(frozen=True)
 class MachineDef:
     """A machine: model, axes, devices, demo, published signals.
 
@@ -165,6 +181,7 @@ class MachineDef:
             cell's demo and signals see them all).
         group: the axes that move together on a path (a Cartesian machine's X, Y, Z), in
             member order: the bridge's group block (docs/bridge.md) groups them.
+        scope: the channels and recording length a viewer's scope shows first.
     """
 
     name: str
@@ -180,6 +197,7 @@ class MachineDef:
     plc_period: float = 0.002
     parts: tuple[Part, ...] = ()
     group: tuple[str, ...] = ()
+    scope: ScopeDefaults = field(default_factory=ScopeDefaults)
 
     def __post_init__(self) -> None:
         if self.parts:

@@ -343,7 +343,7 @@ def test_a_watchers_scope_settings_leave_the_operators_scope_alone(
     operator.update()
     watcher.update()
     assert operator.channels[0] == "X following error" and operator.acquisition.running
-    assert operator.acquisition.length == 2.0 and operator.recording.window.end > 0.45
+    assert operator.acquisition.length == 20.0 and operator.recording.window.end > 0.45
     assert watcher.channels[0] == "Y position" and not watcher.acquisition.running
 
 

@@ -1227,13 +1227,15 @@ def test_the_scope_offers_every_channel_and_triggers_on_an_axis_error(
     session.requests("X").set_power(True)
     run(session, clock, 0.5)
     scope.update()
-    assert scope.recording.headers() == (
+    assert scope.recording.headers() == (  # the gantry's defaults
         "X following error [µm]",
-        "X command [V]",
-        "X position [mm]",
+        "Y following error [µm]",
+        "Z following error [µm]",
     )
     # Trigger on the error of any axis: a limit switch forced on gives one.
     scope._trigger.value = "on any axis error"  # type: ignore[misc]
+    scope._length.value = "2 s"  # type: ignore[misc]  # not the gantry's 20 s
+    scope._set_length()
     scope._act(SINGLE)
     session.requests("X").move(Move("relative", 5.0, 100.0, 1000.0))
     session.inject("X", mcl.faults.SwitchStuck("lim_pos", True))

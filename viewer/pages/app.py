@@ -125,6 +125,7 @@ class ViewerApp:
             (shadows halve the frame rate of a browser without GPU).
         log: Where refused GUI messages are logged (bounded).
         clock: Monotonic wall clock [s] of the jog holds' dead-man (injectable for tests).
+        demo: A machine chosen on a page starts its demo program.
     """
 
     show_ghost = _Part[bool]("views", "show_ghost")
@@ -147,8 +148,11 @@ class ViewerApp:
         environment_map: bool = False,
         log: BoundedLog | None = None,
         clock: Callable[[], float] = time.monotonic,
+        demo: bool = False,
     ) -> None:
         self.session = session
+        self.demo_on_choice = demo
+        """A machine chosen on a page starts its demo."""
         self.server = server
         self._frame_period = 1.0 / fps
         self._panel_period = 1.0 / panel_hz
@@ -355,7 +359,7 @@ class ViewerApp:
         def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
             name = self._scene_choice.value
             if name in scenes.MACHINES and name != session.scene_name:
-                session.load(name)
+                session.load(name, demo=self.demo_on_choice)
 
         @self._speed_choice.on_update
         def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:

@@ -1,5 +1,6 @@
-"""The scope of one page: up to eight of the recorder's channels, each on its own y scale in its
-display unit (auto or manual range); recording length, Run / Single / Freeze, a trigger
+"""The scope of one page: up to eight of the recorder's channels in their display units, on
+y axes shared by unit or in stacked tracks on one time axis (:mod:`~viewer.scope.tracks`; auto
+or manual range per channel); recording length, Run / Single / Freeze, a trigger
 (threshold crossing, any axis error) with pre-trigger; cursors A and B with a read-out; the
 last recordings to overlay on the live one; CSV export. Its settings belong to its page."""
 
@@ -23,6 +24,7 @@ __all__ = [
     "TRIGGERS",
     "VALUE_LIMIT",
     "PageScope",
+    "length_of",
     "plot_rows",
     "plot_style",
 ]
@@ -38,6 +40,7 @@ import numpy.typing as npt
 import viser
 import viser.uplot
 
+import scenes
 from viewer.pages.panels import scope_status_html
 from viewer.pages.widgets import SceneGui
 from viewer.scope.capture import (
@@ -55,7 +58,8 @@ from viewer.scope.capture import (
     threshold_trigger,
 )
 from viewer.scope.readout import aligned, decimate, readout, readout_html, recording_csv
-from viewer.scope.units import Display, auto_range, display_of, settled_range
+from viewer.scope.tracks import LAYOUTS, SHARED, aspect_of, layout_of
+from viewer.scope.units import auto_range, display_of, settled_range
 from viewer.serving.security import GuiGate, choice_of, number_in
 from viewer.sim.recorder import Ring
 from viewer.sim.session import Session
@@ -135,14 +139,21 @@ class PageScope:
         self._all = snapshot.channels
         self._index = {c.name: k for k, c in enumerate(self._all)}
         self._displays = {c.name: display_of(c) for c in self._all}
+        defaults = scenes.definition(snapshot.scene).scope
         first = next(iter(snapshot.axes), "")
-        wanted = [f"{first} following error", f"{first} command", f"{first} position"]
-        self.channels = [n for n in wanted if n in self._index] or [self._all[0].name]
-        """The channels shown (names)."""
+        wanted = defaults.channels or (
+            f"{first} following error",
+            f"{first} command",
+            f"{first} position",
+        )
+        self.channels = [n for n in wanted if n in self._index][:MAX_CHANNELS] or [
+            self._all[0].name
+        ]
+        """The channels shown (names): the machine's defaults at first."""
         self.manual: dict[str, tuple[float, float]] = {}
         """Manual y ranges by channel [display unit] (the others are auto-ranged)."""
-        self.acquisition = Acquisition()
-        """When the scope records."""
+        self.acquisition = Acquisition(length_of(defaults.seconds))
+        """When the scope records (the machine's recording length at first)."""
         self.history = History()
         """The last recordings."""
         self.overlay: Recording | None = None
@@ -151,6 +162,8 @@ class PageScope:
         """Cursor times [s from the recording's origin]."""
         self.peak_slot = 0
         """The slot "to peak" looks at (and the cursor markers sit on)."""
+        self.layout = SHARED
+        """How the channels share the plot's height (:data:`~viewer.scope.tracks.LAYOUTS`)."""
         self.recording = Recording(0, (), (), np.zeros(0), np.zeros((0, 0)), _EMPTY)
         """What the scope shows now."""
         self.status = ""
@@ -201,6 +214,8 @@ class PageScope:
             slot = ui.dropdown(label, options, initial, control=False)
             slot.on_update(self._when(self._choose_channels))
             self._slots.append(slot)
+        self._layout = ui.dropdown("Y axes", LAYOUTS, self.layout, control=False)
+        self._layout.on_update(self._when(self._choose_layout))
         self._scale_of = ui.dropdown("Y scale of", SLOTS, SLOTS[0], control=False)
         self._range = ui.dropdown("Y range", (AUTO, MANUAL), AUTO, control=False)
         self._low = ui.number("Y min", -1.0, -VALUE_LIMIT, VALUE_LIMIT, 1e-3, control=False)
@@ -213,7 +228,8 @@ class PageScope:
         """Recording length, trigger, source, edge, level, pre-trigger."""
         ui = self._ui
         analog = [c.name for c in self._all if not c.digital]
-        self._length = ui.dropdown("Recording", list(RECORDING_LENGTHS), "2 s", control=False)
+        length = next(k for k, v in RECORDING_LENGTHS.items() if v == self.acquisition.length)
+        self._length = ui.dropdown("Recording", list(RECORDING_LENGTHS), length, control=False)
         self._trigger = ui.dropdown("Trigger", TRIGGERS, FREE_RUN, control=False)
         self._source = ui.dropdown("Source", analog, analog[0] if analog else "", control=False)
         self._edge = ui.dropdown("Edge", EDGES, EDGES[0], control=False)
@@ -299,6 +315,17 @@ class PageScope:
         names = [s.value for s in self._slots]
         self.channels = [n for n in names if n in self._index]
 
+    def _choose_layout(self) -> None:
+        self.layout = str(self._layout.value)
+
+    def set_layout(self, layout: str) -> None:
+        """Show the channels on shared axes or in stacked tracks (``layout``, one of
+        :data:`~viewer.scope.tracks.LAYOUTS`)."""
+        with self._lock:
+            self.layout = layout if layout in LAYOUTS else SHARED
+            self._set(self._layout, self.layout)
+        self._redraw()
+
     def _slot_channel(self, slot: int) -> str | None:
         value = self._slots[slot].value
         return value if value in self._index else None
@@ -383,16 +410,22 @@ class PageScope:
             self._set(self._overlay, found[0].label if found else NO_OVERLAY)
         self._redraw()
 
-    def capture(
-        self, channels: Sequence[str], start: float, length: float, pre: float = 0.1
-    ) -> None:
-        """Record ``channels`` from simulated time ``start - pre * length`` [s] for ``length``
-        [s]; the recording freezes when complete and enters the history (a step test)."""
+    def show_channels(self, channels: Sequence[str]) -> None:
+        """Show ``channels`` (names; unknown ones left out, at most :data:`MAX_CHANNELS`)."""
         with self._lock:
             names = [n for n in channels if n in self._index][:MAX_CHANNELS]
             for k, slot in enumerate(self._slots):
                 self._set(slot, names[k] if k < len(names) else NO_CHANNEL)
             self.channels = names
+        self._redraw()
+
+    def capture(
+        self, channels: Sequence[str], start: float, length: float, pre: float = 0.1
+    ) -> None:
+        """Record ``channels`` from simulated time ``start - pre * length`` [s] for ``length``
+        [s]; the recording freezes when complete and enters the history (a step test)."""
+        self.show_channels(channels)
+        with self._lock:
             self.acquisition.length, self.acquisition.pre = float(length), float(pre)
             self.acquisition.trigger = Trigger(AT_TIME, time=float(start), label="a step test")
             self.acquisition.run(self._now, single=True)
@@ -433,8 +466,12 @@ class PageScope:
         same, or if the ring no longer holds the frozen window's samples)."""
         shown = self.recording
         names = tuple(self.channels)
-        if shown.window == window and (shown.names == names or ring.oldest > window.start):
-            return shown  # the same, or its samples are gone from the ring
+        if _span(shown.window) == _span(window) and (
+            shown.names == names or ring.oldest > window.start
+        ):
+            if shown.window == window:
+                return shown
+            return Recording(0, shown.names, shown.displays, shown.t, shown.values, window)
         rows = [self._index[n] for n in names]
         displays = [self._displays[n] for n in names]
         return recording_of(ring, window, rows, names, displays)
@@ -483,20 +520,37 @@ class PageScope:
             ranges,
             cursors,
             self.peak_slot,
+            self.layout,
         )
         if key == self._sent or not rec.names or rec.t.size < 2:
             return
         self._sent = key
         x, rows = plot_rows(rec, overlay, self.cursors, self.peak_slot)
-        style = (rec.names, overlay is not None, ranges, rec.window.trigger_at is None)
+        w = rec.window
+        x_range = (w.start - w.origin, w.start - w.origin + self.acquisition.length)
+        style = (rec.names, overlay is not None, ranges, w.trigger_at, self.layout, x_range)
         with self._atomic():
             if style != self._style:
                 self._style = style
-                w = rec.window
-                x_range = (w.start - w.origin, w.start - w.origin + self.acquisition.length)
-                series, axes, scales = plot_style(rec, overlay, ranges, self.peak_slot, x_range)
+                series, axes, scales = plot_style(
+                    rec, overlay, ranges, self.peak_slot, x_range, self.layout
+                )
                 self.plot.series, self.plot.axes, self.plot.scales = series, axes, scales
+                aspect = aspect_of(self.layout, len(rec.names))
+                if self.plot.aspect != aspect:
+                    self.plot.aspect = aspect
             self.plot.data = (x, *rows)
+
+
+def _span(window: Window) -> tuple[float, float, float, float | None, bool]:
+    """What a window covers (its status aside)."""
+    return (window.start, window.end, window.origin, window.trigger_at, window.complete)
+
+
+def length_of(seconds: float) -> float:
+    """The shortest recording length offered that holds ``seconds`` (the longest if none)."""
+    fitting = [v for v in RECORDING_LENGTHS.values() if v >= seconds - 1e-9]
+    return min(fitting) if fitting else max(RECORDING_LENGTHS.values())
 
 
 _EMPTY = Window(0.0, 0.0, 0.0, None, False, "")
@@ -532,20 +586,23 @@ def plot_style(
     ranges: Sequence[tuple[float, float]],
     peak_slot: int,
     x_range: tuple[float, float],
+    layout: str = SHARED,
 ) -> tuple[
     tuple[viser.uplot.Series, ...], tuple[viser.uplot.Axis, ...], dict[str, viser.uplot.Scale]
 ]:
-    """Series (live, overlay dashed, cursor markers), axes (one y axis per channel in its
-    unit and colour) and scales (one per channel, its range) of the plot."""
+    """Series (live, overlay dashed, cursor markers), axes (the time axis, then the y axes of
+    the ``layout``: one per unit, or one for the stacked tracks) and scales of the plot."""
     headers = recording.headers()
+    placed = layout_of(layout, recording.displays, ranges, COLORS)
     origin = "trigger" if recording.window.trigger_at is not None else "start"
     series = [viser.uplot.Series(label=f"t [s] (0: {origin})")]
     for k, header in enumerate(headers):
-        series.append(_trace(header, COLORS[k], f"y{k}"))
+        series.append(_trace(header, COLORS[k], placed.scales[k]))
     if overlay is not None:
         for k, header in enumerate(headers):
-            series.append(_trace(f"{header} #{overlay.number}", COLORS[k], f"y{k}", dashed=True))
-    marker_scale = f"y{peak_slot if peak_slot < len(headers) else 0}"
+            label = f"{header} #{overlay.number}"
+            series.append(_trace(label, COLORS[k], placed.scales[k], dashed=True))
+    marker_scale = placed.scales[peak_slot if peak_slot < len(headers) else 0]
     for name, color in CURSOR_COLORS.items():
         series.append(
             viser.uplot.Series(
@@ -556,30 +613,16 @@ def plot_style(
                 points={"show": True, "size": 9.0, "fill": color, "stroke": color},
             )
         )
-    axes = [viser.uplot.Axis(label=series[0]["label"])]
-    for k, display in enumerate(recording.displays):
-        axes.append(_axis(display, k))
+    axes = (viser.uplot.Axis(label=series[0]["label"]), *placed.axes)
     scales: dict[str, viser.uplot.Scale] = {
         "x": viser.uplot.Scale(time=False, auto=False, range=x_range)
     }
-    for k, (low, high) in enumerate(ranges):
-        scales[f"y{k}"] = viser.uplot.Scale(auto=False, range=(low, high))
-    return tuple(series), tuple(axes), scales
+    for key, (low, high) in placed.ranges.items():
+        scales[key] = viser.uplot.Scale(auto=False, range=(low, high))
+    return tuple(series), axes, scales
 
 
 def _trace(label: str, color: str, scale: str, dashed: bool = False) -> viser.uplot.Series:
     if dashed:
         return viser.uplot.Series(label=label, stroke=color, width=1.0, scale=scale, dash=(6, 4))
     return viser.uplot.Series(label=label, stroke=color, width=1.5, scale=scale)
-
-
-def _axis(display: Display, k: int) -> viser.uplot.Axis:
-    """The y axis of slot ``k``: its unit, its colour, alternately left and right."""
-    return viser.uplot.Axis(
-        scale=f"y{k}",
-        label=f"[{display.unit}]",
-        stroke=COLORS[k],
-        side=3 if k % 2 == 0 else 1,
-        grid={"show": k == 0},
-        size=52.0,
-    )

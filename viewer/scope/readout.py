@@ -23,6 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from viewer.scope.capture import Recording
+from viewer.scope.units import Display, format_value
 
 MAX_POINTS = 2000
 """Points per channel a page is sent at most."""
@@ -36,6 +37,7 @@ class Readout:
         a: Cursor A [s from the origin].
         b: Cursor B [s from the origin].
         headers: Channel names with units.
+        displays: How each channel is shown (its unit and resolution).
         last: Each channel's newest value [display unit].
         at_a: Each channel's value at A.
         at_b: Each channel's value at B.
@@ -44,6 +46,7 @@ class Readout:
     a: float
     b: float
     headers: tuple[str, ...]
+    displays: tuple[Display, ...]
     last: npt.NDArray[np.float64]
     at_a: npt.NDArray[np.float64]
     at_b: npt.NDArray[np.float64]
@@ -63,16 +66,20 @@ def readout(recording: Recording, a: float, b: float) -> Readout:
     """The values of every channel of ``recording`` at cursors ``a`` and ``b`` [s]."""
     values = recording.values
     last = values[:, -1].copy() if values.shape[1] else np.full(values.shape[0], math.nan)
-    return Readout(a, b, recording.headers(), last, recording.at(a), recording.at(b))
+    return Readout(
+        a, b, recording.headers(), recording.displays, last, recording.at(a), recording.at(b)
+    )
 
 
 def readout_html(r: Readout) -> str:
-    """The read-out table: channel, last value, A, B, B−A; then Δt and 1/Δt."""
+    """The read-out table: channel, last value, A, B, B−A (each in its unit, rounded to its
+    resolution); then Δt and 1/Δt."""
     cell = '<td style="text-align:right;font-family:monospace">'
     rows = "".join(
-        f"<tr><td>{html.escape(h)}</td>{cell}{_number(last)}</td>{cell}{_number(a)}</td>"
-        f"{cell}{_number(b)}</td>{cell}{_number(b - a)}</td></tr>"
-        for h, last, a, b in zip(r.headers, r.last, r.at_a, r.at_b, strict=True)
+        f"<tr><td>{html.escape(h)}</td>{cell}{html.escape(d.text(last))}</td>"
+        f"{cell}{html.escape(d.text(a))}</td>{cell}{html.escape(d.text(b))}</td>"
+        f"{cell}{html.escape(d.text(b - a))}</td></tr>"
+        for h, d, last, a, b in zip(r.headers, r.displays, r.last, r.at_a, r.at_b, strict=True)
     )
     head = '<th style="text-align:right">'
     return (
@@ -84,8 +91,8 @@ def readout_html(r: Readout) -> str:
 
 
 def _number(value: float) -> str:
-    """A read-out value, 6 significant digits."""
-    return f"{value:.6g}" if math.isfinite(value) else "—"
+    """A read-out number without a unit (1/Δt), four significant digits."""
+    return format_value(value, 0.0)
 
 
 def aligned(recording: Recording, overlay: Recording) -> npt.NDArray[np.float64]:

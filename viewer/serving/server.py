@@ -69,7 +69,8 @@ class Viewer:
         host: Interface to bind (default: this machine only).
         port: TCP port; 0 picks a free one.
         speed: Simulated seconds per wall second (``math.inf``: as fast as possible).
-        demo: Start the scene's demo program (if it has one).
+        demo: Start the scene's demo program (if it has one), and the demo of every machine
+            chosen on a page; Repeat demo on.
         fps: Frame rate of the 3-D updates [Hz].
         environment_map: Light the scene with an HDRI environment map (slow without a GPU).
         session: Use this session instead of making one (it is started and closed here).
@@ -120,7 +121,9 @@ class Viewer:
                 fps=fps,
                 environment_map=environment_map,
                 log=self.policy.log,
+                demo=demo,
             )
+            self.session.repeat_demo = demo
             if demo and self.session.demo_available():
                 self.session.start_demo()
             self.session.start()

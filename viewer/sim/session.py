@@ -423,8 +423,9 @@ class Session:
 
         self._post(apply)
 
-    def load(self, name: str) -> None:
-        """Replace the simulation by a freshly built scene ``name``.
+    def load(self, name: str, demo: bool = False) -> None:
+        """Replace the simulation by a freshly built scene ``name``; with ``demo``, its demo
+        program (if it has one) starts with it.
 
         The scene is built in the calling thread, then swapped in between two PLC cycles.
 
@@ -433,7 +434,13 @@ class Session:
         """
         scene, operator = self._build(name)
         self.programs.prepare(scene)
-        self._post(lambda: self._install(name, scene, operator))
+
+        def apply() -> None:
+            self._install(name, scene, operator)
+            if demo and self._has_demo:
+                self._begin_demo()
+
+        self._post(apply)
 
     def start_demo(self) -> None:
         """Start the scene's demo program afresh; the operator hands power back to it.

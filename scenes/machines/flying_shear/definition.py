@@ -5,7 +5,7 @@ from __future__ import annotations
 
 __all__ = ["DEVICES", "MACHINE"]
 
-from scenes.definition import MachineDef, Signal
+from scenes.definition import MachineDef, ScopeDefaults, Signal
 from scenes.machines.flying_shear.axes import AXES
 from scenes.machines.flying_shear.demo import Demo
 from scenes.machines.flying_shear.devices import CutRecorder, EccentricRoll, KnifeCylinder
@@ -66,5 +66,15 @@ MACHINE = MachineDef(
         "last_cut_to_mark": Signal("mm", _signal_mark, "last cut to mark"),
     },
     demo_start={"S": 0.3},
+    scope=ScopeDefaults(
+        channels=(
+            "S velocity",
+            "W velocity",
+            "carriage_minus_strip",
+            "S position",
+            "S following error",
+        ),
+        seconds=10.0,
+    ),
 )
 """The flying shear in the registry."""

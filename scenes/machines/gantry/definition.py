@@ -6,7 +6,7 @@ __all__ = ["MACHINE", "ZIGZAG", "ZIGZAG_START", "build"]
 
 from typing import Any
 
-from scenes.definition import MachineDef
+from scenes.definition import MachineDef, ScopeDefaults
 from scenes.machines.gantry.axes import AXES
 from scenes.machines.gantry.demo import Demo
 from scenes.scene import Scene
@@ -42,5 +42,8 @@ MACHINE = MachineDef(
     demo=Demo,
     demo_start={"X": 0.43, "Y": 0.27, "Z": -0.12},
     group=("X", "Y", "Z"),
+    scope=ScopeDefaults(
+        channels=("X following error", "Y following error", "Z following error"), seconds=20.0
+    ),
 )
 """The gantry in the registry."""

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 __all__ = ["MACHINE"]
 
-from scenes.definition import MachineDef, Signal
+from scenes.definition import MachineDef, ScopeDefaults, Signal
 from scenes.machines.press.axes import AXES, MODEL
 from scenes.machines.press.demo import Demo
 from scenes.machines.press.devices import CylinderDevice, make_cylinder
@@ -50,5 +50,8 @@ MACHINE = MachineDef(
     servo_period=0.001,
     plc_period=0.001,
     demo_start={"R": 0.03},
+    scope=ScopeDefaults(
+        channels=("force", "pressure_A", "pressure_B", "R position", "R set point"), seconds=10.0
+    ),
 )
 """The hydraulic press in the registry."""

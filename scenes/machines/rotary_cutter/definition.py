@@ -7,7 +7,7 @@ __all__ = ["DEVICES", "MACHINE"]
 
 import math
 
-from scenes.definition import MachineDef, Signal
+from scenes.definition import MachineDef, ScopeDefaults, Signal
 from scenes.machines.rotary_cutter.axes import AXES
 from scenes.machines.rotary_cutter.cam_demo import CamDemo
 from scenes.machines.rotary_cutter.devices import KnifeDrum
@@ -75,5 +75,9 @@ MACHINE = MachineDef(
         "motor_current": Signal("A", _signal_current, "drum motor current"),
         "last_piece": Signal("mm", _signal_piece, "last piece length"),
     },
+    scope=ScopeDefaults(
+        channels=("D set point", "D position", "D following error", "W position", "W velocity"),
+        seconds=5.0,
+    ),
 )
 """The rotary cross cutter in the registry."""
