@@ -77,7 +77,7 @@ _BLEND_SAMPLES: Final = 48
 _BLEND_SHRINK: Final = 0.7
 """Factor that lowers the blending velocity while a blend does not fit."""
 _BLEND_TRIES: Final = 16
-_BLEND_STRETCH: Final = (1.0, 1.3, 1.7, 2.2)
+_BLEND_STRETCH: tuple[float, ...] = (1.0, 1.3, 1.7, 2.2)
 """Longer blend windows tried while a member would exceed its max_acceleration or max_jerk."""
 _FITS, _TOO_HARD, _NO_FIT = 0, 1, 2
 _SETPOINT_SHARE: Final = 0.9
