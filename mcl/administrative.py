@@ -25,7 +25,7 @@ from typing import Any, ClassVar
 from mcl.command import CoordinateShift, Status
 from mcl.enums import AxisState, MC_ExecutionMode
 from mcl.errors import ErrorID, error_text
-from mcl.fb import NOT_GIVEN, EnableFB, ExecuteFB, boolean, non_negative, number, positive
+from mcl.fb import EnableFB, ExecuteFB, boolean, non_negative, number, positive
 from mcl.servo import ServoConstants, dac_code_volts
 
 
@@ -109,9 +109,9 @@ class MC_Power(EnableFB):
         super().__init__(**inputs)
         self.Status = False
 
-    def __call__(self, *, Enable: object = NOT_GIVEN, **inputs: Any) -> None:
+    def __call__(self, *, Enable: object = None, **inputs: Any) -> None:
         """One PLC scan: the axis follows Enable."""
-        if Enable is not NOT_GIVEN:
+        if Enable is not None:
             self.Enable = boolean(Enable)
         self._scan(inputs)
         axis = self.axis

@@ -95,9 +95,6 @@ def non_negative(value: float) -> bool:
     return math.isfinite(value) and value >= 0.0
 
 
-NOT_GIVEN: Final = object()
-"""The default of ``Execute`` (``Enable``) in a call: not passed, it keeps its value."""
-
 _REAL: Final = 0
 _INT: Final = 1
 _BOOL: Final = 2
@@ -274,9 +271,10 @@ class ExecuteFB(FunctionBlock):
         """Idle with every output FALSE: a scan with Execute FALSE changes nothing."""
         super().__init__(**inputs)
 
-    def __call__(self, *, Execute: object = NOT_GIVEN, **inputs: Any) -> None:
-        """One PLC scan of the block."""
-        if Execute is not NOT_GIVEN:
+    def __call__(self, *, Execute: object = None, **inputs: Any) -> None:
+        """One PLC scan of the block (``Execute`` not passed, or None, keeps its value: a
+        sentinel object as the default is not the same object in a compiled call)."""
+        if Execute is not None:
             self.Execute = boolean(Execute)
         if inputs:
             self._take_inputs(inputs)
@@ -473,9 +471,9 @@ class EnableFB(FunctionBlock):
         self.ErrorID = 0
         super().__init__(**inputs)
 
-    def __call__(self, *, Enable: object = NOT_GIVEN, **inputs: Any) -> None:
-        """One PLC scan of the block."""
-        if Enable is not NOT_GIVEN:
+    def __call__(self, *, Enable: object = None, **inputs: Any) -> None:
+        """One PLC scan of the block (``Enable`` not passed, or None, keeps its value)."""
+        if Enable is not None:
             self.Enable = boolean(Enable)
         if inputs:
             self._take_inputs(inputs)

@@ -356,3 +356,25 @@ def test_after_an_acknowledged_estop_the_axis_needs_ref_again():
     move(Execute=True)
     assert move.Error and move.ErrorID == ErrorID.Ehome
     tick(machine, int(0.01 / PLC))
+
+
+def test_a_block_bound_by_attribute_runs_when_called_without_its_level_input():
+    """The bound style: ``move.Execute = x; move()`` and ``read.Enable = True; read()`` (the
+    level input not passed keeps the value set on the block, in both modes)."""
+    machine, X = fresh_axis()
+    move = mcl.MC_MoveRelative(Axis=X, Distance=10.0, Velocity=100.0, Acceleration=1000.0)
+    move.Execute = True
+    read = mcl.MC_ReadParameter(Axis=X, Enable=True, ParameterNumber=1)
+    start = X.POS
+
+    def program() -> None:
+        move()
+        read()
+
+    machine.run(program, until=lambda: move.Done, timeout=2.0)
+    assert move.Execute
+    moved = X.POS - start
+    assert moved == pytest.approx(10.0, abs=POS_TOL)
+    assert read.Enable and read.Valid and not read.Error
+    move(Execute=None)  # None is "not passed" too
+    assert move.Execute and move.Done
