@@ -25,7 +25,7 @@ from typing import Any, ClassVar
 from mcl.command import CoordinateShift, Status
 from mcl.enums import AxisState, MC_ExecutionMode
 from mcl.errors import ErrorID, error_text
-from mcl.fb import EnableFB, ExecuteFB, boolean, non_negative, number, positive
+from mcl.fb import EnableFB, ExecuteFB, non_negative, number, positive
 from mcl.servo import ServoConstants, dac_code_volts
 
 
@@ -109,10 +109,8 @@ class MC_Power(EnableFB):
         super().__init__(**inputs)
         self.Status = False
 
-    def __call__(self, *, Enable: object = None, **inputs: Any) -> None:
+    def __call__(self, **inputs: Any) -> None:
         """One PLC scan: the axis follows Enable."""
-        if Enable is not None:
-            self.Enable = boolean(Enable)
         self._scan(inputs)
         axis = self.axis
         enable = self.Enable

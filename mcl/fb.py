@@ -4,9 +4,7 @@ block; MotionControlLib Tab. 2.3).
 A function block is called once per PLC scan with keyword inputs: ``fb(Axis=X, Execute=True,
 Position=10.0)``. Inputs that are not passed keep the value of the previous call; an unknown input
 name is a programming mistake and raises ``TypeError`` naming the valid ones. Problems of a
-running block are reported through ``Error``/``ErrorID`` only, never by raising. ``Execute``
-(``Enable``), the input passed in nearly every scan, is a named parameter of the call: it is
-taken directly, without the keyword dictionary.
+running block are reported through ``Error``/``ErrorID`` only, never by raising.
 
 Inputs are declared, typed attributes: each class lists the inputs it adds in ``INPUTS`` and
 declares them with their initial values, so the classes compile to native classes. Constant
@@ -271,11 +269,10 @@ class ExecuteFB(FunctionBlock):
         """Idle with every output FALSE: a scan with Execute FALSE changes nothing."""
         super().__init__(**inputs)
 
-    def __call__(self, *, Execute: object = None, **inputs: Any) -> None:
-        """One PLC scan of the block (``Execute`` not passed, or None, keeps its value: a
-        sentinel object as the default is not the same object in a compiled call)."""
-        if Execute is not None:
-            self.Execute = boolean(Execute)
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan of the block (the inputs not passed keep their values; a keyword-only
+        ``Execute`` with a default is not kept by a compiled class that interpreted classes may
+        subclass, so Execute is one of the keyword inputs)."""
         if inputs:
             self._take_inputs(inputs)
         if not self._connected:
@@ -471,10 +468,8 @@ class EnableFB(FunctionBlock):
         self.ErrorID = 0
         super().__init__(**inputs)
 
-    def __call__(self, *, Enable: object = None, **inputs: Any) -> None:
-        """One PLC scan of the block (``Enable`` not passed, or None, keeps its value)."""
-        if Enable is not None:
-            self.Enable = boolean(Enable)
+    def __call__(self, **inputs: Any) -> None:
+        """One PLC scan of the block (the inputs not passed keep their values)."""
         if inputs:
             self._take_inputs(inputs)
         if not self._connected:

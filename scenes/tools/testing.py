@@ -303,10 +303,13 @@ def scene(request: pytest.FixtureRequest) -> Iterator[Callable[..., Scene]]:
 
         folder = Path(request.config.getoption("--scene-plots"))
         stem = re.sub(r"[^\w.-]+", "_", request.node.name)
+        reporter = request.config.pluginmanager.get_plugin("terminalreporter")
         for k, s in enumerate(made):
             if s.trace.samples:
                 suffix = f"_{k}" if len(made) > 1 else ""
-                plot(s.trace, folder / f"{stem}{suffix}", title=request.node.nodeid)
+                png, page = plot(s.trace, folder / f"{stem}{suffix}", title=request.node.nodeid)
+                if reporter is not None:  # said where the failure is read, not only written
+                    reporter.write_line(f"{request.node.nodeid}: plots {png} and {page}")
 
 
 def load_st(

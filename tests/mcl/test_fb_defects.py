@@ -376,5 +376,3 @@ def test_a_block_bound_by_attribute_runs_when_called_without_its_level_input():
     moved = X.POS - start
     assert moved == pytest.approx(10.0, abs=POS_TOL)
     assert read.Enable and read.Valid and not read.Error
-    move(Execute=None)  # None is "not passed" too
-    assert move.Execute and move.Done

@@ -43,6 +43,7 @@ def test_a_failing_scenario_test_writes_the_plot_of_its_trace(pytester: pytest.P
     plots = sorted(p.name for p in (pytester.path / "plots").iterdir())
     assert plots == ["test_move.html", "test_move.png"]
     assert (pytester.path / "plots" / "test_move.png").stat().st_size > 10_000
+    result.stdout.fnmatch_lines(["*test_move: plots plots/test_move.png and plots/test_move.html"])
 
 
 def test_without_the_plot_extra_a_failing_scenario_test_fails_alone(

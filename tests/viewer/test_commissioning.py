@@ -361,6 +361,13 @@ def test_the_controls_start_a_sequence_and_choose_the_jog_speed(
     assert not gantry.repeat_demo
     _gui_update(app, 5, app._repeat, "on")
     assert gantry.repeat_demo
+    # the switch shows the session's setting, also one made elsewhere (Viewer(demo=True))
+    gantry.repeat_demo = False
+    app.frame()
+    assert app._repeat.value == "off"
+    gantry.repeat_demo = True
+    app.frame()
+    assert app._repeat.value == "on"
 
 
 # ------------------------------------------------------------------------------------ browser

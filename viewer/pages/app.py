@@ -633,6 +633,9 @@ class ViewerApp:
             "program", self._program_error, program_html(programs.chosen, programs.translating)
         )
         self._show("demo runs", self._demo_runs, demo_runs_html(demo.runs, demo.repeat))
+        repeat = ON if self.session.repeat_demo else OFF  # set after the page was made, too
+        if self._repeat.value != repeat:
+            cast(Any, self._repeat).value = repeat  # viser types it read-only
         for name, panel in self._axes.items():
             panel.show(snapshot.axes[name])
         for name, commissioning in self._commissioning.items():

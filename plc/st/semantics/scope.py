@@ -136,6 +136,11 @@ class Unit:
         if found is None:
             close = nearest(name, [*(t.name for t in self.types.values()), *builtin_names()])
             hint = f" (did you mean {', '.join(close)}?)" if close else ""
+            if name.upper() == "MC_HOME":
+                hint = (
+                    ": the library homes with the step blocks MC_StepAbsSwitch then a Buffered "
+                    "MC_StepRefPulse (or MC_StepBlock then MC_StepDirect); docs/st.md, Homing"
+                )
             raise STError.at(
                 self.where(node), f"unknown type {name!r}{hint}", "a data type or block type"
             )

@@ -15,6 +15,11 @@ BAD = [
     ("x : INT; b : BOOL", "x := b;", "a BOOL value where INT is expected"),
     ("t : TONN", "t();", "2:9: unknown type 'TONN' (did you mean TON"),
     ("m : MC_MoveAbsolut", "m();", "unknown type 'MC_MoveAbsolut' (did you mean MC_MoveAbsolute"),
+    (
+        "h : MC_Home",
+        "h();",
+        "unknown type 'MC_Home': the library homes with the step blocks MC_StepAbsSwitch",
+    ),
     ("t : TON", "t(INN := TRUE);", "3:3: TON has no input or output 'INN' (did you mean IN"),
     ("t : TON; q : BOOL", "t(Q := q);", "Q is an output; expected Q => variable"),
     ("t : TON; q : BOOL", "t(IN => q);", "IN is not an output"),
