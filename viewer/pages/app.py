@@ -576,6 +576,9 @@ class ViewerApp:
 
     def frame(self) -> None:
         """Send what changed since the last frame (called by the update thread)."""
+        repeat = ON if self.session.repeat_demo else OFF  # set after the page was made, too
+        if self._repeat.value != repeat:
+            cast(Any, self._repeat).value = repeat  # viser types it read-only
         snapshot = self.session.snapshot
         if snapshot is self._last and not self._redraw:
             return
@@ -633,9 +636,6 @@ class ViewerApp:
             "program", self._program_error, program_html(programs.chosen, programs.translating)
         )
         self._show("demo runs", self._demo_runs, demo_runs_html(demo.runs, demo.repeat))
-        repeat = ON if self.session.repeat_demo else OFF  # set after the page was made, too
-        if self._repeat.value != repeat:
-            cast(Any, self._repeat).value = repeat  # viser types it read-only
         for name, panel in self._axes.items():
             panel.show(snapshot.axes[name])
         for name, commissioning in self._commissioning.items():
