@@ -23,7 +23,7 @@ import math
 from typing import Any, ClassVar
 
 from mcl.command import CoordinateShift, Status
-from mcl.enums import AxisState, MC_ExecutionMode
+from mcl.enums import AxisState, MC_BufferMode, MC_ExecutionMode
 from mcl.errors import ErrorID, error_text
 from mcl.fb import EnableFB, ExecuteFB, non_negative, number, positive
 from mcl.servo import ServoConstants, dac_code_volts
@@ -103,7 +103,7 @@ class MC_Power(EnableFB):
 
     INPUTS: ClassVar[tuple[str, ...]] = ("SpeedMode", "BufferMode")
     SpeedMode: int = 0
-    BufferMode: int = 0
+    BufferMode: int = MC_BufferMode.Aborting
 
     def __init__(self, **inputs: Any) -> None:
         super().__init__(**inputs)

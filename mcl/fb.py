@@ -99,6 +99,7 @@ _BOOL: Final = 2
 _ANY: Final = 3
 _AXIS: Final = 4
 _GROUP: Final = 5
+_TEXT: Final = 6
 
 
 class InputSpec:
@@ -124,6 +125,8 @@ def _kind(name: str, default: object) -> int:
         return _INT
     if isinstance(default, float):
         return _REAL
+    if isinstance(default, str):
+        return _TEXT
     return _ANY
 
 
@@ -186,6 +189,8 @@ class FunctionBlock:
                 value = number(value)
             elif kind == _INT:
                 value = integer(value)
+            elif kind == _TEXT:
+                value = value if isinstance(value, str) else ""  # not a text: none
             elif kind in (_AXIS, _GROUP):
                 if value is None:
                     continue  # an open in-out keeps its previous reference

@@ -29,7 +29,7 @@ from typing import Any, ClassVar
 
 from mcl.axis import Axis
 from mcl.command import Status
-from mcl.enums import AxisState, MC_BufferMode
+from mcl.enums import MC_COORD_SYSTEM, AxisState, MC_BufferMode
 from mcl.errors import ErrorID
 from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB, integer, non_negative, number
 from mcl.group import AxesGroup
@@ -234,7 +234,7 @@ class MC_GroupSetPosition(ExecuteFB):
     INPUTS: ClassVar[tuple[str, ...]] = ("Position", "Relative", "CoordSystem")
     Position: Sequence[float] = ()
     Relative: bool = False
-    CoordSystem: int = 1
+    CoordSystem: int = MC_COORD_SYSTEM.MCS
 
     def _begin(self) -> int:
         group = self.group
@@ -275,7 +275,7 @@ class _GroupReadFB(EnableFB):
 
     REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
     INPUTS: ClassVar[tuple[str, ...]] = ("CoordSystem",)
-    CoordSystem: int = 1
+    CoordSystem: int = MC_COORD_SYSTEM.MCS
 
     def _check(self) -> int:
         if not self.group.axes:

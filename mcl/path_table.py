@@ -30,7 +30,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Final
 
-from mcl.enums import MC_CIRC_MODE, MC_CIRC_PATHCHOICE, MC_COORD_SYSTEM, MC_BufferMode
+from mcl.enums import (
+    MC_CIRC_MODE,
+    MC_CIRC_PATHCHOICE,
+    MC_COORD_SYSTEM,
+    MC_TRANSITION_MODE,
+    MC_BufferMode,
+)
 from mcl.errors import ErrorID
 from mcl.fb import non_negative, number
 from mcl.group import AxesGroup
@@ -88,8 +94,13 @@ class MC_PATH_DATA_REF:
     Name: str = ""
 
 
+_DEFAULT_SEGMENT = MC_PATH_SEGMENT()
+"""The fields a segment of a program's own STRUCT lacks (read from an instance: the class of a
+compiled dataclass holds descriptors, not the defaults)."""
+
+
 def _field(segment: Any, name: str) -> Any:
-    return getattr(segment, name, getattr(MC_PATH_SEGMENT, name, None))
+    return getattr(segment, name, getattr(_DEFAULT_SEGMENT, name, None))
 
 
 def _values(value: Any) -> list[float] | None:
@@ -233,7 +244,7 @@ class MC_MovePath(GroupMotionFB):
     )
     PathData: TableRef = None
     CoordSystem: int = MC_COORD_SYSTEM.MCS
-    TransitionMode: int = 0
+    TransitionMode: int = MC_TRANSITION_MODE.TMNone
     TransitionParameter: Sequence[float] = ()
 
     def _submit(self, ticket: PathCommand) -> int:

@@ -70,7 +70,7 @@ def mcl_blocks() -> dict[str, BlockType]:
         defaults = reference.declared_inputs(cls)
         for name, kind, _ in reference.inputs(cls):
             direction = "in_out" if name in cls.REFS else "input"
-            t = _enumeration_of(defaults.get(name)) or _PYTHON_TYPES.get(kind, ANY)
+            t = _enumeration_of(name, defaults.get(name)) or _PYTHON_TYPES.get(kind, ANY)
             members[name.upper()] = Member(t, direction, name)
         for name, kind, _ in reference.outputs(cls):
             if name.upper() not in members and name not in refs and not name.isupper():
@@ -79,11 +79,29 @@ def mcl_blocks() -> dict[str, BlockType]:
     return blocks
 
 
-def _enumeration_of(default: object) -> EnumType | None:
+_ENUM_INPUTS = {
+    "BufferMode": "MC_BUFFERMODE",
+    "Direction": "MC_DIRECTION",
+    "SwitchMode": "MC_SWITCHMODE",
+    "ExecutionMode": "MC_EXECUTIONMODE",
+    "StartMode": "MC_STARTMODE",
+    "CircMode": "MC_CIRC_MODE",
+    "PathChoice": "MC_CIRC_PATHCHOICE",
+    "TransitionMode": "MC_TRANSITION_MODE",
+    "CoordSystem": "MC_COORD_SYSTEM",
+}
+"""The enumeration of an integer input by its PLCopen name, where the initial value does not
+say it (a compiled block stores an enumeration's value as a plain INT)."""
+
+
+def _enumeration_of(name: str, default: object) -> EnumType | None:
     """The enumeration of an input whose initial value is a value of one of mcl's
-    enumerations (``SwitchMode``: MC_SwitchMode), else None."""
+    enumerations (``SwitchMode``: MC_SwitchMode), or an INT input of an enumeration's PLCopen
+    name, else None."""
     if isinstance(default, enum.IntEnum):
         return mcl_enums().get(type(default).__name__.upper())
+    if isinstance(default, int) and not isinstance(default, bool) and name in _ENUM_INPUTS:
+        return mcl_enums().get(_ENUM_INPUTS[name])
     return None
 
 
