@@ -39,6 +39,7 @@ import numpy as np
 
 import mcl
 from scenes.errors import UserError
+from scenes.tools.grouping import PoweredGroup
 
 PLANES = {"XY": ("X", "Y"), "YZ": ("Y", "Z"), "ZX": ("Z", "X")}
 """The test planes: the two axes, the first horizontal in the plot; counter-clockwise is seen
@@ -194,23 +195,16 @@ def circle_test(
     """
     names = _checked(scene, plane, radius, feed, direction)
     axes = [scene.axes[n] for n in names]
-    group = mcl.AxesGroup(f"circle{plane}", corner_tolerance=0.001)
-    power = [mcl.MC_Power(Axis=a) for a in axes]
-    add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=a) for a in axes]
-    enable = mcl.MC_GroupEnable(AxesGroup=group)
+    grouped = PoweredGroup(axes, f"circle{plane}", corner_tolerance=0.001)
+    group, enable = grouped.group, grouped.enable
     moves: list[Any] = []
     go = [False]
 
     def program() -> None:
-        for p in power:
-            p(Enable=True)
-        ready = all(p.Status for p in power)
-        for a in add:
-            a(Execute=ready)
-        enable(Execute=ready and add[-1].Done)
+        grouped()
         for m in moves:
             m(Execute=go[0])
-        for fb in (*add, enable, *moves):
+        for fb in (*grouped.blocks, *moves):
             if fb.Error:
                 raise UserError.at("circle", type(fb).__name__, f"ErrorID {fb.ErrorID}", _WHAT_FITS)
 

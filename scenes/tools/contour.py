@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 import mcl
+from scenes.tools.grouping import PoweredGroup
 
 
 def distance_to_polyline(
@@ -135,23 +136,16 @@ def run_path(
     """
     members = [scene.axes[a] for a in axes]
     scales = np.array([scene.scales[a] for a in axes])
-    group = mcl.AxesGroup("contour", corner_tolerance=corner_tolerance)
-    power = [mcl.MC_Power(Axis=a) for a in members]
-    add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=a) for a in members]
-    enable = mcl.MC_GroupEnable(AxesGroup=group)
+    grouped = PoweredGroup(members, "contour", corner_tolerance)
+    group, enable = grouped.group, grouped.enable
     moves = _segments(group, distances, modes, velocity, acceleration, jerk)
     go = [False]
 
     def program() -> None:
-        for p in power:
-            p(Enable=True)
-        ready = all(p.Status for p in power)
-        for a in add:
-            a(Execute=ready)
-        enable(Execute=ready and add[-1].Done)
+        grouped()
         for m in moves:
             m(Execute=go[0])
-        for fb in (*add, enable, *moves):
+        for fb in (*grouped.blocks, *moves):
             if fb.Error:
                 raise RuntimeError(f"{type(fb).__name__}: error {fb.ErrorID}")
 

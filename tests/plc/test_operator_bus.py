@@ -6,6 +6,8 @@ measured on the simulated carriage."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
 import mcl
@@ -24,14 +26,23 @@ def bits(*names: str) -> int:
 
 class Bus:
     """The gantry's table over three simulated axes X, Y, Z (powered, referenced at 0 mm), X
-    driven by its command words; published after every scan."""
+    driven by its command words; published after every scan. A subclass drives another block
+    of the table (``BLOCK``, its ``STATUS`` bits) by overriding :meth:`front_end`."""
+
+    BLOCK = "X"
+    STATUS: tuple[str, ...] = STATUS_BITS
+    operator: Any
+    """The block's operator (an axis', a group's)."""
 
     def __init__(self) -> None:
         self.machine = make_machine("XYZ")
         self.table = SignalTable(scenes.definition("gantry"))
-        axes = [self.machine.axes[a] for a in "XYZ"]
+        self.words = self.front_end([self.machine.axes[a] for a in "XYZ"])
+
+    def front_end(self, axes: list[mcl.Axis]) -> Any:
+        """The front end on the block's registers."""
         self.operator = AxisOperator(axes[0], None, axes, sim_time=lambda: self.machine.time)
-        self.words = CommandWords(self.operator, AxisRegisters(self.table, "X"))
+        return CommandWords(self.operator, AxisRegisters(self.table, self.BLOCK))
 
     def scan(self) -> None:
         self.words()
@@ -42,13 +53,14 @@ class Bus:
 
     def write(self, **values: float) -> None:
         for name, value in values.items():
-            self.table.put(f"X.{name}", value)
+            self.table.put(f"{self.BLOCK}.{name}", value)
 
     def status(self, name: str) -> bool:
-        return bool(int(self.table.get("X.status")) >> STATUS_BITS.index(name) & 1)
+        word = int(self.table.get(f"{self.BLOCK}.status"))
+        return bool(word >> self.STATUS.index(name) & 1)
 
     def get(self, name: str) -> float:
-        return self.table.get(f"X.{name}")
+        return self.table.get(f"{self.BLOCK}.{name}")
 
 
 @pytest.fixture

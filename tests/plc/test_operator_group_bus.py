@@ -6,15 +6,17 @@ measured on the simulated carriages."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
 import mcl
 import plc.operator.group
-import scenes
 from plc.operator.group import GroupOperator
 from plc.operator.group_bus import GROUP_CONTROL_BITS, GROUP_STATUS_BITS, GroupWords
-from scenes.bridge.table import AxisRegisters, SignalTable
-from tests.helpers import carriage_mm, make_machine
+from scenes.bridge.table import AxisRegisters
+from tests.helpers import carriage_mm
+from tests.plc.test_operator_bus import Bus
 
 MOVE = {"velocity": 200.0, "acceleration": 2000.0, "deceleration": 2000.0, "jerk": 20000.0}
 
@@ -23,33 +25,16 @@ def bits(*names: str) -> int:
     return sum(1 << GROUP_CONTROL_BITS.index(name) for name in names)
 
 
-class GroupBus:
+class GroupBus(Bus):
     """The gantry's table over three simulated axes X, Y, Z (powered by their own MC_Power,
     referenced at 0 mm), the group driven by its command words; published after every scan."""
 
-    def __init__(self) -> None:
-        self.machine = make_machine("XYZ")
-        self.table = SignalTable(scenes.definition("gantry"))
-        members = [self.machine.axes[a] for a in "XYZ"]
-        self.operator = GroupOperator("group", members)
-        self.words = GroupWords(self.operator, AxisRegisters(self.table, "group"))
+    BLOCK = "group"
+    STATUS = GROUP_STATUS_BITS
 
-    def scan(self) -> None:
-        self.words()
-        self.words.publish()
-
-    def run(self, seconds: float) -> None:
-        self.machine.run(self.scan, timeout=seconds)
-
-    def write(self, **values: float) -> None:
-        for name, value in values.items():
-            self.table.put(f"group.{name}", value)
-
-    def status(self, name: str) -> bool:
-        return bool(int(self.table.get("group.status")) >> GROUP_STATUS_BITS.index(name) & 1)
-
-    def get(self, name: str) -> float:
-        return self.table.get(f"group.{name}")
+    def front_end(self, axes: list[mcl.Axis]) -> Any:
+        self.operator = GroupOperator("group", axes)
+        return GroupWords(self.operator, AxisRegisters(self.table, self.BLOCK))
 
     def at(self) -> list[float]:
         """The carriages X, Y, Z [mm]."""

@@ -13,6 +13,7 @@ import pytest
 import mcl
 from mcl.geometry import Geometry, Line, arc
 from scenes.machines import gantry
+from scenes.tools.grouping import PoweredGroup
 
 CENTER = mcl.MC_CIRC_MODE.CENTER
 CCW = mcl.MC_CIRC_PATHCHOICE.COUNTERCLOCKWISE
@@ -55,20 +56,13 @@ def run_on_gantry(block: Any, tolerance: float = 0.02) -> tuple[np.ndarray, np.n
     """
     scene = gantry.build(start={"X": 0.5, "Y": 0.3, "Z": -0.1}, trace_every=0)
     axes = [scene.axes["X"], scene.axes["Y"]]
-    group = mcl.AxesGroup("xy", corner_tolerance=tolerance)
-    power = [mcl.MC_Power(Axis=a) for a in axes]
-    add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=a) for a in axes]
-    enable = mcl.MC_GroupEnable(AxesGroup=group)
+    grouped = PoweredGroup(axes, "xy", tolerance)
+    group, enable = grouped.group, grouped.enable
     block.AxesGroup = group
     go = [False]
 
     def program() -> None:
-        for p in power:
-            p(Enable=True)
-        ready = all(p.Status for p in power)
-        for a in add:
-            a(Execute=ready)
-        enable(Execute=ready and add[-1].Done)
+        grouped()
         block(Execute=go[0])
         assert not block.Error, block.ErrorID
 

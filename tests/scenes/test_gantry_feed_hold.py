@@ -11,6 +11,7 @@ import pytest
 
 import mcl
 from scenes.machines import gantry
+from scenes.tools.grouping import PoweredGroup
 
 RADIUS = 50.0
 """The circle's radius [mm] (centre 50 mm in +X of the start)."""
@@ -26,10 +27,8 @@ def test_interrupt_and_continue_mid_arc_on_the_gantry() -> None:
     still), goes on from there and the circle ends where it started."""
     scene = gantry.build(start={"X": 0.5, "Y": 0.3, "Z": -0.1}, trace_every=0)
     axes = [scene.axes["X"], scene.axes["Y"]]
-    group = mcl.AxesGroup("xy", corner_tolerance=0.02)
-    power = [mcl.MC_Power(Axis=a) for a in axes]
-    add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=a) for a in axes]
-    enable = mcl.MC_GroupEnable(AxesGroup=group)
+    grouped = PoweredGroup(axes, "xy", 0.02)
+    group, enable = grouped.group, grouped.enable
     circle = mcl.MC_MoveCircularRelative(
         AxesGroup=group,
         CircMode=mcl.MC_CIRC_MODE.CENTER,
@@ -46,12 +45,7 @@ def test_interrupt_and_continue_mid_arc_on_the_gantry() -> None:
     flags = {"go": False, "hold": False, "continue": False}
 
     def program() -> None:
-        for p in power:
-            p(Enable=True)
-        ready = all(p.Status for p in power)
-        for a in add:
-            a(Execute=ready)
-        enable(Execute=ready and add[-1].Done)
+        grouped()
         circle(Execute=flags["go"])
         hold(Execute=flags["hold"])
         proceed(Execute=flags["continue"])

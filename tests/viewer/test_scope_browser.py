@@ -57,11 +57,13 @@ def operator(browser: Browser, viewer: Viewer) -> Iterator[tuple[Page, ViewerPag
         page.context.close()
 
 
-def open_page(browser: Browser, viewer: Viewer) -> tuple[Page, ViewerPage]:
-    """A new page (its own browser context) and the viewer's page object of it, with its
-    scope drawn."""
+def new_page(
+    browser: Browser, viewer: Viewer, width: int = 1400, height: int = 1000
+) -> tuple[Page, ViewerPage]:
+    """A new page (its own browser context) of ``width`` × ``height`` and the viewer's page
+    object of it, once its scope exists."""
     before = {p.client.client_id for p in viewer.app.pages.all()}
-    page = browser.new_context(viewport={"width": 1400, "height": 1000}).new_page()
+    page = browser.new_context(viewport={"width": width, "height": height}).new_page()
     page.goto(viewer.url)
     page.get_by_text("Acquisition").first.wait_for(timeout=60_000)
 
@@ -71,7 +73,13 @@ def open_page(browser: Browser, viewer: Viewer) -> tuple[Page, ViewerPage]:
 
     wait_for(lambda: new() is not None, 10.0, "the page's scope")
     mine = new()
-    assert mine is not None
+    assert mine is not None and mine.scope is not None
+    return page, mine
+
+
+def open_page(browser: Browser, viewer: Viewer) -> tuple[Page, ViewerPage]:
+    """A new page and the viewer's page object of it, with its scope drawn."""
+    page, mine = new_page(browser, viewer)
     wait_for(lambda: bool(chart(page)) and chart(page)[0]["points"] > 2, 30.0, "a plot")
     return page, mine
 

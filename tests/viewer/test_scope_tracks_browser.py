@@ -14,8 +14,7 @@ import pytest
 
 import scenes
 from tests.viewer.test_browser import browser, choose_scene, take_control, wait_for
-from tests.viewer.test_scope_browser import choose
-from viewer.pages.layout import Page as ViewerPage
+from tests.viewer.test_scope_browser import choose, new_page
 from viewer.scope.panel import PageScope
 from viewer.scope.tracks import SHARED, STACKED
 from viewer.serving.server import Viewer
@@ -78,18 +77,8 @@ def drawn(page: Page) -> dict[str, Any]:
 
 def scope_page(browser: Browser, viewer: Viewer) -> tuple[Page, PageScope]:
     """A 1280×800 page and its scope."""
-    before = {p.client.client_id for p in viewer.app.pages.all()}
-    page = browser.new_context(viewport={"width": 1280, "height": 800}).new_page()
-    page.goto(viewer.url)
-    page.get_by_text("Acquisition").first.wait_for(timeout=60_000)
-
-    def new() -> ViewerPage | None:
-        fresh = [p for p in viewer.app.pages.all() if p.client.client_id not in before]
-        return fresh[0] if fresh and fresh[0].scope is not None else None
-
-    wait_for(lambda: new() is not None, 10.0, "the page's scope")
-    mine = new()
-    assert mine is not None and mine.scope is not None
+    page, mine = new_page(browser, viewer, 1280, 800)
+    assert mine.scope is not None
     return page, mine.scope
 
 

@@ -11,8 +11,9 @@ import pytest
 import plc.st
 from tests.helpers import make_machine
 from tests.mcl.test_group import record
+from tests.plc.st.test_group_paths import GROUP_XY
 
-HOLD = """\
+HOLD = f"""\
 PROGRAM hold
 VAR
   go, pause, resume : BOOL;
@@ -28,12 +29,7 @@ VAR
   finish : ARRAY[0..1] OF LREAL := [0.0, 0.0];
   held, done : BOOL;
 END_VAR
-powerX(Axis := X, Enable := TRUE);
-powerY(Axis := Y, Enable := TRUE);
-addX(AxesGroup := grp, Axis := X, Execute := powerX.Status AND powerY.Status);
-addY(AxesGroup := grp, Axis := Y, Execute := addX.Done);
-enable(AxesGroup := grp, Execute := addY.Done);
-circle(AxesGroup := grp, Execute := go AND enable.Done, CircMode := CENTER,
+{GROUP_XY}circle(AxesGroup := grp, Execute := go AND enable.Done, CircMode := CENTER,
        AuxPoint := centre, EndPoint := finish, PathChoice := COUNTERCLOCKWISE,
        Velocity := 100.0, Acceleration := 2000.0, Deceleration := 2000.0, Jerk := 50000.0);
 interrupt(AxesGroup := grp, Execute := pause, Deceleration := 1000.0, Jerk := 20000.0);

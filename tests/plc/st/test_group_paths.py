@@ -14,7 +14,16 @@ from mcl.geometry import Line, arc
 from tests.helpers import make_machine
 from tests.mcl.test_group import Recorder, record
 
-ARC = """\
+GROUP_XY = """\
+powerX(Axis := X, Enable := TRUE);
+powerY(Axis := Y, Enable := TRUE);
+addX(AxesGroup := grp, Axis := X, Execute := powerX.Status AND powerY.Status);
+addY(AxesGroup := grp, Axis := Y, Execute := addX.Done);
+enable(AxesGroup := grp, Execute := addY.Done);
+"""
+"""The statements that power X and Y, group them in ``grp`` and enable it (``enable.Done``)."""
+
+ARC = f"""\
 PROGRAM arcs
 VAR
   go : BOOL;
@@ -27,12 +36,7 @@ VAR
   finish : ARRAY[0..1] OF LREAL := [40.0, 0.0];
   done : BOOL;
 END_VAR
-powerX(Axis := X, Enable := TRUE);
-powerY(Axis := Y, Enable := TRUE);
-addX(AxesGroup := grp, Axis := X, Execute := powerX.Status AND powerY.Status);
-addY(AxesGroup := grp, Axis := Y, Execute := addX.Done);
-enable(AxesGroup := grp, Execute := addY.Done);
-circle(AxesGroup := grp, Execute := go AND enable.Done, CircMode := CENTER,
+{GROUP_XY}circle(AxesGroup := grp, Execute := go AND enable.Done, CircMode := CENTER,
        AuxPoint := centre, EndPoint := finish, PathChoice := COUNTERCLOCKWISE,
        Velocity := 50.0, Acceleration := 2000.0, Deceleration := 2000.0, Jerk := 50000.0);
 done := circle.Done;
