@@ -24,6 +24,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import mcl
 import plc.st
 import scenes
 from scenes.errors import UserError
@@ -69,13 +70,30 @@ def run(
             steps.append(program.step)
             log.title(f"t={scene.time:6.3f} s  {program.step}")
 
+    timed_out = False
     if st_program is not None and "done" not in program.variables():
-        scene.run(scan, timeout=timeout)  # a program without ``done`` runs for the timeout
+        print(
+            f"{st_program}: the program has no variable 'done': it runs for the whole --timeout "
+            f"of {timeout:g} s of simulated time (declare done : BOOL and set it to end the run)",
+            file=sys.stderr,
+        )
+        scene.run(scan, timeout=timeout)
     else:
-        scene.run(scan, until=lambda: program.done or bool(program.error), timeout=timeout)
+        try:
+            scene.run(scan, until=lambda: program.done or bool(program.error), timeout=timeout)
+        except mcl.ConditionTimeout:
+            timed_out = True
     log.summary()
     if program.error:
         print(f"demo stopped: {program.error}", file=sys.stderr)
+        return 1
+    if timed_out:
+        what = f"the demo (at {program.step})" if st_program is None else st_program
+        print(
+            f"{what} did not set done within the --timeout of {timeout:g} s of simulated "
+            "time; give a longer --timeout or end the program with done",
+            file=sys.stderr,
+        )
         return 1
     return 0
 

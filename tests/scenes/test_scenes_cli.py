@@ -67,3 +67,29 @@ def test_wrong_encoder_resolution_is_refused():
 def test_period_not_a_multiple_of_the_timestep_is_refused():
     with pytest.raises(ValueError, match="integer multiple"):
         scenes.load("gantry", servo_period=0.0012)
+
+
+PROGRAM_WITHOUT_DONE = """PROGRAM Main
+VAR
+  n : INT;
+END_VAR
+n := n + 1;
+END_PROGRAM
+"""
+
+
+def test_a_program_without_done_is_told_it_runs_for_the_timeout(tmp_path, capsys):
+    path = tmp_path / "count.st"
+    path.write_text(PROGRAM_WITHOUT_DONE)
+    assert main(["run", "single_axis", "--program", str(path), "--timeout", "0.2"]) == 0
+    err = capsys.readouterr().err
+    assert "no variable 'done'" in err and "0.2 s" in err
+
+
+def test_a_program_that_never_sets_done_fails_with_a_message_not_a_traceback(tmp_path, capsys):
+    path = tmp_path / "never.st"
+    path.write_text(PROGRAM_WITHOUT_DONE.replace("n : INT;", "n : INT;\n  done : BOOL;"))
+    assert main(["run", "single_axis", "--program", str(path), "--timeout", "0.2"]) == 1
+    err = capsys.readouterr().err
+    assert f"{path} did not set done within the --timeout of 0.2 s" in err
+    assert "Traceback" not in err
