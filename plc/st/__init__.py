@@ -11,7 +11,15 @@ require("plc.st", "st")
 
 from plc.st.errors import PLCFault, STError
 from plc.st.runtime.external import External
-from plc.st.runtime.program import STProgram, compile_source, from_source, load
+from plc.st.runtime.program import (
+    STProgram,
+    compile_source,
+    from_source,
+    load,
+    restart,
+    stopped,
+    variables,
+)
 from plc.st.runtime.task import Task, declared_task
 
 __all__ = [
@@ -24,4 +32,7 @@ __all__ = [
     "declared_task",
     "from_source",
     "load",
+    "restart",
+    "stopped",
+    "variables",
 ]

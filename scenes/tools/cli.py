@@ -69,7 +69,7 @@ def run(
             steps.append(program.step)
             log.title(f"t={scene.time:6.3f} s  {program.step}")
 
-    if st_program is not None and "done" not in program.variables():
+    if st_program is not None and "done" not in plc.st.variables(program):
         scene.run(scan, timeout=timeout)  # a program without ``done`` runs for the timeout
     else:
         scene.run(scan, until=lambda: program.done or bool(program.error), timeout=timeout)

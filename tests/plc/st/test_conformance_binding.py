@@ -136,6 +136,31 @@ def test_the_programs_own_scans_and_name_variables():
     assert prog.scans == 7 and prog.name == "x"
 
 
+
+def test_the_programs_own_restart_variables_and_stopped_variables():
+    """A program's variables named like the runtime's methods (restart, variables, stopped) are
+    its own, read and written as every other; plc.st's functions reach the runtime's."""
+    decls = "restart : BOOL; variables : INT := 4; stopped : INT; n : INT;"
+    prog = plc.st.from_source(program(decls, "n := n + variables; stopped := n;"))
+    prog()
+    assert prog.restart is False and prog.variables == 4 and prog.stopped == 4
+    prog.restart, prog.variables = True, 10
+    prog()
+    assert prog.restart is True and prog.n == 14 and prog.stopped == 14
+    assert plc.st.variables(prog)["n"] == 14 and not plc.st.stopped(prog)
+    plc.st.restart(prog)
+    assert prog.n == 0 and prog.variables == 4 and prog.restart is False
+
+
+def test_the_runtimes_restart_variables_and_stopped_without_such_variables():
+    """Without variables of those names, prog.restart(), prog.variables(), prog.stopped are the
+    runtime's."""
+    prog = plc.st.from_source(program("n : INT;", "n := n + 1;"))
+    prog()
+    assert prog.variables() == {"n": 1} and not prog.stopped
+    prog.restart()
+    assert prog.n == 0
+
 LOOP = "PROGRAM loop\nVAR i : DINT; END_VAR\nWHILE TRUE DO i := i + 1; END_WHILE\nEND_PROGRAM\n"
 HANG = f"""
 import plc.st, scenes
