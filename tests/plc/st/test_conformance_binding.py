@@ -16,7 +16,7 @@ import mcl
 import plc.st
 import scenes
 from tests.helpers import ROOT
-from tests.plc.st.iec import program
+from tests.plc.st.iec import program, refused
 
 MOVE = """
 VAR_GLOBAL X : AXIS_REF; END_VAR
@@ -118,6 +118,40 @@ def test_a_buffer_mode_is_no_direction(machine):
     with pytest.raises(plc.st.STError, match="MC_Direction"):
         plc.st.from_source(source, machine)
 
+
+
+@pytest.mark.parametrize(
+    ("decls", "body", "message"),
+    [
+        (
+            "jog : MC_MoveVelocity;",
+            "jog(Axis := X, Execute := FALSE, Direction := MC_Negtive);",
+            r"iec\.st:5:47: MC_Direction has no value 'MC_Negtive' \(did you mean MC_Negative",
+        ),
+        (
+            "b : MC_BufferMode;",
+            "b := Abortng;",
+            r"iec\.st:5:6: MC_BufferMode has no value 'Abortng' \(did you mean Aborting\?\)",
+        ),
+        (
+            "d : MC_Direction; n : INT;",
+            "IF d = MC_Positve THEN n := 1; END_IF",
+            r"iec\.st:5:8: MC_Direction has no value 'MC_Positve' \(did you mean MC_Positive",
+        ),
+    ],
+)
+def test_a_misspelled_enumeration_value_names_the_nearest(machine, decls, body, message):
+    """2.3.3.1 (6.4.4.2): a misspelled value of the library's enumerations is refused at
+    file:line:column with the values it may have meant."""
+    with pytest.raises(plc.st.STError, match=message):
+        plc.st.from_source(program(decls, body), machine, filename="iec.st")
+
+
+def test_a_misspelled_value_of_the_programs_enumeration_names_the_nearest():
+    """2.3.3.1: a misspelled value where the program's enumeration is expected."""
+    source = program("c : Color;", "c := Gren;", "TYPE Color : (Red, Green, Blue); END_TYPE")
+    message = refused(source)
+    assert message.startswith("iec.st:6:6: Color has no value 'Gren' (did you mean Green")
 
 def test_a_group_position_is_an_array():
     """A group block's per-axis output reads into an ARRAY of LREAL."""
