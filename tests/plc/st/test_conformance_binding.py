@@ -271,7 +271,6 @@ p.a := 2; n := p.a + 1;
 """
 
 
-@pytest.mark.xfail(strict=True, reason="PLCopen XML (TC6) is not read yet")
 def test_a_plcopen_xml_export_runs(tmp_path):
     """A PLCopen XML (TC6) export runs with its data types."""
     path = tmp_path / "project.xml"
