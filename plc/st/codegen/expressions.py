@@ -114,7 +114,8 @@ class Expressions:
                 close = nearest(name, t.values)
                 if var is None and close and not self._known(name):
                     hint = f" (did you mean {', '.join(close)}?)"
-                    raise self.error(node, f"{t.name} has no value {name!r}{hint}", _listed(t))
+                    expected = f"a value of {t.name}: {_listed(t)}"
+                    raise self.error(node, f"unknown variable {name!r}{hint}", expected)
         return self.expr(node)
 
     def _known(self, name: str) -> bool:

@@ -126,17 +126,20 @@ def test_a_buffer_mode_is_no_direction(machine):
         (
             "jog : MC_MoveVelocity;",
             "jog(Axis := X, Execute := FALSE, Direction := MC_Negtive);",
-            r"iec\.st:5:47: MC_Direction has no value 'MC_Negtive' \(did you mean MC_Negative",
+            r"iec\.st:5:47: unknown variable 'MC_Negtive' \(did you mean MC_Negative.*"
+            r"expected a value of MC_Direction: MC_Positive",
         ),
         (
             "b : MC_BufferMode;",
             "b := Abortng;",
-            r"iec\.st:5:6: MC_BufferMode has no value 'Abortng' \(did you mean Aborting\?\)",
+            r"iec\.st:5:6: unknown variable 'Abortng' \(did you mean Aborting\?\); "
+            r"expected a value of MC_BufferMode: Aborting, Buffered",
         ),
         (
             "d : MC_Direction; n : INT;",
             "IF d = MC_Positve THEN n := 1; END_IF",
-            r"iec\.st:5:8: MC_Direction has no value 'MC_Positve' \(did you mean MC_Positive",
+            r"iec\.st:5:8: unknown variable 'MC_Positve' \(did you mean MC_Positive.*"
+            r"expected a value of MC_Direction",
         ),
     ],
 )
@@ -151,7 +154,8 @@ def test_a_misspelled_value_of_the_programs_enumeration_names_the_nearest():
     """2.3.3.1: a misspelled value where the program's enumeration is expected."""
     source = program("c : Color;", "c := Gren;", "TYPE Color : (Red, Green, Blue); END_TYPE")
     message = refused(source)
-    assert message.startswith("iec.st:6:6: Color has no value 'Gren' (did you mean Green")
+    assert message.startswith("iec.st:6:6: unknown variable 'Gren' (did you mean Green")
+    assert message.endswith("expected a value of Color: Red, Green, Blue")
 
 def test_a_group_position_is_an_array():
     """A group block's per-axis output reads into an ARRAY of LREAL."""
