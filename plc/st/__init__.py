@@ -20,7 +20,7 @@ from plc.st.runtime.program import (
     stopped,
     variables,
 )
-from plc.st.runtime.task import Task, declared_task
+from plc.st.runtime.task import Task, declared_task, task_of_file
 
 __all__ = [
     "External",
@@ -34,5 +34,6 @@ __all__ = [
     "load",
     "restart",
     "stopped",
+    "task_of_file",
     "variables",
 ]

@@ -24,8 +24,9 @@ TIMEOUT = 60.0
 
 
 def is_st_target(target: str) -> bool:
-    """``target`` names an ST program (``machine:file.st``)."""
-    return target.rpartition(":")[2].lower().endswith(".st")
+    """``target`` names an ST program (``machine:file.st``, or a PLCopen XML
+    ``machine:project.xml``)."""
+    return target.rpartition(":")[2].lower().endswith((".st", ".xml"))
 
 
 class STScenario:

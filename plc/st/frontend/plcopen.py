@@ -14,7 +14,7 @@ from __future__ import annotations
 
 __all__ = ["read_plcopen"]
 
-import xml.etree.ElementTree as ET  # noqa: N817
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from plc.st.errors import STError
@@ -40,8 +40,34 @@ _NOTES = ("documentation", "addData")
 """Elements that only annotate (skipped)."""
 
 _ELEMENTARY = {
-    *"BOOL BYTE WORD DWORD LWORD SINT INT DINT LINT USINT UINT UDINT ULINT".split(),
-    *"REAL LREAL TIME LTIME DATE TOD DT TIME_OF_DAY DATE_AND_TIME STRING WSTRING".split(),
+    *[
+        "BOOL",
+        "BYTE",
+        "WORD",
+        "DWORD",
+        "LWORD",
+        "SINT",
+        "INT",
+        "DINT",
+        "LINT",
+        "USINT",
+        "UINT",
+        "UDINT",
+        "ULINT",
+    ],
+    *[
+        "REAL",
+        "LREAL",
+        "TIME",
+        "LTIME",
+        "DATE",
+        "TOD",
+        "DT",
+        "TIME_OF_DAY",
+        "DATE_AND_TIME",
+        "STRING",
+        "WSTRING",
+    ],
 }
 
 
@@ -118,7 +144,8 @@ class _Writer:
             return f"[{', '.join(parts)}]"
         if child.tag == "structValue":
             members = [
-                f"{self.required(v, 'member')} := {self.value_of(v)}" for v in child.findall("value")
+                f"{self.required(v, 'member')} := {self.value_of(v)}"
+                for v in child.findall("value")
             ]
             return f"({', '.join(members)})"
         raise self.error(
@@ -189,7 +216,9 @@ class _Writer:
     def body(self, pou: ET.Element, name: str) -> None:
         """A POU's ``<body><ST>`` text, each line at its XML line."""
         body = pou.find("body")
-        language = next((c for c in body if c.tag not in _NOTES), None) if body is not None else None
+        language = (
+            next((c for c in body if c.tag not in _NOTES), None) if body is not None else None
+        )
         if body is None or language is None:
             raise self.error(pou, f"{name} without a body", "<body><ST>...</ST></body>")
         if language.tag != "ST":
@@ -199,6 +228,7 @@ class _Writer:
             holder = holder[0]  # <ST><xhtml:p>...</xhtml:p></ST>
         text = "".join(holder.itertext())
         first = self.tree.text_lines.get(holder, self.tree.line(holder))
+        self.project.columns[len(self.project.origins) + 1] = self.tree.text_columns.get(holder, 1)
         lines = text.split("\n")
         self.project.add([(first + i, line) for i, line in enumerate(lines)], self.file)
 

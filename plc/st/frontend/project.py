@@ -41,11 +41,14 @@ class Project:
         name: the file or folder, for messages.
         source: the ST text.
         origins: per line of ``source`` (index = line - 1): (file, line in it).
+        columns: the column a line of ``source`` begins at in its file, where not 1 (an ST
+            text that begins after an XML tag), by line of ``source``.
     """
 
     name: str
     source: str = ""
     origins: list[tuple[str, int]] = field(default_factory=list)
+    columns: dict[int, int] = field(default_factory=dict)
 
     def add(self, lines: list[tuple[int, str]], filename: str) -> None:
         """Append ``lines`` ((line in ``filename``, text)) to the source."""
@@ -65,7 +68,9 @@ class Project:
         def place(match: re.Match[str]) -> str:
             if match["file"] != generated:
                 return match[0]
-            return f"{self.where(int(match['line']))}:{match['column']}: "
+            line = int(match["line"])
+            column = int(match["column"]) + self.columns.get(line, 1) - 1
+            return f"{self.where(line)}:{column}: "
 
         return STError(_WHERE.sub(place, str(error)))
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 __all__ = ["LinedTree", "read_xml"]
 
-import xml.etree.ElementTree as ET  # noqa: N817
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 from xml.parsers import expat
@@ -25,11 +25,13 @@ class LinedTree:
         root: the document element.
         lines: the line of each element's start tag.
         text_lines: the line its text (``element.text``) begins on, if it has text.
+        text_columns: the column (from 1) its text begins at.
     """
 
     root: ET.Element
     lines: dict[ET.Element, int] = field(default_factory=dict)
     text_lines: dict[ET.Element, int] = field(default_factory=dict)
+    text_columns: dict[ET.Element, int] = field(default_factory=dict)
 
     def line(self, element: ET.Element) -> int:
         """The line of ``element``'s start tag (1 if unknown)."""
@@ -75,7 +77,9 @@ def read_xml(path: Path, expected: str) -> LinedTree:
             return
         element = stack[-1]
         if pending:
-            tree.text_lines.setdefault(element, parser.CurrentLineNumber)
+            if element not in tree.text_lines:
+                tree.text_lines[element] = parser.CurrentLineNumber
+                tree.text_columns[element] = parser.CurrentColumnNumber + 1
             element.text = (element.text or "") + data
         else:  # after a child's end tag: the child's tail
             child = element[-1]
@@ -94,7 +98,9 @@ def read_xml(path: Path, expected: str) -> LinedTree:
         parser.Parse(data, True)
     except _Refused:
         where = f"{path}:{parser.CurrentLineNumber}:{parser.CurrentColumnNumber + 1}"
-        raise STError.at(where, "an entity declaration (refused: it may expand)", expected) from None
+        raise STError.at(
+            where, "an entity declaration (refused: it may expand)", expected
+        ) from None
     except expat.ExpatError as error:
         where = f"{path}:{error.lineno}:{error.offset + 1}"
         problem = f"not well-formed XML ({expat.errors.messages[error.code]})"

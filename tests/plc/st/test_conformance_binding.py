@@ -119,7 +119,6 @@ def test_a_buffer_mode_is_no_direction(machine):
         plc.st.from_source(source, machine)
 
 
-
 @pytest.mark.parametrize(
     ("decls", "body", "message"),
     [
@@ -157,6 +156,7 @@ def test_a_misspelled_value_of_the_programs_enumeration_names_the_nearest():
     assert message.startswith("iec.st:6:6: unknown variable 'Gren' (did you mean Green")
     assert message.endswith("expected a value of Color: Red, Green, Blue")
 
+
 def test_a_group_position_is_an_array():
     """A group block's per-axis output reads into an ARRAY of LREAL."""
     scene = scenes.load("gantry")
@@ -172,7 +172,6 @@ def test_the_programs_own_scans_and_name_variables():
     prog = plc.st.from_source(program("scans : INT := 7; name : STRING := 'x';", ""))
     prog()
     assert prog.scans == 7 and prog.name == "x"
-
 
 
 def test_the_programs_own_restart_variables_and_stopped_variables():
@@ -198,6 +197,7 @@ def test_the_runtimes_restart_variables_and_stopped_without_such_variables():
     assert prog.variables() == {"n": 1} and not prog.stopped
     prog.restart()
     assert prog.n == 0
+
 
 LOOP = "PROGRAM loop\nVAR i : DINT; END_VAR\nWHILE TRUE DO i := i + 1; END_WHILE\nEND_PROGRAM\n"
 HANG = f"""
