@@ -12,6 +12,7 @@ __all__ = ["LinedTree", "read_xml"]
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 from xml.parsers import expat
 
 from plc.st.errors import STError
@@ -85,7 +86,7 @@ def read_xml(path: Path, expected: str) -> LinedTree:
             child = element[-1]
             child.tail = (child.tail or "") + data
 
-    def refuse(*_: object) -> None:
+    def refuse(*_: object) -> Any:
         raise _Refused
 
     parser.StartElementHandler = start
