@@ -86,7 +86,8 @@ def report() -> dict[str, Any]:
     return figures
 
 
-STATION = """TYPE E_State{i} : (S{i}_Idle, S{i}_Starting, S{i}_Running, S{i}_Stopping, S{i}_Faulted);
+STATION = """TYPE E_State{i} : (S{i}_Idle, S{i}_Starting, S{i}_Running, S{i}_Stopping,
+                 S{i}_Faulted);
 END_TYPE
 
 TYPE ST_Data{i} :

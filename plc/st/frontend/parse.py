@@ -134,6 +134,7 @@ def _parse_all(work: list[Piece]) -> list[tf.SourceCode]:
         raise STError(errors[0])
     return [trees[i] if i in trees else parse_kept(*work[i]) for i in range(len(work))]
 
+
 Piece = tuple[str, str, int, str]
 """A piece to parse: its text, the file name, its first line in the file, its cache name."""
 

@@ -14,92 +14,8 @@ from tests.plc.st.test_demos import run_to_done, st_demo
 EXAMPLES = ROOT / "examples" / "st"
 PLCOPEN = EXAMPLES / "plcopen"
 
-HEAD = """<?xml version="1.0" encoding="utf-8"?>
-<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
-  <fileHeader companyName="c" productName="p" productVersion="1" creationDateTime="2026-01-01T00:00:00"/>
-  <contentHeader name="t"><coordinateInfo><fbd><scaling x="1" y="1"/></fbd><ld><scaling x="1" y="1"/></ld><sfc><scaling x="1" y="1"/></sfc></coordinateInfo></contentHeader>
-"""
-
-PROJECT = (
-    HEAD
-    + """  <types>
-    <dataTypes>
-      <dataType name="Mode">
-        <baseType><enum><values><value name="Idle"/><value name="Run"/><value name="Stop"/></values></enum></baseType>
-      </dataType>
-      <dataType name="Point">
-        <baseType><struct>
-          <variable name="x"><type><LREAL/></type><initialValue><simpleValue value="1.5"/></initialValue></variable>
-          <variable name="tag"><type><string length="4"/></type></variable>
-        </struct></baseType>
-      </dataType>
-    </dataTypes>
-    <pous>
-      <pou name="Twice" pouType="function">
-        <interface>
-          <returnType><LREAL/></returnType>
-          <inputVars><variable name="v"><type><LREAL/></type></variable></inputVars>
-        </interface>
-        <body><ST><p>Twice := 2.0 * v;</p></ST></body>
-      </pou>
-      <pou name="Counter" pouType="functionBlock">
-        <interface>
-          <inputVars><variable name="step"><type><INT/></type></variable></inputVars>
-          <outputVars><variable name="count"><type><DINT/></type></variable></outputVars>
-        </interface>
-        <body><ST><xhtml:p><![CDATA[count := count + step;]]></xhtml:p></ST></body>
-      </pou>
-      <pou name="main" pouType="program">
-        <interface>
-          <externalVars><variable name="gain"><type><LREAL/></type></variable></externalVars>
-          <localVars>
-            <variable name="points">
-              <type><array><dimension lower="1" upper="2"/><baseType><derived name="Point"/></baseType></array></type>
-              <initialValue><arrayValue>
-                <value><structValue><value member="x"><simpleValue value="3.0"/></value></structValue></value>
-                <value><structValue><value member="tag"><simpleValue value="'ab'"/></value></structValue></value>
-              </arrayValue></initialValue>
-            </variable>
-            <variable name="mode"><type><derived name="Mode"/></type><initialValue><simpleValue value="Run"/></initialValue></variable>
-            <variable name="counter"><type><derived name="Counter"/></type></variable>
-            <variable name="y"><type><LREAL/></type></variable>
-            <variable name="n"><type><DINT/></type></variable>
-            <variable name="tags"><type><array><dimension lower="0" upper="1"/><baseType><INT/></baseType></array></type>
-              <initialValue><arrayValue><value repetitionValue="2"><simpleValue value="7"/></value></arrayValue></initialValue>
-            </variable>
-          </localVars>
-          <localVars constant="true">
-            <variable name="STEP"><type><INT/></type><initialValue><simpleValue value="3"/></initialValue></variable>
-          </localVars>
-        </interface>
-        <body>
-          <ST>
-            <xhtml:p><![CDATA[counter(step := STEP);
-n := counter.count;
-y := Twice(points[1].x) * gain + points[2].x;
-IF mode = Run THEN mode := Stop; END_IF]]></xhtml:p>
-          </ST>
-        </body>
-      </pou>
-    </pous>
-  </types>
-  <instances>
-    <configurations>
-      <configuration name="Cell">
-        <resource name="Cpu">
-          <task name="Slow" interval="T#20ms" priority="1">
-            <pouInstance name="Main1" typeName="main"/>
-          </task>
-        </resource>
-        <globalVars>
-          <variable name="gain"><type><LREAL/></type><initialValue><simpleValue value="10.0"/></initialValue></variable>
-        </globalVars>
-      </configuration>
-    </configurations>
-  </instances>
-</project>
-"""
-)
+PROJECT = (ROOT / "tests" / "plc" / "st" / "plcopen_project.xml").read_text()
+"""A project of two data types, a FUNCTION, a FUNCTION_BLOCK, a PROGRAM and a configuration."""
 
 
 def _write(tmp_path, text: str, name: str = "project.xml"):
@@ -187,7 +103,9 @@ LAUGHS = """<?xml version="1.0"?>
   <!ENTITY e "&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;&d;">
   <!ENTITY f "&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;&e;">
 ]>
-<project><types><pous><pou name="p" pouType="program"><body><ST>&f;</ST></body></pou></pous></types></project>
+<project><types><pous><pou name="p" pouType="program">
+  <body><ST>&f;</ST></body>
+</pou></pous></types></project>
 """
 
 
