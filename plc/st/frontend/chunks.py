@@ -11,7 +11,6 @@ from __future__ import annotations
 
 __all__ = ["Chunk", "chunks", "shifted"]
 
-import dataclasses
 import re
 from dataclasses import dataclass
 from typing import Any
@@ -125,27 +124,33 @@ def shifted(tree: Any, lines: int, chars: int) -> Any:
     return tree
 
 
-def _shift(node: Any, lines: int, chars: int, seen: set[int]) -> None:
-    if id(node) in seen or isinstance(node, bool | int | float | type(None)):
-        return
-    seen.add(id(node))
-    if isinstance(node, lark.Token | lark.tree.Meta) or _is_meta(node):
-        _move(node, lines, chars)
-    if isinstance(node, lark.Token | str):
-        return
-    if isinstance(node, list | tuple):
-        for item in node:
-            _shift(item, lines, chars, seen)
-    elif isinstance(node, lark.Tree):
-        _shift(node._meta, lines, chars, seen)
-        _shift(node.children, lines, chars, seen)
-    elif dataclasses.is_dataclass(node) and not isinstance(node, type):
-        for f in dataclasses.fields(node):
-            _shift(getattr(node, f.name, None), lines, chars, seen)
+def _shift(tree: Any, lines: int, chars: int, seen: set[int]) -> None:
+    """Every position under ``tree`` moved: blark's nodes (dataclasses) and their ``meta``,
+    lark's trees and tokens, in lists and tuples; each object once."""
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        kind = type(node)
+        if kind in _ATOMS or id(node) in seen:
+            continue
+        seen.add(id(node))
+        if isinstance(node, lark.Token):
+            _move(node, lines, chars)
+        elif kind is list or kind is tuple:
+            stack.extend(node)
+        elif isinstance(node, lark.Tree):
+            stack.append(node._meta)
+            stack.extend(node.children)
+        elif isinstance(node, lark.tree.Meta):
+            _move(node, lines, chars)
+        elif hasattr(kind, "__dataclass_fields__"):
+            if kind is tf.Meta:
+                _move(node, lines, chars)
+            stack.extend(vars(node).values())
 
 
-def _is_meta(node: Any) -> bool:
-    return isinstance(node, tf.Meta)
+_ATOMS = frozenset({str, int, float, bool, type(None)})
+"""What holds no position."""
 
 
 def _move(node: Any, lines: int, chars: int) -> None:

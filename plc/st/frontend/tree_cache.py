@@ -12,6 +12,7 @@ from __future__ import annotations
 
 __all__ = ["cached", "directory", "key", "load", "store"]
 
+import functools
 import hashlib
 import os
 import pickle
@@ -35,13 +36,7 @@ def key(source: str, filename: str, parser: bytes) -> str:
     """The name of the kept tree of ``source`` (from ``filename``) parsed by ``parser`` (bytes
     that change when the grammar or the transformer does)."""
     digest = hashlib.sha256()
-    for part in (
-        metadata.version("blark").encode(),
-        metadata.version("lark").encode(),
-        parser,
-        filename.encode(),
-        source.encode(),
-    ):
+    for part in (_versions(), parser, filename.encode(), source.encode()):
         digest.update(len(part).to_bytes(8, "little") + part)
     return digest.hexdigest()
 
@@ -75,6 +70,12 @@ def store(name: str, tree: Any) -> None:
     except (OSError, pickle.PicklingError):  # a read-only or full disk: not kept
         if temporary is not None:
             Path(temporary).unlink(missing_ok=True)
+
+
+@functools.cache
+def _versions() -> bytes:
+    """blark's and lark's versions (read once: the package metadata is slow to read)."""
+    return f"{metadata.version('blark')} {metadata.version('lark')}".encode()
 
 
 def cached(name: str, make: Callable[[], Any]) -> Any:
