@@ -11,8 +11,16 @@ require("plc.st", "st")
 
 from plc.st.errors import PLCFault, STError
 from plc.st.runtime.external import External
-from plc.st.runtime.program import STProgram, compile_source, from_source, load
-from plc.st.runtime.task import Task, declared_task
+from plc.st.runtime.program import (
+    STProgram,
+    compile_source,
+    from_source,
+    load,
+    restart,
+    stopped,
+    variables,
+)
+from plc.st.runtime.task import Task, declared_task, task_of_file
 
 __all__ = [
     "External",
@@ -24,4 +32,8 @@ __all__ = [
     "declared_task",
     "from_source",
     "load",
+    "restart",
+    "stopped",
+    "task_of_file",
+    "variables",
 ]

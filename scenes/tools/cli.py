@@ -71,7 +71,7 @@ def run(
             log.title(f"t={scene.time:6.3f} s  {program.step}")
 
     timed_out = False
-    if st_program is not None and "done" not in program.variables():
+    if st_program is not None and "done" not in plc.st.variables(program):
         print(
             f"{st_program}: the program has no variable 'done': it runs for the whole --timeout "
             f"of {timeout:g} s of simulated time (declare done : BOOL and set it to end the run)",
@@ -115,16 +115,13 @@ def machine_blocks(scene: scenes.Scene) -> dict[str, plc.st.External]:
 
 
 def st_task(path: str) -> plc.st.Task | None:
-    """The TASK an ST file declares (its INTERVAL is the PLC period of the scene built for it).
+    """The TASK an ST file (or a TwinCAT project, a PLCopen XML file) declares (its INTERVAL
+    is the PLC period of the scene built for it).
 
     Raises:
         STError: the file cannot be read, or has a syntax error.
     """
-    try:
-        source = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise plc.st.STError.at(path, f"cannot read it ({error})", "a UTF-8 ST file") from None
-    return plc.st.declared_task(source, path)
+    return plc.st.task_of_file(path)
 
 
 def sweep(
@@ -175,7 +172,10 @@ def main(argv: list[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
     run_parser = sub.add_parser("run", help="run a machine's demo program headless")
     run_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
-    run_parser.add_argument("--program", help="an IEC 61131-3 Structured Text file to run")
+    run_parser.add_argument(
+        "--program",
+        help="an IEC 61131-3 Structured Text file to run (.st; a TwinCAT folder or a PLCopen .xml)",
+    )
     run_parser.add_argument(
         "--map",
         action="append",

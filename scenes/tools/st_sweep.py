@@ -24,8 +24,9 @@ TIMEOUT = 60.0
 
 
 def is_st_target(target: str) -> bool:
-    """``target`` names an ST program (``machine:file.st``)."""
-    return target.rpartition(":")[2].lower().endswith(".st")
+    """``target`` names an ST program (``machine:file.st``, or a PLCopen XML
+    ``machine:project.xml``)."""
+    return target.rpartition(":")[2].lower().endswith((".st", ".xml"))
 
 
 class STScenario:
@@ -49,7 +50,7 @@ class STScenario:
         probe = plc.st.load(self.path, scenes.load(machine, trace_every=0))
         self.kinds: dict[str, type] = {}
         parameters = [inspect.Parameter("seed", inspect.Parameter.KEYWORD_ONLY, annotation=int)]
-        for name, value in probe.variables().items():
+        for name, value in plc.st.variables(probe).items():
             kind = _kind(probe._var(name).type)
             if kind is not None and name.lower() not in ("seed", "done", "timeout"):
                 self.kinds[name] = kind
@@ -84,10 +85,10 @@ class STScenario:
         ends = "done" in {n.lower() for n in program._vars}
         took = scene.run(
             program,
-            until=(lambda: program.done or program.stopped) if ends else None,
+            until=(lambda: program.done or plc.st.stopped(program)) if ends else None,
             timeout=timeout,
         )
-        if program.stopped:
+        if plc.st.stopped(program):
             raise RuntimeError(program.error)
         return {**{n: getattr(program, n) for n in self.outputs}, "time_s": took}
 

@@ -11,12 +11,20 @@ ratio of the least cost of each scan over the runs (the demos are deterministic:
 the same work in every run, so its least time is its cost without interruptions). As JSON per
 mode (compiled where built, then pure Python, each in a fresh process).
 
-Run: ``python -m tests.benchmarks.st``.
+The load times of a generated project of about 3000 lines (:func:`project`: stations of
+a plant, each a FUNCTION_BLOCK with its enumeration and structure, and the PROGRAM that runs
+them): its first load (an empty parse cache) with one parsing process and with one per CPU,
+then a load with every POU in the cache (targets: ≤ 10 s on one core, ≤ 1 s cached).
+
+Run: ``python -m tests.benchmarks.st`` (``--load``: the load times alone).
 """
 
 from __future__ import annotations
 
+import os
 import statistics
+import sys
+import tempfile
 import time
 from typing import Any
 
@@ -78,5 +86,140 @@ def report() -> dict[str, Any]:
     return figures
 
 
+STATION = """TYPE E_State{i} : (S{i}_Idle, S{i}_Starting, S{i}_Running, S{i}_Stopping,
+                 S{i}_Faulted);
+END_TYPE
+
+TYPE ST_Data{i} :
+STRUCT
+  setpoint : LREAL;                 (* [mm] *)
+  actual : LREAL;                   (* [mm] *)
+  count : DINT;
+  ok : BOOL;
+END_STRUCT
+END_TYPE
+
+(* station {i}: starts on a rising Enable, runs until the filtered value settles *)
+FUNCTION_BLOCK FB_Station{i}
+VAR_INPUT
+  Enable : BOOL;
+  Setpoint : LREAL;
+  Limit : LREAL := 100.0;
+END_VAR
+VAR_OUTPUT
+  Done : BOOL;
+  Error : BOOL;
+  ErrorID : DINT;
+END_VAR
+VAR
+  state : E_State{i};
+  data : ST_Data{i};
+  timer : TON;
+  trigger : R_TRIG;
+  history : ARRAY[1..10] OF LREAL;
+  k : INT;
+  sum : LREAL;
+  filtered : LREAL;
+END_VAR
+trigger(CLK := Enable);
+timer(IN := state = S{i}_Running, PT := T#200ms);
+CASE state OF
+  S{i}_Idle:
+    Done := FALSE;
+    IF trigger.Q THEN
+      data.setpoint := LIMIT(0.0, Setpoint, Limit);
+      data.count := 0;
+      state := S{i}_Starting;
+    END_IF
+  S{i}_Starting:
+    IF Setpoint > Limit THEN
+      Error := TRUE;
+      ErrorID := 16#100 + {i};
+      state := S{i}_Faulted;
+    ELSE
+      state := S{i}_Running;
+    END_IF
+  S{i}_Running:
+    data.actual := data.actual + (data.setpoint - data.actual) * 0.1;
+    data.count := data.count + 1;
+    IF ABS(data.setpoint - data.actual) < 0.01 OR timer.Q THEN
+      state := S{i}_Stopping;
+    END_IF
+  S{i}_Stopping:
+    data.ok := ABS(data.setpoint - data.actual) < 0.01;
+    Done := TRUE;
+    state := S{i}_Idle;
+  S{i}_Faulted:
+    IF NOT Enable THEN
+      Error := FALSE;
+      ErrorID := 0;
+      state := S{i}_Idle;
+    END_IF
+END_CASE
+FOR k := 1 TO 9 DO
+  history[k] := history[k + 1];
+END_FOR
+history[10] := data.actual;
+sum := 0.0;
+FOR k := 1 TO 10 DO
+  sum := sum + history[k];
+END_FOR
+filtered := sum / 10.0;
+IF filtered > Limit THEN
+  Error := TRUE;
+  ErrorID := 16#200 + {i};
+END_IF
+END_FUNCTION_BLOCK
+
+"""
+
+
+def project(lines: int = 3000) -> str:
+    """An ST project of about ``lines`` lines: stations (each a FUNCTION_BLOCK with its
+    enumeration and structure) and the PROGRAM that enables them one after the other."""
+    count = max(1, lines // (STATION.count("\n") + 4))
+    stations = "".join(STATION.format(i=i) for i in range(count))
+    instances = "".join(f"  station{i} : FB_Station{i};\n" for i in range(count))
+    calls = "".join(
+        f"station{i}(Enable := active = {i}, Setpoint := 10.0 + {i});\n"
+        f"IF station{i}.Done THEN active := {i + 1}; END_IF\n"
+        for i in range(count)
+    )
+    program = (
+        f"PROGRAM Plant\nVAR\n{instances}  active : INT;\n  done : BOOL;\nEND_VAR\n"
+        f"{calls}done := active >= {count};\nEND_PROGRAM\n"
+    )
+    return stations + program
+
+
+def load_times() -> dict[str, Any]:
+    """Seconds to load :func:`project` (parse and translate): its first load with one parsing
+    process and with one per CPU, and a load from the parse cache."""
+    import plc.st
+    from plc.st.frontend import parse
+
+    source = project()
+    figures: dict[str, Any] = {"lines": source.count("\n"), "cpus": parse.jobs()}
+    with tempfile.TemporaryDirectory() as folder:
+        for label, jobs in (("first_load_1_process_s", 1), ("first_load_parallel_s", 0)):
+            os.environ["MCL_ST_CACHE"] = os.path.join(folder, label)
+            os.environ["MCL_ST_JOBS"] = str(jobs) if jobs else ""
+            start = time.perf_counter()
+            plc.st.from_source(source, filename="plant.st", period=0.01)
+            figures[label] = round(time.perf_counter() - start, 2)
+        start = time.perf_counter()
+        prog = plc.st.from_source(source, filename="plant.st", period=0.01)
+        figures["cached_load_s"] = round(time.perf_counter() - start, 2)
+    for _ in range(100):
+        prog()
+    figures["runs"] = not prog.fault
+    return figures
+
+
 if __name__ == "__main__":
-    report_in_both_modes("tests.benchmarks.st", report)
+    if "--load" in sys.argv:
+        import json
+
+        print(json.dumps(load_times(), indent=2))
+    else:
+        report_in_both_modes("tests.benchmarks.st", report)

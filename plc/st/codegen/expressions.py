@@ -111,7 +111,17 @@ class Expressions:
                 for value_name, value in t.values.items():
                     if value_name.lower() == name.lower():
                         return const(value, t)
+                close = nearest(name, t.values)
+                if var is None and close and not self._known(name):
+                    hint = f" (did you mean {', '.join(close)}?)"
+                    expected = f"a value of {t.name}: {_listed(t)}"
+                    raise self.error(node, f"unknown variable {name!r}{hint}", expected)
         return self.expr(node)
+
+    def _known(self, name: str) -> bool:
+        """``name`` is an enumeration value, an axis or an axis' mapped name."""
+        names = {n.lower() for n in (*self.unit.axes, *self.unit.mapping)}
+        return self.unit.enum_value(name) is not None or name.lower() in names
 
     # ------------------------------------------------------------------ literals
     def literal(self, node: Any) -> E:
@@ -171,7 +181,7 @@ class Expressions:
                 return const(value, t)
         close = nearest(name, t.values)
         hint = f" (did you mean {', '.join(close)}?)" if close else ""
-        raise self.error(node, f"{t.name} has no value {name!r}{hint}", ", ".join(t.values))
+        raise self.error(node, f"{t.name} has no value {name!r}{hint}", _listed(t))
 
     # ------------------------------------------------------------------ variables
     def variable(self, node: Any) -> E:
@@ -435,3 +445,8 @@ def _string(text: str) -> str:
             out.append(body[i])
             i += 1
     return "".join(out)
+
+
+def _listed(t: T.EnumType) -> str:
+    """The values of an enumeration, for a message."""
+    return ", ".join(t.values)

@@ -28,6 +28,7 @@ __all__ = [
 ]
 
 import dataclasses
+import functools
 import re
 from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING, Any
@@ -54,14 +55,20 @@ Slot = tuple[str, str]
 
 def _nodes(node: Any) -> Iterator[Any]:
     """Every statement and parameter in a statement tree (depth first)."""
-    yield node
-    if isinstance(node, list | tuple):
-        for item in node:
-            yield from _nodes(item)
-    elif dataclasses.is_dataclass(node) and not isinstance(node, type):
-        for f in dataclasses.fields(node):
-            if f.name != "meta":
-                yield from _nodes(getattr(node, f.name))
+    stack = [node]
+    while stack:
+        node = stack.pop()
+        yield node
+        if isinstance(node, list | tuple):
+            stack.extend(reversed(node))
+        elif dataclasses.is_dataclass(node) and not isinstance(node, type):
+            stack.extend(getattr(node, name) for name in reversed(_fields(type(node))))
+
+
+@functools.cache
+def _fields(cls: type) -> tuple[str, ...]:
+    """The fields of a tree node's class but its position (``meta``)."""
+    return tuple(f.name for f in dataclasses.fields(cls) if f.name != "meta")
 
 
 def _code(x: Expressions, node: Any) -> str | None:

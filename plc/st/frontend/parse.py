@@ -7,11 +7,15 @@ CONFIGURATION, several types per TYPE block, REF_TO, ...) by :mod:`plc.st.fronte
 
 from __future__ import annotations
 
-__all__ = ["parse", "parser"]
+__all__ = ["jobs", "parse", "parse_kept", "parser"]
 
 import dataclasses
 import importlib.resources
+import os
+import pickle
 import re
+import subprocess
+import sys
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -21,7 +25,7 @@ import lark
 from blark import util
 
 from plc.st.errors import STError
-from plc.st.frontend import grammar, tree_cache
+from plc.st.frontend import chunks, grammar, tree_cache
 
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
@@ -54,31 +58,116 @@ def parser() -> lark.Lark:
 
 
 def parse(source: str, filename: str) -> tf.SourceCode:
-    """The typed tree of ``source`` (parsed once: kept on disk by
-    :mod:`plc.st.frontend.tree_cache`).
+    """The typed tree of ``source``, parsed item by item (:mod:`~plc.st.frontend.chunks`): an
+    item parsed before comes from the cache (:mod:`~plc.st.frontend.tree_cache`), the others
+    parse, in parallel processes when there are several (:func:`jobs`).
 
     Raises:
         STError: a syntax error, ``filename:line:column: ...; expected ...``.
     """
-    name = tree_cache.key(source, filename, _parser_identity())
-    tree: tf.SourceCode = tree_cache.cached(name, lambda: _parse(source, filename))
+    pieces = chunks.chunks(source)
+    names = [tree_cache.key(c.text, filename, _parser_identity()) for c in pieces]
+    trees: list[Any] = [tree_cache.load(name) for name in names]
+    missing = [i for i, tree in enumerate(trees) if tree is None]
+    work = [(pieces[i].text, filename, pieces[i].line, names[i]) for i in missing]
+    for i, tree in zip(missing, _parse_all(work), strict=True):
+        trees[i] = tree
+    items = []
+    for piece, tree in zip(pieces, trees, strict=True):
+        chunks.shifted(tree, piece.line - 1, piece.offset)
+        items += tree.items
+    return tf.SourceCode(items, Path(filename), source, trees[0].line_map, trees[0].meta)
+
+
+def jobs() -> int:
+    """The processes that parse a source's items (``$MCL_ST_JOBS``, default the CPUs this
+    process may use)."""
+    configured = os.environ.get("MCL_ST_JOBS", "").strip()
+    if configured.isdigit() and int(configured) > 0:
+        return int(configured)
+    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1)
+
+
+_PARALLEL_LINES = 200
+"""Below this many lines to parse, one process parses them (a worker builds its parser first:
+about a second)."""
+
+
+def _parse_all(work: list[Piece]) -> list[tf.SourceCode]:
+    """The trees of the pieces ``work``, each kept in the cache: in worker processes
+    (:mod:`plc.st.frontend.worker`, the longest pieces shared out first) when there are
+    several and enough lines, else here; what a worker fails to return is parsed here.
+
+    Raises:
+        STError: a syntax error in a piece.
+    """
+    workers = min(jobs(), len(work))
+    if workers < 2 or sum(text.count("\n") for text, *_ in work) < _PARALLEL_LINES:
+        return [parse_kept(*piece) for piece in work]
+    shares: list[list[int]] = [[] for _ in range(workers)]
+    loads = [0] * workers
+    for i in sorted(range(len(work)), key=lambda i: -len(work[i][0])):
+        least = loads.index(min(loads))
+        shares[least].append(i)
+        loads[least] += len(work[i][0])
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([_ROOT, os.environ.get("PYTHONPATH", "")])}
+    command = [sys.executable, "-m", "plc.st.frontend.worker"]
+    processes = []
+    for share in shares:
+        share.sort()  # in the file's order: a worker's first error is its earliest
+        process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
+        assert process.stdin is not None
+        process.stdin.write(pickle.dumps([work[i] for i in share]))
+        process.stdin.close()
+        processes.append(process)
+    trees: dict[int, Any] = {}
+    for share, process in zip(shares, processes, strict=True):
+        assert process.stdout is not None
+        out = process.stdout.read()
+        process.wait()
+        try:
+            trees.update(zip(share, pickle.loads(out), strict=False))
+        except Exception:  # the worker died: its pieces parse here
+            continue
+    errors = [trees[i] for i in sorted(trees) if isinstance(trees[i], str)]
+    if errors:
+        raise STError(errors[0])
+    return [trees[i] if i in trees else parse_kept(*work[i]) for i in range(len(work))]
+
+
+Piece = tuple[str, str, int, str]
+"""A piece to parse: its text, the file name, its first line in the file, its cache name."""
+
+_ROOT = str(Path(__file__).resolve().parents[3])
+"""The folder the ``plc`` package is in (a worker imports it from there)."""
+
+
+def parse_kept(text: str, filename: str, line: int, name: str) -> tf.SourceCode:
+    """One piece parsed (its first line ``line`` in the file, for messages) and kept in the
+    cache as ``name``."""
+    tree = _parse(text, filename, line - 1)
+    tree_cache.store(name, tree)
     return tree
 
 
 @cache
 def _parser_identity() -> bytes:
-    """What changes when the grammar or the transformer does: this module's and the grammar's
-    code."""
-    return Path(__file__).read_bytes() + Path(grammar.__file__).read_bytes()
+    """What changes when the grammar or the transformer does: this module's, the grammar's and
+    the cutting's code."""
+    modules = (sys.modules[__name__], grammar, chunks)
+    return b"".join(Path(str(m.__file__)).read_bytes() for m in modules)
 
 
-def _parse(source: str, filename: str) -> tf.SourceCode:
+def _parse(source: str, filename: str, lines_before: int = 0) -> tf.SourceCode:
+    """The tree of ``source``, its positions as in ``source``; an error names its line in the
+    file (``lines_before`` the lines before it there)."""
     comments, cleaned = util.find_and_clean_comments(source)
     try:
         tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
+        line = error.line + lines_before if error.line > 0 else error.line
         raise STError.at(
-            f"{filename}:{error.line}:{error.column}", _found(error, cleaned), _expected(error)
+            f"{filename}:{line}:{error.column}", _found(error, cleaned), _expected(error)
         ) from None
     transformer = grammar.Transformer(comments=comments, fn=filename, source_code=source)
     result: Any = transformer.transform(tree)
@@ -86,7 +175,8 @@ def _parse(source: str, filename: str) -> tf.SourceCode:
         result.items = [i for item in result.items for i in _listed(item)]
     _untangle(result)
     if not isinstance(result, tf.SourceCode):
-        raise STError.at(f"{filename}:1:1", "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
+        where = f"{filename}:{lines_before + 1}:1"
+        raise STError.at(where, "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
 
 

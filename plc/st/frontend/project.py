@@ -1,4 +1,5 @@
-"""A TwinCAT project's source files as one ST source: ``.TcPOU`` (a PROGRAM, FUNCTION_BLOCK or
+"""A TwinCAT project's source files (or a PLCopen XML file, :mod:`plc.st.frontend.plcopen`)
+as one ST source: ``.TcPOU`` (a PROGRAM, FUNCTION_BLOCK or
 FUNCTION: its declaration and its implementation), ``.TcDUT`` (a TYPE) and ``.TcGVL`` (a
 VAR_GLOBAL), read with blark's TwinCAT reader; a folder gives every such file under it. The
 text keeps each line as written; :class:`Project` maps its lines back to the files, so that a
@@ -40,11 +41,14 @@ class Project:
         name: the file or folder, for messages.
         source: the ST text.
         origins: per line of ``source`` (index = line - 1): (file, line in it).
+        columns: the column a line of ``source`` begins at in its file, where not 1 (an ST
+            text that begins after an XML tag), by line of ``source``.
     """
 
     name: str
     source: str = ""
     origins: list[tuple[str, int]] = field(default_factory=list)
+    columns: dict[int, int] = field(default_factory=dict)
 
     def add(self, lines: list[tuple[int, str]], filename: str) -> None:
         """Append ``lines`` ((line in ``filename``, text)) to the source."""
@@ -64,23 +68,31 @@ class Project:
         def place(match: re.Match[str]) -> str:
             if match["file"] != generated:
                 return match[0]
-            return f"{self.where(int(match['line']))}:{match['column']}: "
+            line = int(match["line"])
+            column = int(match["column"]) + self.columns.get(line, 1) - 1
+            return f"{self.where(line)}:{column}: "
 
         return STError(_WHERE.sub(place, str(error)))
 
 
 def is_project(path: Path) -> bool:
-    """``path`` is a TwinCAT source file or a folder (not an ``.st`` file)."""
-    return path.is_dir() or path.suffix.lower() in SUFFIXES
+    """``path`` is a TwinCAT source file or a folder, or a PLCopen XML file (not an ``.st``
+    file)."""
+    return path.is_dir() or path.suffix.lower() in (*SUFFIXES, ".xml")
 
 
 def read_project(path: Path) -> Project:
-    """The project of a TwinCAT source file or of every one in a folder (its sub-folders too).
+    """The project of a TwinCAT source file or of every one in a folder (its sub-folders too),
+    or of a PLCopen XML file (:mod:`plc.st.frontend.plcopen`).
 
     Raises:
         STError: no such file or no TwinCAT source in the folder, a file blark cannot read, a
-            METHOD, ACTION or PROPERTY.
+            METHOD, ACTION or PROPERTY; a PLCopen XML file that is not one.
     """
+    if path.suffix.lower() == ".xml":
+        from plc.st.frontend.plcopen import read_plcopen
+
+        return read_plcopen(path)
     files = [path] if path.is_file() else _sources(path)
     if not files:
         raise STError.at(str(path), "no TwinCAT source here", "a .TcPOU, .TcDUT or .TcGVL file")

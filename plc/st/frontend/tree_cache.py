@@ -10,8 +10,9 @@ private (0700). A file that does not load is parsed again and replaced.
 
 from __future__ import annotations
 
-__all__ = ["cached", "directory", "key"]
+__all__ = ["cached", "directory", "key", "load", "store"]
 
+import functools
 import hashlib
 import os
 import pickle
@@ -35,38 +36,53 @@ def key(source: str, filename: str, parser: bytes) -> str:
     """The name of the kept tree of ``source`` (from ``filename``) parsed by ``parser`` (bytes
     that change when the grammar or the transformer does)."""
     digest = hashlib.sha256()
-    for part in (
-        metadata.version("blark").encode(),
-        metadata.version("lark").encode(),
-        parser,
-        filename.encode(),
-        source.encode(),
-    ):
+    for part in (_versions(), parser, filename.encode(), source.encode()):
         digest.update(len(part).to_bytes(8, "little") + part)
     return digest.hexdigest()
 
 
-def cached(name: str, make: Callable[[], Any]) -> Any:
-    """The tree kept as ``name``, or ``make()`` (kept for the next time; an exception of
-    ``make`` passes through and nothing is kept)."""
+def load(name: str) -> Any:
+    """The tree kept as ``name``; None if there is none, or it does not load (truncated,
+    corrupt, from another Python): it is parsed again and replaced."""
     folder = directory()
     if folder is None:
-        return make()
-    path = folder / f"{name}.pickle"
+        return None
     try:
-        with path.open("rb") as file:
+        with (folder / f"{name}.pickle").open("rb") as file:
             return pickle.load(file)
-    except Exception:  # missing, truncated, or from another Python: parse again
-        pass
-    tree = make()
+    except Exception:  # missing, truncated, corrupt, or from another Python: parse again
+        return None
+
+
+def store(name: str, tree: Any) -> None:
+    """Keep ``tree`` as ``name`` (atomically: a reader sees the old file or the new one; on a
+    read-only or full disk, nothing is kept)."""
+    folder = directory()
+    if folder is None:
+        return
     temporary: str | None = None
     try:
         folder.mkdir(mode=0o700, parents=True, exist_ok=True)
         handle, temporary = tempfile.mkstemp(dir=folder, suffix=".tmp")
         with os.fdopen(handle, "wb") as file:
             pickle.dump(tree, file, protocol=pickle.HIGHEST_PROTOCOL)
-        os.replace(temporary, path)
+        os.replace(temporary, folder / f"{name}.pickle")
     except (OSError, pickle.PicklingError):  # a read-only or full disk: not kept
         if temporary is not None:
             Path(temporary).unlink(missing_ok=True)
+
+
+@functools.cache
+def _versions() -> bytes:
+    """blark's and lark's versions (read once: the package metadata is slow to read)."""
+    return f"{metadata.version('blark')} {metadata.version('lark')}".encode()
+
+
+def cached(name: str, make: Callable[[], Any]) -> Any:
+    """The tree kept as ``name``, or ``make()`` (kept for the next time; an exception of
+    ``make`` passes through and nothing is kept)."""
+    tree = load(name)
+    if tree is None:
+        tree = make()
+        store(name, tree)
     return tree

@@ -8,13 +8,26 @@ stops: it is no longer scanned, every axis of the machine ramps down and is disa
 (MC_Power's Enable dropping), and :attr:`STProgram.error` names ``file:line`` and the fault.
 
 The program's variables come first: one named like an attribute of the runtime (``scans``,
-``name``, ``fault``, ...) is what ``prog.scans`` reads.
+``name``, ``fault``, ``restart``, ``variables``, ``stopped``, ...) is what ``prog.scans`` reads;
+the functions :func:`restart`, :func:`variables` and :func:`stopped` reach the runtime's whatever
+the program declares.
 """
 
 from __future__ import annotations
 
-__all__ = ["STProgram", "compile_source", "from_source", "load", "program_name", "stored"]
+__all__ = [
+    "STProgram",
+    "compile_source",
+    "from_source",
+    "load",
+    "program_name",
+    "restart",
+    "stopped",
+    "stored",
+    "variables",
+]
 
+import functools
 import math
 import sys
 import time
@@ -50,6 +63,50 @@ def _runtime(key: str, doc: str) -> Any:
 def program_name(prog: STProgram) -> str:
     """The name of the PROGRAM ``prog`` runs (whatever variables it declares)."""
     return str(prog.__dict__["_name"])
+
+
+class _Shadowed:
+    """A method (or, ``value``, a property) of the runtime that a program's variable of the same
+    name shadows: ``prog.restart`` is then the variable, as every other name; the module's
+    function of that name reaches the runtime's."""
+
+    def __init__(self, function: Callable[[Any], Any], value: bool = False) -> None:
+        self.function, self.value = function, value
+        self.__doc__ = function.__doc__
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.key = name
+
+    def __get__(self, prog: Any, owner: type | None = None) -> Any:
+        if prog is None:
+            return self
+        var = prog.__dict__["_vars"].get(self.key)
+        if var is not None:
+            return prog._read(var)
+        return self.function(prog) if self.value else functools.partial(self.function, prog)
+
+
+def restart(prog: STProgram) -> None:
+    """A cold restart of ``prog``: every variable at its initial value, every block new, the
+    fault cleared; the program is scanned again (the axes as the stop left them: its MC_Power
+    and MC_Reset bring them back). ``prog.restart()`` unless it declares a ``restart``."""
+    own = prog.__dict__
+    namespace, module = own["_namespace"], own["_module"]
+    namespace["_g"] = namespace["_Globals"]()
+    own["_instance"] = instance = namespace[_python(module, own["_name"])]()
+    own["_fault"], own["_calls"] = "", 0
+    own["_tick"] = _ticker(own, namespace, instance.__call__, prog._stop)
+
+
+def variables(prog: STProgram) -> dict[str, Any]:
+    """Every variable of ``prog`` and the globals, by name, with its value now
+    (``prog.variables()`` unless it declares a ``variables``)."""
+    return {v.name: prog._read(v) for v in prog.__dict__["_vars"].values()}
+
+
+def stopped(prog: STProgram) -> bool:
+    """A run-time fault stopped ``prog`` (``prog.stopped`` unless it declares a ``stopped``)."""
+    return bool(prog.__dict__["_fault"])
 
 
 class STProgram:
@@ -111,18 +168,7 @@ class STProgram:
         watchdog = task.watchdog if task is not None else None
         namespace["_watchdog"] = watchdog if watchdog is not None else WATCHDOG
         own["_namespace"] = namespace
-        self.restart()
-
-    def restart(self) -> None:
-        """A cold restart: every variable at its initial value, every block new, the fault
-        cleared; the program is scanned again (the axes as the stop left them: its MC_Power
-        and MC_Reset bring them back)."""
-        own = self.__dict__
-        namespace, module = own["_namespace"], own["_module"]
-        namespace["_g"] = namespace["_Globals"]()
-        own["_instance"] = instance = namespace[_python(module, own["_name"])]()
-        own["_fault"], own["_calls"] = "", 0
-        own["_tick"] = _ticker(own, namespace, instance.__call__, self._stop)
+        restart(self)
 
     name = _runtime("name", "The PROGRAM's name (its type, as declared).")
     module = _runtime("module", "The translated file (:class:`Module`).")
@@ -132,11 +178,9 @@ class STProgram:
     every = _runtime(
         "every", "The PLC scans per run of the program (its TASK's INTERVAL over the period)."
     )
-
-    @property
-    def stopped(self) -> bool:
-        """A run-time fault stopped the program."""
-        return bool(self.__dict__["_fault"])
+    restart = _Shadowed(restart)
+    variables = _Shadowed(variables)
+    stopped = _Shadowed(stopped, value=True)
 
     @property
     def error(self) -> str:
@@ -211,10 +255,6 @@ class STProgram:
         owner, _, attr = var.code.partition(".")
         target = self._namespace["_g"] if owner == "_g" else self._instance
         setattr(target, attr, stored(value, var))
-
-    def variables(self) -> dict[str, Any]:
-        """Every variable of the program and the globals, by name, with its value now."""
-        return {v.name: self._read(v) for v in self._vars.values()}
 
 
 def _ticker(

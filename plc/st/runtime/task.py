@@ -10,9 +10,19 @@ INTERVAL is its period. A task without INTERVAL (event-triggered, ``SINGLE :=``)
 
 from __future__ import annotations
 
-__all__ = ["WATCHDOG", "Task", "configurations", "declared_task", "task_of", "ticks"]
+__all__ = [
+    "WATCHDOG",
+    "Task",
+    "configurations",
+    "declared_task",
+    "task_of",
+    "task_of_file",
+    "ticks",
+]
 
+import dataclasses
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import lark
@@ -128,6 +138,36 @@ def ticks(task: Task, period: float) -> int:
             f"an integer multiple of {period * 1e3:g} ms",
         )
     return n
+
+
+def task_of_file(path: str | Path) -> Task | None:
+    """The task the ST file, TwinCAT project or PLCopen XML file ``path`` declares (None: no
+    CONFIGURATION with a TASK), read before a machine is built for it.
+
+    Raises:
+        STError: the file cannot be read, a syntax error, or a malformed configuration (a
+            project's at its file and line).
+    """
+    from plc.st.errors import STError
+    from plc.st.frontend.project import is_project, read_project
+
+    file = Path(path)
+    if not is_project(file):
+        try:
+            source = file.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as error:
+            raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
+        return declared_task(source, str(file))
+    project = read_project(file)
+    generated = f"{file.name}.st"
+    try:
+        task = declared_task(project.source, generated)
+    except STError as error:
+        raise project.relocated(error, generated) from None
+    if task is None:
+        return None
+    where = project.relocated(STError(f"{task.where}: "), generated)
+    return dataclasses.replace(task, where=str(where).removesuffix(": "))
 
 
 def declared_task(source: str, filename: str) -> Task | None:

@@ -161,8 +161,9 @@ class Unit:
         return None
 
     def enum_names(self) -> list[str]:
-        """The values of the file's enumerations (for suggestions)."""
-        return [n for t in self.types.values() if isinstance(t, EnumType) for n in t.values]
+        """The values of the file's enumerations and of mcl's (for suggestions)."""
+        types = [*self.types.values(), *mcl_enums().values()]
+        return [n for t in types if isinstance(t, EnumType) for n in t.values]
 
     def axis(self, name: str) -> str | None:
         """The Python access code of the axis an ST name is bound to (the mapping first, then

@@ -16,7 +16,7 @@ import mcl
 import plc.st
 import scenes
 from tests.helpers import ROOT
-from tests.plc.st.iec import program
+from tests.plc.st.iec import program, refused
 
 MOVE = """
 VAR_GLOBAL X : AXIS_REF; END_VAR
@@ -119,6 +119,44 @@ def test_a_buffer_mode_is_no_direction(machine):
         plc.st.from_source(source, machine)
 
 
+@pytest.mark.parametrize(
+    ("decls", "body", "message"),
+    [
+        (
+            "jog : MC_MoveVelocity;",
+            "jog(Axis := X, Execute := FALSE, Direction := MC_Negtive);",
+            r"iec\.st:5:47: unknown variable 'MC_Negtive' \(did you mean MC_Negative.*"
+            r"expected a value of MC_Direction: MC_Positive",
+        ),
+        (
+            "b : MC_BufferMode;",
+            "b := Abortng;",
+            r"iec\.st:5:6: unknown variable 'Abortng' \(did you mean Aborting\?\); "
+            r"expected a value of MC_BufferMode: Aborting, Buffered",
+        ),
+        (
+            "d : MC_Direction; n : INT;",
+            "IF d = MC_Positve THEN n := 1; END_IF",
+            r"iec\.st:5:8: unknown variable 'MC_Positve' \(did you mean MC_Positive.*"
+            r"expected a value of MC_Direction",
+        ),
+    ],
+)
+def test_a_misspelled_enumeration_value_names_the_nearest(machine, decls, body, message):
+    """2.3.3.1 (6.4.4.2): a misspelled value of the library's enumerations is refused at
+    file:line:column with the values it may have meant."""
+    with pytest.raises(plc.st.STError, match=message):
+        plc.st.from_source(program(decls, body), machine, filename="iec.st")
+
+
+def test_a_misspelled_value_of_the_programs_enumeration_names_the_nearest():
+    """2.3.3.1: a misspelled value where the program's enumeration is expected."""
+    source = program("c : Color;", "c := Gren;", "TYPE Color : (Red, Green, Blue); END_TYPE")
+    message = refused(source)
+    assert message.startswith("iec.st:6:6: unknown variable 'Gren' (did you mean Green")
+    assert message.endswith("expected a value of Color: Red, Green, Blue")
+
+
 def test_a_group_position_is_an_array():
     """A group block's per-axis output reads into an ARRAY of LREAL."""
     scene = scenes.load("gantry")
@@ -134,6 +172,31 @@ def test_the_programs_own_scans_and_name_variables():
     prog = plc.st.from_source(program("scans : INT := 7; name : STRING := 'x';", ""))
     prog()
     assert prog.scans == 7 and prog.name == "x"
+
+
+def test_the_programs_own_restart_variables_and_stopped_variables():
+    """A program's variables named like the runtime's methods (restart, variables, stopped) are
+    its own, read and written as every other; plc.st's functions reach the runtime's."""
+    decls = "restart : BOOL; variables : INT := 4; stopped : INT; n : INT;"
+    prog = plc.st.from_source(program(decls, "n := n + variables; stopped := n;"))
+    prog()
+    assert prog.restart is False and prog.variables == 4 and prog.stopped == 4
+    prog.restart, prog.variables = True, 10
+    prog()
+    assert prog.restart is True and prog.n == 14 and prog.stopped == 14
+    assert plc.st.variables(prog)["n"] == 14 and not plc.st.stopped(prog)
+    plc.st.restart(prog)
+    assert prog.n == 0 and prog.variables == 4 and prog.restart is False
+
+
+def test_the_runtimes_restart_variables_and_stopped_without_such_variables():
+    """Without variables of those names, prog.restart(), prog.variables(), prog.stopped are the
+    runtime's."""
+    prog = plc.st.from_source(program("n : INT;", "n := n + 1;"))
+    prog()
+    assert prog.variables() == {"n": 1} and not prog.stopped
+    prog.restart()
+    assert prog.n == 0
 
 
 LOOP = "PROGRAM loop\nVAR i : DINT; END_VAR\nWHILE TRUE DO i := i + 1; END_WHILE\nEND_PROGRAM\n"
@@ -212,7 +275,6 @@ p.a := 2; n := p.a + 1;
 """
 
 
-@pytest.mark.xfail(strict=True, reason="PLCopen XML (TC6) is not read yet")
 def test_a_plcopen_xml_export_runs(tmp_path):
     """A PLCopen XML (TC6) export runs with its data types."""
     path = tmp_path / "project.xml"

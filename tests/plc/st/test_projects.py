@@ -8,7 +8,7 @@ import pytest
 import plc.st
 import scenes
 from tests.helpers import ROOT
-from tests.plc.st.test_demos import run_to_done
+from tests.plc.st.test_demos import run_to_done, st_demo
 
 TWINCAT = ROOT / "examples" / "st" / "gantry_twincat"
 
@@ -33,6 +33,22 @@ def test_the_gantry_demo_as_a_twincat_folder_traces_as_the_st_demo():
         "gantry", lambda s: plc.st.load(ROOT / "examples" / "st" / "gantry_demo.st", s)
     )
     tc_scans, tc_prog, tc_scene = run_to_done("gantry", lambda s: plc.st.load(TWINCAT, s))
+    assert tc_prog.done and not tc_prog.error, tc_prog.error
+    assert tc_scans == st_scans
+    assert tc_scene.trace.rows == st_scene.trace.rows
+
+
+@pytest.mark.parametrize("machine", ["press", "flying_shear"])
+def test_the_press_and_flying_shear_demos_as_twincat_folders_trace_as_the_st_demos(machine):
+    """The TwinCAT folders of the press and flying shear demos: the same scans, every trace
+    sample equal."""
+    from scenes.tools.cli import machine_blocks
+
+    folder = ROOT / "examples" / "st" / f"{machine}_twincat"
+    st_scans, _, st_scene = run_to_done(machine, st_demo)
+    tc_scans, tc_prog, tc_scene = run_to_done(
+        machine, lambda s: plc.st.load(folder, s, blocks=machine_blocks(s))
+    )
     assert tc_prog.done and not tc_prog.error, tc_prog.error
     assert tc_scans == st_scans
     assert tc_scene.trace.rows == st_scene.trace.rows

@@ -1,16 +1,20 @@
 """Parsed ST trees kept on disk: the second parse of a file loads its tree, a damaged file is
-parsed again and replaced, errors are never kept, and the cache can be switched off."""
+parsed again and replaced, errors are never kept, and the cache can be switched off; each
+top-level item is kept on its own (a changed one alone parses again, a kept one moves to its
+new lines) and parses in worker processes when there are several."""
 
 from __future__ import annotations
 
+import pickle
 import stat
 from pathlib import Path
 
+import blark.transform as tf
 import pytest
 
 from plc.st.errors import STError
+from plc.st.frontend import chunks, tree_cache
 from plc.st.frontend import parse as st_parse
-from plc.st.frontend import tree_cache
 
 SOURCE = """PROGRAM Count
 VAR n : INT; END_VAR
@@ -73,3 +77,92 @@ def test_an_unwritable_cache_still_parses(tmp_path: Path, monkeypatch: pytest.Mo
     blocker.write_text("")
     monkeypatch.setenv("MCL_ST_CACHE", str(blocker / "st"))  # a directory under a file
     assert st_parse.parse(SOURCE, "count.st") is not None
+
+
+TWO = """TYPE Mode : (Idle, Run); END_TYPE
+
+(* the counter *)
+FUNCTION_BLOCK Counter
+VAR_OUTPUT n : INT; END_VAR
+n := n + 1;
+END_FUNCTION_BLOCK
+
+PROGRAM Main
+VAR c : Counter; m : Mode; k : INT; END_VAR
+c();
+k := c.n;
+END_PROGRAM
+"""
+
+
+def _parsed_pieces(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The first lines of the pieces parsed from now on (not loaded from the cache)."""
+    parsed: list[int] = []
+    parse_piece = st_parse._parse
+
+    def counting(text: str, filename: str, lines_before: int = 0):
+        parsed.append(lines_before + 1)
+        return parse_piece(text, filename, lines_before)
+
+    monkeypatch.setattr(st_parse, "_parse", counting)
+    return parsed
+
+
+def test_each_item_is_kept_and_a_changed_one_alone_parses_again(
+    cache: Path, monkeypatch: pytest.MonkeyPatch
+):
+    """A source of three items keeps three trees; changing the PROGRAM parses it alone."""
+    first = st_parse.parse(TWO, "two.st")
+    assert len(kept(cache)) == 3
+    parsed = _parsed_pieces(monkeypatch)
+    assert st_parse.parse(TWO, "two.st") == first and parsed == []
+    changed = st_parse.parse(TWO.replace("k := c.n;", "k := c.n + 1;"), "two.st")
+    assert parsed == [8] and changed.items[:2] == first.items[:2]
+    assert changed.items[2] != first.items[2]
+
+
+def test_a_kept_item_takes_its_new_lines_when_moved(cache: Path):
+    """Lines added above an item: its kept tree is moved to where it now stands, as a fresh
+    parse of the whole source places it."""
+    st_parse.parse(TWO, "two.st")
+    moved = TWO.replace("(* the counter *)", "(* the counter,\n   counting scans *)")
+    loaded = st_parse.parse(moved, "two.st")
+    whole = st_parse._parse(moved, "two.st")
+    assert loaded.items == whole.items
+    assert [i.meta.line for i in loaded.items] == [1, 5, 10]
+
+
+def test_a_corrupt_item_is_parsed_again_the_others_loaded(
+    cache: Path, monkeypatch: pytest.MonkeyPatch
+):
+    first = st_parse.parse(TWO, "two.st")
+    for file in kept(cache):
+        if isinstance(pickle.loads(file.read_bytes()).items[0], tf.Program):
+            file.write_bytes(file.read_bytes()[:40])
+    parsed = _parsed_pieces(monkeypatch)
+    assert st_parse.parse(TWO, "two.st") == first and parsed == [8]
+
+
+def test_a_syntax_error_in_a_later_item_names_its_line(cache: Path):
+    with pytest.raises(STError, match=r"^two\.st:12:8: "):
+        st_parse.parse(TWO.replace("k := c.n;", "k := c.;"), "two.st")
+
+
+def test_items_parse_in_worker_processes_as_here(cache: Path, monkeypatch: pytest.MonkeyPatch):
+    """With two jobs and enough lines the items parse in two worker processes: the same trees
+    as one process gives, kept for the next load; the first syntax error in the file wins."""
+    monkeypatch.setenv("MCL_ST_JOBS", "2")
+    monkeypatch.setattr(st_parse, "_PARALLEL_LINES", 1)
+    parsed = _parsed_pieces(monkeypatch)
+    trees = st_parse.parse(TWO, "two.st")
+    assert parsed == [] and len(kept(cache)) == 3  # parsed in the workers, kept by them
+    assert trees.items == st_parse._parse(TWO, "two.st").items
+    broken = TWO.replace("n := n + 1;", "n := n + ;").replace("k := c.n;", "k := c.;")
+    with pytest.raises(STError, match=r"^two\.st:6:10: "):
+        st_parse.parse(broken, "two.st")
+
+
+def test_a_source_that_cannot_be_cut_parses_whole(cache: Path):
+    """Text between the items (here a stray ';' line of TwinCAT's) keeps the source one piece."""
+    assert [c.line for c in chunks.chunks(TWO)] == [1, 2, 8]
+    assert len(chunks.chunks(TWO.replace("\nPROGRAM Main", "\n42\nPROGRAM Main"))) == 1
