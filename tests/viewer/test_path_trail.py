@@ -29,28 +29,40 @@ OUT_OF_THE_CORNER = [60.0, 60.0, 0.0]
 
 class CircleDemo:
     """The gantry's axes grouped, a line out of the corner, then a full counter-clockwise circle
-    in XY by its centre, RADIUS to +X of the start."""
+    in XY by its centre, ``radius`` [mm] to +X of the start, at ``velocity`` [mm/s]; then the
+    group disabled and taken apart."""
 
-    def __init__(self, scene: Scene) -> None:
+    def __init__(self, scene: Scene, radius: float = RADIUS, velocity: float = 100.0) -> None:
+        self.radius, self.velocity = radius, velocity
         self.grouped = PoweredGroup([scene.axes[a] for a in "XYZ"], "XYZ", 0.1)
         group = self.grouped.group
         self.line = mcl.MC_MoveLinearRelative(AxesGroup=group)
         self.circle = mcl.MC_MoveCircularRelative(AxesGroup=group)
+        self.disable = mcl.MC_GroupDisable(AxesGroup=group)
+        self.ungroup = mcl.MC_UngroupAllAxes(AxesGroup=group)
+        self.finishing = self.ungrouping = False
         self.step, self.done, self.error = "grouping", False, ""
 
     def __call__(self) -> None:
         self.grouped()
-        ramp = {"Velocity": 100.0, "Acceleration": 2000.0, "Deceleration": 2000.0, "Jerk": 2e4}
+        ramp = {"Velocity": self.velocity, "Acceleration": 2e3, "Deceleration": 2e3, "Jerk": 2e4}
         self.line(Execute=self.grouped.enable.Done, Distance=OUT_OF_THE_CORNER, **ramp)
         self.circle(
             Execute=self.line.Done,
             CircMode=mcl.MC_CIRC_MODE.CENTER,
-            AuxPoint=[RADIUS, 0.0, 0.0],
+            AuxPoint=[self.radius, 0.0, 0.0],
             EndPoint=[0.0, 0.0, 0.0],
             PathChoice=mcl.MC_CIRC_PATHCHOICE.COUNTERCLOCKWISE,
             **ramp,
         )
-        self.done = bool(self.circle.Done)
+        self.finishing = self.finishing or bool(self.circle.Done)
+        self.disable(Execute=self.finishing)
+        self.ungrouping = self.ungrouping or bool(self.disable.Done)
+        self.ungroup(Execute=self.ungrouping)
+        self.done = bool(self.ungroup.Done)  # the axes left at rest, outside any group
+        self.step = (
+            "circle" if self.line.Done else "line" if self.grouped.enable.Done else "grouping"
+        )
 
 
 def frames_until(app: ViewerApp, clock: FakeClock, done: Callable[[], bool], what: str) -> None:
@@ -80,7 +92,7 @@ def test_the_circle_is_drawn_commanded_and_actual_magnified(server: viser.ViserS
     app._redraw = True
     app.frame()
     assert len(trail.commanded) <= 1  # Clear path: at most this frame's point
-    frames_until(app, clock, lambda: bool(demo.circle.Done), "the circle")
+    frames_until(app, clock, lambda: demo.done, "the circle")
 
     commanded, actual = trail.commanded, trail.actual
     assert len(commanded) > 100
