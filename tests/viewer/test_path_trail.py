@@ -142,3 +142,13 @@ def test_the_trail_keeps_its_bound(server: viser.ViserServer) -> None:
     assert points[-1][0] - points[0][0] == pytest.approx(1e-4 * (len(points) - 1), rel=1e-6)
     trail.clear()
     assert len(trail.commanded) == 0 and trail.label == ""
+
+
+def test_a_machine_without_a_group_has_no_path_choice(server: viser.ViserServer) -> None:
+    clock = FakeClock()
+    app = ViewerApp(Session("press", clock=clock), server, clock=clock)
+    app.frame()
+    assert not app.views.path.available
+    app.session.load("gantry")
+    app.frame()
+    assert app.views.path.available

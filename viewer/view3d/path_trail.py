@@ -264,7 +264,13 @@ class PathView:
         """The trail of the current model (made when first shown)."""
         self.choice = OFF
         """The Path choice: :data:`OFF` or a key of :data:`MAGNIFICATIONS`."""
+        self.available = False
+        """The current machine has a group to draw the path of (else no Path choice)."""
         self._clear = False
+
+    def prepare(self, snapshot: Snapshot) -> None:
+        """A new machine: whether it has a group (:attr:`available`)."""
+        self.available = snapshot.model is not None and bool(_members(snapshot))
 
     def clear(self) -> None:
         """Drop the trail (the machine changes)."""
@@ -277,7 +283,10 @@ class PathView:
         self._clear = True
 
     def build(self, gui: SceneGui, redraw: Callable[[], None]) -> None:
-        """The Path dropdown and the Clear path button (in the View folder)."""
+        """The Path dropdown and the Clear path button (in the View folder) of a machine with
+        a group."""
+        if not self.available:
+            return
         choice = gui.dropdown(
             "Path (actual deviation)",
             [OFF, *MAGNIFICATIONS],

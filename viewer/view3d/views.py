@@ -151,6 +151,7 @@ class Views:
         self._moved = {a.axis: moved_bodies(model, [int(model.jnt_qposadr[a.joint])]) for a in axes}
         self.legend = legend_rows(model, {joint: name for name, joint in joints})
         scene.on_click(self._explain)
+        self.path.prepare(snapshot)
 
     def _explain(self, client: viser.ClientHandle, body: int) -> None:
         """A click on a part: that page is told what it is."""
