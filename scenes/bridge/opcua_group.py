@@ -40,22 +40,14 @@ class GroupMethod(Method):
     fixed: tuple[tuple[str, float], ...] = ()
 
 
-def _point(name: str, field: str, description: str) -> Argument:
-    return Argument(name, "point", field, description)
-
-
-def _word(name: str, field: str, description: str) -> Argument:
-    return Argument(name, "u16", field, description)
-
-
-END = _point("EndPoint", "end", "end point, one value per member [u]")
+END = Argument("EndPoint", "point", "end", "end point, one value per member [u]")
 ARC = (
-    _word("CircMode", "circ_mode", "mcl.MC_CIRC_MODE: 0 BORDER, 1 CENTER, 2 RADIUS"),
-    _point("AuxPoint", "aux", "border point, centre or (RADIUS) the radius first [u]"),
+    Argument("CircMode", "u16", "circ_mode", "mcl.MC_CIRC_MODE: 0 BORDER, 1 CENTER, 2 RADIUS"),
+    Argument("AuxPoint", "point", "aux", "border point, centre or (RADIUS) the radius first [u]"),
     END,
-    _word("PathChoice", "path_choice", "0 clockwise, 1 counter-clockwise"),
-    _word("Plane", "plane", "0 automatic, 17 XY, 18 ZX, 19 YZ"),
-    _word("Turns", "turns", "more full turns of a CENTER arc"),
+    Argument("PathChoice", "u16", "path_choice", "0 clockwise, 1 counter-clockwise"),
+    Argument("Plane", "u16", "plane", "0 automatic, 17 XY, 18 ZX, 19 YZ"),
+    Argument("Turns", "u16", "turns", "more full turns of a CENTER arc"),
 )
 MOTION = (*RAMP, BUFFER_MODE)
 RELATIVE = Argument("Relative", "bool", "relative", "end and aux relative to the start")
@@ -69,14 +61,14 @@ GROUP_METHODS = (
     GroupMethod(
         "MC_MoveLinearAbsolute",
         "move_linear",
-        (_point("Position", "end", "target, one value per member [u]"), *MOTION),
+        (Argument("Position", "point", "end", "target, one value per member [u]"), *MOTION),
         "MC_MoveLinearAbsolute",
         ABSOLUTE,
     ),
     GroupMethod(
         "MC_MoveLinearRelative",
         "move_linear",
-        (_point("Distance", "end", "distance, one value per member [u]"), *MOTION),
+        (Argument("Distance", "point", "end", "distance, one value per member [u]"), *MOTION),
         "MC_MoveLinearRelative",
         BY_DISTANCE,
     ),
@@ -135,12 +127,8 @@ def point(variant: ua.Variant, members: int) -> list[float]:
         Refused: BadTypeMismatch (no array of numbers), BadOutOfRange (another length, a
             value that is no finite REAL).
     """
-    if not variant.is_array or variant.VariantType not in NUMBERS:
-        raise Refused(ua.StatusCodes.BadTypeMismatch, "an array of numbers is due")
     values = variant.Value
-    if not isinstance(values, list) or not all(
-        isinstance(v, int | float) and not isinstance(v, bool) for v in values
-    ):
+    if variant.VariantType not in NUMBERS or not isinstance(values, list):
         raise Refused(ua.StatusCodes.BadTypeMismatch, "an array of numbers is due")
     if len(values) != members:
         raise Refused(ua.StatusCodes.BadOutOfRange, f"{members} values are due, not {len(values)}")

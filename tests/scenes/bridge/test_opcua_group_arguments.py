@@ -28,20 +28,21 @@ def test_a_point_is_an_array_of_one_finite_real_per_member() -> None:
     assert point_value(point(1.0, -2.5, 3.0), 3) == [1.0, -2.5, 3.0]
     ints = point_value(ua.Variant([1, 2], ua.VariantType.Int32, is_array=True), 2)
     assert ints == [1.0, 2.0] and all(isinstance(v, float) for v in ints)
+    numbers, finite = "an array of numbers is due", "a value is no finite REAL"
     refused = {
-        "two of three": (point(1.0, 2.0), codes.BadOutOfRange),
-        "four of three": (point(1.0, 2.0, 3.0, 4.0), codes.BadOutOfRange),
-        "NaN": (point(1.0, math.nan, 3.0), codes.BadOutOfRange),
-        "inf": (point(1.0, 2.0, -math.inf), codes.BadOutOfRange),
-        "beyond a REAL": (point(1.0, 2.0, 1e39), codes.BadOutOfRange),
-        "a scalar": (ua.Variant(1.0, D), codes.BadTypeMismatch),
-        "texts": (ua.Variant(["a", "b", "c"], ua.VariantType.String), codes.BadTypeMismatch),
-        "Booleans": (ua.Variant([True] * 3, ua.VariantType.Boolean), codes.BadTypeMismatch),
+        "two of three": (point(1.0, 2.0), codes.BadOutOfRange, "3 values are due, not 2"),
+        "four": (point(1.0, 2.0, 3.0, 4.0), codes.BadOutOfRange, "3 values are due, not 4"),
+        "NaN": (point(1.0, math.nan, 3.0), codes.BadOutOfRange, finite),
+        "inf": (point(1.0, 2.0, -math.inf), codes.BadOutOfRange, finite),
+        "beyond a REAL": (point(1.0, 2.0, 1e39), codes.BadOutOfRange, finite),
+        "a scalar": (ua.Variant(1.0, D), codes.BadTypeMismatch, numbers),
+        "texts": (ua.Variant(["a", "b", "c"]), codes.BadTypeMismatch, numbers),
+        "Booleans": (ua.Variant([True] * 3), codes.BadTypeMismatch, numbers),
     }
-    for what, (variant, code) in refused.items():
+    for what, (variant, code, why) in refused.items():
         with pytest.raises(Refused) as caught:
             point_value(variant, 3)
-        assert caught.value.code == code, what
+        assert (caught.value.code, str(caught.value)) == (code, why), what
     at_the_limit = point_value(point(F32_MAX, -F32_MAX, 0.0), 3)
     assert at_the_limit == [F32_MAX, -F32_MAX, 0.0]
 
