@@ -21,6 +21,11 @@ append_arc      appends an arc (the parameters of move_circular) to the path tab
 clear_path      empties the path table
 move_path       ``MC_MovePath`` of the path table (its first segment in buffer_mode)
 stop            ``MC_GroupStop`` (deceleration, jerk; 0: the block's defaults)
+halt            ``MC_GroupHalt`` (deceleration, jerk) along the path
+interrupt       ``MC_GroupInterrupt`` (deceleration, jerk): a feed hold on the path
+continue        ``MC_GroupContinue``: the interrupted path resumes
+set_override    ``MC_GroupSetOverride`` (vel_factor, acc_factor, jerk_factor): Enable while its
+                Execute is set, with the factors sampled at its start; the group keeps them
 ==============  ==================================================================================
 
 velocity, acceleration, deceleration, jerk and buffer_mode are the parameters of every move and
@@ -32,7 +37,15 @@ Execute is set, in the scan it falls, and while it is busy or shows an output, a
 
 from __future__ import annotations
 
-__all__ = ["GROUP_COMMANDS", "MAX_SEGMENTS", "GroupOperator", "GroupOrders", "TableCommand"]
+__all__ = [
+    "GROUP_COMMANDS",
+    "MAX_SEGMENTS",
+    "SCAN_ORDER",
+    "GroupOperator",
+    "GroupOrders",
+    "OverrideCommand",
+    "TableCommand",
+]
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -50,8 +63,15 @@ GROUP_COMMANDS = (
     "clear_path",
     "move_path",
     "stop",
+    "halt",
+    "interrupt",
+    "continue",
+    "set_override",
 )
-"""The group's Execute commands, in the order a scan calls them (a stop has the last word)."""
+"""The group's Execute commands, in the order of their control bits."""
+
+SCAN_ORDER = (*(c for c in GROUP_COMMANDS if c != "stop"), "stop")
+"""The order a scan calls the commands in: a stop has the last word."""
 
 MAX_SEGMENTS = 1000
 """The most segments the group's path table takes (another append gives EParam)."""
@@ -102,6 +122,32 @@ class TableCommand:
         self.Execute = Execute
 
 
+class OverrideCommand:
+    """MC_GroupSetOverride as an Execute command: Enable while Execute is set, with the factors
+    given at its start; Done while the group follows them, Error with the block's ErrorID when
+    it refuses them. The group keeps the factors when Execute falls.
+
+    Args:
+        block: The group's MC_GroupSetOverride.
+    """
+
+    def __init__(self, block: mcl.MC_GroupSetOverride) -> None:
+        self.block = block
+        self.Done = False
+        self.Busy = False
+        self.Error = False
+        self.ErrorID = 0
+
+    def __call__(self, Execute: bool, factors: Mapping[str, float] | None = None) -> None:
+        """One call: the block enabled while ``Execute``, with ``factors`` (VelFactor, AccFactor,
+        JerkFactor) when given."""
+        block = self.block
+        block(Enable=Execute, **(factors or {}))
+        self.Done = Execute and bool(block.Enabled)
+        self.Error = bool(block.Error)
+        self.ErrorID = int(block.ErrorID)
+
+
 class GroupOperator:
     """The function blocks of one axes group and their sequencing (one PLC scan per call with
     the front end's :class:`GroupOrders`).
@@ -129,6 +175,11 @@ class GroupOperator:
         )
         self.move_path = mcl.MC_MovePath(AxesGroup=group)
         self.stop = mcl.MC_GroupStop(AxesGroup=group)
+        self.halt = mcl.MC_GroupHalt(AxesGroup=group)
+        self.interrupt = mcl.MC_GroupInterrupt(AxesGroup=group)
+        self.resume = mcl.MC_GroupContinue(AxesGroup=group)
+        """The block of command ``continue``."""
+        self.set_override = OverrideCommand(mcl.MC_GroupSetOverride(AxesGroup=group))
         self.status = mcl.MC_GroupReadStatus(AxesGroup=group)
         self.error = mcl.MC_GroupReadError(AxesGroup=group)
         self.path = mcl.MC_PATH_DATA_REF()
@@ -144,13 +195,13 @@ class GroupOperator:
 
     def block(self, command: str) -> Block:
         """The block of Execute command ``command`` (a move: the one its last start chose)."""
-        return getattr(self, command)
+        return self.resume if command == "continue" else getattr(self, command)
 
     def __call__(self, orders: GroupOrders) -> None:
         """One PLC scan: the enable level, then the commands in :data:`GROUP_COMMANDS`' order."""
         self._grouping(orders.enable)
         levels = self._levels
-        for name in GROUP_COMMANDS:
+        for name in SCAN_ORDER:
             execute = name in orders.execute
             params = orders.start.get(name)
             if params is not None:
@@ -194,6 +245,8 @@ class GroupOperator:
         block = self.block(name)
         if isinstance(block, TableCommand):
             block(execute, params)
+        elif isinstance(block, OverrideCommand):
+            block(execute, self._inputs(name, params) if params else None)
         elif params is None:
             block(Execute=execute)
         else:
@@ -201,10 +254,16 @@ class GroupOperator:
 
     def _inputs(self, name: str, p: Parameters) -> dict[str, Any]:
         """The inputs of command ``name``'s block from its parameters ``p``."""
-        if name == "reset":
+        if name in ("reset", "continue"):
             return {}
-        if name == "stop":
+        if name in ("stop", "halt", "interrupt"):
             return {"Deceleration": p("deceleration"), "Jerk": p("jerk")}
+        if name == "set_override":
+            return {
+                "VelFactor": p("vel_factor"),
+                "AccFactor": p("acc_factor"),
+                "JerkFactor": p("jerk_factor"),
+            }
         if name == "move_path":
             return {"PathData": self.path, "BufferMode": whole(p("buffer_mode"))}
         motion = {

@@ -113,9 +113,10 @@ def boolean(variant: ua.Variant | None) -> bool:
     return bool(variant.Value)
 
 
-ArgKind = Literal["f32", "u16", "i16", "bool", "axis", "direction"]
+ArgKind = Literal["f32", "u16", "i16", "bool", "axis", "direction", "point"]
 """An argument's type: a REAL (Double), UINT, INT, BOOL, an axis of the table by name (String),
-an MC_Direction (Int32: 1 positive, 3 negative)."""
+an MC_Direction (Int32: 1 positive, 3 negative), a point of a group (an array of Doubles, one
+per member)."""
 
 ARGUMENT_TYPE = {
     "f32": ua.VariantType.Double,
@@ -124,6 +125,7 @@ ARGUMENT_TYPE = {
     "bool": ua.VariantType.Boolean,
     "axis": ua.VariantType.String,
     "direction": ua.VariantType.Int32,
+    "point": ua.VariantType.Double,
 }
 
 

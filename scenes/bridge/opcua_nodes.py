@@ -10,6 +10,9 @@
        │     ├─ <field>               every field of the axis' block (position … inputs)
        │     │  └─ status: done, busy, … in_force (Boolean, one per status bit)
        │     └─ MC_Power(Enable), MC_Reset(), MC_MoveAbsolute(Position, Velocity, …), …
+       ├─ Group                       the axes group (where the machine names one)
+       │  ├─ <field>                  every field of the group block (control … actual_3)
+       │  └─ MC_GroupEnable(), MC_MoveCircularAbsolute(CircMode, AuxPoint, EndPoint, …), …
        ├─ Signals
        │  └─ <signal>                 the published signals (read-only)
        └─ Simulation: time, cycle, mode, target, control; Advance(Cycles)
@@ -65,6 +68,7 @@ from asyncua.crypto.permission_rules import User, UserRole
 from asyncua.server.address_space import AttributeService
 
 import mcl
+from scenes.bridge.opcua_group import GROUP_METHODS, GroupMethod, group_command, point
 from scenes.bridge.opcua_methods import (
     ARGUMENT_TYPE,
     RANGE,
@@ -358,12 +362,14 @@ class BridgeNodes:
                         await self._status_bits(k, variable, f.name)
             for method in methods_of(self._axes[axis]):
                 await self._method(node, table, axis, method)
-        if table.group:  # the group block's fields, as variables (no methods)
+        if table.group:  # the group block's fields and its methods
             group = await parent.add_object(self.node(table.group), f"{self.index}:Group")
             unit = self._axes[table.members[0]].operator.axis.config.unit
             for f in table.fields:
                 if f.name.startswith(f"{table.group}."):
                     await self._variable(group, table, f, f.name[len(table.group) + 1 :], unit)
+            for group_method in GROUP_METHODS:
+                await self._method(group, table, table.group, group_method)
         signals = await parent.add_folder(self.node(f"{prefix}Signals"), f"{self.index}:Signals")
         for f in table.fields:
             if f.name.startswith("signal."):
@@ -427,11 +433,13 @@ class BridgeNodes:
         self._bits[(k, name)] = nodes
 
     async def _method(self, parent: Node, table: SignalTable, axis: str, method: Method) -> None:
+        members = len(table.members)
         arguments = [
             ua.Argument(
                 Name=a.name,
                 DataType=ua.NodeId(ua.Int32(ARGUMENT_TYPE[a.kind].value)),
-                ValueRank=-1,
+                ValueRank=1 if a.kind == "point" else -1,
+                ArrayDimensions=[members] if a.kind == "point" else [],
                 Description=ua.LocalizedText(a.description),
             )
             for a in method.arguments
@@ -529,6 +537,8 @@ class BridgeNodes:
         kind = argument.kind
         if kind == "bool":
             return boolean(variant)
+        if kind == "point":
+            return point(variant, len(table.members))
         if kind == "axis":
             if variant.VariantType != ua.VariantType.String or not isinstance(variant.Value, str):
                 raise Refused(ua.StatusCodes.BadTypeMismatch, "an axis name is due")
@@ -552,7 +562,9 @@ class BridgeNodes:
         Raises:
             NotInControl: the PLC is not in control.
         """
-        if method.bit == "enable":
+        if isinstance(method, GroupMethod):
+            group_command(table, axis, method, values)
+        elif method.bit == "enable":
             table.set_bit(axis, "enable", values["Enable"])
         elif method.bit == "jog":
             table.put(f"{axis}.velocity", values["JogVelo"])

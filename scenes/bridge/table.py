@@ -186,6 +186,9 @@ def group_specs(members: int) -> list[FieldSpec]:
         ("acceleration", 18, "u/s²", "Acceleration along the path (0: default)"),
         ("deceleration", 20, "u/s²", "Deceleration along the path (0: default; also of stop)"),
         ("jerk", 22, "u/s³", "Jerk along the path (0: default)"),
+        ("vel_factor", 44, "", "VelFactor of set_override (1.0: 100 %, 0 … 2.0)"),
+        ("acc_factor", 46, "", "AccFactor of set_override"),
+        ("jerk_factor", 48, "", "JerkFactor of set_override"),
     )
     specs = [FieldSpec(n, o, "u16", a, u, t) for n, o, a, u, t in words]
     specs += [FieldSpec(n, o, "f32", "rw", u, t) for n, o, u, t in reals]
@@ -193,7 +196,7 @@ def group_specs(members: int) -> list[FieldSpec]:
 
 
 GROUP_BLOCK = max(f.offset + 2 for f in group_specs(3))
-"""Registers of the group block (offsets 0 … 43)."""
+"""Registers of the group block (offsets 0 … 49)."""
 
 OUTPUTS = FieldSpec("outputs", 1, "u16", "rw", "bits", "digital outputs, bit k = output k")
 """The digital outputs of an axis that has some (MC_WriteDigitalOutput on every change)."""

@@ -1,6 +1,7 @@
 """Views and cameras: the camera presets framed on the machine, cameras that follow a body, and
 the 3-D overlays the View folder shows (set-point ghost, forces, axis marks, the parts of an axis
-in error tinted red, the legend; a click on a part names it on that page); for every page."""
+in error tinted red, the group's path, the legend; a click on a part names it on that page); for
+every page."""
 
 from __future__ import annotations
 
@@ -36,6 +37,7 @@ from viewer.view3d.overlays import (
     ghost_axes,
     moved_bodies,
 )
+from viewer.view3d.path_trail import PathView
 
 OFF, ON = "off", "on"
 SWITCH_CHOICES = (OFF, ON)
@@ -98,6 +100,8 @@ class Views:
         self._moved: dict[str, list[int]] = {}
         """Per axis with a joint: the bodies it moves (tinted while it is in error)."""
         self._failing: frozenset[str] = frozenset()
+        self.path = PathView(server)
+        """The group's commanded and actual path (the View folder's Path choice)."""
 
     def clear(self) -> None:
         """Drop the overlays, the followed body and the framing of the scene that goes."""
@@ -110,6 +114,7 @@ class Views:
             if overlay is not None:
                 overlay.remove()
         self.ghost = self.contacts = self.marks = None
+        self.path.clear()
         self._scene = None
         self._moved = {}
         self._failing = frozenset()
@@ -146,6 +151,7 @@ class Views:
         self._moved = {a.axis: moved_bodies(model, [int(model.jnt_qposadr[a.joint])]) for a in axes}
         self.legend = legend_rows(model, {joint: name for name, joint in joints})
         scene.on_click(self._explain)
+        self.path.prepare(snapshot)
 
     def _explain(self, client: viser.ClientHandle, body: int) -> None:
         """A click on a part: that page is told what it is."""
@@ -170,6 +176,7 @@ class Views:
                 button.on_click(self._look(direction))
         with folder:
             self._build_choices(gui)
+            self.path.build(gui, self._redraw)
             if self.legend:
                 with gui.api.add_folder("Legend", expand_by_default=False):
                     gui.api.add_html(legend_html(self.legend))
@@ -259,6 +266,7 @@ class Views:
             contacts.enabled = self.show_contacts
             if snapshot.contacts is not None:
                 contacts.update(snapshot.contacts, snapshot.constraints)
+        self.path.update(snapshot)
         self._follow_cameras(snapshot)
 
     def _show_errors(self, snapshot: Snapshot) -> None:

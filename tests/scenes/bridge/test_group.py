@@ -1,7 +1,8 @@
 """The bridge's group block driven through the gantry's signal table in-process, as a PLC writes
 it: the axes powered by their own blocks, the group enabled, then a full circle
 (move_circular) and a path of a line, an arc and a line (append_line, append_arc, move_path),
-checked on the joints; a refused arc shows its ErrorID."""
+checked on the joints; a refused arc shows its ErrorID; a line at 50 % override, held,
+continued and halted."""
 
 from __future__ import annotations
 
@@ -137,3 +138,66 @@ def test_the_bridge_commands_a_path(rig: tuple[Scene, SignalTable, BridgeProgram
     contour = max(min(g.distance(p[:2]) for g in pieces) for p in points)
     assert contour < 0.020
     assert points[-1][:2] == pytest.approx([0.0, 20.0], abs=0.005)
+
+
+def command(
+    scene: Scene, table: SignalTable, program: BridgeProgram, bit: str, seconds: float
+) -> None:
+    """Raise command ``bit`` (the group still enabled), run ``seconds``, lower it again."""
+    write(table, "group.control", group_bit("enable", bit))
+    scene.run(program, timeout=seconds)
+    write(table, "group.control", group_bit("enable"))
+
+
+def speed(scene: Scene, program: BridgeProgram) -> float:
+    """The joints' speed over the next 0.1 s [mm/s]."""
+    before = joints(scene)
+    scene.run(program, timeout=0.1)
+    return float(np.linalg.norm(joints(scene) - before)) / 0.1
+
+
+def test_the_bridge_holds_overrides_and_halts_the_group(
+    rig: tuple[Scene, SignalTable, BridgeProgram],
+) -> None:
+    """set_override 50 %: a line at 50 mm/s runs at 25 mm/s (done while the bit is set);
+    interrupt holds it on the way (the line's block still busy) and continue ends it at its
+    end; back at 100 %, halt stops the next line on the way, in GroupStandby; an override of
+    3.0 is refused with EParam."""
+    scene, table, program = rig
+    start = joints(scene)
+    for name, value in (("vel_factor", 0.5), ("acc_factor", 1.0), ("jerk_factor", 1.0)):
+        write(table, f"group.{name}", value)
+    write(table, "group.control", group_bit("enable", "set_override"))
+    scene.run(program, timeout=0.01)
+    assert group_status(table, "done")
+    write(table, "group.control", group_bit("enable"))
+    write(table, "group.relative", 1)
+    write(table, "group.end_1", -40.0)
+    command(scene, table, program, "move_linear", 0.6)
+    assert speed(scene, program) == pytest.approx(25.0, abs=0.5)
+    command(scene, table, program, "interrupt", 0.3)
+    assert speed(scene, program) < 0.01
+    held = joints(scene) - start
+    assert -39.0 < held[0] < -1.0
+    assert table.get("group.state") == mcl.GroupState.GroupStandby
+    command(scene, table, program, "continue", 0.3)
+    assert speed(scene, program) == pytest.approx(25.0, abs=0.5)
+    scene.run(program, timeout=2.0)
+    assert joints(scene) - start == pytest.approx([-40.0, 0.0, 0.0], abs=0.005)
+
+    write(table, "group.vel_factor", 1.0)
+    command(scene, table, program, "set_override", 0.01)
+    write(table, "group.end_1", 40.0)
+    command(scene, table, program, "move_linear", 0.6)
+    assert speed(scene, program) == pytest.approx(50.0, abs=0.5)
+    write(table, "group.control", group_bit("enable", "halt"))
+    scene.run(program, timeout=0.3)
+    assert group_status(table, "done")
+    assert table.get("group.state") == mcl.GroupState.GroupStandby
+    assert -39.0 < (joints(scene) - start)[0] < -1.0
+
+    write(table, "group.control", group_bit("enable"))
+    write(table, "group.vel_factor", 3.0)
+    write(table, "group.control", group_bit("enable", "set_override"))
+    scene.run(program, timeout=0.01)
+    assert group_status(table, "error") and table.get("group.error_id") == mcl.ErrorID.EParam
