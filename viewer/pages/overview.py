@@ -17,6 +17,7 @@ layout binds it to a button).
 from __future__ import annotations
 
 __all__ = [
+    "CHAR_WIDTH",
     "ERROR_LINES",
     "FE_UNITS",
     "FULL_SCALE_VOLTS",
@@ -27,6 +28,7 @@ __all__ = [
     "NONE",
     "VALUE_COLUMNS",
     "Overview",
+    "name_width",
     "fe_scale",
     "overview_html",
     "status_word",
@@ -55,11 +57,12 @@ VALUE_COLUMNS: tuple[tuple[str, str, float, str], ...] = (
     ("position", "Act pos [u]", 5.8, "actual position POS [u]"),
     ("set_velocity", "Set vel [u/s]", 5.4, "set velocity [u/s]"),
     ("velocity", "Act vel [u/s]", 5.4, "actual velocity VEL [u/s]"),
-    ("following_error", "FE", 5.8, "following error: set point − actual position"),
-    ("peak_following_error", "FE peak", 5.8, "largest |following error| since Reset peaks"),
+    ("following_error", "FE", 6.6, "following error: set point − actual position"),
+    ("peak_following_error", "FE peak", 6.6, "largest |following error| since Reset peaks"),
     ("output", "Out [%]", 3.8, "analog command in % of ±10 V"),
 )
-"""The value columns: (data-field, header, width [em], tooltip)."""
+"""The value columns: (data-field, header, width [em], tooltip); ``u`` in a header is the axes'
+unit (left out when the axes differ: each row names its own)."""
 
 LAMPS: tuple[tuple[str, str, str], ...] = (
     ("ready", "Ready", "ready: powered, no error, standstill"),
@@ -75,7 +78,11 @@ LAMPS: tuple[tuple[str, str, str], ...] = (
 """The status word: (data-field, header (written upwards), tooltip), left to right."""
 
 NAME_WIDTH, LAMP_WIDTH = 3.6, 1.5
-"""Widths of the axis name (with its unit) and of each lamp column [em of the table's font]."""
+"""Narrowest width of the axis name column (the name with its unit) and width of each lamp
+column [em of the table's font]."""
+
+CHAR_WIDTH = 0.62
+"""Width of a character of a bold axis name [em of the table's font], generous."""
 
 ERROR_LINES = 2
 """Lines the error text may wrap into before it is cut off (always reserved)."""
@@ -144,10 +151,11 @@ LAMP_KINDS = {
 
 
 def _error_text(view: AxisView) -> str:
-    """The axis error as number and text, and the last refused command (empty: neither)."""
+    """The axis error as number and text, and the last failed command, refused or aborted
+    (empty: neither)."""
     parts = [f"{view.error_id} {view.error}".strip()] if view.error_id else []
     if view.last_error:
-        parts.append(f"refused: {view.last_error}")
+        parts.append(f"{view.last_error_kind.lower()}: {view.last_error}")
     return " · ".join(parts)
 
 
@@ -190,14 +198,28 @@ def _window_note(view: AxisView) -> str:
     return f" (±{view.in_position_window * factor:.{decimals}f} {html.escape(unit)})"
 
 
-def _head() -> tuple[str, float]:
+def name_width(views: list[AxisView]) -> float:
+    """The width of the axis name column [em]: the longest name with its unit, whole."""
+    longest = max((len(v.name) + 1 + len(v.unit) for v in views), default=0)
+    return max(NAME_WIDTH, CHAR_WIDTH * longest + 0.8)
+
+
+def _header(label: str, units: set[str]) -> str:
+    """A value column's header: ``u`` replaced by the axes' one unit (left out for several)."""
+    if len(units) == 1:
+        return label.replace("[u", f"[{html.escape(next(iter(units)))}")
+    return label.split(" [")[0]
+
+
+def _head(views: list[AxisView]) -> tuple[str, float]:
     """The column widths and the header row; the table's width [em]."""
-    widths = [NAME_WIDTH, *(w for _, _, w, _ in VALUE_COLUMNS)]
+    widths = [name_width(views), *(w for _, _, w, _ in VALUE_COLUMNS)]
     widths += [LAMP_WIDTH] * len(LAMPS)
-    columns = "".join(f'<col style="width:{w}em">' for w in widths)
+    units = {v.unit for v in views}
+    columns = "".join(f'<col style="width:{w:.2f}em">' for w in widths)
     header = '<th style="text-align:left" title="axis and its unit u">Axis</th>'
     header += "".join(
-        f'<th title="{tip}" style="text-align:right;padding:0 0.3em">{label}</th>'
+        f'<th title="{tip}" style="text-align:right;padding:0 0.3em">{_header(label, units)}</th>'
         for _, label, _, tip in VALUE_COLUMNS
     )
     header += "".join(
@@ -210,8 +232,9 @@ def _head() -> tuple[str, float]:
 
 def overview_html(snapshot: Snapshot) -> str:
     """The overview table of every axis of ``snapshot`` (texts escaped)."""
-    head, width = _head()
-    rows = "".join(_row(view) for view in snapshot.axes.values())
+    views = list(snapshot.axes.values())
+    head, width = _head(views)
+    rows = "".join(_row(view) for view in views)
     return (
         '<div style="overflow-x:auto;padding:0 0.5em">'
         f'<table data-overview="axes" style="table-layout:fixed;width:{width:.1f}em;'
