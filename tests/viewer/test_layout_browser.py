@@ -93,8 +93,8 @@ def test_the_canvas_is_half_the_page_and_the_axis_buttons_are_in_view(
     assert not boxes["scrolled"]
     for button in boxes["buttons"]:
         assert button["found"], button
-        assert 0 <= button["left"] and button["right"] <= width, button
-        assert 0 <= button["top"] and button["bottom"] <= height, button  # no scrolling
+        assert button["left"] >= 0 and button["right"] <= width, button
+        assert button["top"] >= 0 and button["bottom"] <= height, button  # no scrolling
         assert button["uncovered"], button  # no floating window over it
 
 
@@ -145,7 +145,9 @@ def machine_points(viewer: Viewer, prefix: str) -> npt.NDArray[np.float64]:
     data = mujoco.MjData(model)
     data.qpos[:] = snapshot.qpos
     mujoco.mj_kinematics(model, data)
-    names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or "" for b in range(model.nbody)]
+    names = [
+        mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or "" for b in range(model.nbody)
+    ]
     geoms = [
         g
         for g in range(model.ngeom)

@@ -11,12 +11,11 @@ import numpy as np
 import pytest
 
 from plc.operator.hmi import HOMING_PROCEDURES, Move
-from viewer.pages.axis_panel import home_position_field
+from viewer.pages import axis_panel
 from viewer.pages.overview import overview_html
 from viewer.pages.panels import axis_panel_html, events_html
 from viewer.sim.session import Session
 from viewer.sim.snapshot import AxisView
-from viewer.sim.velocity import WINDOW
 
 
 @pytest.fixture
@@ -78,10 +77,10 @@ def test_reset_clears_the_red_line_of_the_last_error(gantry: Session) -> None:
 def test_the_home_position_field_shows_what_homing_gives_the_axis(gantry: Session) -> None:
     recipe = x(gantry).home_position
     assert recipe == 120.0  # the gantry's X: the index pulse is 120 mm of the joint
-    field = home_position_field("recipe", recipe, 7.0, "mm")
+    field = axis_panel.home_position_field("recipe", recipe, 7.0, "mm")
     assert field.value == 120.0 and field.disabled and "120 mm" in field.hint
     for procedure in HOMING_PROCEDURES[1:]:
-        field = home_position_field(procedure, recipe, 7.0, "mm")
+        field = axis_panel.home_position_field(procedure, recipe, 7.0, "mm")
         assert field.value == 7.0 and not field.disabled
     gantry.requests("X").home("recipe", 0.0)
     gantry.advance(20_000)
@@ -105,8 +104,10 @@ def test_the_error_history_is_the_machine_s_own(gantry: Session) -> None:
 
 
 def test_the_measuring_wheel_standing_still_reads_its_mean_velocity() -> None:
+    from viewer.sim import velocity  # the module of the shown velocity
+
     session = Session("flying_shear")
-    session.advance(round(WINDOW / session.scene.runtime.plc_period) + 10)
+    session.advance(round(velocity.WINDOW / session.scene.runtime.plc_period) + 10)
     shown, raw = [], []
     for _ in range(200):
         session.advance(7)
@@ -114,4 +115,6 @@ def test_the_measuring_wheel_standing_still_reads_its_mean_velocity() -> None:
         raw.append(session.scene.axes["W"].VEL)
     session.close()
     assert np.ptp(raw) >= 25.0  # one count (0.025 mm) per 1 ms servo cycle
-    assert np.max(np.abs(shown)) <= 0.025 / WINDOW + 1e-9  # one count per window: 0.25 mm/s
+    assert (
+        np.max(np.abs(shown)) <= 0.025 / velocity.WINDOW + 1e-9
+    )  # one count per window: 0.25 mm/s

@@ -790,7 +790,15 @@ def test_the_app_switches_between_a_model_and_simulated_axes(
     assert app.model_scene is not None and app._note is None
     assert list(app.axis_widgets) == ["X", "Y", "Z"]
     # the gantry has recipes: Home (after the buttons that fit the page's height first)
-    assert app.axis_widgets["X"][:7] == ["Power", "Reset", "Stop", "Jog+", "Jog−", "Move to", "Home"]
+    assert app.axis_widgets["X"][:7] == [
+        "Power",
+        "Reset",
+        "Stop",
+        "Jog+",
+        "Jog−",
+        "Move to",
+        "Home",
+    ]
 
 
 # ------------------------------------------------------------------------------- the CLI

@@ -82,8 +82,10 @@ def home_position_field(
             f"The machine's homing recipe gives the axis {recipe:g} {unit} at its reference "
             "(the machine's coordinates, its limits and the 3-D model follow from it)",
         )
-    where = "where it stands (no motion)" if procedure == HOMING_PROCEDURES[3] else (
-        "at the next index pulse"
+    where = (
+        "where it stands (no motion)"
+        if procedure == HOMING_PROCEDURES[3]
+        else ("at the next index pulse")
     )
     return HomeField(chosen, False, f"The position [{unit}] the axis is given {where}")
 

@@ -28,8 +28,8 @@ __all__ = [
     "NONE",
     "VALUE_COLUMNS",
     "Overview",
-    "name_width",
     "fe_scale",
+    "name_width",
     "overview_html",
     "status_word",
 ]

@@ -49,7 +49,6 @@ from scenes.scene import Scene
 from viewer.sim.cam_view import ProfileCache, cam_views
 from viewer.sim.demo_run import DemoRun
 from viewer.sim.peaks import PeakHold
-from viewer.sim.velocity import MeanVelocity
 from viewer.sim.programs import ProgramCatalog, ProgramSelection
 from viewer.sim.recorder import Recorder
 from viewer.sim.snapshot import (
@@ -61,6 +60,7 @@ from viewer.sim.snapshot import (
     copy_array,
     mujoco_of,
 )
+from viewer.sim.velocity import MeanVelocity
 from viewer.view3d.overlays import constraint_forces, contact_forces
 
 log = logging.getLogger(__name__)
@@ -267,9 +267,7 @@ class Session:
 
     def record_event(self, source: str, text: str) -> None:
         """Add an entry to the error history (from any thread)."""
-        self._events.append(
-            Event(time.time(), self._scene.time, source, text, self._scene_name)
-        )
+        self._events.append(Event(time.time(), self._scene.time, source, text, self._scene_name))
 
     @property
     def watch(self) -> tuple[WatchRow, ...]:
@@ -705,9 +703,7 @@ class Session:
         panels, info = self._operator.front_ends, self._axis_info
         peak, velocity = self._peaks.peak, self._velocities.velocity
         views = {
-            name: axis_view(
-                scene, name, panels[name], info[name], peak(name), velocity(name, axis)
-            )
+            name: axis_view(scene, name, panels[name], info[name], peak(name), velocity(name, axis))
             for name, axis in scene.axes.items()
         }
         model, data = self._model, self._data

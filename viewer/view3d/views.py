@@ -5,9 +5,9 @@ in error tinted red, the legend; a click on a part names it on that page); for e
 from __future__ import annotations
 
 __all__ = [
+    "CAMERA_FOV",
     "FOLLOW_OFF",
     "FOLLOW_STEP",
-    "CAMERA_FOV",
     "FRAME_ASPECT",
     "FRAME_OUTLIER",
     "OFF",
