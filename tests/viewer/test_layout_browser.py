@@ -6,6 +6,7 @@ press, inside the canvas as the page's camera sees them."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
@@ -13,10 +14,14 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 import pytest
+import viser
 import viser.transforms as tf
 
-from tests.viewer.test_browser import browser, wait_for
+from tests.viewer.test_browser import _free_port, browser, wait_for
+from viewer.pages.layout import COLUMN_WIDTH
+from viewer.pages.overview import Overview
 from viewer.serving.server import Viewer
+from viewer.sim.session import Session
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
@@ -32,7 +37,7 @@ BUTTONS = ("Power", "Reset", "Stop", "Jog+", "Jog−", "Move to", "Home")
 """The first axis' buttons that must be in view at once."""
 
 BOXES = """(names) => {
-    const canvas = [...document.querySelectorAll('canvas')]
+    const canvas = [...document.querySelectorAll('canvas')].filter((c) => !c.closest('.uplot'))
         .map((c) => c.getBoundingClientRect()).sort((a, b) => b.width - a.width)[0];
     const buttons = names.map((name) => {
         const b = [...document.querySelectorAll('button')].find(
@@ -53,13 +58,15 @@ LABELS = """() => {
     const whole = (e) => e.scrollWidth <= e.clientWidth + 1;
     const names = [...document.querySelectorAll('td[data-field="name"]')].map((e) => ({
         text: e.textContent.trim(), whole: whole(e)}));
-    const fe = [...document.querySelectorAll('td[data-field="following_error"]')].map((e) => ({
-        text: e.textContent.trim(), whole: whole(e)}));
+    const cells = (field) => [...document.querySelectorAll(`td[data-field="${field}"]`)].map(
+        (e) => ({text: e.textContent.trim(), whole: whole(e)}));
+    const fe = cells("following_error"), peak = cells("peak_following_error");
     const tabs = [...document.querySelectorAll('[role="tab"]')].map((e) => ({
         text: e.textContent.trim(), whole: [e, ...e.querySelectorAll('*')].every(whole)}));
-    return {names: names, fe: fe, tabs: tabs};
+    return {names: names, fe: fe, peak: peak, tabs: tabs};
 }"""
-"""The overview's axis names and following errors and every tab label: text, shown whole."""
+"""The overview's axis names, following errors and their peaks, and every tab label: text,
+shown whole."""
 
 
 def open_page(browser: Browser, viewer: Viewer, width: int, height: int) -> Page:
@@ -113,16 +120,37 @@ def test_the_cell_s_labels_are_whole(browser: Browser, cell: Viewer) -> None:
     assert all(tabs.get(a) for a in axes), tabs
 
 
-def test_the_rotary_cutter_s_mdeg_is_whole(browser: Browser) -> None:
-    with Viewer("rotary_cutter", port=0, demo=False) as cutter:
-        page = open_page(browser, cutter, 1280, 800)
-        try:
-            labels: dict[str, Any] = page.evaluate(LABELS)
-        finally:
-            page.context.close()
-    degrees = [f for f in labels["fe"] if f["text"].endswith("mdeg")]
-    assert degrees, labels["fe"]
+def test_a_following_error_in_mdeg_is_whole(browser: Browser) -> None:
+    """The rotary cutter's overview in a page of the test's own, its drum D (deg) showing a
+    following error and a peak at its limit (MaxPositionLag 5 deg): each cell shows its text
+    whole."""
+    session = Session("rotary_cutter")
+    server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    try:
+        left = server.gui.add_panel()
+        with left.add_tab("Overview"):
+            overview = Overview(server.gui)
+        left.dock_left()
+        left.set_width(COLUMN_WIDTH)
+        snapshot = session.snapshot
+        drum = dataclasses.replace(
+            snapshot.axes["D"], following_error=-4.9999, peak_following_error=5.0
+        )
+        overview.update(dataclasses.replace(snapshot, axes={**snapshot.axes, "D": drum}))
+        page = context.new_page()
+        page.goto(f"http://127.0.0.1:{server.get_port()}")
+        page.locator('td[data-field="name"]').first.wait_for(timeout=30_000)
+        labels: dict[str, Any] = page.evaluate(LABELS)
+    finally:
+        context.close()
+        server.stop()
+        session.close()
+    degrees = [f["text"] for f in labels["fe"] if f["text"].endswith("mdeg")]
+    assert degrees == ["-4999.9 mdeg"], labels["fe"]
     assert all(f["whole"] for f in labels["fe"]), labels["fe"]
+    peaks = [f for f in labels["peak"] if f["text"].endswith("mdeg")]
+    assert [f["text"] for f in peaks] == ["5000.0 mdeg"] and peaks[0]["whole"], peaks
 
 
 def projected(camera: Any, points: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:

@@ -57,8 +57,8 @@ VALUE_COLUMNS: tuple[tuple[str, str, float, str], ...] = (
     ("position", "Act pos [u]", 5.8, "actual position POS [u]"),
     ("set_velocity", "Set vel [u/s]", 5.4, "set velocity [u/s]"),
     ("velocity", "Act vel [u/s]", 5.4, "actual velocity VEL [u/s]"),
-    ("following_error", "FE", 6.6, "following error: set point − actual position"),
-    ("peak_following_error", "FE peak", 6.6, "largest |following error| since Reset peaks"),
+    ("following_error", "FE", 7.0, "following error: set point − actual position"),
+    ("peak_following_error", "FE peak", 7.0, "largest |following error| since Reset peaks"),
     ("output", "Out [%]", 3.8, "analog command in % of ±10 V"),
 )
 """The value columns: (data-field, header, width [em], tooltip); ``u`` in a header is the axes'
@@ -77,7 +77,7 @@ LAMPS: tuple[tuple[str, str, str], ...] = (
 )
 """The status word: (data-field, header (written upwards), tooltip), left to right."""
 
-NAME_WIDTH, LAMP_WIDTH = 3.6, 1.5
+NAME_WIDTH, LAMP_WIDTH = 3.6, 1.2
 """Narrowest width of the axis name column (the name with its unit) and width of each lamp
 column [em of the table's font]."""
 
@@ -87,7 +87,7 @@ CHAR_WIDTH = 0.62
 ERROR_LINES = 2
 """Lines the error text may wrap into before it is cut off (always reserved)."""
 
-_CELL = "padding:0.1em 0.3em;white-space:nowrap;overflow:hidden"
+_CELL = "padding:0.1em 0.2em;white-space:nowrap;overflow:hidden"
 _NUMBER = f"{_CELL};text-align:right;font-family:monospace"
 
 
@@ -108,7 +108,10 @@ def _number(value: float, decimals: int) -> str:
 def _values(view: AxisView) -> dict[str, str]:
     """The text of each value cell of ``view``'s row (escaped)."""
     factor, fe_unit, decimals = fe_scale(view.unit)
-    suffix = f'<span style="color:#78909c"> {html.escape(fe_unit)}</span>'
+    suffix = (
+        '<span style="color:#78909c;font-family:sans-serif;font-size:0.8em">'
+        f" {html.escape(fe_unit)}</span>"
+    )
     drive = view.has_drive
     return {
         "set_position": _number(view.set_position, 3),
@@ -169,7 +172,7 @@ def _row(view: AxisView) -> str:
     )
     word, note = status_word(view), _window_note(view)
     lamps = "".join(
-        f'<td data-field="{field}" style="{_CELL};text-align:center" title="{tip}'
+        f'<td data-field="{field}" style="{_CELL};padding:0.1em 0;text-align:center" title="{tip}'
         f'{note if field == "in_position" else ""}">'
         f"{lamp_dot(word[field], LAMP_KINDS.get(field, 'on_info'))}</td>"
         for field, _, tip in LAMPS
