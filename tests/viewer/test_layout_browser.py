@@ -75,7 +75,7 @@ def open_page(browser: Browser, viewer: Viewer, width: int, height: int) -> Page
     page.goto(viewer.url)
     page.get_by_role("button", name="Power", exact=True).first.wait_for(timeout=60_000)
     page.locator('td[data-field="name"]').first.wait_for(timeout=30_000)
-    page.wait_for_timeout(1500)  # the docked panels settle
+    page.wait_for_timeout(6000)  # the docked panels settle (the axes' tabs widen the panel)
     return page
 
 

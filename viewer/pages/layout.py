@@ -22,11 +22,12 @@ from viewer.serving.security import GuiGate
 from viewer.sim.session import Session
 from viewer.sim.snapshot import Snapshot
 
-COLUMN_WIDTH = 320
+COLUMN_WIDTH = 300
 """Width [CSS px] of a page's left column (scope and overview; a user may drag it wider)."""
 
 CONTROL_WIDTH = 300
-"""Width [CSS px] of the control panel on the right."""
+"""Width [CSS px] of the control panel on the right (the axes' tabs may widen it: the cell's
+four ``gantry/X``… to 324 px)."""
 
 
 class Page:
