@@ -41,17 +41,22 @@ constants, halt and stop (a stop in the same scan has the last word), and the ou
 
 How every command whose Execute is set ended — Done, Error with its ErrorID, or aborted — is
 reported once, from here for both front ends: in :attr:`AxisOperator.message`
-(``"Move to: done"``), a refusal also in :attr:`AxisOperator.last_error` and to ``on_error``.
+(``"Move to: done"``), an error also in :attr:`AxisOperator.last_error` and to ``on_error``, and
+whether the command was refused (its block failed in the scan it started) or aborted (an error
+stopped it on its way) in :attr:`AxisOperator.last_error_kind`; a target beyond a software limit
+is reported with the limit it lies beyond. A Reset that is done clears the last error.
 """
 
 from __future__ import annotations
 
 __all__ = [
+    "ABORTED",
     "COMMANDS",
     "HOMING_PROCEDURES",
     "INDEX_FRACTION",
     "LABELS",
     "MOVES",
+    "REFUSED",
     "AxisOperator",
     "Orders",
     "no_parameters",
@@ -105,6 +110,12 @@ COMMANDS = tuple(LABELS)
 
 MOVES = frozenset({"move_absolute", "move_relative", "move_additive", "move_velocity"})
 """The moves (a new one aborts the last)."""
+
+REFUSED = "Refused"
+"""A command whose block failed in the scan it started (its inputs, the axis' state)."""
+
+ABORTED = "Aborted"
+"""A command an error stopped on its way (a limit switch, the following error)."""
 
 HOMING_PROCEDURES = ("recipe", "index pulse +", "index pulse −", "set position (no motion)")
 """The homing procedures of ``home``: the machine's recipe (REF and index, or to a block; only
@@ -221,7 +232,10 @@ class AxisOperator:
         self.message = ""
         """Outcome of the last command, e.g. ``"Home: done"``."""
         self.last_error = ""
-        """The last refused command, e.g. ``"Jog+: error 1000 (...)"`` (empty: none)."""
+        """The last command that failed, e.g. ``"Jog+: error 1000 (...)"`` (empty: none; a
+        Reset that is done clears it)."""
+        self.last_error_kind = REFUSED
+        """:data:`REFUSED` or :data:`ABORTED`: what became of the command of :attr:`last_error`."""
         self.group_stop = False
         """The front end asks the program to take the axis' group apart (a Stop on a member)."""
         self.finished: set[str] = set()
@@ -322,7 +336,7 @@ class AxisOperator:
             if execute or name in levels or showing(block):
                 self._call(name, execute, params)
                 if execute and not block.Busy and name not in self.finished:
-                    self._ended(name, block)
+                    self._ended(name, block, started=params is not None)
 
     def _call(self, name: str, execute: bool, params: Parameters | None) -> None:
         """Call command ``name``'s block with ``execute``; its inputs from ``params`` (at the
@@ -359,6 +373,7 @@ class AxisOperator:
         """GT_Jog while a jog level is set (and once more when it drops)."""
         jog_pos, jog_neg = orders.jog_pos, orders.jog_neg
         if jog_pos or jog_neg or self.jog.Enable:
+            jogging = bool(self.jog.Enable and not self.jog.Error)
             self.jog(
                 Axis=self.axis,
                 Enable=jog_pos or jog_neg,
@@ -367,7 +382,7 @@ class AxisOperator:
                 JogVelo=orders.jog_velocity,
             )
             if self.jog.Error:
-                self._report("Jog+" if jog_pos else "Jog−", self.jog.ErrorID)
+                self._report("Jog+" if jog_pos else "Jog−", self.jog.ErrorID, aborted=jogging)
 
     def _write_constants(self, constants: mcl.ServoConstants) -> None:
         """GT_SetConstant with ``constants`` (it checks them), Execute dropped at once."""
@@ -396,16 +411,37 @@ class AxisOperator:
         constants = self.axis.constants
         return constants.Vmax if constants is not None else 0.0
 
-    def _ended(self, name: str, block: Block) -> None:
-        """Report how command ``name`` ended (once per start)."""
+    def _ended(self, name: str, block: Block, started: bool = False) -> None:
+        """Report how command ``name`` ended (once per start; ``started``: in the scan it
+        started, so an error refused it)."""
         self.finished.add(name)
         label = LABELS[name]
         if block.Error:
-            self._report(label, block.ErrorID)
+            detail = self._beyond_limit(name, block) if block.ErrorID == mcl.ErrorID.Ecil else ""
+            self._report(label, block.ErrorID, aborted=not started, detail=detail)
         elif block.Done:
             self.message = f"{label}: done"
+            if name == "reset":
+                self.last_error = ""
         else:
             self.message = f"{label}: aborted"
+
+    def _beyond_limit(self, name: str, block: Block) -> str:
+        """Which software limit a move's target lies beyond, and where (empty: not known)."""
+        axis = self.axis
+        if name == "move_absolute":
+            target = float(block.Position)
+        elif name == "move_relative":
+            target = axis.sp_pos + float(block.Distance)
+        else:
+            return ""
+        low, high = axis.sw_limit_range()
+        unit = axis.config.unit
+        if target > high:
+            return f"target {target:.3f} {unit} beyond the positive SW limit {high:.3f} {unit}"
+        if target < low:
+            return f"target {target:.3f} {unit} beyond the negative SW limit {low:.3f} {unit}"
+        return ""
 
     def note(self, command: str, text: str, error_id: int = 0) -> None:
         """What became of a command that is no block's (:data:`~plc.commissioning.axis.Note`):
@@ -421,13 +457,18 @@ class AxisOperator:
     def _refuse(self, command: str, why: str) -> None:
         """A command the program itself refuses (reported like a block's refusal)."""
         self.message = self.last_error = f"{command}: refused: {why}"
+        self.last_error_kind = REFUSED
         if self._on_error is not None:
             self._on_error(self.axis.name, self.message)
 
-    def _report(self, command: str, error_id: int) -> None:
+    def _report(self, command: str, error_id: int, aborted: bool = False, detail: str = "") -> None:
+        """Report ``command``'s ``error_id`` (0: done): refused, or ``aborted`` on its way;
+        ``detail`` says more (e.g. the software limit)."""
         if error_id:
-            self.message = f"{command}: error {error_id} ({mcl.error_text(error_id)})"
+            text = mcl.error_text(error_id) + (f": {detail}" if detail else "")
+            self.message = f"{command}: error {error_id} ({text})"
             self.last_error = self.message
+            self.last_error_kind = ABORTED if aborted else REFUSED
             if self._on_error is not None:
                 self._on_error(self.axis.name, self.message)
         else:

@@ -197,3 +197,33 @@ def test_signals_carry_labels_with_units() -> None:
     page = signals_html(Session("flying_shear").snapshot)
     assert "carriage − strip [mm/s]" in page and "knife valve command [−1…1]" in page
     assert "carriage_minus_strip" not in page and "[-]" not in page
+
+
+def headers(session: Session) -> list[str]:
+    """The value columns' headers of the overview (plain text)."""
+    page = overview_html(session.snapshot)
+    found = re.findall(r'<th title="[^"]*" style="text-align:right[^"]*">(.*?)</th>', page)
+    return [str(h) for h in found]
+
+
+def test_the_headers_carry_the_unit_the_axes_share() -> None:
+    assert headers(Session("gantry"))[:4] == [
+        "Set pos [mm]",
+        "Act pos [mm]",
+        "Set vel [mm/s]",
+        "Act vel [mm/s]",
+    ]
+    mixed = headers(Session("rotary_cutter"))  # mm and deg: each row names its unit
+    assert mixed[:4] == ["Set pos", "Act pos", "Set vel", "Act vel"]
+    assert not any("[u" in h for h in mixed)
+
+
+def test_the_name_column_is_as_wide_as_the_longest_name_with_its_unit() -> None:
+    from viewer.pages import overview
+
+    cell = list(Session("cell").snapshot.axes.values())
+    width = overview.name_width(cell)  # "gantry/X mm": 11 characters
+    assert width == pytest.approx(overview.CHAR_WIDTH * 11 + 0.8)
+    assert f'<col style="width:{width:.2f}em">' in overview_html(Session("cell").snapshot)
+    gantry = list(Session("gantry").snapshot.axes.values())
+    assert overview.name_width(gantry) == overview.NAME_WIDTH  # "X mm": the narrowest column

@@ -139,7 +139,11 @@ def test_a_wire_break_keeps_every_value_of_x_in_place(screen: Screen, tmp_path: 
     _same_places(row, faulted)
     _same_places(panel, faulted_panel)
 
-    screen.show(error="encoder line fault " * 30, last_error="Move_by:" + "x" * 400)
+    screen.show(
+        error="encoder line fault " * 30,
+        last_error="Move_by:" + "x" * 400,
+        last_error_kind="Refused",
+    )
     screen.wait_text('[data-text="Refused"]', "xxxx")
     _same_places(row, screen.cells(ROW))
     _same_places(panel, screen.cells(PANEL))

@@ -716,7 +716,8 @@ def test_an_encoder_only_axis_has_no_drive_buttons(
     app.frame()
     assert app.axis_widgets["master"] == ["Reset"]
     knife = app.axis_widgets["knife"]
-    assert knife[:6] == ["Power", "Reset", "Home", "Jog+", "Jog−", "Stop"]
+    # the buttons that must fit the page's height first (tests/viewer/test_layout_browser.py)
+    assert knife[:7] == ["Power", "Reset", "Stop", "Jog+", "Jog−", "Move to", "Home"]
     (homing,) = [h for h in app._scene_inputs if getattr(h, "label", "") == "Homing"]
     assert "recipe" not in homing.options  # no recipe: index pulse or set position only
     master = view(shear, "master")
@@ -788,7 +789,16 @@ def test_the_app_switches_between_a_model_and_simulated_axes(
     app.frame()
     assert app.model_scene is not None and app._note is None
     assert list(app.axis_widgets) == ["X", "Y", "Z"]
-    assert app.axis_widgets["X"][:3] == ["Power", "Reset", "Home"]  # the gantry has recipes
+    # the gantry has recipes: Home (after the buttons that fit the page's height first)
+    assert app.axis_widgets["X"][:7] == [
+        "Power",
+        "Reset",
+        "Stop",
+        "Jog+",
+        "Jog−",
+        "Move to",
+        "Home",
+    ]
 
 
 # ------------------------------------------------------------------------------- the CLI

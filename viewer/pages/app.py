@@ -49,7 +49,7 @@ from viewer.pages.axis_panel import AxisPanel, add_hotkeys
 from viewer.pages.commissioning import CommissioningPanel
 from viewer.pages.control_page import ControlPages
 from viewer.pages.faults_panel import build_faults
-from viewer.pages.layout import Pages
+from viewer.pages.layout import CONTROL_WIDTH, Pages
 from viewer.pages.panels import (
     NO_MODEL_NOTE,
     SPEEDS,
@@ -205,6 +205,7 @@ class ViewerApp:
         # docked, the control panel leaves the canvas to the machine (floating, it covers its
         # right part: the camera frames the machine in the middle of the canvas)
         server.gui.main_panel.dock_right()
+        server.gui.main_panel.set_width(CONTROL_WIDTH)
         self._build_static_gui()
         self._rebuild(session.snapshot)
 
@@ -315,14 +316,16 @@ class ViewerApp:
             self.control_pages.refresh()
 
     def _build_simulation(self) -> None:
-        """The Simulation folder: status, scene, speed, pause, step, reset, save and restore."""
+        """The status line and the scene chooser on top; the Simulation folder (below the axes):
+        speed, pause, step, reset, save and restore."""
         gui, session = self.server.gui, self.session
-        with gui.add_folder("Simulation", order=0):
-            self._status = gui.add_html("", order=0)
-            self._scene_choice = gui.add_dropdown(
-                "Scene", choices(), initial_value=session.scene_name, order=1
-            )
-            self.gate.allow(self._scene_choice, choice_of(choices()))
+        # which machine, and the chooser, on top; the axes' controls next (order 2)
+        self._status = gui.add_html("", order=-2)
+        self._scene_choice = gui.add_dropdown(
+            "Scene", choices(), initial_value=session.scene_name, order=-1
+        )
+        self.gate.allow(self._scene_choice, choice_of(choices()))
+        with gui.add_folder("Simulation", order=3):
             labels = list(SPEEDS)
             current = speed_label(session.speed)
             if current not in labels:
@@ -382,7 +385,7 @@ class ViewerApp:
     def _build_demo(self) -> None:
         """The Demo folder: run and end the demo, repeat it, release its group, its step."""
         gui, session = self.server.gui, self.session
-        with gui.add_folder("Demo", order=1):
+        with gui.add_folder("Demo", order=3.5):
             labels = session.programs.labels or ("none",)
             self._program = gui.add_dropdown(
                 "Program",
@@ -460,7 +463,7 @@ class ViewerApp:
         self._build_model(snapshot)
         gui = self._gui = SceneGui(self.gate)
         generation = snapshot.generation
-        with gui.folder("Axes", order=2):
+        with gui.folder("Axes", order=0):
             tabs = self.server.gui.add_tab_group()
             for name, view in snapshot.axes.items():
                 with tabs.add_tab(name):
@@ -472,10 +475,10 @@ class ViewerApp:
                             gui, self.session, view, generation
                         )
         if snapshot.signals:
-            with gui.folder("Signals", order=3):
+            with gui.folder("Signals", order=4):
                 self._signals = self._add_panel("signals", signals_html(snapshot))
         if snapshot.demo.available:
-            with gui.folder("Results", order=4):
+            with gui.folder("Results", order=5):
                 self._results = self._add_panel("results", results_html(snapshot))
         steps = {n: p.step for n, p in self._axes.items() if p.step is not None}
         add_hotkeys(gui, self.session, self.operators, steps, generation)

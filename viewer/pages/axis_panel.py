@@ -4,12 +4,21 @@ first three driven axes."""
 
 from __future__ import annotations
 
-__all__ = ["JOG_KEYS", "STEPS", "STEP_KEYS", "TUNING", "AxisPanel", "add_hotkeys"]
+__all__ = [
+    "JOG_KEYS",
+    "STEPS",
+    "STEP_KEYS",
+    "TUNING",
+    "AxisPanel",
+    "HomeField",
+    "add_hotkeys",
+    "home_position_field",
+]
 
 import dataclasses
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NamedTuple
 
 import viser
 from viser._messages import HotkeyKey
@@ -48,6 +57,37 @@ JOG_KEYS = STEP_KEYS
 key is held. The page sends a trigger on the press and on every auto-repeat of the key, no
 release: each trigger renews a dead-man (:data:`~viewer.serving.control.KEY_JOG_FIRST`, then
 :data:`~viewer.serving.control.KEY_JOG_REPEAT`)."""
+
+
+class HomeField(NamedTuple):
+    """What the Home position field shows for a homing procedure."""
+
+    value: float
+    """The position [u]."""
+    disabled: bool
+    """The recipe's own position: shown, not editable."""
+    hint: str
+    """What the position means."""
+
+
+def home_position_field(
+    procedure: str, recipe: float, chosen: float = 0.0, unit: str = "u"
+) -> HomeField:
+    """The Home position field for ``procedure``: the recipe's own position ``recipe`` [u]
+    (NaN: no recipe) for the recipe, else the operator's ``chosen`` one."""
+    if procedure == "recipe":
+        return HomeField(
+            recipe,
+            True,
+            f"The machine's homing recipe gives the axis {recipe:g} {unit} at its reference "
+            "(the machine's coordinates, its limits and the 3-D model follow from it)",
+        )
+    where = (
+        "where it stands (no motion)"
+        if procedure == HOMING_PROCEDURES[3]
+        else ("at the next index pulse")
+    )
+    return HomeField(chosen, False, f"The position [{unit}] the axis is given {where}")
 
 
 class AxisPanel:
@@ -98,6 +138,17 @@ class AxisPanel:
         if view.has_drive:
             self._build_drive(view)
 
+    def _build_drive(self, view: AxisView) -> None:
+        """Stop, jog, Move to and Home first (they fit the page's height), then the other
+        moves, the homing position and tuning of a driven axis."""
+        stop = self._button("Stop", color="red", icon=viser.Icon.HAND_STOP, hint="MC_Stop")
+        stop.on_click(self._on_click(AxisRequests.stop))
+        self._build_jog()
+        vmax = view.vmax if math.isfinite(view.vmax) and view.vmax > 0.0 else 100.0
+        self._build_moves(vmax, view)
+        self._build_velocity(vmax)
+        self._build_tuning(view)
+
     def show(self, view: AxisView) -> None:
         """Send the read-outs and the power colour of ``view`` (only changes)."""
         html = axis_panel_html(view)
@@ -125,27 +176,6 @@ class AxisPanel:
     def _button(self, label: str, **kwargs: Any) -> viser.GuiButtonHandle:
         self.buttons.append(label)
         return self._gui.button(label, **kwargs)
-
-    def _build_drive(self, view: AxisView) -> None:
-        """Homing, jog, stop, moves and tuning of a driven axis."""
-        gui = self._gui
-        procedures = [p for p in HOMING_PROCEDURES if p != "recipe" or view.homeable]
-        procedure = gui.dropdown("Homing", procedures, procedures[0])
-        home_position = gui.number(f"Home position [{view.unit}]", 0.0, -1e9, 1e9, 0.001)
-        home = self._button("Home", icon=viser.Icon.HOME, hint="Run the chosen homing procedure")
-
-        @home.on_click
-        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
-            if self._current():
-                self._requests().home(procedure.value, float(home_position.value))
-
-        self._build_jog()
-        stop = self._button("Stop", color="red", icon=viser.Icon.HAND_STOP, hint="MC_Stop")
-        stop.on_click(self._on_click(AxisRequests.stop))
-        vmax = view.vmax if math.isfinite(view.vmax) and view.vmax > 0.0 else 100.0
-        self._build_velocity(vmax)
-        self._build_moves(vmax)
-        self._build_tuning(view)
 
     def _build_jog(self) -> None:
         """Jog+ and Jog−: the axis jogs while the page holds the button (a dead-man)."""
@@ -185,18 +215,19 @@ class AxisPanel:
             if self._current() and math.isfinite(value) and 0.0 < value <= vmax:
                 self._requests().jog_velocity = value
 
-    def _build_moves(self, vmax: float) -> None:
-        """Step± by the chosen step, Move to a target, Move by a distance."""
+    def _build_moves(self, vmax: float, view: AxisView) -> None:
+        """Move to a target, Home, Step± by the chosen step, Move by a distance."""
         gui, unit = self._gui, self.unit
+        target = gui.number(f"Target [{unit}]", 0.0, -1e9, 1e9, 0.001)
+        move_to = self._button("Move to", icon=viser.Icon.TARGET, hint="MC_MoveAbsolute to Target")
+        self._build_homing(view)
         step = self.step = gui.dropdown(f"Step [{unit}]", STEPS, "1")
         step_pos = self._button("Step+", icon=viser.Icon.CHEVRON_RIGHT, hint="Move by one step")
         step_neg = self._button("Step−", icon=viser.Icon.CHEVRON_LEFT, hint="Move back one step")
-        target = gui.number(f"Target [{unit}]", 0.0, -1e9, 1e9, 0.001)
         distance = gui.number(f"Distance [{unit}]", 10.0, -1e9, 1e9, 0.001)
+        move_by = self._button("Move by", icon=viser.Icon.ARROWS_HORIZONTAL, hint="MC_MoveRelative")
         move_velocity = gui.number(f"Velocity [{unit}/s]", round(0.1 * vmax, 3), 1e-6, vmax, 0.001)
         acceleration = gui.number(f"Acceleration [{unit}/s²]", round(vmax, 3), 1e-6, 1e9, 0.001)
-        move_to = self._button("Move to", icon=viser.Icon.TARGET, hint="MC_MoveAbsolute to Target")
-        move_by = self._button("Move by", icon=viser.Icon.ARROWS_HORIZONTAL, hint="MC_MoveRelative")
 
         def move(kind: str, value: Callable[[], float]) -> Callable[[Any], None]:
             def callback(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
@@ -216,6 +247,40 @@ class AxisPanel:
         move_by.on_click(move("relative", lambda: distance.value))
         step_pos.on_click(move("relative", lambda: float(step.value)))
         step_neg.on_click(move("relative", lambda: -float(step.value)))
+
+    def _build_homing(self, view: AxisView) -> None:
+        """The homing procedure, Home, and the position homing gives the axis: the recipe's
+        own (shown, not editable: the machine's coordinates follow from it), the field's value
+        for an index pulse or set position."""
+        gui = self._gui
+        procedures = [p for p in HOMING_PROCEDURES if p != "recipe" or view.homeable]
+        procedure = gui.dropdown("Homing", procedures, procedures[0])
+        home = self._button("Home", icon=viser.Icon.HOME, hint="Run the chosen homing procedure")
+        recipe = view.home_position
+        unit = view.unit
+        field = home_position_field(procedure.value, recipe, unit=unit)
+        position = gui.number(
+            f"Home position [{view.unit}]",
+            field.value,
+            -1e9,
+            1e9,
+            0.001,
+            disabled=field.disabled,
+            hint=field.hint,
+        )
+        chosen = [0.0]  # the operator's own value, kept while the recipe's is shown
+
+        @procedure.on_update
+        def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
+            if not position.disabled:
+                chosen[0] = float(position.value)
+            shown = home_position_field(procedure.value, recipe, chosen[0], unit)
+            position.value, position.disabled, position.hint = shown
+
+        @home.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            if self._current():
+                self._requests().home(procedure.value, float(position.value))
 
     def _build_tuning(self, view: AxisView) -> None:
         """The Tuning folder: the servo constants, written with GT_SetConstant."""

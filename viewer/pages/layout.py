@@ -1,11 +1,12 @@
-"""The layout of each page (each browser tab): a wide panel of its own on the left, the all-axes
-overview on top, the scope below it and the cam view under that (while an axis is cammed), the
-control panel on the right and the 3-D canvas between them. What a page does there (its scope's
+"""The layout of each page (each browser tab): a panel of its own on the left (the all-axes
+overview, the scope and the cam view while an axis is cammed, the watch table in a tab), the control
+panel on the right and the 3-D canvas between them, at least half the page wide from 1280 to 1920
+px (:data:`COLUMN_WIDTH` + :data:`CONTROL_WIDTH` ≤ 640 px). What a page does there (its scope's
 settings) is its own."""
 
 from __future__ import annotations
 
-__all__ = ["COLUMN_WIDTH", "Page", "Pages"]
+__all__ = ["COLUMN_WIDTH", "CONTROL_WIDTH", "Page", "Pages"]
 
 import threading
 from collections.abc import Callable
@@ -21,8 +22,12 @@ from viewer.serving.security import GuiGate
 from viewer.sim.session import Session
 from viewer.sim.snapshot import Snapshot
 
-COLUMN_WIDTH = 660
-"""Width [CSS px] of a page's left column (overview and scope)."""
+COLUMN_WIDTH = 300
+"""Width [CSS px] of a page's left column (scope and overview; a user may drag it wider)."""
+
+CONTROL_WIDTH = 300
+"""Width [CSS px] of the control panel on the right (the axes' tabs may widen it: the cell's
+four ``gantry/X``… to 324 px)."""
 
 
 class Page:

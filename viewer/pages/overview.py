@@ -17,6 +17,7 @@ layout binds it to a button).
 from __future__ import annotations
 
 __all__ = [
+    "CHAR_WIDTH",
     "ERROR_LINES",
     "FE_UNITS",
     "FULL_SCALE_VOLTS",
@@ -28,6 +29,7 @@ __all__ = [
     "VALUE_COLUMNS",
     "Overview",
     "fe_scale",
+    "name_width",
     "overview_html",
     "status_word",
 ]
@@ -55,11 +57,12 @@ VALUE_COLUMNS: tuple[tuple[str, str, float, str], ...] = (
     ("position", "Act pos [u]", 5.8, "actual position POS [u]"),
     ("set_velocity", "Set vel [u/s]", 5.4, "set velocity [u/s]"),
     ("velocity", "Act vel [u/s]", 5.4, "actual velocity VEL [u/s]"),
-    ("following_error", "FE", 5.8, "following error: set point − actual position"),
-    ("peak_following_error", "FE peak", 5.8, "largest |following error| since Reset peaks"),
+    ("following_error", "FE", 7.0, "following error: set point − actual position"),
+    ("peak_following_error", "FE peak", 7.0, "largest |following error| since Reset peaks"),
     ("output", "Out [%]", 3.8, "analog command in % of ±10 V"),
 )
-"""The value columns: (data-field, header, width [em], tooltip)."""
+"""The value columns: (data-field, header, width [em], tooltip); ``u`` in a header is the axes'
+unit (left out when the axes differ: each row names its own)."""
 
 LAMPS: tuple[tuple[str, str, str], ...] = (
     ("ready", "Ready", "ready: powered, no error, standstill"),
@@ -74,13 +77,17 @@ LAMPS: tuple[tuple[str, str, str], ...] = (
 )
 """The status word: (data-field, header (written upwards), tooltip), left to right."""
 
-NAME_WIDTH, LAMP_WIDTH = 3.6, 1.5
-"""Widths of the axis name (with its unit) and of each lamp column [em of the table's font]."""
+NAME_WIDTH, LAMP_WIDTH = 3.6, 1.2
+"""Narrowest width of the axis name column (the name with its unit) and width of each lamp
+column [em of the table's font]."""
+
+CHAR_WIDTH = 0.62
+"""Width of a character of a bold axis name [em of the table's font], generous."""
 
 ERROR_LINES = 2
 """Lines the error text may wrap into before it is cut off (always reserved)."""
 
-_CELL = "padding:0.1em 0.3em;white-space:nowrap;overflow:hidden"
+_CELL = "padding:0.1em 0.2em;white-space:nowrap;overflow:hidden"
 _NUMBER = f"{_CELL};text-align:right;font-family:monospace"
 
 
@@ -101,7 +108,10 @@ def _number(value: float, decimals: int) -> str:
 def _values(view: AxisView) -> dict[str, str]:
     """The text of each value cell of ``view``'s row (escaped)."""
     factor, fe_unit, decimals = fe_scale(view.unit)
-    suffix = f'<span style="color:#78909c"> {html.escape(fe_unit)}</span>'
+    suffix = (
+        '<span style="color:#78909c;font-family:sans-serif;font-size:0.8em">'
+        f" {html.escape(fe_unit)}</span>"
+    )
     drive = view.has_drive
     return {
         "set_position": _number(view.set_position, 3),
@@ -144,10 +154,11 @@ LAMP_KINDS = {
 
 
 def _error_text(view: AxisView) -> str:
-    """The axis error as number and text, and the last refused command (empty: neither)."""
+    """The axis error as number and text, and the last failed command, refused or aborted
+    (empty: neither)."""
     parts = [f"{view.error_id} {view.error}".strip()] if view.error_id else []
     if view.last_error:
-        parts.append(f"refused: {view.last_error}")
+        parts.append(f"{view.last_error_kind.lower()}: {view.last_error}")
     return " · ".join(parts)
 
 
@@ -161,7 +172,7 @@ def _row(view: AxisView) -> str:
     )
     word, note = status_word(view), _window_note(view)
     lamps = "".join(
-        f'<td data-field="{field}" style="{_CELL};text-align:center" title="{tip}'
+        f'<td data-field="{field}" style="{_CELL};padding:0.1em 0;text-align:center" title="{tip}'
         f'{note if field == "in_position" else ""}">'
         f"{lamp_dot(word[field], LAMP_KINDS.get(field, 'on_info'))}</td>"
         for field, _, tip in LAMPS
@@ -190,14 +201,28 @@ def _window_note(view: AxisView) -> str:
     return f" (±{view.in_position_window * factor:.{decimals}f} {html.escape(unit)})"
 
 
-def _head() -> tuple[str, float]:
+def name_width(views: list[AxisView]) -> float:
+    """The width of the axis name column [em]: the longest name with its unit, whole."""
+    longest = max((len(v.name) + 1 + len(v.unit) for v in views), default=0)
+    return max(NAME_WIDTH, CHAR_WIDTH * longest + 0.8)
+
+
+def _header(label: str, units: set[str]) -> str:
+    """A value column's header: ``u`` replaced by the axes' one unit (left out for several)."""
+    if len(units) == 1:
+        return label.replace("[u", f"[{html.escape(next(iter(units)))}")
+    return label.split(" [")[0]
+
+
+def _head(views: list[AxisView]) -> tuple[str, float]:
     """The column widths and the header row; the table's width [em]."""
-    widths = [NAME_WIDTH, *(w for _, _, w, _ in VALUE_COLUMNS)]
+    widths = [name_width(views), *(w for _, _, w, _ in VALUE_COLUMNS)]
     widths += [LAMP_WIDTH] * len(LAMPS)
-    columns = "".join(f'<col style="width:{w}em">' for w in widths)
+    units = {v.unit for v in views}
+    columns = "".join(f'<col style="width:{w:.2f}em">' for w in widths)
     header = '<th style="text-align:left" title="axis and its unit u">Axis</th>'
     header += "".join(
-        f'<th title="{tip}" style="text-align:right;padding:0 0.3em">{label}</th>'
+        f'<th title="{tip}" style="text-align:right;padding:0 0.3em">{_header(label, units)}</th>'
         for _, label, _, tip in VALUE_COLUMNS
     )
     header += "".join(
@@ -210,8 +235,9 @@ def _head() -> tuple[str, float]:
 
 def overview_html(snapshot: Snapshot) -> str:
     """The overview table of every axis of ``snapshot`` (texts escaped)."""
-    head, width = _head()
-    rows = "".join(_row(view) for view in snapshot.axes.values())
+    views = list(snapshot.axes.values())
+    head, width = _head(views)
+    rows = "".join(_row(view) for view in views)
     return (
         '<div style="overflow-x:auto;padding:0 0.5em">'
         f'<table data-overview="axes" style="table-layout:fixed;width:{width:.1f}em;'

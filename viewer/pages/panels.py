@@ -137,13 +137,14 @@ def _axis_rows(view: AxisView) -> list[tuple[str, str]]:
 
 
 def _texts(view: AxisView) -> str:
-    """The axis error and the last refused command, each on a line of its own under the values
-    (wrapped: however long, they never push the values out of the panel)."""
+    """The axis error and the last failed command (labelled Refused or Aborted), each on a line
+    of its own under the values (wrapped: however long, they never push the values out of the
+    panel)."""
     alarm = bool(view.error_id or view.error)
     error = f"{view.error_id} {html.escape(view.error)}" if alarm else "—"
     lines = [("Error", error, alarm)]
     if view.last_error:
-        lines.append(("Refused", html.escape(view.last_error), True))
+        lines.append((view.last_error_kind, html.escape(view.last_error), True))
     return "".join(
         f'<div data-text="{label}" style="margin-top:0.2em">{label}: '
         f'<span style="color:{"#c62828" if alarm else "inherit"}">{text}</span></div>'
@@ -229,11 +230,20 @@ def demo_html(snapshot: Snapshot) -> str:
 
 
 def events_html(snapshot: Snapshot, shown: int = EVENTS_SHOWN) -> str:
-    """The error history, newest first: per entry a line of UTC time, simulated time and
-    source, and under it the text, wrapped (texts escaped)."""
-    events = snapshot.events[-shown:][::-1]
+    """The error history of the machine shown, newest first: per entry a line of UTC time,
+    simulated time and source, and under it the text, wrapped (texts escaped); how many
+    errors earlier machines had is said under it."""
+    mine = [e for e in snapshot.events if e.scene in ("", snapshot.scene)]
+    others = len(snapshot.events) - len(mine)
+    earlier = (
+        f'<div data-earlier style="color:#546e7a">{others} more on other machines'
+        " (before this one was chosen)</div>"
+        if others
+        else ""
+    )
+    events = mine[-shown:][::-1]
     if not events:
-        return _box("No errors.")
+        return _box(f"No errors on {html.escape(snapshot.scene)}.{earlier}")
     entries = "".join(
         f'<div data-event style="margin-bottom:0.3em">'
         f'<div style="color:#546e7a;font-family:monospace;white-space:nowrap;overflow:hidden;'
@@ -241,7 +251,10 @@ def events_html(snapshot: Snapshot, shown: int = EVENTS_SHOWN) -> str:
         f"<div>{html.escape(e.text)}</div></div>"
         for e in events
     )
-    return f'<div style="font-size:0.8em;padding:0 0.75em;overflow-wrap:anywhere">{entries}</div>'
+    return (
+        f'<div style="font-size:0.8em;padding:0 0.75em;overflow-wrap:anywhere">{entries}'
+        f"{earlier}</div>"
+    )
 
 
 def results_html(snapshot: Snapshot) -> str:

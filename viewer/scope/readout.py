@@ -73,19 +73,21 @@ def readout(recording: Recording, a: float, b: float) -> Readout:
 
 def readout_html(r: Readout) -> str:
     """The read-out table: channel, last value, A, B, B−A (each in its unit, rounded to its
-    resolution); then Δt and 1/Δt."""
-    cell = '<td style="text-align:right;font-family:monospace">'
+    resolution; a value never wraps: in a narrow panel the table scrolls sideways); then Δt and
+    1/Δt."""
+    cell = '<td style="text-align:right;font-family:monospace;white-space:nowrap">'
     rows = "".join(
         f"<tr><td>{html.escape(h)}</td>{cell}{html.escape(d.text(last))}</td>"
         f"{cell}{html.escape(d.text(a))}</td>{cell}{html.escape(d.text(b))}</td>"
         f"{cell}{html.escape(d.text(b - a))}</td></tr>"
         for h, d, last, a, b in zip(r.headers, r.displays, r.last, r.at_a, r.at_b, strict=True)
     )
-    head = '<th style="text-align:right">'
+    head = '<th style="text-align:right;white-space:nowrap">'
     return (
-        '<table style="font-size:0.8em;width:100%;table-layout:fixed">'
-        f'<tr><th style="text-align:left;width:34%">channel</th>{head}last</th>'
-        f"{head}A = {r.a:.4f} s</th>{head}B = {r.b:.4f} s</th>{head}B−A</th></tr>{rows}</table>"
+        '<div style="overflow-x:auto"><table style="font-size:0.75em;width:100%">'
+        f'<tr><th style="text-align:left">channel</th>{head}last</th>'
+        f"{head}A = {r.a:.4f} s</th>{head}B = {r.b:.4f} s</th>{head}B−A</th></tr>{rows}"
+        "</table></div>"
         f"<div>Δt = {r.dt * 1e3:.3f} ms, 1/Δt = {_number(r.rate)} Hz</div>"
     )
 

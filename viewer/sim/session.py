@@ -60,6 +60,7 @@ from viewer.sim.snapshot import (
     copy_array,
     mujoco_of,
 )
+from viewer.sim.velocity import MeanVelocity
 from viewer.view3d.overlays import constraint_forces, contact_forces
 
 log = logging.getLogger(__name__)
@@ -200,6 +201,7 @@ class Session:
         )
         self._axis_errors = {name: axis.AxErrorID for name, axis in scene.axes.items()}
         self._peaks = PeakHold(scene.axes)
+        self._velocities = MeanVelocity(scene.axes, plc)
         self._profiles = ProfileCache()
         self._generation += 1
         self._fault = ""
@@ -265,7 +267,7 @@ class Session:
 
     def record_event(self, source: str, text: str) -> None:
         """Add an entry to the error history (from any thread)."""
-        self._events.append(Event(time.time(), self._scene.time, source, text))
+        self._events.append(Event(time.time(), self._scene.time, source, text, self._scene_name))
 
     @property
     def watch(self) -> tuple[WatchRow, ...]:
@@ -572,6 +574,7 @@ class Session:
             self._plc.scan(self._demo.program)
         self._operator()
         self._peaks.sample()
+        self._velocities.sample(self._scene.time)
         errors = self._axis_errors
         for name, axis in self._scene.axes.items():
             code = axis.AxErrorID
@@ -698,10 +701,10 @@ class Session:
         program = demo.program
         self._watch = program.rows() if isinstance(program, WatchedProgram) else ()
         panels, info = self._operator.front_ends, self._axis_info
-        peak = self._peaks.peak
+        peak, velocity = self._peaks.peak, self._velocities.velocity
         views = {
-            name: axis_view(scene, name, panels[name], info[name], peak(name))
-            for name in scene.axes
+            name: axis_view(scene, name, panels[name], info[name], peak(name), velocity(name, axis))
+            for name, axis in scene.axes.items()
         }
         model, data = self._model, self._data
         self._snapshot = Snapshot(

@@ -52,12 +52,14 @@ class Event:
         time: Simulated time [s].
         source: Axis, group or ``"viewer"``.
         text: What happened.
+        scene: The machine it happened on (empty: not said).
     """
 
     wall: float
     time: float
     source: str
     text: str
+    scene: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -90,7 +92,8 @@ class AxisView:
             (from its machine definition).
         homeable: The machine definition gives the axis a homing recipe.
         position: Actual position ``POS`` [u].
-        velocity: Actual velocity ``VEL`` [u/s].
+        velocity: Actual velocity ``VEL`` [u/s]; of an encoder-only axis its mean over
+            :data:`~viewer.sim.velocity.WINDOW` (its ``VEL`` flickers by a count per cycle).
         following_error: Set point minus actual position [u].
         volts: Analog command of the last servo cycle [V].
         joint_position: Ground-truth joint coordinate [m or rad] (NaN if the plant has none).
@@ -128,6 +131,10 @@ class AxisView:
             point at or beyond ``LimPos``) or tripped (ERRSWP 2006).
         sw_limit_neg: The same for the negative limit (``LimNeg``, ERRSWN 2007).
         commissioning: Reversing sequence, step test and jog speed (None: not given).
+        home_position: The position the machine's homing recipe gives the axis [u] (NaN: no
+            recipe).
+        last_error_kind: What :attr:`last_error` is: ``"Refused"`` (the command never ran) or
+            ``"Aborted"`` (an axis error stopped it).
     """
 
     name: str
@@ -172,6 +179,8 @@ class AxisView:
     sw_limit_pos: bool = False
     sw_limit_neg: bool = False
     commissioning: CommissioningView | None = None
+    home_position: float = math.nan
+    last_error_kind: str = "Refused"
 
 
 @dataclass(frozen=True, slots=True)
@@ -291,7 +300,14 @@ class AxisInfo:
     homeable: bool
 
 
-def axis_view(scene: Scene, name: str, panel: Panel, info: AxisInfo, peak: float = 0.0) -> AxisView:
+def axis_view(
+    scene: Scene,
+    name: str,
+    panel: Panel,
+    info: AxisInfo,
+    peak: float = 0.0,
+    velocity: float | None = None,
+) -> AxisView:
     """What the panel of the axis ``name`` of ``scene`` shows now.
 
     Args:
@@ -300,6 +316,8 @@ def axis_view(scene: Scene, name: str, panel: Panel, info: AxisInfo, peak: float
         panel: Its operator panel (request flags; its operator: the last command's outcome).
         info: What the machine definition says about it.
         peak: Its peak |following error| since the last reset [u].
+        velocity: Its velocity as shown [u/s] (:class:`~viewer.sim.velocity.MeanVelocity`;
+            None: ``VEL``).
     """
     axis = scene.axes[name]
     op = panel.operator
@@ -315,7 +333,7 @@ def axis_view(scene: Scene, name: str, panel: Panel, info: AxisInfo, peak: float
         switches=info.switches,
         homeable=info.homeable,
         position=axis.POS,
-        velocity=axis.VEL,
+        velocity=axis.VEL if velocity is None else velocity,
         following_error=axis.following_error,
         volts=axis.volts,
         joint_position=scene.joint_position(name),
@@ -352,6 +370,8 @@ def axis_view(scene: Scene, name: str, panel: Panel, info: AxisInfo, peak: float
         sw_limit_pos=limit_pos,
         sw_limit_neg=limit_neg,
         commissioning=panel.commissioning_view,
+        home_position=op.recipe.recipe.set_position if op.recipe is not None else math.nan,
+        last_error_kind=op.last_error_kind,
     )
 
 

@@ -6,8 +6,10 @@ every page."""
 from __future__ import annotations
 
 __all__ = [
+    "CAMERA_FOV",
     "FOLLOW_OFF",
     "FOLLOW_STEP",
+    "FRAME_ASPECT",
     "FRAME_OUTLIER",
     "OFF",
     "ON",
@@ -16,6 +18,7 @@ __all__ = [
     "Views",
 ]
 
+import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -51,6 +54,12 @@ FOLLOW_STEP = 1e-4
 
 FRAME_OUTLIER = 50.0
 """Geoms bigger than this many times the median geom are left out of the camera framing."""
+
+CAMERA_FOV = math.radians(75.0)
+"""Vertical field of view of a page's camera [rad] (viser's initial camera)."""
+
+FRAME_ASPECT = 0.8
+"""Narrowest canvas (width / height) the framing fits the machine into: half of a 1280×800 page."""
 
 VIEWS = {
     "Fit": (0.9, -1.6, 0.9),
@@ -129,6 +138,7 @@ class Views:
         if self._bounds is None:
             return
         center, radius = self._bounds
+        self.server.initial_camera.fov = CAMERA_FOV
         self.server.initial_camera.look_at = center
         self.server.initial_camera.position = _camera_position(center, radius, VIEWS["Fit"])
 
@@ -328,6 +338,7 @@ def _camera_position(
     center: npt.NDArray[np.float64], radius: float, direction: Sequence[float]
 ) -> npt.NDArray[np.float64]:
     """Camera position [m] looking at ``center`` from ``direction`` at a distance that shows
-    a sphere of ``radius``."""
+    a sphere of ``radius`` whole in a canvas of :data:`FRAME_ASPECT` (and any wider one)."""
     d = np.asarray(direction, dtype=np.float64)
-    return center + 1.7 * radius * d / np.linalg.norm(d)
+    half = math.atan(math.tan(0.5 * CAMERA_FOV) * FRAME_ASPECT)  # horizontal half angle
+    return center + radius / math.sin(half) * d / np.linalg.norm(d)
