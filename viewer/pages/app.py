@@ -74,6 +74,7 @@ from viewer.view3d.legend import LAMP_REF as LAMP_REF
 from viewer.view3d.legend import SWITCHES
 from viewer.view3d.model_scene import ModelScene
 from viewer.view3d.overlays import ContactOverlay, SetPointGhost
+from viewer.view3d.renderer import Renderers
 from viewer.view3d.views import OFF, ON, SWITCH_CHOICES, Views
 
 log = logging.getLogger(__name__)
@@ -154,7 +155,8 @@ class ViewerApp:
         self.demo_on_choice = demo
         """A machine chosen on a page starts its demo."""
         self.server = server
-        self._frame_period = 1.0 / fps
+        self.renderers = Renderers(fps)
+        """What draws each page's 3-D view; the frame rate follows from it."""
         self._panel_period = 1.0 / panel_hz
         self._plot_period = 1.0 / plot_hz
         self._stopping = threading.Event()
@@ -201,6 +203,8 @@ class ViewerApp:
         server.on_client_disconnect(self.operators.disconnect)
         server.on_client_connect(self.pages.connect)
         server.on_client_disconnect(self.pages.disconnect)
+        server.on_client_connect(self.renderers.connect)
+        server.on_client_disconnect(self.renderers.disconnect)
         _light(server, environment_map)
         # docked, the control panel leaves the canvas to the machine (floating, it covers its
         # right part: the camera frames the machine in the middle of the canvas)
@@ -241,6 +245,11 @@ class ViewerApp:
     @property
     def _commands(self) -> list[Any]:
         return self._gui.commands
+
+    @property
+    def _frame_period(self) -> float:
+        """Seconds between 3-D frames (longer while a page draws in software)."""
+        return 1.0 / self.renderers.fps
 
     def _draw(self) -> None:
         """Draw the next frame even without a new snapshot."""
@@ -313,6 +322,7 @@ class ViewerApp:
         if now - self._last_control >= self._panel_period:
             self._last_control = now
             self.control_pages.refresh()
+            self.renderers.refresh()
 
     def _build_simulation(self) -> None:
         """The Simulation folder: status, scene, speed, pause, step, reset, save and restore."""
