@@ -34,7 +34,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
 import scenes
+from viewer.view3d.renderer import is_software
 
 if TYPE_CHECKING:
     from playwright.sync_api import ConsoleMessage, Locator, Page
@@ -44,8 +47,16 @@ OUT = ROOT / ".build" / "journey"
 """Where the screenshots go unless told otherwise."""
 VIEWPORT = {"width": 1280, "height": 800}
 """The page's size [CSS px]: a laptop's screen."""
+DOCS_IMAGES = ROOT / "docs" / "images"
+"""Where ``--docs`` writes the documentation's pictures."""
+DOCS_LIMIT = 150_000
+"""Bytes a documentation picture may take."""
+README_MACHINE = "gantry"
+"""The machine of the README's picture."""
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking"]
+INTO_THE_DEMO = 4
+"""Steps of its demo a machine goes through before its picture is taken."""
 START_TIMEOUT = 120.0
 """Seconds the viewer process may take to print its address."""
 LOAD_TIMEOUT = 120_000
@@ -54,6 +65,13 @@ STEP_TIMEOUT = 60_000
 """Milliseconds an axis command may take to end."""
 DEMO_TIMEOUT = 300_000
 """Milliseconds one demo run may take."""
+
+RENDERER = """() => {
+    const gl = document.createElement('canvas').getContext('webgl');
+    const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
+    return gl ? String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER)) : '';
+}"""
+"""The page's WebGL renderer."""
 
 CHARTS = """() => Object.values(window.__viserTestpoints?.uplots ?? {}).map((u) => {
     const data = u.chart.data ?? [];
@@ -253,9 +271,15 @@ class Journey:
         return self.page.get_by_text(pattern).locator("visible=true").first
 
     def open(self, url: str) -> None:
-        """Load the page until its panels are there."""
+        """Load the page until its panels are there; where it draws in software, wait for its
+        line saying so and close viser's own notice about it, as a user would."""
         self.page.goto(url)
         self.page.get_by_role("combobox", name="Scene", exact=True).wait_for(timeout=LOAD_TIMEOUT)
+        if is_software(self.page.evaluate(RENDERER)):
+            self.page.get_by_text("No GPU (software WebGL)").first.wait_for(timeout=LOAD_TIMEOUT)
+            notice = self.page.locator(".mantine-Notification-root", has_text="Software WebGL")
+            notice.first.wait_for(timeout=LOAD_TIMEOUT)
+            notice.first.locator("button").first.click()
 
     # ------------------------------------------------------------------------- steps
 
@@ -263,8 +287,16 @@ class Journey:
         """Pick the machine in the chooser; wait for its status line and its axis tabs."""
         self.machine = name
         chooser = self.page.get_by_role("combobox", name="Scene", exact=True)
-        chooser.click()
-        self.page.get_by_role("option", name=name, exact=True).click()
+        for attempt in range(3):  # a busy page may close the list before the click lands
+            chooser.scroll_into_view_if_needed()
+            chooser.click()
+            try:
+                self.page.get_by_role("option", name=name, exact=True).click(timeout=15_000)
+                break
+            except PlaywrightTimeout:
+                self.page.keyboard.press("Escape")
+                if attempt == 2:
+                    raise JourneyError(f"the chooser did not offer {name}") from None
         status = re.compile(rf"^{re.escape(name)} · t = ")
         self.page.get_by_text(status).first.wait_for(timeout=LOAD_TIMEOUT)
         self.page.get_by_text(scenes.definition(name).description).first.wait_for(
@@ -288,12 +320,16 @@ class Journey:
             self.button("Run demo").click()
             self._wait_demo("Step: ", run, "start")
             if run == 1:
+                self._into_the_demo()
                 self.shot("demo-running")
-                self._views_while_running()
-            self._wait_demo("Done: ", run, "end")
+                self.check_charts("the scope while the demo runs")
+            self._wait_demo("Done: ", run, "end", cam=run == 1)
             self.shot(f"demo-{run}-done")
 
-    def _wait_demo(self, prefix: str, run: int, what: str) -> None:
+    def _wait_demo(self, prefix: str, run: int, what: str, cam: bool = False) -> None:
+        """Wait until the demo box reads ``prefix`` (a demo error fails); with ``cam``, look at
+        the cam view the first time the demo cams an axis."""
+        looked = False
         demo = self.page.get_by_text(re.compile(r"^(Step|Done|Ended at): |^Not started\.$"))
         timeout = STEP_TIMEOUT if what == "start" else DEMO_TIMEOUT
         deadline = time.monotonic() + timeout / 1000.0
@@ -301,6 +337,8 @@ class Journey:
             texts = [t.strip() for t in demo.all_inner_texts()]
             if any(t.startswith(prefix) for t in texts):
                 return
+            if cam and not looked:
+                looked = self._look_at_cam()
             errors = self._demo_errors()
             if errors:
                 self.shot(f"demo-{run}-failed")
@@ -318,9 +356,30 @@ class Journey:
         texts = [t.strip() for t in boxes.all_inner_texts()]
         return [t for t in texts if t and not t.startswith("stopped")]
 
-    def _views_while_running(self) -> None:
-        """The scope (and the cam view, where an axis is cammed) while the demo runs."""
-        self.check_charts("the scope while the demo runs")
+    def _into_the_demo(self, steps: int = INTO_THE_DEMO) -> None:
+        """Wait until the demo has gone through ``steps`` steps (or ended): the machine moves."""
+        demo = self.page.get_by_text(re.compile(r"^(Step|Done|Ended at): "))
+        seen: list[str] = []
+        deadline = time.monotonic() + DEMO_TIMEOUT / 1000.0
+        while len(seen) < steps and time.monotonic() < deadline:
+            texts = [t.strip() for t in demo.all_inner_texts()]
+            step = texts[0] if texts else ""
+            if not step.startswith("Step: "):
+                return
+            if step not in seen:
+                seen.append(step)
+            self.page.wait_for_timeout(100)
+
+    def _look_at_cam(self) -> bool:
+        """The cam view, if it is shown (an axis is cammed): its charts draw, a screenshot."""
+        cam = self.page.get_by_text("Cam", exact=True).locator("visible=true")
+        if not cam.count():
+            return False
+        cam.first.scroll_into_view_if_needed()
+        self.check_charts("the cam view while the demo runs")
+        self.shot("view-cam")
+        self.page.get_by_text("All axes", exact=True).first.scroll_into_view_if_needed()
+        return True
 
     def check_charts(self, what: str) -> list[Chart]:
         """Wait until every visible chart draws a series.
@@ -428,18 +487,34 @@ class Journey:
 
     def views(self) -> None:
         """Each view: the overview and the scope (their charts draw), the Watch tab, the camera
-        presets."""
+        presets of the View folder (where the machine has a 3-D model)."""
         self.page.get_by_role("tab", name="Axes and scope").first.click()
         self.check_charts("the scope")
         self.shot("view-overview-scope")
         self.page.get_by_role("tab", name="Watch").first.click()
         self.shot("view-watch")
         self.page.get_by_role("tab", name="Axes and scope").first.click()
-        presets = [name for name in ("Front", "Side", "Top", "Fit") if self.button(name).count()]
-        for name in presets:
+        folder = self.page.get_by_text("View", exact=True).locator("visible=true")
+        if not folder.count():
+            return  # no 3-D model, no View folder
+        folder.first.scroll_into_view_if_needed()
+        folder.first.click()
+        for name in ("Front", "Side", "Top", "Fit"):
             self.button(name).first.click()
-            self.page.wait_for_timeout(500)  # the camera's move is animated
+            self.settle()
             self.shot(f"view-{name.lower()}")
+
+    def settle(self, timeout: float = 10.0) -> None:
+        """Wait until the 3-D canvas draws the same picture twice (a camera move is animated)."""
+        canvas = self.page.locator("canvas").first
+        deadline = time.monotonic() + timeout
+        last = canvas.screenshot()
+        while time.monotonic() < deadline:
+            self.page.wait_for_timeout(200)
+            picture = canvas.screenshot()
+            if picture == last:
+                return
+            last = picture
 
     def machine_journey(self, name: str) -> None:
         """Everything on machine ``name``."""
@@ -465,6 +540,39 @@ def _label(panel: str, field: str) -> str:
     match = re.search(r"Position\s+\S+\s+(\S+)", panel)
     unit = match.group(1) if match else ""
     return f"{field} [{unit}]" if unit else field
+
+
+def optimise(shot: Path, target: Path, limit: int = DOCS_LIMIT) -> int:
+    """Write ``shot`` as a small PNG at ``target`` (the same size, fewer colours until it is at
+    most ``limit`` bytes); returns its size [bytes]."""
+    from PIL import Image
+
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with Image.open(shot) as image:
+        rgb = image.convert("RGB")
+    for colours in (256, 128, 64, 32, 16):
+        rgb.quantize(colors=colours, dither=Image.Dither.NONE).save(target, optimize=True)
+        if target.stat().st_size <= limit:
+            break
+    return target.stat().st_size
+
+
+def publish(shots: Sequence[Path], docs: Path = DOCS_IMAGES) -> list[Path]:
+    """The documentation's pictures from a journey's screenshots: each machine's running demo
+    (``machines/NAME.png``) and the gantry's as the README's (``viewer.png``)."""
+    written = []
+    for shot in shots:
+        match = re.fullmatch(r"\d+-(\w+)-demo-running\.png", shot.name)
+        if match is None:
+            continue
+        name = match.group(1)
+        targets = [docs / "machines" / f"{name}.png"]
+        if name == README_MACHINE:
+            targets.append(docs / "viewer.png")
+        for target in targets:
+            optimise(shot, target)
+            written.append(target)
+    return written
 
 
 def run(out: Path, machines: Sequence[str], speed: str = "1") -> list[Path]:
@@ -497,6 +605,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=OUT, help=f"screenshots' folder ({OUT})")
     parser.add_argument("--machines", default="", help="comma-separated (default: all)")
     parser.add_argument("--speed", default="1", help="the simulation's speed (default 1)")
+    parser.add_argument(
+        "--docs",
+        action="store_true",
+        help=f"also write the documentation's pictures to {DOCS_IMAGES.relative_to(ROOT)}",
+    )
     args = parser.parse_args(argv)
     machines = [m for m in args.machines.split(",") if m] or sorted(scenes.MACHINES)
     unknown = [m for m in machines if m not in scenes.MACHINES]
@@ -509,6 +622,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except JourneyError as exc:
         print(f"journey FAILED: {exc}\nscreenshots so far: {args.out}", file=sys.stderr)
         return 1
+    if args.docs:
+        for picture in publish(shots):
+            print(f"{picture.relative_to(ROOT)}: {picture.stat().st_size // 1000} kB")
     print(
         f"journey passed: {len(machines)} machine(s), {len(shots)} screenshots in "
         f"{time.monotonic() - started:.0f} s: {args.out}"

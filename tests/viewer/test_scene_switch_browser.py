@@ -56,9 +56,7 @@ def test_switching_machines_and_resetting_logs_no_console_error(
             page.get_by_text("Step: ").first.wait_for(timeout=30_000)  # its panels refresh
             generation = session.snapshot.generation
             page.get_by_role("button", name="Reset scene", exact=True).click()
-            wait_for(
-                lambda g=generation: session.snapshot.generation != g, 30.0, "the reset scene"
-            )
+            wait_for(lambda g=generation: session.snapshot.generation != g, 30.0, "the reset scene")
             wait_for(
                 lambda: viewer.app._generation == session.snapshot.generation,
                 30.0,

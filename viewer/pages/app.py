@@ -117,7 +117,9 @@ class ViewerApp:
     Args:
         session: The simulation to show and operate.
         server: The viser server to build the GUI in.
-        fps: Frames per second of the update loop [Hz] (poses and switch colours).
+        fps: Frames per second of the update loop [Hz] (poses and switch colours; the 3-D
+            view at most :data:`~viewer.view3d.renderer.SOFTWARE_FPS` while a page draws in
+            software, :mod:`viewer.view3d.renderer`).
         panel_hz: Refresh rate of the axis panels and the status line [Hz].
         plot_hz: Refresh rate of the scope [Hz].
         environment_map: Light the scene with viser's HDRI environment map. It looks best but
@@ -155,8 +157,9 @@ class ViewerApp:
         self.demo_on_choice = demo
         """A machine chosen on a page starts its demo."""
         self.server = server
+        self._frame_period = 1.0 / fps
         self.renderers = Renderers(fps)
-        """What draws each page's 3-D view; the frame rate follows from it."""
+        """What draws each page's 3-D view; the 3-D frame rate follows from it."""
         self._panel_period = 1.0 / panel_hz
         self._plot_period = 1.0 / plot_hz
         self._stopping = threading.Event()
@@ -171,7 +174,7 @@ class ViewerApp:
         self._model_scene: ModelScene | None = None
         self._generation = 0
         self._last: Snapshot | None = None
-        self._last_panel = self._last_plot = self._last_control = -math.inf
+        self._last_panel = self._last_plot = self._last_control = self._last_pose = -math.inf
         self._axes: dict[str, AxisPanel] = {}
         self._commissioning: dict[str, CommissioningPanel] = {}
         """The Commissioning folders of the driven axes."""
@@ -245,11 +248,6 @@ class ViewerApp:
     @property
     def _commands(self) -> list[Any]:
         return self._gui.commands
-
-    @property
-    def _frame_period(self) -> float:
-        """Seconds between 3-D frames (longer while a page draws in software)."""
-        return 1.0 / self.renderers.fps
 
     def _draw(self) -> None:
         """Draw the next frame even without a new snapshot."""
@@ -518,7 +516,7 @@ class ViewerApp:
         for name in ("signals", "results", "events"):
             self._shown[name] = ""
         self._last = None
-        self._last_panel = self._last_plot = -math.inf  # show the new scene's panels at once
+        self._last_panel = self._last_plot = self._last_pose = -math.inf  # the new scene at once
         self.operators.forget()
 
     def _build_model(self, snapshot: Snapshot) -> None:
@@ -596,18 +594,15 @@ class ViewerApp:
         start = time.perf_counter()
         if snapshot.generation != self._generation:
             self._rebuild(snapshot)
-        model_scene = self._model_scene
-        if model_scene is not None:
-            model_scene.update_poses(snapshot.xpos, snapshot.xquat)
-            axes = snapshot.axes
-            for name, kind, geom, color in self._lamps:
-                if getattr(axes[name], kind):
-                    model_scene.set_geom_color(geom, color)
-                else:
-                    model_scene.reset_geom_color(geom)
-            self.views.update(snapshot)
         now = time.monotonic()
         slack = 0.5 * self._frame_period  # e.g. every third frame at 30 fps for 10 Hz
+        model_scene = self._model_scene
+        if model_scene is not None:
+            if now - self._last_pose >= 1.0 / self.renderers.fps - slack:
+                self._last_pose = now
+                self._update_3d(model_scene, snapshot)
+            else:  # a page draws in software: the latest pose follows at its lower rate
+                self._redraw = True
         if now - self._last_panel >= self._panel_period - slack:
             self._last_panel = now
             self._update_panels(snapshot)
@@ -618,6 +613,17 @@ class ViewerApp:
         self._last = snapshot
         self.frames += 1
         self.frame_costs.append(time.perf_counter() - start)
+
+    def _update_3d(self, model_scene: ModelScene, snapshot: Snapshot) -> None:
+        """Body poses, switch lamps, overlays and follow cameras of ``snapshot``."""
+        model_scene.update_poses(snapshot.xpos, snapshot.xquat)
+        axes = snapshot.axes
+        for name, kind, geom, color in self._lamps:
+            if getattr(axes[name], kind):
+                model_scene.set_geom_color(geom, color)
+            else:
+                model_scene.reset_geom_color(geom)
+        self.views.update(snapshot)
 
     def _show(self, name: str, handle: viser.GuiHtmlHandle, content: str) -> None:
         """Send ``content`` to the HTML panel ``name`` if it changed."""

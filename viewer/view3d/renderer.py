@@ -56,9 +56,8 @@ def probe_html(client_id: int) -> str:
 def note(fps: float) -> str:
     """The page's line while it draws in software."""
     return (
-        '<div style="font-size:0.8em;padding:0 0.75em;color:#546e7a">'
-        f"No GPU (software WebGL): the 3-D view is updated {fps:g}×/s to keep the page "
-        "responsive.</div>"
+        '<div style="font-size:0.8em;padding:0.2em 1em;color:#546e7a">'
+        f"No GPU (software WebGL): 3-D view at {fps:g} frames/s</div>"
     )
 
 
