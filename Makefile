@@ -60,10 +60,11 @@ test: lint typecheck pytest
 
 # a new user's journey through every machine in headless Chromium (about 2 minutes a machine):
 # a screenshot per step in .build/journey/ (OUT=DIR), MACHINES=a,b for some; DOCS=1 also
-# writes the documentation's pictures (docs/images/machines/, docs/images/viewer.png)
+# writes the documentation's pictures (docs/images/machines/, docs/images/viewer.png),
+# PICTURES=1 takes only those (each machine's demo a few steps in)
 journey: setup
 	$(PY) -m tests.journey $(if $(OUT),--out $(OUT)) $(if $(MACHINES),--machines $(MACHINES)) \
-		$(if $(DOCS),--docs)
+		$(if $(DOCS),--docs) $(if $(PICTURES),--pictures)
 
 bench: setup
 	$(PY) -m tests.benchmarks.machines

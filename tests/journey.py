@@ -40,12 +40,12 @@ import scenes
 from viewer.view3d.renderer import is_software
 
 if TYPE_CHECKING:
-    from playwright.sync_api import ConsoleMessage, Locator, Page
+    from playwright.sync_api import ConsoleMessage, Locator, Page, ViewportSize
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / ".build" / "journey"
 """Where the screenshots go unless told otherwise."""
-VIEWPORT = {"width": 1280, "height": 800}
+VIEWPORT: ViewportSize = {"width": 1280, "height": 800}
 """The page's size [CSS px]: a laptop's screen."""
 DOCS_IMAGES = ROOT / "docs" / "images"
 """Where ``--docs`` writes the documentation's pictures."""
@@ -61,8 +61,8 @@ START_TIMEOUT = 120.0
 """Seconds the viewer process may take to print its address."""
 LOAD_TIMEOUT = 120_000
 """Milliseconds a page (or a new machine's panels) may take to appear on a busy machine."""
-STEP_TIMEOUT = 60_000
-"""Milliseconds an axis command may take to end."""
+STEP_TIMEOUT = 180_000
+"""Milliseconds an axis command may take to end (a drum homing at half real time: a minute)."""
 DEMO_TIMEOUT = 300_000
 """Milliseconds one demo run may take."""
 
@@ -234,7 +234,8 @@ def plan(name: str) -> Plan:
         raise JourneyError(f"{name} has no driven axis to operate")
     homeable = [(axis, spec) for axis, spec in axes if spec.homing is not None]
     axis, spec = (homeable or axes)[0]
-    high, low = spec.constants.LimPos, spec.constants.LimNeg
+    constants = spec.constants
+    high, low = (constants.LimPos, constants.LimNeg) if constants is not None else (0.0, 0.0)
     target = None
     if math.isfinite(high) and math.isfinite(low) and high > low:
         target = round(high + 0.1 * (high - low), 3)
@@ -249,12 +250,13 @@ class Journey:
         out: The screenshots' folder.
     """
 
-    def __init__(self, page: Page, out: Path) -> None:
+    def __init__(self, page: Page, out: Path, shots: list[Path] | None = None) -> None:
         self.page, self.out = page, out
         self.console = Console()
         page.on("console", self.console.hear)
         page.on("pageerror", self.console.uncaught)
-        self.shots: list[Path] = []
+        self.shots: list[Path] = [] if shots is None else shots
+        """The screenshots so far (shared by the pages of one journey)."""
         self.machine = ""
 
     def shot(self, step: str) -> Path:
@@ -516,6 +518,16 @@ class Journey:
                 return
             last = picture
 
+    def picture(self, name: str) -> None:
+        """Machine ``name`` chosen, its demo a few steps in: the documentation's picture."""
+        self.take_control()
+        self.choose(name)
+        self.button("Run demo").click()
+        self._wait_demo("Step: ", 1, "start")
+        self._into_the_demo()
+        self.shot("demo-running")
+        self.console.check(f"{name}'s demo")
+
     def machine_journey(self, name: str) -> None:
         """Everything on machine ``name``."""
         journey = plan(name)
@@ -575,8 +587,10 @@ def publish(shots: Sequence[Path], docs: Path = DOCS_IMAGES) -> list[Path]:
     return written
 
 
-def run(out: Path, machines: Sequence[str], speed: str = "1") -> list[Path]:
-    """The journey through ``machines``; returns the screenshots.
+def run(out: Path, machines: Sequence[str], speed: str = "1", pictures: bool = False) -> list[Path]:
+    """The journey through ``machines``, each in a page of its own opened anew (as a new user
+    would; the camera a page was turned to stays with it); with ``pictures`` only each
+    machine's picture (:meth:`Journey.picture`). Returns the screenshots.
 
     Raises:
         JourneyError: What went wrong (the screenshots so far are kept).
@@ -589,15 +603,20 @@ def run(out: Path, machines: Sequence[str], speed: str = "1") -> list[Path]:
     first = [m for m in sorted(scenes.MACHINES) if m not in machines][:1] or [machines[-1]]
     with viewer_process(first[0], speed) as url, sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        shots: list[Path] = []
         try:
-            page = browser.new_context(viewport=VIEWPORT).new_page()
-            journey = Journey(page, out)
-            journey.open(url)
             for name in machines:
-                journey.machine_journey(name)
+                context = browser.new_context(viewport=VIEWPORT)
+                journey = Journey(context.new_page(), out, shots)
+                journey.open(url)
+                if pictures:
+                    journey.picture(name)
+                else:
+                    journey.machine_journey(name)
+                context.close()
         finally:
             browser.close()
-    return journey.shots
+    return shots
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -605,6 +624,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=OUT, help=f"screenshots' folder ({OUT})")
     parser.add_argument("--machines", default="", help="comma-separated (default: all)")
     parser.add_argument("--speed", default="1", help="the simulation's speed (default 1)")
+    parser.add_argument(
+        "--pictures",
+        action="store_true",
+        help="only each machine's picture, its demo a few steps in (with --docs: quicker)",
+    )
     parser.add_argument(
         "--docs",
         action="store_true",
@@ -618,7 +642,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))  # clean up
     started = time.monotonic()
     try:
-        shots = run(args.out, machines, args.speed)
+        shots = run(args.out, machines, args.speed, args.pictures)
     except JourneyError as exc:
         print(f"journey FAILED: {exc}\nscreenshots so far: {args.out}", file=sys.stderr)
         return 1

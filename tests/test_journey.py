@@ -5,21 +5,30 @@ does on each machine, how it reads charts and the console, and the viewer proces
 from __future__ import annotations
 
 import http.client
+import subprocess
 import urllib.parse
+from pathlib import Path
 
 import pytest
+from PIL import Image
 
 import scenes
 from tests.journey import (
+    DOCS_LIMIT,
+    ROOT,
     Chart,
     Console,
     JourneyError,
     charts_drawing_nothing,
     plan,
+    publish,
     viewer_process,
     viewer_url,
 )
 from viewer.serving.server import port_available
+
+BASE_PICTURE = "aa8a491"
+"""A commit whose docs/images/viewer.png is a screenshot stored as it was taken (229 kB)."""
 
 
 @pytest.mark.parametrize("name", sorted(scenes.MACHINES))
@@ -29,7 +38,7 @@ def test_each_machine_has_a_driven_axis_and_an_error_to_provoke(name: str) -> No
     machines = {p.machine.name: p.machine for p in definition.parts} or {"": definition}
     prefix, _, axis = journey.axis.rpartition("/")
     spec = machines[prefix].axes[axis]
-    assert spec.drive != "encoder"
+    assert spec.drive != "encoder" and spec.constants is not None
     if journey.target is not None:
         assert journey.target > spec.constants.LimPos > spec.constants.LimNeg
     else:
@@ -75,3 +84,30 @@ def test_the_viewer_process_serves_its_page_and_stops() -> None:
         connection.close()
         assert response.status == 303  # the token traded for a cookie: the viewer answers
     assert port_available("127.0.0.1", address.port)
+
+
+def test_the_documentation_pictures_are_each_machine_s_running_demo_and_small(
+    tmp_path: Path,
+) -> None:
+    screenshot = tmp_path / "screenshot.png"  # a screenshot of the viewer, losslessly stored
+    subprocess.run(
+        ["git", "show", f"{BASE_PICTURE}:docs/images/viewer.png"],
+        cwd=ROOT,
+        check=True,
+        stdout=screenshot.open("wb"),
+    )
+    assert screenshot.stat().st_size > DOCS_LIMIT
+    shots = []
+    for name in ("01-gantry-chosen.png", "02-gantry-demo-running.png", "09-press-demo-running.png"):
+        shots.append(tmp_path / name)
+        shots[-1].write_bytes(screenshot.read_bytes())
+    written = publish(shots, tmp_path / "docs")
+    assert sorted(p.relative_to(tmp_path / "docs").as_posix() for p in written) == [
+        "machines/gantry.png",
+        "machines/press.png",
+        "viewer.png",
+    ]
+    for picture in written:
+        with Image.open(picture) as image:
+            assert image.size == (1280, 800)
+        assert picture.stat().st_size <= DOCS_LIMIT

@@ -54,9 +54,9 @@ def test_switching_machines_and_resetting_logs_no_console_error(
             choose_scene(page, viewer, name)
             wait_for(lambda: session.snapshot.demo.running, 30.0, f"the {name} demo")
             page.get_by_text("Step: ").first.wait_for(timeout=30_000)  # its panels refresh
-            generation = session.snapshot.generation
+            before = session.snapshot.generation
             page.get_by_role("button", name="Reset scene", exact=True).click()
-            wait_for(lambda g=generation: session.snapshot.generation != g, 30.0, "the reset scene")
+            wait_for(lambda: session.snapshot.generation > before, 30.0, "the reset")  # noqa: B023
             wait_for(
                 lambda: viewer.app._generation == session.snapshot.generation,
                 30.0,
