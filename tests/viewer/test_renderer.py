@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import html
 import http.client
-import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any, cast
@@ -25,13 +24,21 @@ SWIFTSHADER = (
 GPU = "ANGLE (NVIDIA, NVIDIA GeForce RTX 3060 Direct3D11 vs_5_0 ps_5_0, D3D11)"
 
 
-@dataclass
 class Line:
-    """What a page's HTML element holds."""
+    """What a page's HTML element holds, and how often its content was sent."""
 
-    content: str
-    visible: bool = True
-    removed: bool = False
+    def __init__(self, content: str, order: float = 0.0) -> None:
+        self._content, self.order, self.sent = content, order, 0
+        self.visible: bool | None = True
+        self.removed = False
+
+    @property
+    def content(self) -> str:
+        return self._content
+
+    @content.setter
+    def content(self, value: str) -> None:
+        self._content, self.sent = value, self.sent + 1
 
     def remove(self) -> None:
         self.removed = True
@@ -42,7 +49,7 @@ class Gui:
     lines: list[Line] = field(default_factory=list)
 
     def add_html(self, content: str, order: float = 0.0) -> Line:
-        self.lines.append(Line(content))
+        self.lines.append(Line(content, order))
         return self.lines[-1]
 
 
@@ -78,6 +85,7 @@ def test_a_software_page_lowers_the_frame_rate_while_it_is_open_and_says_so() ->
     renderers = Renderers(30.0)
     gpu, software = page(renderers, 1), page(renderers, 2)
     probe = gpu.gui.lines[0]
+    assert probe.order < 0  # above the Simulation folder: the top of the control panel
     assert "WEBGL_debug_renderer_info" in html.unescape(probe.content)
     assert f"{renderer.PATH}?client=1&" in html.unescape(probe.content)
     assert renderers.fps == 30.0  # nothing reported yet
@@ -95,9 +103,15 @@ def test_a_software_page_lowers_the_frame_rate_while_it_is_open_and_says_so() ->
         line.visible and "No GPU" in line.content and f"{SOFTWARE_FPS:g} frames/s" in line.content
     )
     assert not probe.visible  # the GPU page says nothing
+    sent = line.sent
+    renderers.refresh()
+    assert line.sent == sent == 1  # only a change is sent
 
     renderers.disconnect(cast(viser.ClientHandle, software))
     assert renderers.fps == 30.0  # back once the software page is gone
+    assert renderers.renderer(2) is None
+    renderers.report({"client": "2", "renderer": SWIFTSHADER})  # a late report of a closed page
+    assert renderers.renderer(2) is None and renderers.fps == 30.0
 
 
 def test_a_lower_asked_rate_is_kept_and_a_bad_report_is_ignored() -> None:
@@ -117,6 +131,7 @@ def test_a_lower_asked_rate_is_kept_and_a_bad_report_is_ignored() -> None:
 def test_the_probe_is_an_image_whose_error_handler_reports() -> None:
     text = probe_html(3)
     assert text.startswith("<img") and 'onerror="' in text
+    assert f"r.slice(0,{renderer.MAX_RENDERER})" in html.unescape(text)  # bounded on the page
     assert '"' not in html.unescape(text).split('onerror="', 1)[1].rsplit('"', 1)[0]
     assert "No GPU" in note(10.0)
 
@@ -148,7 +163,7 @@ def test_the_viewer_hears_a_page_report_behind_its_access_checks(viewer: Viewer)
 def test_a_retired_element_is_hidden_at_once_and_removed_later() -> None:
     elements = [Line("a"), Line("b")]
     timer = retire(cast(Any, elements), delay=0.2)
-    assert all(not e.visible and not e.removed for e in elements)
+    assert all(e.visible is False and not e.removed for e in elements)
+    assert timer.daemon  # never holds up the viewer's exit
     timer.join(5.0)
     assert all(e.removed for e in elements)
-    time.sleep(0.0)

@@ -19,8 +19,10 @@ from typing import Protocol
 
 log = logging.getLogger(__name__)
 
-RETIRE_DELAY = 2.0
-"""Seconds between hiding an element and removing it."""
+RETIRE_DELAY = 5.0
+"""Seconds between hiding an element and removing it: longer than a page busy drawing in
+software goes without taking its messages (seconds, on a loaded machine); hidden, the element
+costs nothing meanwhile."""
 
 
 class Removable(Protocol):
