@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from playwright.sync_api import Error as PlaywrightError
 from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
 import scenes
@@ -63,6 +64,8 @@ LOAD_TIMEOUT = 120_000
 """Milliseconds a page (or a new machine's panels) may take to appear on a busy machine."""
 STEP_TIMEOUT = 180_000
 """Milliseconds an axis command may take to end (a drum homing at half real time: a minute)."""
+SHOT_TIMEOUT = 180_000
+"""Milliseconds a screenshot may take (a page busy drawing in software waits for a frame)."""
 DEMO_TIMEOUT = 300_000
 """Milliseconds one demo run may take."""
 
@@ -262,7 +265,7 @@ class Journey:
     def shot(self, step: str) -> Path:
         """A screenshot of the whole page: ``NN-machine-step.png``."""
         path = self.out / f"{len(self.shots) + 1:02d}-{self.machine}-{step}.png"
-        self.page.screenshot(path=path)
+        self.page.screenshot(path=path, timeout=SHOT_TIMEOUT)
         self.shots.append(path)
         return path
 
@@ -643,7 +646,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     started = time.monotonic()
     try:
         shots = run(args.out, machines, args.speed, args.pictures)
-    except JourneyError as exc:
+    except (JourneyError, PlaywrightError) as exc:
         print(f"journey FAILED: {exc}\nscreenshots so far: {args.out}", file=sys.stderr)
         return 1
     if args.docs:
