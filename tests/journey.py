@@ -255,6 +255,7 @@ class Journey:
 
     def __init__(self, page: Page, out: Path, shots: list[Path] | None = None) -> None:
         self.page, self.out = page, out
+        page.set_default_timeout(STEP_TIMEOUT)  # a click on a loaded machine: not 30 s
         self.console = Console()
         page.on("console", self.console.hear)
         page.on("pageerror", self.console.uncaught)
