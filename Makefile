@@ -8,7 +8,7 @@ HOST   ?= 127.0.0.1
 PORT   ?= 8080
 DOCS_PORT ?= 8000
 
-.PHONY: setup run demo docs test lint typecheck pytest bench mutate clean
+.PHONY: setup run demo docs test lint typecheck pytest bench journey mutate clean
 
 $(VENV)/.installed: pyproject.toml
 	@$(UV) --version >/dev/null 2>&1 || python3 -m pip install --quiet --disable-pip-version-check uv
@@ -57,6 +57,14 @@ pytest: setup
 		MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto --dist loadgroup -m "not browser and not once"; fi
 
 test: lint typecheck pytest
+
+# a new user's journey through every machine in headless Chromium (about 2 minutes a machine):
+# a screenshot per step in .build/journey/ (OUT=DIR), MACHINES=a,b for some; DOCS=1 also
+# writes the documentation's pictures (docs/images/machines/, docs/images/viewer.png),
+# PICTURES=1 takes only those (each machine's demo a few steps in)
+journey: setup
+	$(PY) -m tests.journey $(if $(OUT),--out $(OUT)) $(if $(MACHINES),--machines $(MACHINES)) \
+		$(if $(DOCS),--docs) $(if $(PICTURES),--pictures)
 
 bench: setup
 	$(PY) -m tests.benchmarks.machines

@@ -145,7 +145,7 @@ def parser() -> argparse.ArgumentParser:
         "--fps",
         type=parse_fps,
         default=30.0,
-        help="3-D updates per second, 1 … 60 (default 30; lower it for a browser without GPU)",
+        help="3-D updates per second, 1 … 60 (default 30; at most 10 while a page has no GPU)",
     )
     p.add_argument(
         "--no-token",

@@ -16,6 +16,9 @@ Prints JSON:
   ``frame_update_us``, ``browser_fps``, ``browser_panel_hz``) for a second window with every
   view open: the set-point ghost and the contact forces shown, the cameras following the Z ram
   and the page's scope recording eight channels;
+- ``visible``: from the click on *Step+* to the page's Position read-out changing (the page's
+  own clock), with the 3-D view (the gantry) and without one (``single_axis``), and the 3-D
+  frame rate the viewer chose for the page (:mod:`viewer.view3d.renderer`);
 - ``click_to_motion_ms``: from the click on *Step+* (Playwright's mouse click in the page) to the
   first motion of the X joint in the physics (1 µm), ``hold_to_motion_ms`` for holding *Jog−*,
   and ``request_to_motion_ms`` from the server-side request alone (PLC and servo pipeline);
@@ -123,6 +126,70 @@ def _wait_motion(viewer: Viewer, start: float, timeout: float = 5.0) -> float:
             return time.perf_counter()
         time.sleep(0.0005)
     return float("nan")
+
+
+VISIBLE = """(timeout) => { window.__visible = new Promise((done) => {
+    const value = () => {  // the panel's HTML is replaced at each refresh: look it up anew
+        const cell = Array.from(document.querySelectorAll('td')).find(
+            (td) => td.textContent.trim() === 'Position' && td.offsetParent !== null);
+        return cell ? cell.nextElementSibling.textContent : '';
+    };
+    let t0 = null; const before = value();
+    const observer = new MutationObserver(() => {
+        if (t0 !== null && value() !== before) {
+            observer.disconnect(); done(performance.now() - t0);
+        }
+    });
+    observer.observe(document.body, {subtree: true, childList: true, characterData: true});
+    window.addEventListener('pointerdown', () => { t0 = performance.now(); },
+                            {once: true, capture: true});
+    setTimeout(() => { observer.disconnect(); done(null); }, timeout);
+}); }"""
+"""From the page's pointerdown to the first change of the shown axis' Position read-out [ms]
+(in the page's own clock; null: no change within ``timeout``)."""
+
+
+def _visible_latency(page: Page, viewer: Viewer, axis: str = "X") -> dict[str, Any]:
+    """Click (Step+) to visible motion on the page: its Position read-out changes [ms]."""
+    session = viewer.session
+    session.requests(axis).set_power(True)
+    while not session.snapshot.axes[axis].powered:
+        time.sleep(0.01)
+    step = page.get_by_role("button", name="Step+", exact=True).first
+    step.scroll_into_view_if_needed()
+    delays: list[float] = []
+    for _ in range(TRIES):
+        time.sleep(0.5)  # standing still
+        box = step.bounding_box()
+        assert box is not None
+        page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        page.evaluate(VISIBLE, 5000)
+        page.mouse.down()
+        page.mouse.up()
+        delay = page.evaluate("() => window.__visible")
+        delays.append(float("nan") if delay is None else float(delay))
+    return _summary(delays)
+
+
+def visible_latencies(fps: float = 30.0) -> dict[str, Any]:
+    """Click-to-visible-motion [ms] in headless Chromium with the 3-D view (the gantry) and
+    without one (``single_axis``), the viewer asked for ``fps``; and the 3-D frame rate it
+    chose for the page (lower where the page draws in software)."""
+    result: dict[str, Any] = {"fps_asked": fps}
+    for scene, key in (("gantry", "with_3d"), ("single_axis", "without_3d")):
+        with ExitStack() as stack:
+            viewer = Viewer(scene, port=0, demo=False, fps=fps)
+            stack.callback(viewer.close)
+            page = _connect_browser(stack, viewer)
+            if page is None:
+                return {}
+            time.sleep(2.0)  # the page has reported its renderer
+            result[key] = {
+                "click_to_visible_ms": _visible_latency(page, viewer),
+                "fps_chosen": viewer.app.renderers.fps,
+                "renderer": viewer.app.renderers.renderer(viewer.app.control.owner or 0),
+            }
+    return result
 
 
 def _latencies(page: Page, viewer: Viewer) -> dict[str, Any]:
@@ -295,9 +362,13 @@ def run(seconds: float = 10.0) -> dict[str, Any]:
         "overlays": overlays,
         **latency,
         "demo_step_at_end": snapshot.demo.step,
+        "visible": visible_latencies(),
         "pacing": _pacing(),
     }
 
 
 if __name__ == "__main__":
-    print(json.dumps(run(float(sys.argv[1]) if len(sys.argv) > 1 else 10.0), indent=2))
+    if sys.argv[1:] == ["visible"]:  # the click-to-visible figures alone
+        print(json.dumps(visible_latencies(), indent=2))
+    else:
+        print(json.dumps(run(float(sys.argv[1]) if len(sys.argv) > 1 else 10.0), indent=2))

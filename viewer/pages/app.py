@@ -74,6 +74,7 @@ from viewer.view3d.legend import LAMP_REF as LAMP_REF
 from viewer.view3d.legend import SWITCHES
 from viewer.view3d.model_scene import ModelScene
 from viewer.view3d.overlays import ContactOverlay, SetPointGhost
+from viewer.view3d.renderer import Renderers
 from viewer.view3d.views import OFF, ON, SWITCH_CHOICES, Views
 
 log = logging.getLogger(__name__)
@@ -116,7 +117,9 @@ class ViewerApp:
     Args:
         session: The simulation to show and operate.
         server: The viser server to build the GUI in.
-        fps: Frames per second of the update loop [Hz] (poses and switch colours).
+        fps: Frames per second of the update loop [Hz] (poses and switch colours; the 3-D
+            view at most :data:`~viewer.view3d.renderer.SOFTWARE_FPS` while a page draws in
+            software, :mod:`viewer.view3d.renderer`).
         panel_hz: Refresh rate of the axis panels and the status line [Hz].
         plot_hz: Refresh rate of the scope [Hz].
         environment_map: Light the scene with viser's HDRI environment map. It looks best but
@@ -155,6 +158,8 @@ class ViewerApp:
         """A machine chosen on a page starts its demo."""
         self.server = server
         self._frame_period = 1.0 / fps
+        self.renderers = Renderers(fps)
+        """What draws each page's 3-D view; the 3-D frame rate follows from it."""
         self._panel_period = 1.0 / panel_hz
         self._plot_period = 1.0 / plot_hz
         self._stopping = threading.Event()
@@ -169,7 +174,7 @@ class ViewerApp:
         self._model_scene: ModelScene | None = None
         self._generation = 0
         self._last: Snapshot | None = None
-        self._last_panel = self._last_plot = self._last_control = -math.inf
+        self._last_panel = self._last_plot = self._last_control = self._last_pose = -math.inf
         self._axes: dict[str, AxisPanel] = {}
         self._commissioning: dict[str, CommissioningPanel] = {}
         """The Commissioning folders of the driven axes."""
@@ -201,6 +206,8 @@ class ViewerApp:
         server.on_client_disconnect(self.operators.disconnect)
         server.on_client_connect(self.pages.connect)
         server.on_client_disconnect(self.pages.disconnect)
+        server.on_client_connect(self.renderers.connect)
+        server.on_client_disconnect(self.renderers.disconnect)
         _light(server, environment_map)
         # docked, the control panel leaves the canvas to the machine (floating, it covers its
         # right part: the camera frames the machine in the middle of the canvas)
@@ -314,6 +321,7 @@ class ViewerApp:
         if now - self._last_control >= self._panel_period:
             self._last_control = now
             self.control_pages.refresh()
+            self.renderers.refresh()
 
     def _build_simulation(self) -> None:
         """The status line and the scene chooser on top; the Simulation folder (below the axes):
@@ -511,7 +519,7 @@ class ViewerApp:
         for name in ("signals", "results", "events"):
             self._shown[name] = ""
         self._last = None
-        self._last_panel = self._last_plot = -math.inf  # show the new scene's panels at once
+        self._last_panel = self._last_plot = self._last_pose = -math.inf  # the new scene at once
         self.operators.forget()
 
     def _build_model(self, snapshot: Snapshot) -> None:
@@ -589,18 +597,15 @@ class ViewerApp:
         start = time.perf_counter()
         if snapshot.generation != self._generation:
             self._rebuild(snapshot)
-        model_scene = self._model_scene
-        if model_scene is not None:
-            model_scene.update_poses(snapshot.xpos, snapshot.xquat)
-            axes = snapshot.axes
-            for name, kind, geom, color in self._lamps:
-                if getattr(axes[name], kind):
-                    model_scene.set_geom_color(geom, color)
-                else:
-                    model_scene.reset_geom_color(geom)
-            self.views.update(snapshot)
         now = time.monotonic()
         slack = 0.5 * self._frame_period  # e.g. every third frame at 30 fps for 10 Hz
+        model_scene = self._model_scene
+        if model_scene is not None:
+            if now - self._last_pose >= 1.0 / self.renderers.fps - slack:
+                self._last_pose = now
+                self._update_3d(model_scene, snapshot)
+            else:  # a page draws in software: the latest pose follows at its lower rate
+                self._redraw = True
         if now - self._last_panel >= self._panel_period - slack:
             self._last_panel = now
             self._update_panels(snapshot)
@@ -611,6 +616,17 @@ class ViewerApp:
         self._last = snapshot
         self.frames += 1
         self.frame_costs.append(time.perf_counter() - start)
+
+    def _update_3d(self, model_scene: ModelScene, snapshot: Snapshot) -> None:
+        """Body poses, switch lamps, overlays and follow cameras of ``snapshot``."""
+        model_scene.update_poses(snapshot.xpos, snapshot.xquat)
+        axes = snapshot.axes
+        for name, kind, geom, color in self._lamps:
+            if getattr(axes[name], kind):
+                model_scene.set_geom_color(geom, color)
+            else:
+                model_scene.reset_geom_color(geom)
+        self.views.update(snapshot)
 
     def _show(self, name: str, handle: viser.GuiHtmlHandle, content: str) -> None:
         """Send ``content`` to the HTML panel ``name`` if it changed."""

@@ -26,6 +26,7 @@ import viser
 import viser.uplot
 
 import mcl
+from viewer.serving.retire import retire
 from viewer.sim.cam_view import CamView
 from viewer.sim.snapshot import Snapshot
 
@@ -178,5 +179,4 @@ class CamPanel:
 
     def remove(self) -> None:
         """Remove the view from the page."""
-        self._info.remove()
-        self.plot.remove()
+        retire([self._info, self.plot])

@@ -18,6 +18,7 @@ from viewer.pages.overview import Overview
 from viewer.pages.watch_panel import WatchPanel
 from viewer.pages.widgets import gated_button
 from viewer.scope.panel import PageScope
+from viewer.serving.retire import retire
 from viewer.serving.security import GuiGate
 from viewer.sim.session import Session
 from viewer.sim.snapshot import Snapshot
@@ -98,7 +99,7 @@ class Page:
             self.overview.remove()
         if self._reset_peaks is not None:
             self._gate.forget([self._reset_peaks])
-            self._reset_peaks.remove()
+            retire([self._reset_peaks])
             self._reset_peaks = None
         if self.scope is not None:
             self.scope.remove()

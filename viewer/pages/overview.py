@@ -40,6 +40,7 @@ import math
 import viser
 
 from viewer.pages.panels import lamp_dot
+from viewer.serving.retire import retire
 from viewer.sim.snapshot import AxisView, Snapshot
 
 FULL_SCALE_VOLTS = 10.0
@@ -262,4 +263,4 @@ class Overview:
 
     def remove(self) -> None:
         """Remove the table from the page."""
-        self._html.remove()
+        retire([self._html])

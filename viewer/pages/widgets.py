@@ -11,6 +11,7 @@ from typing import Any
 
 import viser
 
+from viewer.serving.retire import retire
 from viewer.serving.security import GuiGate, button_value, choice_of, number_in
 
 
@@ -103,9 +104,9 @@ class SceneGui:
         return command
 
     def remove(self) -> None:
-        """Remove the folders, the commands and the gate's rules of the scene's elements."""
-        for folder in self.folders:
-            folder.remove()
+        """Remove the folders (retired: :mod:`viewer.serving.retire`), the commands and the
+        gate's rules of the scene's elements."""
+        retire(self.folders)
         self.gate.forget(self.inputs + self.commands)
         for command in self.commands:
             command.remove()

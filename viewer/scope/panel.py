@@ -60,6 +60,7 @@ from viewer.scope.capture import (
 from viewer.scope.readout import aligned, decimate, readout, readout_html, recording_csv
 from viewer.scope.tracks import LAYOUTS, SHARED, aspect_of, layout_of
 from viewer.scope.units import auto_range, display_of, settled_range
+from viewer.serving.retire import retire
 from viewer.serving.security import GuiGate, choice_of, number_in
 from viewer.sim.recorder import Ring
 from viewer.sim.session import Session
@@ -269,8 +270,7 @@ class PageScope:
         """Remove the scope from its page (and the gate's rules of its controls)."""
         with self._lock:
             self._ui.gate.forget([*self._ui.inputs, self._acquire])
-            for element in self._elements:
-                element.remove()
+            retire(self._elements)
             self._elements = []
 
     # ------------------------------------------------------------------------- controls

@@ -327,6 +327,8 @@ class AccessPolicy:
         self.log = log or BoundedLog()
         self.refused = 0
         """Requests refused so far."""
+        self.beacons: dict[str, Callable[[dict[str, str]], None]] = {}
+        """Paths a page reports to (answered 204 after the checks), with what hears the query."""
 
     @property
     def cookie_name(self) -> str:
@@ -420,6 +422,10 @@ class AccessPolicy:
             token_in_query = self.token is not None and self._token_of(request)[1]
             if token_in_query and not _is_websocket(request):
                 return self._redirect(connection, request)
+            beacon = self.beacons.get(urlsplit(request.path).path)
+            if beacon is not None:
+                beacon(dict(parse_qsl(urlsplit(request.path).query)))
+                return connection.respond(http.HTTPStatus.NO_CONTENT, "")
             if inner is None:
                 return None
             try:

@@ -16,6 +16,7 @@ from collections.abc import Iterable
 from viewer.pages.app import ViewerApp
 from viewer.serving.security import AccessPolicy, BoundedLog, is_loopback, make_token, secure_server
 from viewer.sim.session import Session
+from viewer.view3d import renderer
 
 DEFAULT_HOST = "127.0.0.1"
 """Interface the viewer binds unless told otherwise: this machine only."""
@@ -123,6 +124,7 @@ class Viewer:
                 log=self.policy.log,
                 demo=demo,
             )
+            self.policy.beacons[renderer.PATH] = self.app.renderers.report
             self.session.repeat_demo = demo
             if demo and self.session.demo_available():
                 self.session.start_demo()
