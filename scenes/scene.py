@@ -187,7 +187,12 @@ class Scene(mcl.Machine):
             signal = self.signals[name]
         except KeyError:
             raise KeyError(f"no signal {name!r}; signals: {sorted(self.signals)}") from None
-        return signal.read(self.world.scene_of(self.namespace.scene(name)))
+        return signal.read(self.signal_owner(name))
+
+    def signal_owner(self, name: str) -> Scene:
+        """The scene a published signal is read on: this one, or in a world of several
+        machines the machine's own (``"press/pressure_A"`` reads on the press)."""
+        return self.world.scene_of(self.namespace.scene(name))
 
     def io(self, axis: str) -> MujocoAxisIO:
         """The MuJoCo channel of an axis (joint position, amplifier, switches)."""

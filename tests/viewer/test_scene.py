@@ -607,3 +607,23 @@ def test_stop_and_tendon_forces_are_drawn_on_demand_labelled_in_bounded_reused_n
         "SetSceneNodeVisibilityMessage",
         "SetPositionMessage",
     }
+
+
+def test_the_cells_press_signals_read_on_the_press_in_the_panel_and_the_scope() -> None:
+    """In the cell (two machines in one world) the press' pressures, force and valve are read
+    on the press: the signal panel and the scope's channels show numbers, not NaN."""
+    import math
+
+    from tests.viewer.test_session import FakeClock
+    from viewer.sim.session import Session
+
+    session = Session("cell", clock=FakeClock())
+    session.step(20)
+    shown = {s.name: s.value for s in session.snapshot.signals}
+    assert all(math.isfinite(v) for v in shown.values()), shown
+    assert shown["press/pressure_A"] == session.scene.signal("press/pressure_A")
+    session.recorder.record(session.scene.time)
+    _, values = session.recorder.series()
+    names = [c.name for c in session.recorder.channels]
+    row = names.index("press/pressure_A")
+    assert values[row][-1] == session.scene.signal("press/pressure_A")

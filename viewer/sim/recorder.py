@@ -59,7 +59,8 @@ class Recorder:
                 add(f"{name} DO{k}", "", True, functools.partial(_output, io, k))
             add(f"{name} error", "", True, functools.partial(_axis_error, axis))
         for signal_name, signal in scene.signals.items():
-            add(signal_name, signal.unit, False, _signal_reader(scene, signal.read))
+            owner = scene.signal_owner(signal_name)
+            add(signal_name, signal.unit, False, _signal_reader(owner, signal.read))
         self.channels = tuple(channels)
         """The channels, in the order of :meth:`series`' rows."""
         self._readers = readers

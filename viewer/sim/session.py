@@ -736,7 +736,7 @@ class Session:
     def _signal_view(self, name: str) -> SignalView:
         signal = self._scene.signals[name]
         try:
-            value = float(signal.read(self._scene))
+            value = float(signal.read(self._scene.signal_owner(name)))
         except Exception:  # a faulty reader must not stop the simulation thread
             log.debug("signal %r of scene %r failed", name, self._scene_name, exc_info=True)
             value = math.nan
