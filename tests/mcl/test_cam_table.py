@@ -366,20 +366,21 @@ def test_the_peaks_of_a_polynomial_segment_are_its_exact_extremes(case: str) -> 
 def _unit_roots(rng: np.random.Generator, case: str) -> tuple[list[float], list[float]]:
     """Coefficients (lowest first) of a polynomial built from its roots, and its real roots in
     [0, 1]: three real roots, one real root and a complex pair, a quadratic, a line."""
+    poly = np.polynomial.polynomial
     if case == "three real":
         roots = sorted(rng.uniform(-0.5, 1.5, 3))
-        c = np.polynomial.polynomial.polyfromroots(roots) * rng.uniform(0.1, 50.0)
+        c = list(poly.polyfromroots(roots) * rng.uniform(0.1, 50.0))
     elif case == "one real":
         real, re, im = rng.uniform(-0.5, 1.5), rng.uniform(-1.0, 2.0), rng.uniform(0.05, 1.0)
         roots = [real]
-        c = np.polynomial.polynomial.polyfromroots([real, complex(re, im), complex(re, -im)])
-        c = c.real * rng.uniform(-50.0, -0.1)
+        pair = poly.polyfromroots([complex(re, im), complex(re, -im)])
+        c = list(poly.polymul([-real, 1.0], pair.real) * rng.uniform(-50.0, -0.1))
     elif case == "quadratic":
         roots = sorted(rng.uniform(-0.5, 1.5, 2))
-        c = np.polynomial.polynomial.polyfromroots(roots) * rng.uniform(-9.0, 9.0)
+        c = list(poly.polyfromroots(roots) * rng.uniform(-9.0, 9.0))
     else:
         roots = [rng.uniform(-0.5, 1.5)]
-        c = np.polynomial.polynomial.polyfromroots(roots) * rng.uniform(0.5, 9.0)
+        c = list(poly.polyfromroots(roots) * rng.uniform(0.5, 9.0))
     return [float(x) for x in c], [r for r in roots if 0.0 <= r <= 1.0]
 
 
