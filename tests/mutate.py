@@ -3,7 +3,8 @@
 It finds the modules of ``mcl``, ``scenes`` and ``viewer`` the change touched and their changed
 lines (``git diff`` of the working tree against the merge base with ``main``, or against
 ``--base``), the test files that exercise each module (:func:`select_tests`) and lets mutmut
-mutate the changed lines; mutmut runs the chosen tests once to record which tests call which
+mutate the changed lines (``--modules`` names the modules: whole, or with ``--base`` only their
+changed lines); mutmut runs the chosen tests once to record which tests call which
 function, then each mutant against those that call its function. Browser tests are left out.
 The report gives, per module and in total, the killed / survived / no-test / timeout counts,
 the kill rate and every mutant not caught, as ``file:line: before → after``.
@@ -358,13 +359,18 @@ def changed_modules(
     root: Path, base: str | None, modules: Sequence[str] | None, packages: Sequence[str]
 ) -> tuple[dict[str, set[int] | None], list[str]]:
     """The modules to mutate, each with its lines to mutate (None: all), and the test files the
-    change touched: ``modules`` whole if given, else the change against ``base`` (default: the
-    merge base with main)."""
+    change touched: ``modules`` whole if given without ``base``, their lines the change against
+    ``base`` added or changed if given with it, else every module of the change against ``base``
+    (default: the merge base with main)."""
     if modules:
         missing = [m for m in modules if not (root / m).is_file()]
         if missing:
             raise SystemExit(f"no such module: {' '.join(missing)}")
-        return dict.fromkeys(modules), []
+        if base is None:
+            return dict.fromkeys(modules), []
+        changed = changed_lines(root, base)
+        print(f"changes against {base[:12]} in {', '.join(modules)}")
+        return {m: changed.get(m, set()) for m in modules}, []
     base = base or git(root, "merge-base", "main", "HEAD").strip()
     changes = changed_lines(root, base)
     print(f"changes against {base[:12]}: {', '.join(changes) or 'none'}")
@@ -386,7 +392,9 @@ def in_directory(directory: Path, action: Callable[[], T]) -> T:
 def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(prog="make mutate", description=__doc__.split("\n\n")[0])
     parser.add_argument("--base", help="compare with this commit (default: merge base with main)")
-    parser.add_argument("--modules", nargs="+", help="mutate these modules whole instead")
+    parser.add_argument(
+        "--modules", nargs="+", help="mutate these modules (whole; with --base their changes)"
+    )
     parser.add_argument("--tests", nargs="+", help="run these test files instead of the found")
     parser.add_argument("--jobs", type=int, help="mutants run at once (default: all cores)")
     parser.add_argument("--packages", nargs="+", default=list(PACKAGES), help=argparse.SUPPRESS)

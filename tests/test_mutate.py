@@ -92,6 +92,18 @@ def test_a_change_names_its_modules_with_the_lines_it_changed_or_added(project):
     assert touched == ["tests/test_helper.py", "tests/test_new.py"]
 
 
+def test_modules_named_with_a_base_are_mutated_on_their_changed_lines_only(project):
+    calc = project / "pkg/calc.py"
+    calc.write_text(CALC.replace("return low\n", "return low  # the floor\n"))
+    write(project, {"pkg/new.py": "a = 1\n"})
+
+    lines, _ = mutate.changed_modules(project, "HEAD", ["pkg/calc.py", "pkg/shrunk.py"], ["pkg"])
+    whole, _ = mutate.changed_modules(project, None, ["pkg/calc.py"], ["pkg"])
+
+    assert lines == {"pkg/calc.py": {4}, "pkg/shrunk.py": set()}  # shrunk.py: unchanged
+    assert whole == {"pkg/calc.py": None}
+
+
 def test_a_module_s_tests_import_it_or_name_what_it_defines_or_its_docstring_mentions(tmp_path):
     write(
         tmp_path,

@@ -361,3 +361,77 @@ def test_the_peaks_of_a_polynomial_segment_are_its_exact_extremes(case: str) -> 
     if case.startswith("rest to rest"):
         assert cam.peak_slope == pytest.approx(1.875 * 100.0 / 360.0, rel=1e-12)
         assert cam.peak_curvature == pytest.approx(10.0 / math.sqrt(3.0) * 100.0 / 360.0**2)
+
+
+def _unit_roots(rng: np.random.Generator, case: str) -> tuple[list[float], list[float]]:
+    """Coefficients (lowest first) of a polynomial built from its roots, and its real roots in
+    [0, 1]: three real roots, one real root and a complex pair, a quadratic, a line."""
+    poly = np.polynomial.polynomial
+    if case == "three real":
+        roots = sorted(rng.uniform(-0.5, 1.5, 3))
+        c = list(poly.polyfromroots(roots) * rng.uniform(0.1, 50.0))
+    elif case == "one real":
+        real, re, im = rng.uniform(-0.5, 1.5), rng.uniform(-1.0, 2.0), rng.uniform(0.05, 1.0)
+        roots = [real]
+        pair = poly.polyfromroots([complex(re, im), complex(re, -im)])
+        c = list(poly.polymul([-real, 1.0], pair.real) * rng.uniform(-50.0, -0.1))
+    elif case == "quadratic":
+        roots = sorted(rng.uniform(-0.5, 1.5, 2))
+        c = list(poly.polyfromroots(roots) * rng.uniform(-9.0, 9.0))
+    else:
+        roots = [rng.uniform(-0.5, 1.5)]
+        c = list(poly.polyfromroots(roots) * rng.uniform(0.5, 9.0))
+    return [float(x) for x in c], [r for r in roots if 0.0 <= r <= 1.0]
+
+
+@pytest.mark.parametrize("case", ["three real", "one real", "quadratic", "line"])
+def test_the_real_roots_of_a_segment_s_derivative_are_found_in_the_unit_interval(case: str):
+    """Where a polynomial segment's slope or curvature peaks (a root of its next derivative):
+    every real root in [0, 1] of a cubic, quadratic or line, exact to 10⁻⁹, none outside;
+    a leading coefficient 10⁻¹⁶ of the others' size is dropped (the root of the rest stays)."""
+    rng = np.random.default_rng(sum(map(ord, case)))
+    for _ in range(300):
+        c, expected = _unit_roots(rng, case)
+        found = sorted(mcl.cam_table.real_roots(c))
+        assert found == pytest.approx(sorted(expected), abs=1e-9), c
+        assert sorted(mcl.cam_table.real_roots([*c, 1e-16 * max(map(abs, c))])) == pytest.approx(
+            sorted(expected), abs=1e-9
+        )
+
+
+def test_the_peaks_of_random_quintic_segments_are_never_below_their_dense_maxima():
+    """MC_CamIn checks a cam's peak slope and curvature against the slave's limits: for 300
+    random quintic segments (master lengths 0.1 … 500) they equal the maxima over 100 000
+    intervals within 10⁻⁷ and are never below any sample (a peak read low let a cam past the
+    slave's acceleration limit)."""
+    rng = np.random.default_rng(32)
+    z = np.linspace(0.0, 1.0, 100_001)
+    for _ in range(300):
+        h = float(10.0 ** rng.uniform(-1.0, 2.7))
+        b = rng.normal(0.0, 1.0, 6) * 10.0 ** rng.uniform(-2.0, 2.0, 6)
+        c = [float(b[k] / h**k) for k in range(6)]  # the polynomial in u = z·h
+        d1 = np.polynomial.polynomial.polyder(b)
+        slope = float(np.abs(np.polynomial.polynomial.polyval(z, d1)).max()) / h
+        curvature = (
+            float(
+                np.abs(
+                    np.polynomial.polynomial.polyval(z, np.polynomial.polynomial.polyder(d1))
+                ).max()
+            )
+            / h**2
+        )
+        peak_slope, peak_curvature = mcl.cam_table.polynomial_peaks(c, h)
+        assert peak_slope == pytest.approx(slope, rel=1e-7)
+        assert peak_curvature == pytest.approx(curvature, rel=1e-7)
+        assert peak_slope >= slope * (1.0 - 1e-12) and peak_curvature >= curvature * (1.0 - 1e-12)
+
+
+@pytest.mark.parametrize("power", [3, 4, 5])
+def test_a_segment_that_is_a_pure_power_of_the_master_peaks_at_its_end(power: int):
+    """A Polynomial5 segment from rest to (1, 1) with the end slope n and curvature n(n−1) is
+    s = zⁿ (its next derivative has a double root at 0): it compiles, and its peak slope and
+    curvature are the end's, n and n(n−1)."""
+    points = [(0.0, 0.0, 0.0, 0.0, P5), (1.0, 1.0, float(power), float(power * (power - 1)))]
+    cam = compile_cam(table(*points), False)
+    assert not isinstance(cam, str), cam
+    assert (cam.peak_slope, cam.peak_curvature) == (power, power * (power - 1))

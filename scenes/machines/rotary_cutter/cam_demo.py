@@ -469,18 +469,24 @@ class CamDemo(StepSequence):
     def __call__(self) -> None:
         """One PLC scan."""
         stage = self.STEPS[self.index]
+        # inputs set as attributes, blocks called without keywords: the cheap way per scan
         for power in self.power:
-            power(Enable=True)
+            power.Enable = True
+            power()
         self.home(Execute=stage == "home the drum" and not self.referenced)
-        self.start(Execute=stage == "turn the drum to its start")
+        start = self.start
+        start.Execute = stage == "turn the drum to its start"
+        start()
         coupled = stage in COUPLED
         boundary = False
         for k, (select, cam) in enumerate(zip(self.selects, self.cams, strict=True)):
             issued = coupled and k <= self.issued
-            select(Execute=issued)
+            select.Execute = issued
+            select()
             if select.Done:
                 cam.CamTableID = select.CamTableID
-            cam(Execute=issued and (select.Done or cam.Execute))
+            cam.Execute = issued and (select.Done or cam.Execute)
+            cam()
             # a period boundary: EndOfProfile, or a new cam's InSync (it took over there)
             took_over = k > 0 and cam.InSync and not self._in_sync[k]
             if k == 0 and cam.InSync and not self._in_sync[0]:
@@ -494,20 +500,26 @@ class CamDemo(StepSequence):
             self._issue()
         probing = stage in ("measure the print pitch", "cut", "stop the web")
         probe = self.probe
-        probe(Execute=probing and not self._rearm)
+        probe.Execute = probing and not self._rearm
+        probe()
         self._rearm = False
         if probing and probe.Done:
             self.latches.append(probe.RecordedPosition)
             self._rearm = True  # Execute falls for one scan: the next edge arms it again
             self._mark(probe.RecordedPosition)
         phasing = self.phasing
-        phasing(Execute=self._shift_pending)
+        phasing.Execute = self._shift_pending
+        phasing()
         if phasing.CommandAborted and self._shift_pending:  # a new cam ended it: what is left
             done = phasing.AbsolutePhaseShift - self._shift_from  # of it stays undone
             self._boundary_master += phasing.PhaseShift - done
         if phasing.Done or phasing.Error or phasing.CommandAborted:
             self._shift_pending = False
-        self.line(Execute=stage in ("start the web", "measure the print pitch", "cut"))
-        self.line_stop(Execute=stage == "stop the web")
-        self.drum_halt(Execute=stage == REST)
+        line, line_stop, drum_halt = self.line, self.line_stop, self.drum_halt
+        line.Execute = stage in ("start the web", "measure the print pitch", "cut")
+        line()
+        line_stop.Execute = stage == "stop the web"
+        line_stop()
+        drum_halt.Execute = stage == REST
+        drum_halt()
         self.advance(self.scene.time)
