@@ -134,7 +134,9 @@ def test_joint_velocity_and_acceleration_follow_the_tool_point() -> None:
     q, qd, qdd = derivatives(DELTA, p0, v, a)
 
     def q_at(t: float) -> list[float]:
-        return DELTA.inverse([p + vi * t + 0.5 * ai * t * t for p, vi, ai in zip(p0, v, a)])
+        return DELTA.inverse(
+            [p + vi * t + 0.5 * ai * t * t for p, vi, ai in zip(p0, v, a, strict=True)]
+        )
 
     h = 1e-5
     for i in range(3):
