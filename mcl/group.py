@@ -511,8 +511,8 @@ class AxesGroup:
         """Time [s] and path state (position, velocity, acceleration) a new element starts
         from: the cached path state while the path runs, else the members' model states (the
         actual position at standstill, as :meth:`Axis.start_position` gives it); with a
-        kinematic transformation in the MCS (the acceleration taken as 0) where the pose has
-        one, else in the members' coordinates."""
+        kinematic transformation in the MCS where the pose has one, else in the members'
+        coordinates."""
         if self._active is None:
             self._t = max(axis.t_sp for axis in self.axes)
             self._p = [axis.start_position(MC_BufferMode.Aborting) for axis in self.axes]
@@ -521,8 +521,7 @@ class AxesGroup:
             self._joint = True
             if self.kin.transform is not None:
                 try:
-                    self._p, self._v = self.kin.cartesian_state(self._p, self._v)
-                    self._a = [0.0] * len(self._p)
+                    self._p, self._v, self._a = self.kin.cartesian_state(self._p, self._v, self._a)
                     self._joint = False
                 except KinematicsError:
                     pass  # no tool point: the path state stays in the members' coordinates

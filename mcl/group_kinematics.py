@@ -151,9 +151,11 @@ class GroupKinematics:
         return self._q, self._qd, self._qdd
 
     def cartesian_state(
-        self, q: Sequence[float], qd: Sequence[float], h: float = 1e-4
-    ) -> tuple[list[float], list[float]]:
-        """The tool point [mm] and its velocity [mm/s] of the joints ``q`` moving at ``qd``.
+        self, q: Sequence[float], qd: Sequence[float], qdd: Sequence[float], h: float = 1e-4
+    ) -> tuple[list[float], list[float], list[float]]:
+        """The tool point [mm], its velocity [mm/s] and acceleration [mm/s²] of the joints at
+        ``q`` moving with ``qd`` and ``qdd`` (central differences of the forward kinematics at
+        q ± qd·h + qdd·h²/2).
 
         Raises:
             KinematicsError: the transformation refuses the pose.
@@ -161,11 +163,15 @@ class GroupKinematics:
         transform = self.transform
         assert transform is not None
         p = transform.forward(q)
-        if not any(qd):
-            return p, [0.0] * len(p)
-        ahead = transform.forward([x + v * h for x, v in zip(q, qd, strict=True)])
-        back = transform.forward([x - v * h for x, v in zip(q, qd, strict=True)])
-        return p, [(f - b) / (2.0 * h) for f, b in zip(ahead, back, strict=True)]
+        if not any(qd) and not any(qdd):
+            return p, [0.0] * len(p), [0.0] * len(p)
+        half = 0.5 * h * h
+        moves = list(zip(q, qd, qdd, strict=True))
+        ahead = transform.forward([x + v * h + a * half for x, v, a in moves])
+        back = transform.forward([x - v * h + a * half for x, v, a in moves])
+        v = [(f - b) / (2.0 * h) for f, b in zip(ahead, back, strict=True)]
+        a = [(f - 2.0 * c + b) / (h * h) for f, c, b in zip(ahead, p, back, strict=True)]
+        return p, v, a
 
     def hold_joints(self, element: Element, axes: Sequence[Axis]) -> int:
         """Check a Cartesian piece and lower its limits to the joints' (module docstring).

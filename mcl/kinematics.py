@@ -59,7 +59,8 @@ class TcpLimits:
 
 
 class KinTransform:
-    """A kinematic transformation between the members' coordinates and the MCS.
+    """A kinematic transformation between the members' coordinates and the MCS; this base is
+    the identity (MC_SetKinTransform with it takes a group's transformation away).
 
     Subclasses implement :meth:`forward` and :meth:`inverse` for ``joints`` members.
 
@@ -81,7 +82,7 @@ class KinTransform:
         Raises:
             KinematicsError: ``q`` is outside the joints' ranges, or the pose is singular.
         """
-        raise NotImplementedError
+        return list(q)
 
     def inverse(self, p: Sequence[float]) -> list[float]:
         """The joint positions of the tool point ``p`` [mm].
@@ -90,7 +91,7 @@ class KinTransform:
             KinematicsError: ``p`` is beyond reach, beyond a joint's range, or too near a
                 singular pose.
         """
-        raise NotImplementedError
+        return list(p)
 
     def parameters(self) -> dict[str, float]:
         """The geometry, by name (MC_ReadKinTransform)."""
