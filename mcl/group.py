@@ -589,18 +589,19 @@ class AxesGroup:
             if element.ticket in failed:
                 continue
             move = element.move
+            ticket = element.ticket
             if end is not None and move is not None:
-                assert element.ticket is not None
+                assert ticket is not None
                 try:
                     start = self.kin.convert(end, space, element.joint)
                     if element.start != start:
-                        rebuilt = self._element(element.ticket, start, move)
+                        rebuilt = self._element(ticket, start, move)
                         rebuilt.completes = element.completes
                         element = rebuilt
                 except (GeometryError, KinematicsError) as refused:
-                    element.ticket.status = Status.Error
-                    element.ticket.error_id = refusal(refused)
-                    failed.append(element.ticket)
+                    ticket.status = Status.Error
+                    ticket.error_id = refusal(refused)
+                    failed.append(ticket)
                     continue
             queue.append(element)
             end, space = element.end, element.joint

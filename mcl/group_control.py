@@ -310,7 +310,8 @@ def _norm(vector: Sequence[float]) -> float:
 
 class MC_GroupReadActualVelocity(_GroupReadFB):
     """Publishes the members' actual velocities ``Velocity`` [mm/s] (their filtered ``VEL``, in
-    member order) and ``PathVelocity``, the length of that vector [mm/s] (PLCopen Part 4)."""
+    member order; in MCS of a group with a kinematic transformation the tool point's velocity
+    they give) and ``PathVelocity``, the length of that vector [mm/s] (PLCopen Part 4)."""
 
     def __init__(self, **inputs: Any) -> None:
         super().__init__(**inputs)
@@ -341,7 +342,8 @@ class MC_GroupReadActualAcceleration(_GroupReadFB):
     """Publishes the members' accelerations ``Acceleration`` [mm/s²] in member order and
     ``PathAcceleration``, the rate of change of the path velocity (the acceleration along the
     direction of motion; 0 at rest) [mm/s²] (PLCopen Part 4). The library measures no
-    acceleration: these are the set-point accelerations the members' loops follow."""
+    acceleration: these are the set-point accelerations the members' loops follow (in MCS of a
+    group with a kinematic transformation the tool point's acceleration they give)."""
 
     def __init__(self, **inputs: Any) -> None:
         super().__init__(**inputs)

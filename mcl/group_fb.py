@@ -36,11 +36,12 @@ Corners. With a Blending BufferMode a corner is rounded within the group's corne
 blending velocity given by the BufferMode (never faster than an arc's own velocity); a line
 into a tangent arc has no corner but a step of the centripetal acceleration v²/R, which is
 spread over a blend of reach 2.8125·v³/(R·J), so that the jerk stays within J without a dip of
-the velocity. The moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide: the library
-has no kinematic transformation) and ``TransitionMode``: TMNone rounds the corner into the move
-within the group's corner tolerance, TMMaxCornerDeviation within ``TransitionParameter[0]``
-[mm], TMCornerDistance leaves the path at most ``TransitionParameter[0]`` [mm] from the corner;
-TMStartVelocity and TMConstantVelocity are not offered (EParam 5).
+the velocity. The moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide unless the
+group has a kinematic transformation, :mod:`mcl.kin_fb`; PCS is always MCS) and
+``TransitionMode``: TMNone rounds the corner into the move within the group's corner tolerance,
+TMMaxCornerDeviation within ``TransitionParameter[0]`` [mm], TMCornerDistance leaves the path at
+most ``TransitionParameter[0]`` [mm] from the corner; TMStartVelocity and TMConstantVelocity are
+not offered (EParam 5).
 """
 
 from __future__ import annotations
@@ -451,10 +452,11 @@ class MC_MoveDirectAbsolute(MC_MoveLinearAbsolute):
 
     Velocity, Acceleration, Deceleration and Jerk bind every member's own motion (each lowered to
     that member's maxima; 0 = the member's default), not the path: the member that needs longest
-    runs at them and the others are slowed to arrive with it. With the members' coordinates as
-    the machine's (no kinematic transformation) the tool point moves on the straight line, faster
-    than MC_MoveLinearAbsolute's path velocity where several members move. Needs Ref; errors as
-    MC_MoveLinearAbsolute.
+    runs at them and the others are slowed to arrive with it. With a kinematic transformation a
+    Position in MCS is turned into the members' coordinates first (:mod:`mcl.kin_fb`); without
+    one the members' coordinates are the machine's and the tool point moves on the straight
+    line, faster than MC_MoveLinearAbsolute's path velocity where several members move. Needs
+    Ref; errors as MC_MoveLinearAbsolute.
     """
 
     CoordSystem: int = MC_COORD_SYSTEM.ACS

@@ -53,14 +53,15 @@ class MC_SetKinTransform(ExecuteFB):
 
 class MC_ReadKinTransform(EnableFB):
     """Publishes the group's kinematic transformation (PLCopen Part 4): ``KinTransform`` (the
-    identity :class:`~mcl.kinematics.KinTransform` when it has none), its ``Name`` and its
-    geometry ``Parameters`` [mm, deg] by name; 1005 when the group has no axes."""
+    identity :class:`~mcl.kinematics.KinTransform` when it has none, and while Valid is FALSE),
+    its ``Name`` and its geometry ``Parameters`` [mm, deg] by name; 1005 when the group has no
+    axes."""
 
     REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
 
     def __init__(self, **inputs: Any) -> None:
         super().__init__(**inputs)
-        self.KinTransform: KinTransform | None = None
+        self.KinTransform = KinTransform()
         self.Name = ""
         self.Parameters: dict[str, float] = {}
 
@@ -78,6 +79,6 @@ class MC_ReadKinTransform(EnableFB):
         return 0
 
     def _disable(self) -> None:
-        self.KinTransform = None
+        self.KinTransform = KinTransform()
         self.Name = ""
         self.Parameters = {}

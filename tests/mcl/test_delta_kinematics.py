@@ -4,6 +4,7 @@ the working cylinder, and every point or pose it cannot take is refused with an 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import pytest
 
@@ -157,7 +158,12 @@ def test_joint_velocity_and_acceleration_follow_the_tool_point() -> None:
     ],
 )
 def test_an_invalid_geometry_is_refused(geometry: dict[str, float]) -> None:
-    args = {"base_radius": 200.0, "effector_radius": 50.0, "upper_arm": 350.0, "forearm": 800.0}
+    args: dict[str, Any] = {
+        "base_radius": 200.0,
+        "effector_radius": 50.0,
+        "upper_arm": 350.0,
+        "forearm": 800.0,
+    }
     args.update(geometry)
     with pytest.raises(ValueError, match=next(iter(geometry))):
         DeltaKinematics(**args)

@@ -83,7 +83,7 @@ def test_set_and_read_the_kinematic_transformation() -> None:
     read(Enable=True)
     assert read.Name == "identity"
     read(Enable=False)
-    assert not read.Valid and read.KinTransform is None
+    assert not read.Valid and type(read.KinTransform) is mcl.KinTransform and read.Name == ""
 
 
 @pytest.mark.parametrize(
