@@ -26,6 +26,7 @@ __all__ = [
 import mcl
 from plc.procedures import HomingRecipe
 from scenes.definition import AxisDef
+from scenes.machines.delta_picker.devices import eye_marks
 from scenes.plant.mujoco import Probe
 
 ARMS = ("A1", "A2", "A3")
@@ -98,14 +99,6 @@ def _arm(outputs: int = 0) -> AxisDef:
     )
 
 
-def _marks() -> mcl.Marks:
-    """A part's leading edge at the eye: belt coordinate EYE_X − (x + 30 mm) [m]."""
-    edges = [(EYE_X - (x + 30.0)) / 1000.0 for x in PART_X]
-    pitch = (edges[-1] - edges[0]) / (len(edges) - 1)
-    errors = tuple(e - (edges[0] + k * pitch) for k, e in enumerate(edges))
-    return mcl.Marks(first=edges[0], pitch=pitch, width=0.060, errors=errors)
-
-
 AXES = {
     "A1": _arm(outputs=1),
     "A2": _arm(),
@@ -124,7 +117,9 @@ AXES = {
             Kp=0.6, Ki=10.0, Ff=1.0, Kc=50.0, Vmax=1500.0, Filter=2.0, Ka=0.004
         ),
         switches=(),
-        probe=Probe(marks=_marks(), delay=0.0005),
+        probe=Probe(
+            marks=eye_marks(tuple(x / 1000.0 for x in PART_X), EYE_X / 1000.0), delay=0.0005
+        ),
     ),
 }
 """Arms A1–A3 (deg) and conveyor C (mm of belt). Digital output 0 of A1 is the vacuum valve."""

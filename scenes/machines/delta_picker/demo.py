@@ -39,8 +39,9 @@ CLEAR = 25.0
 """The standard cycle's lift [mm]."""
 PICK = (0.0, BELT_Y, GRIP_Z)
 """Where a part is picked [mm, MCS]."""
-SLOTS = tuple((x, y) for y in (155.0, 215.0) for x in (0.0, -90.0, 90.0, -180.0))
-"""The tray's places (x, y) [mm], the first 305 mm across from the pick point."""
+SLOTS = tuple((x, 155.0) for x in (315.0, -315.0, 225.0, -225.0, 135.0, -135.0, 45.0, -45.0))
+"""The tray's places (x, y) [mm], 305 mm across the belt from the pick point, filled from the
+outside in (a part carried 25 mm high never passes over one placed)."""
 BELT_SPEED = 200.0
 """Conveyor speed while it brings a part [mm/s]."""
 MOVE = {"Velocity": 2000.0, "Acceleration": 20000.0, "Deceleration": 20000.0, "Jerk": 1.0e6}
@@ -117,7 +118,9 @@ class Demo(StepSequence):
             ),
             Step("group the arms", lambda: self.kinematics.Done, grouping),
             self._path("over the belt"),
-            Step("wait for a part", lambda: self.probe.Done, {"probe": self.probe, "run": self.run}),
+            Step(
+                "wait for a part", lambda: self.probe.Done, {"probe": self.probe, "run": self.run}
+            ),
             Step("bring it under the robot", lambda: self.feed.Done, {"feed": self.feed}),
             self._path("down to the part"),
             Step("grip", self._dwelt, {"vacuum": self.vacuum}),

@@ -6,7 +6,7 @@ part's centre when the vacuum comes on."""
 
 from __future__ import annotations
 
-__all__ = ["Grip", "VacuumGripper"]
+__all__ = ["Feeder", "Grip", "VacuumGripper", "eye_marks"]
 
 import math
 from collections.abc import Mapping
@@ -16,10 +16,25 @@ import mujoco
 import numpy as np
 import numpy.typing as npt
 
+import mcl
 from scenes.plant.mujoco import MujocoAxisIO, numeric
 
 HOLD = 0.005
 """A part counts as held while its top face lies within this of the cup's face [m]."""
+PART_LENGTH = 0.060
+"""A part's length along the belt [m]."""
+TAKEN = 1.0
+"""The outfeed takes a part away this long after it came to rest in the tray [s]."""
+
+
+def eye_marks(part_x: tuple[float, ...], eye_x: float) -> mcl.Marks:
+    """Where the photo eye sees the parts' leading edges, in belt coordinate [m]: part k of
+    the infeed's sequence at ``eye_x − (part_x[k] + half a part)``, the sequence repeating with
+    the spacings of ``part_x`` (the parts' centres at belt coordinate 0 [m])."""
+    edges = [eye_x - (x + PART_LENGTH / 2.0) for x in part_x]
+    pitch = (edges[-1] - edges[0]) / (len(edges) - 1)
+    errors = tuple(e - (edges[0] + k * pitch) for k, e in enumerate(edges))
+    return mcl.Marks(first=edges[0], pitch=pitch, width=PART_LENGTH, errors=errors)
 
 
 @dataclass(frozen=True)
@@ -112,3 +127,78 @@ class VacuumGripper:
         self.on, self.held, self.lost = bool(state[0]), int(state[1]), int(state[2])
         del self.grips[int(state[3]) :]
 
+
+class Feeder:
+    """The infeed and outfeed: a part at rest in the tray for :data:`TAKEN` is taken away and
+    comes back as the next part of the infeed's sequence (:func:`eye_marks`), laid on the belt
+    where that sequence puts it, moving with the belt (so the photo eye, the touch probe of
+    ``C``, sees it where its mark lies).
+
+    Args:
+        model, data: the compiled model and its data.
+        prefix: the machine's name prefix in the model.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+        part_x = tuple(float(x) for x in numeric(model, f"{prefix}part_x", 8))
+        eye_x = float(numeric(model, f"{prefix}eye_x", 1)[0])
+        self.marks = eye_marks(part_x, eye_x)
+        self.eye_x = eye_x
+        self.belt_top = float(numeric(model, f"{prefix}belt_top", 1)[0])
+        belt = model.joint(f"{prefix}C")
+        self._belt_q, self._belt_v = int(belt.qposadr[0]), int(belt.dofadr[0])
+        self._tray = int(model.geom(f"{prefix}tray").id)
+        self._parts = []
+        for k in range(len(part_x)):
+            x = model.joint(f"{prefix}part{k}_x")
+            body = model.body(f"{prefix}part{k}")
+            self._parts.append((int(x.qposadr[0]), int(x.dofadr[0]), int(body.id)))
+        self.next = list(range(len(part_x)))
+        """The sequence number each part has on the belt now."""
+        self.rest = [-1.0] * len(part_x)
+        """Since when each part lies at rest in the tray [s] (-1: it does not)."""
+        self._origin = [np.array(model.body_pos[body]) for _, _, body in self._parts]
+
+    def _in_tray(self, data: mujoco.MjData, body: int, dof: int) -> bool:
+        tray = data.geom_xpos[self._tray]
+        centre = data.xpos[body]
+        still = float(np.abs(data.qvel[dof : dof + 6]).max()) < 1e-3
+        return still and abs(centre[1] - tray[1]) < 0.08 and centre[2] > tray[2]
+
+    def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Take away a part at rest in the tray for TAKEN; lay it on the belt as the next one."""
+        t = float(data.time)
+        for k, (q, dof, body) in enumerate(self._parts):
+            if not self._in_tray(data, body, dof):
+                self.rest[k] = -1.0
+                continue
+            if self.rest[k] < 0.0:
+                self.rest[k] = t
+            if t - self.rest[k] >= TAKEN:
+                self.next[k] += len(self._parts)
+                self._lay(data, k, q, dof, body)
+                self.rest[k] = -1.0
+
+    def _lay(self, data: mujoco.MjData, k: int, q: int, dof: int, body: int) -> None:
+        """Put part ``k`` on the belt where its sequence number says, at the belt's speed."""
+        marks, j = self.marks, self.next[k]
+        mark = marks.first + j * marks.pitch + marks.errors[j % len(marks.errors)]
+        belt = float(data.qpos[self._belt_q])
+        centre_x = self.eye_x - (mark - belt) - PART_LENGTH / 2.0
+        frame = data.xpos[body] - data.qpos[q : q + 3] - self._origin[k]
+        target = np.array([centre_x, 0.0, 0.0])
+        origin = self._origin[k] + frame
+        data.qpos[q] = target[0] - origin[0]
+        data.qpos[q + 1] = 0.0
+        data.qpos[q + 2] = 0.0005
+        data.qpos[q + 3 : q + 7] = (1.0, 0.0, 0.0, 0.0)
+        data.qvel[dof : dof + 6] = 0.0
+        data.qvel[dof] = data.qvel[self._belt_v]
+
+    def get_state(self) -> npt.NDArray[np.float64]:
+        return np.array([*self.next, *self.rest], dtype=float)
+
+    def set_state(self, state: npt.NDArray[np.float64]) -> None:
+        n = len(self._parts)
+        self.next = [int(x) for x in state[:n]]
+        self.rest = [float(x) for x in state[n:]]
