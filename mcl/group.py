@@ -336,7 +336,7 @@ class AxesGroup:
             if axis.state == AxisState.ErrorStop and not axis.reset():
                 done = False
         if done and all(axis.state != AxisState.ErrorStop for axis in self.axes):
-            self.GroupErrorID = 0
+            self.GroupErrorID = self.kin.fault = 0
             self._stop = None
             return True
         return False
@@ -408,7 +408,7 @@ class AxesGroup:
             start = self.kin.convert(
                 start, elements[-1].joint if elements else move.joint, move.joint
             )
-            element = self._element(ticket, start, move)
+            element = self.kin.element(ticket, start, move, self.axes, self.corner_tolerance)
             element.completes = False
             elements.append(element)
             start = element.end
@@ -515,26 +515,17 @@ class AxesGroup:
         coordinates."""
         if self._active is None:
             self._t = max(axis.t_sp for axis in self.axes)
-            self._p = [axis.start_position(MC_BufferMode.Aborting) for axis in self.axes]
-            self._v = [axis.sp_vel for axis in self.axes]
-            self._a = [axis.sp_acc for axis in self.axes]
-            self._joint = True
-            if self.kin.transform is not None:
-                try:
-                    self._p, self._v, self._a = self.kin.cartesian_state(self._p, self._v, self._a)
-                    self._joint = False
-                except KinematicsError:
-                    pass  # no tool point: the path state stays in the members' coordinates
+            self._p, self._v, self._a, self._joint = self.kin.path_state(
+                [axis.start_position(MC_BufferMode.Aborting) for axis in self.axes],
+                [axis.sp_vel for axis in self.axes],
+                [axis.sp_acc for axis in self.axes],
+            )
             self.clock.restart(self._t)
         return self.clock.tau, list(self._p), list(self._v), list(self._a)
 
     def _planner(self, joint: bool = True) -> PathPlanner:
         """The path planner for pieces in the members' coordinates (``joint``) or the MCS."""
         return self.kin.planner(joint, self.axes, self.corner_tolerance)
-
-    def _element(self, ticket: PathCommand, start: Sequence[float], move: Move) -> Element:
-        """The element of ``move`` from ``start`` (:meth:`GroupKinematics.element`)."""
-        return self.kin.element(ticket, start, move, self.axes, self.corner_tolerance)
 
     def _lookahead(self) -> None:
         """Update the queued elements' entry speeds (:meth:`PathPlanner.entry_speeds`)."""
@@ -595,7 +586,9 @@ class AxesGroup:
                 try:
                     start = self.kin.convert(end, space, element.joint)
                     if element.start != start:
-                        rebuilt = self._element(ticket, start, move)
+                        rebuilt = self.kin.element(
+                            ticket, start, move, self.axes, self.corner_tolerance
+                        )
                         rebuilt.completes = element.completes
                         element = rebuilt
                 except (GeometryError, KinematicsError) as refused:
@@ -728,8 +721,21 @@ class AxesGroup:
         f, rate = self.clock.factor, self.clock.rate
         v = [f * x for x in self._v]
         a = [f * f * y + rate * x for x, y in zip(self._v, self._a, strict=True)]
-        q, qd, qdd = self.kin.joints(self._t, self._joint, self._p, v, a)
+        q, qd, qdd = self.kin.joints(self._t, self._joint, self._p, v, a, self.axes)
+        if self.kin.fault and not self.GroupErrorID:
+            self._refused()
         return q[index], qd[index], qdd[index]
+
+    def _refused(self) -> None:
+        """The kinematics refused the path point: members hold, commands end with its error."""
+        self.GroupErrorID = self.kin.fault
+        self._abort_tickets(status=Status.Error, error_id=self.kin.fault)
+        self._queue.clear()
+        self._active, self._end = None, [axis.sp_pos for axis in self.axes]
+        for i, member in enumerate(self._members):
+            if member is not None:
+                member.release()
+                self._members[i] = None
 
     def _engage(self) -> None:
         """Put every member under a GroupMember command (SynchronizedMotion)."""

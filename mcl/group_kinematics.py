@@ -132,11 +132,18 @@ class GroupKinematics:
         return element
 
     def joints(
-        self, t: float, joint: bool, p: Sequence[float], v: Sequence[float], a: Sequence[float]
+        self,
+        t: float,
+        joint: bool,
+        p: Sequence[float],
+        v: Sequence[float],
+        a: Sequence[float],
+        axes: Sequence[Axis],
     ) -> tuple[list[float], list[float], list[float]]:
         """The members' set points (position, velocity, acceleration) of the path state (p, v,
         a) at the servo instant ``t`` [s], computed once per instant. A refused tool point holds
-        the last set points at rest and records :attr:`fault`."""
+        the last set points (of ``axes`` if none was computed yet) at rest and records
+        :attr:`fault`."""
         transform = self.transform
         if transform is None or joint:
             return list(p), list(v), list(a)
@@ -145,10 +152,25 @@ class GroupKinematics:
                 self._q, self._qd, self._qdd = derivatives(transform, p, v, a)
             except KinematicsError as refused:
                 self.fault = int(refused.error_id)
+                self._q = [axis.sp_pos for axis in axes]
                 self._qd = [0.0] * len(self._q)
                 self._qdd = [0.0] * len(self._q)
             self._t = t
         return self._q, self._qd, self._qdd
+
+    def path_state(
+        self, q: list[float], qd: list[float], qdd: list[float]
+    ) -> tuple[list[float], list[float], list[float], bool]:
+        """The path state a new path starts from at the members' state (q, qd, qdd): in the
+        MCS (:meth:`cartesian_state`) where the transformation gives the pose a tool point,
+        else in the members' coordinates; the flag says the latter."""
+        if self.transform is not None:
+            try:
+                p, v, a = self.cartesian_state(q, qd, qdd)
+                return p, v, a, False
+            except KinematicsError:
+                pass  # no tool point: the path state stays in the members' coordinates
+        return q, qd, qdd, True
 
     def cartesian_state(
         self, q: Sequence[float], qd: Sequence[float], qdd: Sequence[float], h: float = 1e-4

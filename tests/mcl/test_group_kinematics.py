@@ -395,3 +395,33 @@ def test_set_position_of_a_transformed_group_takes_only_acs() -> None:
     acs = mcl.MC_GroupSetPosition()
     acs(AxesGroup=group, Execute=True, Position=[1.0, 2.0, 3.0], CoordSystem=MC_COORD_SYSTEM.ACS)
     assert acs.Done
+
+
+def test_a_path_point_refused_during_a_motion_stops_the_group_with_the_error() -> None:
+    """The kinematics refuses a point while the group moves (here its range narrowed under
+    the running path): every arm holds its last set point, the move ends with EWorkspace and
+    the group is in GroupErrorStop until MC_GroupReset."""
+    machine = make_machine(ARMS)
+    delta = mcl.DeltaKinematics(200.0, 50.0, 350.0, 800.0)
+    group = build_group(machine, ARMS)
+    kin = mcl.MC_SetKinTransform()
+    kin(AxesGroup=group, Execute=True, KinTransform=delta)
+    joints = record(machine)
+    move = mcl.MC_MoveLinearAbsolute()
+    target = [0.0, 0.0, -800.0]  # straight down: every arm turns from 0 to 25.4 deg
+    program = scan(lambda: move(AxesGroup=group, Execute=True, Position=target, **MOVE))
+    machine.run(program, timeout=0.1)
+    assert move.Busy
+    delta.theta_max = max(joints.q[-1]) + 0.5  # the arms may go 0.5 deg further
+    machine.run(program, until=lambda: move.Error, timeout=0.5)
+    assert move.ErrorID == ErrorID.EWorkspace and group.GroupErrorID == ErrorID.EWorkspace
+    assert group.state == mcl.GroupState.GroupErrorStop
+    held = joints.q[-1]
+    machine.run(program, timeout=0.1)
+    assert joints.q[-1] == held and max(held) <= delta.theta_max
+    assert all(v == 0.0 for v in joints.qd[-1])
+    reset = mcl.MC_GroupReset()
+    machine.run(
+        scan(lambda: reset(AxesGroup=group, Execute=True)), until=lambda: reset.Done, timeout=1
+    )
+    assert group.state == mcl.GroupState.GroupStandby and group.GroupErrorID == 0
