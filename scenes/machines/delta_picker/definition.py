@@ -5,13 +5,13 @@ from __future__ import annotations
 
 __all__ = ["DEVICES", "MACHINE"]
 
-from scenes.definition import MachineDef, ScopeDefaults, Signal
+from scenes.definition import DeviceFactory, MachineDef, ScopeDefaults, Signal
 from scenes.machines.delta_picker.axes import AXES
 from scenes.machines.delta_picker.demo import Demo
 from scenes.machines.delta_picker.devices import Feeder, VacuumGripper
 from scenes.scene import Scene
 
-DEVICES = {"vacuum": VacuumGripper, "feeder": Feeder}
+DEVICES: dict[str, DeviceFactory] = {"vacuum": VacuumGripper, "feeder": Feeder}
 """The machine's Python devices by name (each ``(model, data, prefix) -> device``)."""
 
 
