@@ -60,16 +60,17 @@ def test_every_part_is_picked_and_placed_without_a_loss(
 def test_a_cartesian_line_keeps_the_cup_on_the_line(
     finished: tuple[scenes.Scene, object, list[np.ndarray]],
 ) -> None:
-    """After the demo (arms homed, the scene at rest): grouped again, a 300 mm line across the
+    """The arms homed and grouped by the demo: a 354 mm line across the
     working cylinder at 2 m/s; the cup's face (the model's site) stays within 0.5 mm of the line
-    and reaches its end within 0.05 mm; the effector stays level."""
+    and reaches its end within 0.1 mm; the effector stays level."""
     scene = scenes.load("delta_picker", trace_every=0)
     program = scenes.demo(scene)
     scene.run(program, until=lambda: program.step == "over the belt", timeout=10.0)
     group = program.group  # type: ignore[attr-defined]
-    scene.run(lambda: program.moves["over the belt"][0](), timeout=1.0)  # type: ignore[attr-defined]
+    over = program.moves["over the belt"][0]  # type: ignore[attr-defined]
+    scene.run(lambda: over(Execute=True), until=lambda: over.Done, timeout=1.0)
     start = [PICK[0], PICK[1], PICK[2] + CLEAR]
-    end = [250.0, 100.0, PICK[2] - 60.0]
+    end = [250.0, 100.0, PICK[2] + 10.0]  # the cup 40 mm above the tray
     line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=end, **MOVE)
     model, data = scene.model, scene.data
     tool = model.site(TOOL).id
@@ -90,8 +91,11 @@ def test_a_cartesian_line_keeps_the_cup_on_the_line(
     scene.run(scan, until=lambda: line.Done or line.Error, timeout=2.0)
     assert line.Done, line.ErrorID
     scene.run(scan, timeout=0.2)
+    print(f"line: worst {worst:.3f} mm, tilt {tilt:.2e} rad")
     assert worst < 0.5
-    assert np.linalg.norm(1000.0 * data.site_xpos[tool] - b) < 0.05
+    # at the end within the arms' in-position window (0.01° ≈ 0.06 mm at the elbow) and what
+    # the parallelograms' constraints yield under the effector's weight
+    assert np.linalg.norm(1000.0 * data.site_xpos[tool] - b) < 0.1
     assert tilt < 1e-3
     angles = [scene.axes[a].POS for a in ARMS]
     assert angles == pytest.approx(DELTA.inverse(end), abs=0.01)
