@@ -25,6 +25,8 @@ PART_LENGTH = 0.060
 """A part's length along the belt [m]."""
 TAKEN = 1.0
 """The outfeed takes a part away this long after it came to rest in the tray [s]."""
+CHECK = 0.01
+"""How often the outfeed looks at the tray [s]."""
 
 
 def eye_marks(part_x: tuple[float, ...], eye_x: float) -> mcl.Marks:
@@ -147,7 +149,12 @@ class Feeder:
         self.belt_top = float(numeric(model, f"{prefix}belt_top", 1)[0])
         belt = model.joint(f"{prefix}C")
         self._belt_q, self._belt_v = int(belt.qposadr[0]), int(belt.dofadr[0])
-        self._tray = int(model.geom(f"{prefix}tray").id)
+        tray = int(model.geom(f"{prefix}tray").id)
+        mujoco.mj_kinematics(model, data)
+        self._tray_y = float(data.geom_xpos[tray][1])
+        self._tray_z = float(data.geom_xpos[tray][2])
+        self._due = 0.0
+        """When the tray is looked at next [s]."""
         self._parts = []
         for k in range(len(part_x)):
             x = model.joint(f"{prefix}part{k}_x")
@@ -160,14 +167,19 @@ class Feeder:
         self._origin = [np.array(model.body_pos[body]) for _, _, body in self._parts]
 
     def _in_tray(self, data: mujoco.MjData, body: int, dof: int) -> bool:
-        tray = data.geom_xpos[self._tray]
-        centre = data.xpos[body]
-        still = float(np.abs(data.qvel[dof : dof + 6]).max()) < 1e-3
-        return still and abs(centre[1] - tray[1]) < 0.08 and centre[2] > tray[2]
+        """Part ``body`` lies still over the tray."""
+        if abs(data.xpos[body][1] - self._tray_y) >= 0.08 or data.xpos[body][2] <= self._tray_z:
+            return False
+        qvel = data.qvel
+        return all(abs(qvel[dof + i]) < 1e-3 for i in range(6))
 
     def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-        """Take away a part at rest in the tray for TAKEN; lay it on the belt as the next one."""
+        """Every :data:`CHECK` [s]: take away a part at rest in the tray for TAKEN and lay it on
+        the belt as the next one."""
         t = float(data.time)
+        if t < self._due:
+            return
+        self._due = t + CHECK
         for k, (q, dof, body) in enumerate(self._parts):
             if not self._in_tray(data, body, dof):
                 self.rest[k] = -1.0
@@ -196,9 +208,10 @@ class Feeder:
         data.qvel[dof] = data.qvel[self._belt_v]
 
     def get_state(self) -> npt.NDArray[np.float64]:
-        return np.array([*self.next, *self.rest], dtype=float)
+        return np.array([*self.next, *self.rest, self._due], dtype=float)
 
     def set_state(self, state: npt.NDArray[np.float64]) -> None:
         n = len(self._parts)
         self.next = [int(x) for x in state[:n]]
-        self.rest = [float(x) for x in state[n:]]
+        self.rest = [float(x) for x in state[n : 2 * n]]
+        self._due = float(state[2 * n])
