@@ -2,10 +2,10 @@
 horizontal, positive = down) and the infeed conveyor ``C`` (mm of belt), its touch probe wired to
 the photo eye; the robot's geometry and the parts on the belt.
 
-Commissioning data (models/README.md, delta_picker): an arm's effective inertia is about
-0.2 kg·m² (armature 0.092 + arm, rods and a third of the effector), Kamp 60 N·m·s/rad: velocity
-pole 300 rad/s; Kv = Kp·Vmax/10 = 1.1·900/10 = 99 1/s, Ka = J_eff/Kamp + current lag + half a
-servo period = 3.3 + 0.5 + 0.5 ms. The conveyor: Kv = 0.6·1500/10 = 90 1/s.
+Commissioning data: the arms' constants are those ``python -m scenes.tools.commissioning
+delta_picker A1`` derives from velocity steps on the amplifier (gain 88.3 °/s per V, lag 5.0 ms,
+loop lag 6.5 ms: Kv 77 1/s); the conveyor's: Kv = 0.6·1500/10 = 90 1/s. SW limits 1° inside the
+LIM switches.
 """
 
 from __future__ import annotations
@@ -82,16 +82,16 @@ def _arm(outputs: int = 0) -> AxisDef:
             unit="deg",
         ),
         constants=mcl.ServoConstants(
-            Kp=1.1,
-            Ki=25.0,
-            Ff=1.0,
+            Kp=0.8752,
+            Ki=8.46,
+            Ff=1.0189,
             Kc=50.0,
             Vmax=900.0,
             LimPos=87.0 - 1.0,
             LimNeg=-32.0 + 1.0,
             Filter=2.0,
-            Ka=0.0043,
-            Kf=0.02,
+            Ka=0.00659,
+            Kf=0.0157,
             Ki1=0.0,
         ),
         homing=HOMING["A1"],
