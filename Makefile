@@ -70,6 +70,7 @@ bench: setup
 	$(PY) -m tests.benchmarks.bridge
 	$(PY) -m tests.benchmarks.cam_table
 	$(PY) -m tests.benchmarks.arcs
+	$(PY) -m tests.benchmarks.delta_picker
 
 # mutation testing of the modules a change touched (against the merge base with main, or BASE),
 # or of MODULES whole; the tests that exercise them, or TESTS; JOBS mutants at once (all cores)
