@@ -29,6 +29,7 @@ __all__ = ["DeltaKinematics"]
 
 import math
 from collections.abc import Sequence
+from typing import ClassVar
 
 from mcl.errors import ErrorID
 from mcl.kinematics import KinematicsError, KinTransform, TcpLimits
@@ -58,8 +59,8 @@ class DeltaKinematics(KinTransform):
         tcp: the tool point's Cartesian limits.
     """
 
-    name = "delta"
-    joints = 3
+    name: ClassVar[str] = "delta"
+    joints: ClassVar[int] = 3
 
     def __init__(
         self,

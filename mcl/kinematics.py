@@ -18,6 +18,7 @@ __all__ = ["KinTransform", "KinematicsError", "TcpLimits", "derivatives"]
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 from mcl.errors import ErrorID
 
@@ -70,8 +71,8 @@ class KinTransform:
         tcp: the tool point's Cartesian limits.
     """
 
-    name: str = "identity"
-    joints: int = 3
+    name: ClassVar[str] = "identity"
+    joints: ClassVar[int] = 3
 
     def __init__(self, tcp: TcpLimits | None = None) -> None:
         self.tcp = tcp if tcp is not None else TcpLimits()
