@@ -10,7 +10,7 @@ import pytest
 
 from mcl.delta_kinematics import DeltaKinematics
 from mcl.errors import ErrorID
-from mcl.kinematics import KinematicsError, TcpLimits, derivatives
+from mcl.kinematics import KinematicsError, KinTransform, TcpLimits, derivatives
 
 DELTA = DeltaKinematics(base_radius=200.0, effector_radius=50.0, upper_arm=350.0, forearm=800.0)
 
@@ -172,3 +172,64 @@ def test_an_invalid_geometry_is_refused(geometry: dict[str, float]) -> None:
 def test_tcp_limits_must_be_positive() -> None:
     with pytest.raises(ValueError, match="velocity"):
         TcpLimits(velocity=0.0)
+
+
+@pytest.mark.parametrize(
+    ("point", "measure"), [([0.0, 0.0, -450.0], 0.57339), ([150.0, -80.0, -520.0], 0.74629)]
+)
+def test_the_parallel_margin_compares_the_forearms_determinant(
+    point: list[float], measure: float
+) -> None:
+    """|det(f₀, f₁, f₂)|/l³ of the forearms' vectors (computed independently here: 0.57339 at
+    the centred pose, 0.74629 off it): a margin just below it takes the point, just above it
+    refuses it as singular."""
+    q = DeltaKinematics(200.0, 50.0, 350.0, 800.0, theta_min=-90.0).inverse(point)
+    forearms = []
+    for i, theta in enumerate(q):
+        phi = 2.0 * math.pi * i / 3.0
+        joint = [point[0] + 50.0 * math.cos(phi), point[1] + 50.0 * math.sin(phi), point[2]]
+        elbow = DELTA.elbow(i, theta)
+        forearms.append([joint[k] - elbow[k] for k in range(3)])
+    (a, b, c), (d, e, f), (g, h, i_) = forearms
+    det = a * (e * i_ - f * h) - b * (d * i_ - f * g) + c * (d * h - e * g)
+    assert abs(det) / 800.0**3 == pytest.approx(measure, abs=1e-5)
+    below = DeltaKinematics(
+        200.0, 50.0, 350.0, 800.0, theta_min=-90.0, parallel_margin=measure - 1e-4
+    )
+    assert below.inverse(point) == pytest.approx(q, abs=1e-12)
+    above = DeltaKinematics(
+        200.0, 50.0, 350.0, 800.0, theta_min=-90.0, parallel_margin=measure + 1e-4
+    )
+    with pytest.raises(KinematicsError, match="near one plane") as refused:
+        above.inverse(point)
+    assert refused.value.error_id == ErrorID.ESingular
+
+
+def test_the_geometry_its_limits_and_the_identity_are_reported() -> None:
+    assert DELTA.parameters() == {
+        "base_radius": 200.0,
+        "effector_radius": 50.0,
+        "upper_arm": 350.0,
+        "forearm": 800.0,
+        "theta_min": -60.0,
+        "theta_max": 100.0,
+    }
+    assert DELTA.name == "delta" and DELTA.joints == 3
+    assert DELTA.tcp == TcpLimits()
+    slow = TcpLimits(velocity=1000.0)
+    assert DeltaKinematics(200.0, 50.0, 350.0, 800.0, tcp=slow).tcp is slow
+    identity = KinTransform()
+    assert identity.forward([1.0, 2.0, 3.0]) == [1.0, 2.0, 3.0] == identity.inverse([1.0, 2.0, 3.0])
+    assert identity.name == "identity" and identity.parameters() == {}
+    with pytest.raises(KinematicsError, match="arm 0 cannot reach"):
+        DELTA.inverse([0.0, 0.0, -300.0])
+
+
+def test_derivatives_at_rest_and_from_rest() -> None:
+    """At rest the joints stand; starting from rest (v = 0, a ≠ 0) they only accelerate."""
+    p = [100.0, 50.0, -700.0]
+    q, qd, qdd = derivatives(DELTA, p, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+    assert q == DELTA.inverse(p) and qd == [0.0, 0.0, 0.0] and qdd == [0.0, 0.0, 0.0]
+    _, qd, qdd = derivatives(DELTA, p, [0.0, 0.0, 0.0], [0.0, 0.0, -5000.0])
+    assert max(abs(v) for v in qd) < 1e-6
+    assert min(abs(a) for a in qdd) > 100.0
