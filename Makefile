@@ -78,6 +78,7 @@ bench: setup
 	$(PY) -m tests.benchmarks.bridge
 	$(PY) -m tests.benchmarks.cam_table
 	$(PY) -m tests.benchmarks.arcs
+	$(PY) -m tests.benchmarks.delta_picker
 
 # mutation testing of the modules a change touched (against the merge base with main, or BASE),
 # or of MODULES (whole, or with BASE their changed lines); the tests that exercise them, or TESTS;

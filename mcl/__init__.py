@@ -43,6 +43,7 @@ from mcl.cam_readout import CamProfile, RunningCam, cam_profile, running_cam
 from mcl.cam_table import MC_CAM_REF, Cam, CamLaw, MC_CamPoint, rotary_knife
 from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
+from mcl.delta_kinematics import DeltaKinematics
 from mcl.encoder import AbsoluteEncoder
 from mcl.enums import (
     MC_CIRC_MODE,
@@ -107,6 +108,8 @@ from mcl.inputs_outputs import (
     MC_WriteDigitalOutput,
 )
 from mcl.io import AxisIO
+from mcl.kin_fb import MC_ReadKinTransform, MC_SetKinTransform
+from mcl.kinematics import KinematicsError, KinTransform, TcpLimits
 from mcl.module import Module
 from mcl.motion import (
     GT_EStop,
@@ -173,6 +176,7 @@ __all__ = [
     "CamProfile",
     "ChannelSnapshot",
     "ConditionTimeout",
+    "DeltaKinematics",
     "ErrorID",
     "GCodeError",
     "GT_Analog",
@@ -186,6 +190,8 @@ __all__ = [
     "GT_SWLim",
     "GT_SetConstant",
     "GroupState",
+    "KinTransform",
+    "KinematicsError",
     "MC_AbortTrigger",
     "MC_AccelerationProfile",
     "MC_AddAxisToGroup",
@@ -241,9 +247,11 @@ __all__ = [
     "MC_ReadBoolParameter",
     "MC_ReadDigitalInput",
     "MC_ReadDigitalOutput",
+    "MC_ReadKinTransform",
     "MC_ReadParameter",
     "MC_ReadStatus",
     "MC_Reset",
+    "MC_SetKinTransform",
     "MC_SetOverride",
     "MC_SetPosition",
     "MC_StartMode",
@@ -279,6 +287,7 @@ __all__ = [
     "SimPlant",
     "SimPlantState",
     "StateError",
+    "TcpLimits",
     "cam_profile",
     "error_text",
     "faults",

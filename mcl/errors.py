@@ -59,6 +59,12 @@ class ErrorID(IntEnum):
     ECamLimit = 23
     """Beyond the Teco library (MC_CamIn): at the master's speed the cam needs more than the
     slave's Vmax or maximum acceleration."""
+    EWorkspace = 24
+    """Beyond the Teco library (kinematic transformation, :mod:`mcl.kinematics`): a target or a
+    point of the path is beyond the robot's reach or a joint's range."""
+    ESingular = 25
+    """Beyond the Teco library (kinematic transformation): a target or a point of the path is
+    in or too near a singular pose of the kinematics."""
     EGroupMember = 1000
     EGroupFull = 1001
     ENotGroupMember = 1003
@@ -103,6 +109,11 @@ _TEXTS: dict[int, tuple[str, str]] = {
         "cam needs more than the slave's maximum velocity or acceleration",
         "vačka vyžaduje víc než maximální rychlost nebo zrychlení slave osy",
     ),
+    24: (
+        "target beyond the workspace of the kinematics",
+        "cíl je mimo pracovní prostor kinematiky",
+    ),
+    25: ("target near a singularity of the kinematics", "cíl je blízko singularity kinematiky"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

@@ -41,19 +41,14 @@ from collections.abc import Sequence
 from typing import Final
 
 from mcl.axis import Axis
-from mcl.command import Command, Status
+from mcl.command import Status
 from mcl.enums import AxisState, GroupState, MC_BufferMode
 from mcl.errors import ErrorID
-from mcl.geometry import (
-    EPS,
-    GeometryError,
-    Line,
-    Vector,
-    along,
-    direction,
-    distance_to_segment,
-    dot,
-)
+from mcl.geometry import EPS, GeometryError, Line, Vector, along, direction, dot
+from mcl.geometry import distance_to_segment as distance_to_segment
+from mcl.group_kinematics import GroupKinematics, refusal
+from mcl.group_member import GroupMember
+from mcl.kinematics import KinematicsError
 from mcl.path import Blend, Element, Move, PathCommand, stop_element
 from mcl.path_clock import PathClock
 from mcl.path_planner import PathPlanner
@@ -62,42 +57,6 @@ from mcl.trajectory import Limits, PlanningError, Profile
 _MOTION_STATES: Final = frozenset(
     {AxisState.DiscreteMotion, AxisState.ContinuousMotion, AxisState.SynchronizedMotion}
 )
-
-
-class GroupMember(Command):
-    """The command a group move runs on each member axis (axis state SynchronizedMotion).
-
-    Its set point is the member's component of the group's path point; it never ends by itself:
-    the group ends it (Done) when the path is complete and nothing is queued.
-    """
-
-    state = AxisState.SynchronizedMotion
-
-    def __init__(self, group: AxesGroup, index: int) -> None:
-        super().__init__(MC_BufferMode.Aborting)
-        self.group = group
-        self.index = index
-        self._last = 0.0
-
-    def start(self, axis: Axis, p: float, v: float, a: float, v_end: float) -> None:
-        self._last = p
-
-    def release(self, position: float | None = None) -> None:
-        """End the command at its next set point, which holds ``position`` [mm] (None: the last
-        set point)."""
-        if position is not None:
-            self._last = position
-        self.signal = True
-
-    def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
-        if self.signal:
-            return self._last, 0.0, 0.0
-        # the servo instant itself (not t0 + t), so every member reads the same path point
-        p, v, a = self.group._setpoint(self.index, axis.t_cycle)
-        if self.signal:  # released by this very evaluation: the path stands at its end
-            return self._last, 0.0, 0.0
-        self._last = p
-        return p, v, a
 
 
 class AxesGroup:
@@ -151,6 +110,10 @@ class AxesGroup:
         """Where the last motion ended (InPosition) [mm]."""
         self.clock = PathClock()
         """Path time, override and feed hold (:mod:`mcl.path_clock`)."""
+        self.kin = GroupKinematics()
+        """The kinematic transformation (:mod:`mcl.group_kinematics`)."""
+        self._joint = True
+        """The cached path state is in the members' coordinates (else in the MCS)."""
 
     def __repr__(self) -> str:
         names = ", ".join(axis.name for axis in self.axes)
@@ -198,7 +161,9 @@ class AxesGroup:
             return False
         end = self._end
         if end is None and lost and self._active is not None:
-            end = self._p  # nobody follows the path any more: it ends where it stands
+            end = self.kin.to_joints(
+                self._p, self._joint, self.axes
+            )  # nobody follows the path any more: it ends there
         if end is None:
             end = [axis.sp_pos for axis in self.axes]
         return all(
@@ -371,7 +336,7 @@ class AxesGroup:
             if axis.state == AxisState.ErrorStop and not axis.reset():
                 done = False
         if done and all(axis.state != AxisState.ErrorStop for axis in self.axes):
-            self.GroupErrorID = 0
+            self.GroupErrorID = self.kin.fault = 0
             self._stop = None
             return True
         return False
@@ -402,12 +367,21 @@ class AxesGroup:
                 return error
         return 0
 
-    def start_point(self, buffer_mode: MC_BufferMode) -> Vector:
+    def start_point(self, buffer_mode: MC_BufferMode, joint: bool = False) -> Vector:
         """Where a new move of ``buffer_mode`` starts: the current path point when it aborts
-        (the actual positions at standstill), the end of the last queued motion otherwise [mm]."""
+        (the actual positions at standstill), the end of the last queued motion otherwise [mm],
+        in the members' coordinates when ``joint``, else in the MCS (:mod:`mcl.group_kinematics`).
+
+        Raises:
+            KinematicsError: the point has no place in the space asked for.
+        """
         if buffer_mode == MC_BufferMode.Aborting or self._idle():
-            return list(self._current()[1])
-        return list(self._last_end())
+            p, space = self._current()[1], self._joint
+        else:
+            last = self._queue[-1] if self._queue else self._active
+            assert last is not None
+            p, space = last.end, last.joint
+        return self.kin.convert(p, space, joint)
 
     def nominal_limits(
         self, velocity: float, acceleration: float, deceleration: float, jerk: float
@@ -415,7 +389,8 @@ class AxesGroup:
         """The path limits of FB inputs (validated, >= 0; 0 = the members' default) before any
         clamping to a direction or a curve (the 100 s rule of the parameter checks)."""
         zero = Line([0.0] * len(self.axes), [0.0] * len(self.axes))
-        return self._planner().limits(zero, velocity, acceleration, deceleration, jerk)[0]
+        planner = self._planner(joint=False)
+        return planner.limits(zero, velocity, acceleration, deceleration, jerk)[0]
 
     # ------------------------------------------------------------------ commands
     def prepare(self, ticket: PathCommand, moves: Sequence[Move]) -> list[Element]:
@@ -424,12 +399,16 @@ class AxesGroup:
 
         Raises:
             GeometryError: a piece describes no path (an arc that fits no circle, ...).
+            KinematicsError: a piece leaves the workspace or a joint's limits
+                (:meth:`GroupKinematics.hold_joints`).
         """
-        start = self.start_point(ticket.buffer_mode)
-        planner = self._planner()
+        start = self.start_point(ticket.buffer_mode, moves[0].joint)
         elements: list[Element] = []
         for move in moves:
-            element = planner.element(ticket, start, move)
+            start = self.kin.convert(
+                start, elements[-1].joint if elements else move.joint, move.joint
+            )
+            element = self.kin.element(ticket, start, move, self.axes, self.corner_tolerance)
             element.completes = False
             elements.append(element)
             start = element.end
@@ -466,8 +445,11 @@ class AxesGroup:
         v_along = dot(v, unit)
         jump = self.axes[0].servo_period * first.limits.acceleration
         ticket.status = Status.Active
-        if v_along <= first.cap and all(
-            abs(vi - v_along * ui) <= jump for vi, ui in zip(v, unit, strict=True)
+        same = self.kin.transform is None or first.joint == self._joint
+        if (
+            same
+            and v_along <= first.cap
+            and all(abs(vi - v_along * ui) <= jump for vi, ui in zip(v, unit, strict=True))
         ):
             self._queue.extend(elements[1:])
             self._lookahead()
@@ -528,28 +510,22 @@ class AxesGroup:
     def _current(self) -> tuple[float, Vector, Vector, Vector]:
         """Time [s] and path state (position, velocity, acceleration) a new element starts
         from: the cached path state while the path runs, else the members' model states (the
-        actual position at standstill, as :meth:`Axis.start_position` gives it)."""
+        actual position at standstill, as :meth:`Axis.start_position` gives it); with a
+        kinematic transformation in the MCS where the pose has one, else in the members'
+        coordinates."""
         if self._active is None:
             self._t = max(axis.t_sp for axis in self.axes)
-            self._p = [axis.start_position(MC_BufferMode.Aborting) for axis in self.axes]
-            self._v = [axis.sp_vel for axis in self.axes]
-            self._a = [axis.sp_acc for axis in self.axes]
+            self._p, self._v, self._a, self._joint = self.kin.path_state(
+                [axis.start_position(MC_BufferMode.Aborting) for axis in self.axes],
+                [axis.sp_vel for axis in self.axes],
+                [axis.sp_acc for axis in self.axes],
+            )
             self.clock.restart(self._t)
         return self.clock.tau, list(self._p), list(self._v), list(self._a)
 
-    def _last_end(self) -> Vector:
-        last = self._queue[-1] if self._queue else self._active
-        assert last is not None
-        return list(last.end)
-
-    def _planner(self) -> PathPlanner:
-        """The path planner for the current members' machine data and servo constants."""
-        axes = self.axes
-        return PathPlanner(
-            [axis.config for axis in axes],
-            [axis.constants.Vmax if axis.constants is not None else None for axis in axes],
-            self.corner_tolerance,
-        )
+    def _planner(self, joint: bool = True) -> PathPlanner:
+        """The path planner for pieces in the members' coordinates (``joint``) or the MCS."""
+        return self.kin.planner(joint, self.axes, self.corner_tolerance)
 
     def _lookahead(self) -> None:
         """Update the queued elements' entry speeds (:meth:`PathPlanner.entry_speeds`)."""
@@ -569,18 +545,18 @@ class AxesGroup:
         ``deceleration`` and ``jerk`` (0 = defaults), or the ``following`` members' fastest ramp;
         without a path the members' own motion is stopped straight on. ``unscaled``: the ramp
         ignores the override (:meth:`PathClock.unscale`)."""
-        planner = self._planner()
         active = self._active
         blends: tuple[Blend | None, Blend | None] = (None, None)
         if active is not None and active.profile is not None:
-            geometry = active.geometry
+            geometry, joint = active.geometry, active.joint
             s, v, a = active.profile.at(t - active.t0)
             blends = (active.blend_in, active.blend_out)
         else:
             _, p, vel, acc = self._current()
             unit = direction(vel)
-            geometry = Line(p, along(p, unit, 1.0))
+            geometry, joint = Line(p, along(p, unit, 1.0)), self._joint
             s, v, a = 0.0, dot(vel, unit), dot(acc, unit)
+        planner = self._planner(joint)
         if unscaled:
             (v,), (a,) = self.clock.wall([v], [a])
             self.clock.unscale()
@@ -588,32 +564,40 @@ class AxesGroup:
             limits = planner.max_ramp(geometry, following, v)
         else:
             limits = planner.stop_limits(geometry, v, deceleration, jerk)
-        return stop_element(geometry, s, v, a, t, limits, ticket, completes, blends)
+        ramp = stop_element(geometry, s, v, a, t, limits, ticket, completes, blends)
+        ramp.joint = joint
+        return ramp
 
     def _rechain(self, previous: Element | None) -> None:
         """Let every queued move start where the element before it ends (after a withdrawal or
         an unplanned stop ramp); a piece that no longer fits from there (an arc) ends its
         command with EParam."""
         end = previous.end if previous is not None else None
+        space = previous.joint if previous is not None else True
         queue: deque[Element] = deque()
         failed: list[PathCommand] = []
         for element in self._queue:
             if element.ticket in failed:
                 continue
             move = element.move
-            if end is not None and move is not None and element.start != end:
-                assert element.ticket is not None
+            ticket = element.ticket
+            if end is not None and move is not None:
+                assert ticket is not None
                 try:
-                    rebuilt = self._planner().element(element.ticket, list(end), move)
-                except GeometryError:
-                    element.ticket.status = Status.Error
-                    element.ticket.error_id = ErrorID.EParam
-                    failed.append(element.ticket)
+                    start = self.kin.convert(end, space, element.joint)
+                    if element.start != start:
+                        rebuilt = self.kin.element(
+                            ticket, start, move, self.axes, self.corner_tolerance
+                        )
+                        rebuilt.completes = element.completes
+                        element = rebuilt
+                except (GeometryError, KinematicsError) as refused:
+                    ticket.status = Status.Error
+                    ticket.error_id = refusal(refused)
+                    failed.append(ticket)
                     continue
-                rebuilt.completes = element.completes
-                element = rebuilt
             queue.append(element)
-            end = element.end
+            end, space = element.end, element.joint
         self._queue = deque(e for e in queue if e.ticket not in failed)
 
     def _begin(self, element: Element, t0: float, s0: float, v0: float, a0: float) -> None:
@@ -626,9 +610,11 @@ class AxesGroup:
                 if element.ticket is not None:
                     element.ticket.status = Status.Error
                     element.ticket.error_id = ErrorID.EParam
-                limits = self._planner().stop_limits(element.geometry, v0, 0.0, 0.0)
+                limits = self._planner(element.joint).stop_limits(element.geometry, v0, 0.0, 0.0)
                 blends = (element.blend_in, None)
+                joint = element.joint
                 element = stop_element(element.geometry, s0, v0, a0, t0, limits, None, True, blends)
+                element.joint = joint
         self._active = element
 
     def _replan_active(self) -> None:
@@ -657,7 +643,7 @@ class AxesGroup:
             PlanningError: the move cannot be planned.
         """
         nxt = self._queue[0] if self._queue else None
-        return self._planner().plan(element, nxt, t0, s0, v0, a0, now)
+        return self._planner(element.joint).plan(element, nxt, t0, s0, v0, a0, now)
 
     def _next(self, element: Element) -> Element | None:
         """``element`` reached its end: report it and start what follows (at the exact end time)."""
@@ -675,20 +661,21 @@ class AxesGroup:
                 self._queue.appendleft(nxt)
             geometry = blend.geom_out if blend is not None else element.geometry
             s0 = 0.0 if blend is not None else element.length
-            limits = self._planner().stop_limits(geometry, v_end, 0.0, 0.0)
+            limits = self._planner(element.joint).stop_limits(geometry, v_end, 0.0, 0.0)
             ramp = stop_element(geometry, s0, v_end, 0.0, t_end, limits, None, True, (blend, None))
+            ramp.joint = element.joint
             self._active = ramp
             return ramp
         if nxt is None:
             self._active = None
-            self._end = list(element.end)
+            self._end = self.kin.to_joints(element.end, element.joint, self.axes)
             return None
-        if nxt.move is not None and nxt.start != element.end:
+        if nxt.move is not None and (nxt.start != element.end or nxt.joint != element.joint):
             self._queue.appendleft(nxt)
             self._rechain(element)
             if not self._queue:
                 self._active = None
-                self._end = list(element.end)
+                self._end = self.kin.to_joints(element.end, element.joint, self.axes)
                 return None
             nxt = self._queue.popleft()
         nxt.blend_in = blend
@@ -709,7 +696,8 @@ class AxesGroup:
         while element is not None and tau - element.t0 >= element.duration:
             element = self._next(element)
         if element is None:
-            self._p = list(self._end) if self._end is not None else self._p
+            if self._end is not None:
+                self._p, self._joint = list(self._end), True
             self._v = [0.0] * len(self._p)
             self._a = [0.0] * len(self._p)
             stop = self._stop
@@ -722,14 +710,32 @@ class AxesGroup:
                         self._members[i] = None
         else:
             self._p, self._v, self._a = element.point(tau)
+            self._joint = element.joint
         self._t = t
 
     def _setpoint(self, index: int, t: float) -> tuple[float, float, float]:
         """Member ``index``'s component of the path point at the servo instant ``t`` [s] (the
-        velocity and acceleration in wall-clock time: :mod:`mcl.path_clock`)."""
+        velocity and acceleration in wall-clock time: :mod:`mcl.path_clock`), through the
+        inverse kinematics where the path runs in the MCS."""
         self._advance(t)
-        f, rate, v = self.clock.factor, self.clock.rate, self._v[index]
-        return self._p[index], f * v, f * f * self._a[index] + rate * v
+        f, rate = self.clock.factor, self.clock.rate
+        v = [f * x for x in self._v]
+        a = [f * f * y + rate * x for x, y in zip(self._v, self._a, strict=True)]
+        q, qd, qdd = self.kin.joints(self._t, self._joint, self._p, v, a, self.axes)
+        if self.kin.fault and not self.GroupErrorID:
+            self._refused()
+        return q[index], qd[index], qdd[index]
+
+    def _refused(self) -> None:
+        """The kinematics refused the path point: members hold, commands end with its error."""
+        self.GroupErrorID = self.kin.fault
+        self._abort_tickets(status=Status.Error, error_id=self.kin.fault)
+        self._queue.clear()
+        self._active, self._end = None, [axis.sp_pos for axis in self.axes]
+        for i, member in enumerate(self._members):
+            if member is not None:
+                member.release()
+                self._members[i] = None
 
     def _engage(self) -> None:
         """Put every member under a GroupMember command (SynchronizedMotion)."""
@@ -772,7 +778,7 @@ class AxesGroup:
         following = [m is not None for m in self._members]
         if not any(following):  # nobody left to follow the path
             self._active = None
-            self._end = list(self._p)
+            self._end = self.kin.to_joints(self._p, self._joint, self.axes)
             return
         ramp = self._ramp(
             self.clock.tau, 0.0, 0.0, None, True, following if max_ramp else None, unscaled=True

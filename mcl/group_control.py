@@ -34,6 +34,7 @@ from mcl.errors import ErrorID
 from mcl.fb import EnableFB, ExecuteFB, FunctionBlock, MotionFB, integer, non_negative, number
 from mcl.group import AxesGroup
 from mcl.group_fb import COORD_SYSTEMS, GroupMotionFB, _vector
+from mcl.kinematics import KinematicsError
 from mcl.path import PathCommand
 from mcl.path_clock import MAX_FACTOR
 from mcl.software_limits import shift_refused
@@ -221,7 +222,8 @@ class MC_GroupSetPosition(ExecuteFB):
     """Shifts the group's coordinates without motion (PLCopen Part 4): every member's coordinate
     moves so that its actual position becomes ``Position[i]`` [mm], or with ``Relative`` TRUE
     by ``Position[i]`` (as MC_SetPosition on each member, all or none). ``CoordSystem``: ACS,
-    MCS and PCS coincide. Done in the scan of the edge.
+    MCS and PCS coincide; a group with a kinematic transformation takes only ACS (the members'
+    coordinates; MCS or PCS → EParam 5). Done in the scan of the edge.
 
     Only while the group's path neither runs nor is held and every member is at rest (StandStill
     or Disabled): else EParam 5 (GroupMoving, GroupHoming, a held path), Eerrstop 11 in
@@ -242,6 +244,8 @@ class MC_GroupSetPosition(ExecuteFB):
             return ErrorID.EGroupEmpty
         position = _vector(self.Position, len(group.axes))
         if position is None or self.CoordSystem not in COORD_SYSTEMS:
+            return ErrorID.EParam
+        if group.kin.transform is not None and self.CoordSystem != MC_COORD_SYSTEM.ACS:
             return ErrorID.EParam
         if self.Relative:
             deltas = position
@@ -270,8 +274,10 @@ def set_position(group: AxesGroup, deltas: Sequence[float]) -> int:
 
 
 class _GroupReadFB(EnableFB):
-    """A read-out of the members (CoordSystem: ACS, MCS and PCS coincide); 1005 when the group
-    has no axes, EParam 5 for an unknown CoordSystem."""
+    """A read-out of the members: in ACS theirs, in MCS and PCS the tool point's through the
+    group's kinematic transformation (without one they coincide); 1005 when the group has no
+    axes, EParam 5 for an unknown CoordSystem, EWorkspace 24 / ESingular 25 where the
+    kinematics has no tool point."""
 
     REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
     INPUTS: ClassVar[tuple[str, ...]] = ("CoordSystem",)
@@ -282,6 +288,21 @@ class _GroupReadFB(EnableFB):
             return ErrorID.EGroupEmpty
         return 0 if self.CoordSystem in COORD_SYSTEMS else ErrorID.EParam
 
+    def _state(
+        self, q: list[float], qd: list[float], qdd: list[float]
+    ) -> tuple[list[float], list[float]]:
+        """Velocity and acceleration of the members moving at ``qd``, ``qdd`` from ``q`` in the
+        block's CoordSystem.
+
+        Raises:
+            KinematicsError: the kinematics has no tool point there.
+        """
+        kin = self.group.kin
+        if kin.transform is None or self.CoordSystem == MC_COORD_SYSTEM.ACS:
+            return qd, qdd
+        _, v, a = kin.cartesian_state(q, qd, qdd)
+        return v, a
+
 
 def _norm(vector: Sequence[float]) -> float:
     return math.sqrt(sum(x * x for x in vector))
@@ -289,7 +310,8 @@ def _norm(vector: Sequence[float]) -> float:
 
 class MC_GroupReadActualVelocity(_GroupReadFB):
     """Publishes the members' actual velocities ``Velocity`` [mm/s] (their filtered ``VEL``, in
-    member order) and ``PathVelocity``, the length of that vector [mm/s] (PLCopen Part 4)."""
+    member order; in MCS of a group with a kinematic transformation the tool point's velocity
+    they give) and ``PathVelocity``, the length of that vector [mm/s] (PLCopen Part 4)."""
 
     def __init__(self, **inputs: Any) -> None:
         super().__init__(**inputs)
@@ -301,7 +323,13 @@ class MC_GroupReadActualVelocity(_GroupReadFB):
         if error:
             self._disable()
             return error
-        self.Velocity = [axis.VEL for axis in self.group.axes]
+        axes = self.group.axes
+        velocity = [axis.VEL for axis in axes]
+        try:
+            self.Velocity = self._state([a.POS for a in axes], velocity, [0.0] * len(axes))[0]
+        except KinematicsError as refused:
+            self._disable()
+            return int(refused.error_id)
         self.PathVelocity = _norm(self.Velocity)
         return 0
 
@@ -314,7 +342,8 @@ class MC_GroupReadActualAcceleration(_GroupReadFB):
     """Publishes the members' accelerations ``Acceleration`` [mm/s²] in member order and
     ``PathAcceleration``, the rate of change of the path velocity (the acceleration along the
     direction of motion; 0 at rest) [mm/s²] (PLCopen Part 4). The library measures no
-    acceleration: these are the set-point accelerations the members' loops follow."""
+    acceleration: these are the set-point accelerations the members' loops follow (in MCS of a
+    group with a kinematic transformation the tool point's acceleration they give)."""
 
     def __init__(self, **inputs: Any) -> None:
         super().__init__(**inputs)
@@ -327,8 +356,14 @@ class MC_GroupReadActualAcceleration(_GroupReadFB):
             self._disable()
             return error
         axes = self.group.axes
-        self.Acceleration = [axis.sp_acc for axis in axes]
-        velocity = [axis.sp_vel for axis in axes]
+        q = [axis.sp_pos for axis in axes]
+        try:
+            velocity, self.Acceleration = self._state(
+                q, [axis.sp_vel for axis in axes], [axis.sp_acc for axis in axes]
+            )
+        except KinematicsError as refused:
+            self._disable()
+            return int(refused.error_id)
         speed = _norm(velocity)
         along = sum(a * v for a, v in zip(self.Acceleration, velocity, strict=True))
         self.PathAcceleration = along / speed if speed > 1.0e-9 else 0.0

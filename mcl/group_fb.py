@@ -36,11 +36,12 @@ Corners. With a Blending BufferMode a corner is rounded within the group's corne
 blending velocity given by the BufferMode (never faster than an arc's own velocity); a line
 into a tangent arc has no corner but a step of the centripetal acceleration v²/R, which is
 spread over a blend of reach 2.8125·v³/(R·J), so that the jerk stays within J without a dip of
-the velocity. The moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide: the library
-has no kinematic transformation) and ``TransitionMode``: TMNone rounds the corner into the move
-within the group's corner tolerance, TMMaxCornerDeviation within ``TransitionParameter[0]``
-[mm], TMCornerDistance leaves the path at most ``TransitionParameter[0]`` [mm] from the corner;
-TMStartVelocity and TMConstantVelocity are not offered (EParam 5).
+the velocity. The moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide unless the
+group has a kinematic transformation, :mod:`mcl.kin_fb`; PCS is always MCS) and
+``TransitionMode``: TMNone rounds the corner into the move within the group's corner tolerance,
+TMMaxCornerDeviation within ``TransitionParameter[0]`` [mm], TMCornerDistance leaves the path at
+most ``TransitionParameter[0]`` [mm] from the corner; TMStartVelocity and TMConstantVelocity are
+not offered (EParam 5).
 """
 
 from __future__ import annotations
@@ -62,6 +63,8 @@ from mcl.errors import ErrorID
 from mcl.fb import EnableFB, ExecuteFB, MotionFB, non_negative, number, positive
 from mcl.geometry import GeometryError
 from mcl.group import AxesGroup
+from mcl.group_kinematics import refusal
+from mcl.kinematics import KinematicsError
 from mcl.path import ARC, Move, PathCommand
 
 
@@ -213,10 +216,16 @@ class MC_GroupReadStatus(EnableFB):
 
 
 class MC_GroupReadActualPosition(EnableFB):
-    """Publishes the members' actual positions ``Position`` [mm] (MotionControlLib §5.5), in
-    member order; 1005 when the group has no axes."""
+    """Publishes the group's actual position ``Position`` (MotionControlLib §5.5): in ACS the
+    members' actual positions in member order [mm, deg]; in MCS and PCS the tool point of them
+    [mm] through the group's kinematic transformation (:mod:`mcl.kin_fb`; without one the
+    members' positions). 1005 when the group has no axes, EParam 5 for an unknown
+    ``CoordSystem``, EWorkspace 24 / ESingular 25 when the members stand where the kinematics
+    has no tool point."""
 
     REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
+    INPUTS: ClassVar[tuple[str, ...]] = ("CoordSystem",)
+    CoordSystem: int = MC_COORD_SYSTEM.MCS
 
     def __init__(self, **inputs: Any) -> None:
         super().__init__(**inputs)
@@ -224,10 +233,16 @@ class MC_GroupReadActualPosition(EnableFB):
 
     def _evaluate(self) -> int:
         group = self.group
+        self.Position = []
         if not group.axes:
-            self.Position = []
             return ErrorID.EGroupEmpty
-        self.Position = [axis.POS for axis in group.axes]
+        if self.CoordSystem not in COORD_SYSTEMS:
+            return ErrorID.EParam
+        joints = [axis.POS for axis in group.axes]
+        try:
+            self.Position = group.kin.convert(joints, True, self.CoordSystem == MC_COORD_SYSTEM.ACS)
+        except KinematicsError as refused:
+            return int(refused.error_id)
         return 0
 
     def _disable(self) -> None:
@@ -291,16 +306,38 @@ class _PathMoveFB(GroupMotionFB):
         error = group.check_ready()
         if error:
             return error
+        if self.CoordSystem not in COORD_SYSTEMS:
+            return ErrorID.EParam
         params = self._dynamics(group)
         transition = transition_of(self.TransitionMode, self.TransitionParameter)
-        if params is None or transition is None or self.CoordSystem not in COORD_SYSTEMS:
+        if params is None or transition is None:
             return ErrorID.EParam
-        moves = self._moves(group, ticket.buffer_mode, params)
+        try:
+            moves = self._moves(group, ticket.buffer_mode, params)
+        except KinematicsError as refused:
+            return int(refused.error_id)
         if moves is None:
             return ErrorID.EParam
+        joint = self._joint_space(group)
         for move in moves:
             move.tolerance, move.reach = transition
+            move.joint = joint
+            if joint and not self._in_acs:  # a direct move to a target given in MCS
+                try:
+                    move.end = group.kin.convert(move.end, False, True)
+                except KinematicsError as refused:
+                    return int(refused.error_id)
         return submit_moves(group, ticket, moves, self.NEEDS_REF)
+
+    @property
+    def _in_acs(self) -> bool:
+        """The block's positions are the members' own coordinates."""
+        return self.CoordSystem == MC_COORD_SYSTEM.ACS
+
+    def _joint_space(self, group: AxesGroup) -> bool:
+        """The move runs in the members' coordinates (a direct move, or a move in ACS, of a
+        group with a kinematic transformation: :mod:`mcl.group_kinematics`)."""
+        return group.kin.transform is not None and (self.DIRECT or self._in_acs)
 
     def _dynamics(self, group: AxesGroup) -> tuple[float, float, float, float] | None:
         """Velocity, Acceleration, Deceleration, Jerk when valid (SPEC section 3), else None."""
@@ -308,7 +345,11 @@ class _PathMoveFB(GroupMotionFB):
         d, j = number(self.Deceleration), number(self.Jerk)
         if not positive(v) or not (non_negative(a) and non_negative(d) and non_negative(j)):
             return None
-        if any(axis.velocity_too_low(v) for axis in group.axes):
+        transform = group.kin.transform
+        if transform is not None and not self._joint_space(group):
+            if v < 0.01 * transform.tcp.velocity:
+                return None
+        elif any(axis.velocity_too_low(v) for axis in group.axes):
             return None
         limits = group.nominal_limits(v, a, d, j)
         if min(limits.acceleration, limits.deceleration) * 100.0 < v:
@@ -344,15 +385,17 @@ def submit_moves(group: AxesGroup, ticket: PathCommand, moves: list[Move], needs
     """Build the elements of ``moves`` and hand them to the group, or return the error that
     refuses them without touching the group: Ehome 9 (``needs_ref`` and a member without Ref),
     EParam 5 (a piece that describes no path), Ecil 8 (a piece that passes a member's SW
-    limit)."""
+    limit), EWorkspace 24 / ESingular 25 (a Cartesian piece the kinematics refuses)."""
     axes = group.axes
     if needs_ref and not all(axis.Ref for axis in axes):
         return ErrorID.Ehome
     try:
         elements = group.prepare(ticket, moves)
-    except GeometryError:
-        return ErrorID.EParam
+    except (GeometryError, KinematicsError) as refused:
+        return refusal(refused)
     for element in elements:
+        if group.kin.cartesian(element.joint):
+            continue  # checked point by point (GroupKinematics.hold_joints)
         for axis, (lo, hi) in zip(axes, element.geometry.bounds(), strict=True):
             error = axis.check_target(lo) or axis.check_target(hi)
             if error:
@@ -398,7 +441,7 @@ class MC_MoveLinearRelative(_PathMoveFB):
         distance = _vector(self.Distance, len(group.axes))
         if distance is None:
             return None
-        start = group.start_point(mode)
+        start = group.start_point(mode, self._in_acs)
         target = [s + d for s, d in zip(start, distance, strict=True)]
         return [Move(target, params, mode, direct=self.DIRECT)]
 
@@ -409,10 +452,11 @@ class MC_MoveDirectAbsolute(MC_MoveLinearAbsolute):
 
     Velocity, Acceleration, Deceleration and Jerk bind every member's own motion (each lowered to
     that member's maxima; 0 = the member's default), not the path: the member that needs longest
-    runs at them and the others are slowed to arrive with it. With the members' coordinates as
-    the machine's (no kinematic transformation) the tool point moves on the straight line, faster
-    than MC_MoveLinearAbsolute's path velocity where several members move. Needs Ref; errors as
-    MC_MoveLinearAbsolute.
+    runs at them and the others are slowed to arrive with it. With a kinematic transformation a
+    Position in MCS is turned into the members' coordinates first (:mod:`mcl.kin_fb`); without
+    one the members' coordinates are the machine's and the tool point moves on the straight
+    line, faster than MC_MoveLinearAbsolute's path velocity where several members move. Needs
+    Ref; errors as MC_MoveLinearAbsolute.
     """
 
     CoordSystem: int = MC_COORD_SYSTEM.ACS
@@ -460,7 +504,7 @@ class _MoveCircularFB(_PathMoveFB):
             return None
         aux = (aux + [0.0] * size)[:size]
         if self.RELATIVE:
-            start = group.start_point(mode)
+            start = group.start_point(mode, self._in_acs)
             end = [s + e for s, e in zip(start, end, strict=True)]
             if not radius:
                 aux = [s + x for s, x in zip(start, aux, strict=True)]

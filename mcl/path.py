@@ -102,6 +102,8 @@ class Move:
         aux: the arc's AuxPoint, absolute (a point on it, its centre, or its radius first).
         circ_mode, path_choice, plane, turns: the arc's description (:func:`mcl.geometry.arc`).
         direct: the limits bind every member's own motion (MC_MoveDirect*), not the path.
+        joint: with a kinematic transformation, the piece runs in the members' coordinates
+            (ACS), not the MCS (:mod:`mcl.group_kinematics`).
         tolerance: the corner into this piece may deviate this far from the path [mm]
             (0 = the group's corner tolerance).
         reach: the blend into this piece leaves the path at most this far before the corner
@@ -122,6 +124,7 @@ class Move:
         direct: bool = False,
         tolerance: float = 0.0,
         reach: float = 0.0,
+        joint: bool = False,
     ) -> None:
         self.end = [float(x) for x in end]
         self.params = params
@@ -135,6 +138,7 @@ class Move:
         self.direct = direct
         self.tolerance = tolerance
         self.reach = reach
+        self.joint = joint
 
     def geometry(self, start: Sequence[float]) -> Geometry:
         """The piece from ``start`` [mm].
@@ -260,6 +264,7 @@ class Element:
         "entry_max",
         "geometry",
         "jerk",
+        "joint",
         "length",
         "limits",
         "move",
@@ -295,6 +300,8 @@ class Element:
         self.t0 = 0.0
         self.blend_in: Blend | None = None
         self.blend_out: Blend | None = None
+        self.joint = move.joint if move is not None else False
+        """With a kinematic transformation: the piece runs in the members' coordinates."""
 
     @property
     def mode(self) -> MC_BufferMode:

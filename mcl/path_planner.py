@@ -470,12 +470,13 @@ def _smooth_corner(g1: Geometry, g2: Geometry) -> bool:
 
 
 def _blends(element: Element, nxt: Element) -> bool:
-    """``nxt`` blends with ``element`` at their corner (both are moves of some length, ``nxt``
-    asks for a Blending mode)."""
+    """``nxt`` blends with ``element`` at their corner (both are moves of some length in the same
+    space, ``nxt`` asks for a Blending mode)."""
     return (
         element.move is not None
         and nxt.move is not None
         and nxt.ticket is not None
+        and element.joint == nxt.joint
         and nxt.mode >= MC_BufferMode.BlendingLow
         and element.length > EPS
         and nxt.length > EPS

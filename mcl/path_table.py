@@ -41,6 +41,7 @@ from mcl.errors import ErrorID
 from mcl.fb import non_negative, number
 from mcl.group import AxesGroup
 from mcl.group_fb import COORD_SYSTEMS, GroupMotionFB, submit_moves, transition_of
+from mcl.kinematics import KinematicsError
 from mcl.path import ARC, LINE, Move, PathCommand
 from mcl.profiles import TableRef
 
@@ -256,12 +257,17 @@ class MC_MovePath(GroupMotionFB):
         transition = transition_of(self.TransitionMode, self.TransitionParameter)
         if segments is None or transition is None or self.CoordSystem not in COORD_SYSTEMS:
             return ErrorID.EParam
-        start = group.start_point(ticket.buffer_mode)
+        joint = group.kin.transform is not None and self.CoordSystem == MC_COORD_SYSTEM.ACS
+        try:
+            start = group.start_point(ticket.buffer_mode, joint)
+        except KinematicsError as refused:
+            return int(refused.error_id)
         moves = path_moves(group, segments, ticket.buffer_mode, start)
         if moves is None:
             return ErrorID.EParam
         for move in moves:
             move.tolerance, move.reach = transition
+            move.joint = joint
         absolute = any(not bool(_field(s, "Relative")) for s in segments)
         return submit_moves(group, ticket, moves, absolute)
 

@@ -75,6 +75,7 @@ CHAPTER_ORDER = (
     "inputs_outputs",
     "group_fb",
     "group_control",
+    "kin_fb",
     "path_table",
     "gcode",
 )
@@ -225,9 +226,9 @@ ENUM_MEANING: dict[str, str] = {
     "TMConstantVelocity": "not offered (EParam)",
     "TMCornerDistance": "leave the path at most TransitionParameter[0] from the corner",
     "TMMaxCornerDeviation": "deviate at most TransitionParameter[0] from the path",
-    "ACS": "the axes' coordinates (here the same as MCS and PCS)",
-    "MCS": "the machine's coordinates (no kinematic transformation: the axes')",
-    "PCS": "the product's coordinates (no transformation set: the machine's)",
+    "ACS": "the axes' coordinates (without a kinematic transformation the same as MCS)",
+    "MCS": "the machine's Cartesian coordinates (through MC_SetKinTransform's kinematics)",
+    "PCS": "the product's coordinates (no product transformation offered: the machine's)",
 }
 """Meaning of the BufferMode, Direction, SwitchMode and ExecutionMode values (hand-written,
 optional)."""
@@ -295,6 +296,7 @@ ANNOUNCED: tuple[tuple[str, str, tuple[str, ...]], ...] = (
             "MC_GroupReadActualAcceleration",
             "MC_GroupReadConfiguration",
             "MC_SetKinTransform",
+            "MC_ReadKinTransform",
             "MC_SetCartesianTransform",
             "MC_SyncAxisToGroup",
             "MC_MovePathSynchronized",

@@ -26,6 +26,7 @@ ENTRY_POINTS = "mcl_testbench.machines"
 
 BUILTIN = {
     "cell": "scenes.machines.cell:MACHINE",
+    "delta_picker": "scenes.machines.delta_picker:MACHINE",
     "flying_shear": "scenes.machines.flying_shear:MACHINE",
     "gantry": "scenes.machines.gantry:MACHINE",
     "press": "scenes.machines.press:MACHINE",

@@ -453,6 +453,11 @@ ERROR_TEXTS: dict[int, tuple[str, str]] = {
         "cam needs more than the slave's maximum velocity or acceleration",
         "vačka vyžaduje víc než maximální rychlost nebo zrychlení slave osy",
     ),
+    24: (
+        "target beyond the workspace of the kinematics",
+        "cíl je mimo pracovní prostor kinematiky",
+    ),
+    25: ("target near a singularity of the kinematics", "cíl je blízko singularity kinematiky"),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

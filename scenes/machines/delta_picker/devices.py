@@ -1,0 +1,217 @@
+"""The vacuum gripper: digital output 0 of arm ``A1`` opens the vacuum valve; the cup holds a
+part by the force the model's adhesion actuator ``vacuum`` applies where the cup touches it
+(the cup's pull, ``cup_force``), and loses it when the part's inertia and weight ask for more.
+Every grip is recorded with the pick error measured on the physics: the cup's centre against the
+part's centre when the vacuum comes on."""
+
+from __future__ import annotations
+
+__all__ = ["Feeder", "Grip", "VacuumGripper", "eye_marks"]
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+import numpy.typing as npt
+
+import mcl
+from scenes.plant.mujoco import MujocoAxisIO, numeric
+
+HOLD = 0.005
+"""A part counts as held while its top face lies within this of the cup's face [m]."""
+PART_LENGTH = 0.060
+"""A part's length along the belt [m]."""
+TAKEN = 1.0
+"""The outfeed takes a part away this long after it came to rest in the tray [s]."""
+CHECK = 0.01
+"""How often the outfeed looks at the tray [s]."""
+
+
+def eye_marks(part_x: tuple[float, ...], eye_x: float) -> mcl.Marks:
+    """Where the photo eye sees the parts' leading edges, in belt coordinate [m]: part k of
+    the infeed's sequence at ``eye_x − (part_x[k] + half a part)``, the sequence repeating with
+    the spacings of ``part_x`` (the parts' centres at belt coordinate 0 [m])."""
+    edges = [eye_x - (x + PART_LENGTH / 2.0) for x in part_x]
+    pitch = (edges[-1] - edges[0]) / (len(edges) - 1)
+    errors = tuple(e - (edges[0] + k * pitch) for k, e in enumerate(edges))
+    return mcl.Marks(first=edges[0], pitch=pitch, width=PART_LENGTH, errors=errors)
+
+
+@dataclass(frozen=True)
+class Grip:
+    """One grip: when [s], which part, the cup's centre against the part's centre in the
+    horizontal plane and along z (cup face against the part's top face) [mm]."""
+
+    time: float
+    part: int
+    error: float
+    height: float
+
+
+class VacuumGripper:
+    """The vacuum valve and cup (module docstring).
+
+    Args:
+        model, data: the compiled model and its data.
+        prefix: the machine's name prefix in the model.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+        self.prefix = prefix
+        self.force = float(numeric(model, f"{prefix}cup_force", 1, 0.0)[0])
+        self._actuator = int(model.actuator(f"{prefix}vacuum").id)
+        self._tool = int(model.site(f"{prefix}tool").id)
+        parts = []
+        k = 0
+        while mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"{prefix}part{k}") >= 0:
+            body = model.body(f"{prefix}part{k}")
+            geom = int(body.geomadr[0])
+            parts.append((int(body.id), float(model.geom_size[geom][2])))
+            k += 1
+        self._parts = parts
+        self._data = data
+        self.outputs: list[bool] = []
+        """The A1 channel's digital outputs (set by :meth:`connect`)."""
+        self.on = False
+        """The vacuum valve is open."""
+        self.held = -1
+        """The part the cup holds (-1: none)."""
+        self.grips: list[Grip] = []
+        """Every grip, oldest first."""
+        self.lost = 0
+        """Parts the cup lost while the vacuum was on."""
+
+    def connect(self, ios: Mapping[str, MujocoAxisIO]) -> None:
+        """Wire the valve to digital output 0 of the arm A1's channel."""
+        self.outputs = ios[f"{self.prefix}A1"].outputs
+
+    def part_position(self, k: int) -> npt.NDArray[np.float64]:
+        """Centre of part ``k`` in the world [m]."""
+        return np.array(self._data.xpos[self._parts[k][0]])
+
+    def _nearest(self, data: mujoco.MjData) -> tuple[int, float, float]:
+        """The part under the cup: its number, horizontal and vertical distance [m]."""
+        tool = data.site_xpos[self._tool]
+        best, best_xy, best_z = -1, math.inf, math.inf
+        for k, (body, half) in enumerate(self._parts):
+            centre = data.xpos[body]
+            xy = math.hypot(centre[0] - tool[0], centre[1] - tool[1])
+            if xy < best_xy:
+                best, best_xy, best_z = k, xy, float(tool[2] - (centre[2] + half))
+        return best, best_xy, best_z
+
+    def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Open or close the valve; record a grip; notice a part lost."""
+        command = bool(self.outputs and self.outputs[0])
+        if command != self.on:
+            self.on = command
+            if command:
+                k, xy, z = self._nearest(data)
+                if k >= 0 and abs(z) <= HOLD and xy <= 0.03:
+                    self.held = k
+                    self.grips.append(Grip(float(data.time), k, 1000.0 * xy, 1000.0 * z))
+            else:
+                self.held = -1
+        data.ctrl[self._actuator] = 1.0 if command else 0.0
+        if self.on and self.held >= 0:
+            body, half = self._parts[self.held]
+            gap = data.site_xpos[self._tool][2] - (data.xpos[body][2] + half)
+            if abs(gap) > HOLD:
+                self.lost += 1
+                self.held = -1
+
+    def get_state(self) -> npt.NDArray[np.float64]:
+        return np.array([float(self.on), float(self.held), float(self.lost), len(self.grips)])
+
+    def set_state(self, state: npt.NDArray[np.float64]) -> None:
+        self.on, self.held, self.lost = bool(state[0]), int(state[1]), int(state[2])
+        del self.grips[int(state[3]) :]
+
+
+class Feeder:
+    """The infeed and outfeed: a part at rest in the tray for :data:`TAKEN` is taken away and
+    comes back as the next part of the infeed's sequence (:func:`eye_marks`), laid on the belt
+    where that sequence puts it, moving with the belt (so the photo eye, the touch probe of
+    ``C``, sees it where its mark lies).
+
+    Args:
+        model, data: the compiled model and its data.
+        prefix: the machine's name prefix in the model.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+        part_x = tuple(float(x) for x in numeric(model, f"{prefix}part_x", 8))
+        eye_x = float(numeric(model, f"{prefix}eye_x", 1)[0])
+        self.marks = eye_marks(part_x, eye_x)
+        self.eye_x = eye_x
+        self.belt_top = float(numeric(model, f"{prefix}belt_top", 1)[0])
+        belt = model.joint(f"{prefix}C")
+        self._belt_q, self._belt_v = int(belt.qposadr[0]), int(belt.dofadr[0])
+        tray = int(model.geom(f"{prefix}tray").id)
+        mujoco.mj_kinematics(model, data)
+        self._tray_y = float(data.geom_xpos[tray][1])
+        self._tray_z = float(data.geom_xpos[tray][2])
+        self._due = 0.0
+        """When the tray is looked at next [s]."""
+        self._parts = []
+        for k in range(len(part_x)):
+            x = model.joint(f"{prefix}part{k}_x")
+            body = model.body(f"{prefix}part{k}")
+            self._parts.append((int(x.qposadr[0]), int(x.dofadr[0]), int(body.id)))
+        self.next = list(range(len(part_x)))
+        """The sequence number each part has on the belt now."""
+        self.rest = [-1.0] * len(part_x)
+        """Since when each part lies at rest in the tray [s] (-1: it does not)."""
+        self._origin = [np.array(model.body_pos[body]) for _, _, body in self._parts]
+
+    def _in_tray(self, data: mujoco.MjData, body: int, dof: int) -> bool:
+        """Part ``body`` lies still over the tray."""
+        if abs(data.xpos[body][1] - self._tray_y) >= 0.08 or data.xpos[body][2] <= self._tray_z:
+            return False
+        qvel = data.qvel
+        return all(abs(qvel[dof + i]) < 1e-3 for i in range(6))
+
+    def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Every :data:`CHECK` [s]: take away a part at rest in the tray for TAKEN and lay it on
+        the belt as the next one."""
+        t = float(data.time)
+        if t < self._due:
+            return
+        self._due = t + CHECK
+        for k, (q, dof, body) in enumerate(self._parts):
+            if not self._in_tray(data, body, dof):
+                self.rest[k] = -1.0
+                continue
+            if self.rest[k] < 0.0:
+                self.rest[k] = t
+            if t - self.rest[k] >= TAKEN:
+                self.next[k] += len(self._parts)
+                self._lay(data, k, q, dof, body)
+                self.rest[k] = -1.0
+
+    def _lay(self, data: mujoco.MjData, k: int, q: int, dof: int, body: int) -> None:
+        """Put part ``k`` on the belt where its sequence number says, at the belt's speed."""
+        marks, j = self.marks, self.next[k]
+        mark = marks.first + j * marks.pitch + marks.errors[j % len(marks.errors)]
+        belt = float(data.qpos[self._belt_q])
+        centre_x = self.eye_x - (mark - belt) - PART_LENGTH / 2.0
+        frame = data.xpos[body] - data.qpos[q : q + 3] - self._origin[k]
+        target = np.array([centre_x, 0.0, 0.0])
+        origin = self._origin[k] + frame
+        data.qpos[q] = target[0] - origin[0]
+        data.qpos[q + 1] = 0.0
+        data.qpos[q + 2] = 0.0005
+        data.qpos[q + 3 : q + 7] = (1.0, 0.0, 0.0, 0.0)
+        data.qvel[dof : dof + 6] = 0.0
+        data.qvel[dof] = data.qvel[self._belt_v]
+
+    def get_state(self) -> npt.NDArray[np.float64]:
+        return np.array([*self.next, *self.rest, self._due], dtype=float)
+
+    def set_state(self, state: npt.NDArray[np.float64]) -> None:
+        n = len(self._parts)
+        self.next = [int(x) for x in state[:n]]
+        self.rest = [float(x) for x in state[n : 2 * n]]
+        self._due = float(state[2 * n])

@@ -1,0 +1,104 @@
+"""Benchmark: the delta picker, every figure measured on the MuJoCo physics.
+
+Prints JSON:
+
+- ``kinematics``: forward ∘ inverse over a grid of the working cylinder Ø800 × 200 mm: the
+  largest error [mm] and the arms' range over it [deg];
+- ``demo``: the pick-and-place demo with its real-time factor (whole stack; its ratio to the
+  bare physics is ``tests.benchmarks.machines``'); per part
+  the pick error (the cup's centre against the part's centre when the vacuum comes on, from the
+  model's site and body) mean and worst [mm], parts lost, the cycle per part [s] and the rate
+  [parts/min]; the arms' peak and rms amplifier torque [N·m at the arm] and the motor's torque
+  [N·m] (÷ i·η) against the catalogue's peak (8.36) and rated (2.39) torque; the cup's peak
+  speed [m/s] and acceleration [m/s²] (second differences of the site over 1 ms);
+
+Run: ``python -m tests.benchmarks.delta_picker``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from typing import Any
+
+import numpy as np
+
+import scenes
+from scenes.machines.delta_picker import DELTA, VacuumGripper
+from scenes.machines.delta_picker.axes import ARMS
+
+RATIO, EFFICIENCY = 20.0, 0.9
+"""The arms' gearbox (models/README.md, delta_picker)."""
+PEAK, RATED = 8.36, 2.39
+"""Yaskawa SGM7J-08A: instantaneous peak and rated torque [N·m]."""
+
+
+def kinematics() -> dict[str, Any]:
+    worst, angles = 0.0, []
+    for zi in range(9):
+        z = -650.0 - 25.0 * zi
+        for ri in range(9):
+            for ai in range(36):
+                r, a = 50.0 * ri, 2.0 * math.pi * ai / 36
+                p = [r * math.cos(a), r * math.sin(a), z]
+                q = DELTA.inverse(p)
+                angles += q
+                back = DELTA.forward(q)
+                worst = max(worst, max(abs(x - y) for x, y in zip(back, p, strict=True)))
+    return {"fk_ik_worst_mm": worst, "arm_range_deg": [min(angles), max(angles)]}
+
+
+def demo() -> dict[str, Any]:
+    scene = scenes.load("delta_picker", trace_every=0)
+    program = scenes.demo(scene)
+    model, data = scene.model, scene.data
+    tool = model.site("delta_picker/tool").id
+    amps = [model.actuator(f"delta_picker/{a}_amp").id for a in ARMS]
+    torques: list[list[float]] = []
+    tips: list[np.ndarray] = []
+
+    def observe(t: float) -> None:
+        torques.append([float(data.actuator_force[a]) for a in amps])
+        tips.append(np.array(data.site_xpos[tool]))
+
+    def scan() -> None:
+        program()
+        observe(scene.time)
+
+    start = time.perf_counter()
+    scene.run(scan, until=lambda: program.done or bool(program.error), timeout=120.0)
+    wall = time.perf_counter() - start
+    gripper = scene.device("vacuum", VacuumGripper)
+    errors = [g.error for g in gripper.grips]
+    cycles = [row["cycle [s]"] for row in program.results[1:]]  # type: ignore[attr-defined]
+    tau = np.abs(np.array(torques))
+    x = np.array(tips)
+    speed = np.linalg.norm(np.diff(x, axis=0), axis=1) / 0.002
+    acc = np.linalg.norm(np.diff(x, 2, axis=0), axis=1) / 0.002**2
+    motor = tau / (RATIO * EFFICIENCY)
+    return {
+        "error": program.error,
+        "real_time_factor": scene.time / wall,
+        "parts": len(errors),
+        "lost": gripper.lost,
+        "pick_error_mm": {"mean": float(np.mean(errors)), "worst": float(np.max(errors))},
+        "cycle_s": float(np.mean(cycles)),
+        "rate_per_min": 60.0 / float(np.mean(cycles)),
+        "arm_torque_peak_Nm": tau.max(axis=0).tolist(),
+        "arm_torque_rms_Nm": np.sqrt((tau**2).mean(axis=0)).tolist(),
+        "motor_torque_peak_Nm": motor.max(axis=0).tolist(),
+        "motor_torque_rms_Nm": np.sqrt((motor**2).mean(axis=0)).tolist(),
+        "catalogue_peak_rated_Nm": [PEAK, RATED],
+        "cup_peak_speed_m_s": float(speed.max()),
+        "cup_peak_acceleration_m_s2": float(acc.max()),
+    }
+
+
+def main() -> None:
+    """Print the benchmark as JSON."""
+    print(json.dumps({"kinematics": kinematics(), "demo": demo()}, indent=2))
+
+
+if __name__ == "__main__":
+    main()
