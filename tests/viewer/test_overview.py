@@ -199,6 +199,14 @@ def test_signals_carry_labels_with_units() -> None:
     assert "carriage_minus_strip" not in page and "[-]" not in page
 
 
+def test_a_signal_that_rounds_to_zero_reads_0_not_minus_0() -> None:
+    """The delta picker's standing belt read "-0.000 mm/s" (a −0.0002 of noise)."""
+    snapshot = Session("flying_shear").snapshot
+    small = [dataclasses.replace(s, value=-0.0002) for s in snapshot.signals]
+    page = signals_html(dataclasses.replace(snapshot, signals=tuple(small)))
+    assert "-0.000" not in page and "0.000" in page
+
+
 def headers(session: Session) -> list[str]:
     """The value columns' headers of the overview (plain text)."""
     page = overview_html(session.snapshot)

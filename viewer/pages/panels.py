@@ -185,7 +185,10 @@ def axis_panel_html(view: AxisView) -> str:
 
 def signals_html(snapshot: Snapshot) -> str:
     """The machine's published signals as HTML: label with unit, value (texts escaped)."""
-    rows = [(html.escape(_signal_label(s)), f"{s.value:12.3f}") for s in snapshot.signals]
+    rows = [
+        (html.escape(_signal_label(s)), f"{round(s.value, 3) + 0.0:12.3f}")  # no "-0.000"
+        for s in snapshot.signals
+    ]
     return _box(_table(rows))
 
 
