@@ -119,7 +119,7 @@ class DeltaKinematics(KinTransform):
 
     # ------------------------------------------------------------------ geometry
     def elbow(self, i: int, theta: float) -> list[float]:
-        """Elbow of arm ``i`` at the angle ``theta`` [deg] [mm]."""
+        """The elbow of arm ``i`` at the angle ``theta`` [deg]: its position (x, y, z) [mm]."""
         t = math.radians(theta)
         reach = self.base_radius + self.upper_arm * math.cos(t)
         phi = _AZIMUTHS[i]
