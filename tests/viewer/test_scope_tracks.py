@@ -16,8 +16,9 @@ import pytest
 import viser
 
 import scenes
+from viewer.pages.layout import COLUMN_WIDTH
 from viewer.scope.capture import ON_ERROR, History, Recording, Window
-from viewer.scope.panel import RECORDING_LENGTHS, RUN, PageScope, length_of
+from viewer.scope.panel import CHART_WIDTH, RECORDING_LENGTHS, RUN, PageScope, length_of
 from viewer.scope.tracks import (
     DIGITAL_BAND,
     SHARED,
@@ -74,6 +75,23 @@ def test_channels_of_a_unit_share_one_y_axis_and_the_digital_ones_a_band_below()
     assert fraction(-0.1, digital) >= 0.0 and fraction(1.1, digital) <= DIGITAL_BAND
     ticks = layout.axes[2]["splits"]
     assert ticks == nice_ticks(-40.0, 20.0) and layout.axes[2]["values"][0] == "−40"
+
+
+def test_in_a_narrow_chart_the_axes_that_fit_are_drawn_and_the_plot_keeps_its_width() -> None:
+    """Eight channels in four analog units in the 261 px chart of the page's 300 px column:
+    the first units' axes that fit in 40 % of the width are drawn, the others hidden (their
+    channels keep their own scale); a wide chart draws all four."""
+    displays = [display_of(c) for c in EIGHT]
+    ranges = [(-1.0, 1.0), (0.0, 3.0), (-5.0, 5.0), (-20.0, 20.0), (-2.0, 2.0)]
+    ranges += [(-40.0, 10.0), (-2.0, 0.5), (-0.1, 1.1)]
+    wide = layout_of(SHARED, displays, ranges, COLORS, 1000.0)
+    assert [a["show"] for a in wide.axes] == [True] * 4
+    narrow = layout_of(SHARED, displays, ranges, COLORS, CHART_WIDTH)
+    shown = [a for a in narrow.axes if a["show"]]
+    assert 1 <= len(shown) < 4 and shown == list(narrow.axes[: len(shown)])  # the first units
+    assert sum(a["size"] + a["labelSize"] for a in shown) <= 0.4 * CHART_WIDTH
+    assert narrow.scales == wide.scales and narrow.ranges == wide.ranges  # the same scales
+    assert CHART_WIDTH == COLUMN_WIDTH - 39  # the chart in the left column
 
 
 def test_stacked_tracks_each_have_a_band_of_their_own_first_on_top() -> None:

@@ -94,7 +94,8 @@ def test_eight_channels_are_each_drawn_over_most_of_the_plot_at_1280x800(
         page.get_by_role("tab", name="Trigger").click()
         choose(page, "Recording", "2 s")  # not the gantry's 20 s
         wait_for(lambda: scope.acquisition.length == 2.0, 10.0, "the 2 s recording")
-        wait_for(lambda: viewer.session.snapshot.time > 2.5, 30.0, "a full 2 s recording")
+        since = viewer.session.snapshot.time  # the new length starts a new recording
+        wait_for(lambda: viewer.session.snapshot.time > since + 2.5, 30.0, "a full recording")
 
         def complete() -> bool:
             labels = [s["label"] for s in drawn(page)["series"]]

@@ -69,6 +69,10 @@ from viewer.sim.snapshot import Snapshot
 MAX_CHANNELS = 8
 """Channels a scope shows at once."""
 
+CHART_WIDTH = 261.0
+"""Width of the scope's chart [CSS px]: the page's left column (``viewer.pages.layout``'s
+COLUMN_WIDTH, 300 px) less its padding."""
+
 RECORDING_LENGTHS = {
     "0.5 s": 0.5,
     "1 s": 1.0,
@@ -593,7 +597,7 @@ def plot_style(
     """Series (live, overlay dashed, cursor markers), axes (the time axis, then the y axes of
     the ``layout``: one per unit, or one for the stacked tracks) and scales of the plot."""
     headers = recording.headers()
-    placed = layout_of(layout, recording.displays, ranges, COLORS)
+    placed = layout_of(layout, recording.displays, ranges, COLORS, CHART_WIDTH)
     origin = "trigger" if recording.window.trigger_at is not None else "start"
     series = [viser.uplot.Series(label=f"t [s] (0: {origin})")]
     for k, header in enumerate(headers):

@@ -62,6 +62,10 @@ LABEL_SIZE = 14.0
 TRACK_GAP = 0.1
 """Space between stacked tracks, a fraction of a track's band."""
 
+AXES_SHARE = 0.4
+"""At most this fraction of the chart's width goes to the shared layout's y axes: the units
+after those that fit keep their scales without a drawn axis (their values in the readout)."""
+
 NEUTRAL = "#444444"
 """Colour of an axis several channels share."""
 
@@ -137,11 +141,15 @@ def _axis(
 
 
 def shared_layout(
-    displays: Sequence[Display], ranges: Sequence[tuple[float, float]], colors: Sequence[str]
+    displays: Sequence[Display],
+    ranges: Sequence[tuple[float, float]],
+    colors: Sequence[str],
+    width: float = math.inf,
 ) -> Layout:
     """One scale and one y axis per unit (alternately left and right, in the channel's colour
     when it is alone on it; the range holds every channel of the unit); the digital channels
-    in a band at the bottom, without an axis."""
+    in a band at the bottom, without an axis. In a chart ``width`` [CSS px] wide the axes take
+    at most :data:`AXES_SHARE` of it: the units beyond keep their scale, their axis hidden."""
     scales = [""] * len(displays)
     scale_ranges: dict[str, tuple[float, float]] = {}
     axes = []
@@ -166,6 +174,11 @@ def shared_layout(
             scales[k] = "d"
         low, high = ranges[digital[0]]
         scale_ranges["d"] = band_range(low, high, 0.0, DIGITAL_BAND - 0.02)
+    room = AXES_SHARE * width
+    for axis in axes:
+        size = float(axis.get("size", 0.0)) + float(axis.get("labelSize", 0.0))
+        axis["show"] = size <= room
+        room -= size if axis["show"] else room + 1.0  # the units after a hidden one stay hidden
     if axes:
         axes[0]["grid"] = {"show": True}
     return Layout(tuple(scales), scale_ranges, tuple(axes))
@@ -216,8 +229,10 @@ def layout_of(
     displays: Sequence[Display],
     ranges: Sequence[tuple[float, float]],
     colors: Sequence[str],
+    width: float = math.inf,
 ) -> Layout:
-    """The layout ``kind`` (:data:`SHARED` or :data:`STACKED`) of the channels."""
+    """The layout ``kind`` (:data:`SHARED` or :data:`STACKED`) of the channels in a chart
+    ``width`` [CSS px] wide."""
     if kind == STACKED:
         return stacked_layout(displays, ranges, colors)
-    return shared_layout(displays, ranges, colors)
+    return shared_layout(displays, ranges, colors, width)
