@@ -196,8 +196,11 @@ def activate(package: str, path: list[str]) -> bool:
             stacklevel=3,
         )
     base = Path(path[0]).resolve()
-    inside = {
-        p.parent.relative_to(base).parts for p in compiled_sources() if p.is_relative_to(base)
+    inside = {  # the package's own declarations: without a build record (a build under way)
+        # the modules an earlier build left must not load either
+        p.parent.relative_to(base).parts
+        for p in compiled_sources([package])
+        if p.is_relative_to(base)
     }
     for folder in [*path, *(os.path.join(path[0], *parts) for parts in sorted(inside) if parts)]:
         sys.path_importer_cache[folder] = FileFinder(

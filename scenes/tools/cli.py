@@ -1,5 +1,6 @@
 """Command line: ``python -m scenes list`` lists the machines; ``python -m scenes run NAME`` runs
-a machine's demo program headless and prints every FB edge, the positions and states;
+a machine's demo program headless and prints its steps, its blocks' output edges, the final
+positions and states, the machine's signals and the demo's results;
 ``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
 ``python -m scenes cam TABLE.csv`` (or ``--cut-length L --circumference C``, the rotary knife's
 cam) plots a cam table's profile as PNG (see :mod:`scenes.tools.cam_plot`);
@@ -84,6 +85,7 @@ def run(
         except mcl.ConditionTimeout:
             timed_out = True
     log.summary()
+    log.results(getattr(program, "results", None) or [])
     if program.error:
         print(f"demo stopped: {program.error}", file=sys.stderr)
         return 1
@@ -183,7 +185,12 @@ def main(argv: list[str] | None = None) -> int:
         metavar="NAME=AXIS",
         help="bind Pohon.Ax1=X (an axis) or Knife=S.DO0 (I/O)",
     )
-    run_parser.add_argument("--timeout", type=float, default=300.0, help="simulated seconds")
+    run_parser.add_argument(
+        "--timeout",
+        type=float,
+        default=300.0,
+        help="simulated seconds at most (default 300); a program's BOOL done ends the run",
+    )
     sub.add_parser("list", help="list the machines")
     plot_parser = sub.add_parser("plot", help="plot a trace file as PNG and HTML")
     plot_parser.add_argument("trace", help="a trace written by trace.to_csv or streamed (.npy)")

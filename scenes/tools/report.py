@@ -4,7 +4,7 @@ from __future__ import annotations
 
 __all__ = ["SIGNALS", "EdgeLog"]
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import mcl
@@ -67,3 +67,27 @@ class EdgeLog:
                 f"AxErrorID {axis.AxErrorID}, peak following error "
                 f"{self.peak_error[name]:.4f} {axis.config.unit}"
             )
+        signals = getattr(self.machine, "signals", {})
+        for name, signal in signals.items():
+            value = self.machine.signal(name)  # type: ignore[attr-defined]
+            unit = f" {signal.unit}" if signal.unit not in ("", "0/1") else ""
+            self.out(f"{signal.label or name}: {value:.4g}{unit}")
+
+    def results(self, rows: Sequence[Mapping[str, Any]]) -> None:
+        """The demo's results, one line per row (its columns those of the first row)."""
+        if not rows:
+            return
+        columns = list(rows[0])
+        self.out(f"\n== results ({len(rows)} rows)")
+        self.out("  ".join(columns))
+        for row in rows:
+            self.out("  ".join(_cell(row.get(c)) for c in columns))
+
+
+def _cell(value: Any) -> str:
+    """A result's value as text: numbers to four significant digits, nothing as ``—``."""
+    if value is None:
+        return "—"
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return str(value)

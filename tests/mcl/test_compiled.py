@@ -43,6 +43,10 @@ def test_compiled_and_pure_python_runs_are_identical_bit_for_bit():
     assert compiled["qpos"] == pure["qpos"]
 
 
+COMPILED_SOURCES = native.compiled_sources
+"""The real :func:`native.compiled_sources` (the fixture below replaces it)."""
+
+
 @pytest.fixture
 def checkout(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
     """A folder of packages with one compiled source, its compiled module and the record."""
@@ -58,7 +62,7 @@ def checkout(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Path]:
     )
     monkeypatch.setattr(native, "ROOT", tmp_path)
     monkeypatch.setattr(native, "MANIFEST", manifest)
-    monkeypatch.setattr(native, "compiled_sources", lambda: [source])
+    monkeypatch.setattr(native, "compiled_sources", lambda packages=None: [source])
     monkeypatch.setattr(native, "compiled_files", lambda: [native.extension_of(source)])
     monkeypatch.delenv("MCL_PURE_PYTHON", raising=False)
     native.reset()
@@ -122,3 +126,25 @@ def test_no_build_means_pure_python(checkout: Path):
     assert not native.activate("mcl", [str(checkout / "mcl")])
     assert sources_only(checkout / "mcl")
     assert "no compiled build" in native.mode()
+
+
+def test_without_a_build_record_a_subpackage_never_loads_a_left_over_build(
+    checkout: Path, monkeypatch: pytest.MonkeyPatch
+):
+    """While a build runs (no record yet) the compiled modules of an earlier build still stand
+    beside scenes/plant's sources; they need the shared library pure Python hides, so the
+    subpackage's folder must import its sources only, as the package's does."""
+    (checkout / "mcl" / "compiled.json").unlink()
+    plant = checkout / "scenes" / "plant"
+    plant.mkdir()
+    (checkout / "scenes" / "__init__.py").write_text("")
+    (plant / "__init__.py").write_text('COMPILED_MODULES = ("mujoco",)\n')
+    (plant / "mujoco.py").write_text("x = 1\n")
+    native.extension_of(plant / "mujoco.py").write_bytes(b"")
+    monkeypatch.setattr(native, "compiled_sources", COMPILED_SOURCES)
+    try:
+        assert not native.activate("scenes", [str(checkout / "scenes")])
+        assert sources_only(plant) and sources_only(checkout / "scenes")
+    finally:
+        for folder in (plant, checkout / "scenes"):
+            sys.path_importer_cache.pop(str(folder), None)

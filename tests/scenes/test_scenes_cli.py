@@ -21,6 +21,18 @@ def test_run_single_axis_demo_prints_the_report(capsys):
     assert "X: POS" in out and "StandStill" in out
 
 
+def test_run_prints_the_machines_signals_and_the_demos_results(capsys):
+    """The press' report ends with its signals (the chamber pressures, the force) and one
+    line per step of its cycle, the pressing step at its 150 bar."""
+    assert main(["run", "press"]) == 0
+    out = capsys.readouterr().out
+    assert "pressure A: " in out and " bar" in out and "load cell force: " in out
+    lines = out.split("== results (")[1].splitlines()
+    assert lines[1].split("  ")[:2] == ["step", "ended [s]"]
+    pressing = next(line for line in lines if line.startswith("press to 150 bar"))
+    assert 140.0 < float(pressing.split("  ")[4]) < 170.0  # p_A at the end of the step
+
+
 def test_list_names_the_scenes(capsys):
     assert main(["list"]) == 0
     assert set(capsys.readouterr().out.split()) >= {"gantry", "single_axis"}

@@ -12,6 +12,8 @@ actions or transitions are refused at their element.
 
 from __future__ import annotations
 
+import re
+
 __all__ = ["read_plcopen"]
 
 import xml.etree.ElementTree as ET
@@ -254,8 +256,9 @@ class _Writer:
             self.section(block, "VAR_GLOBAL")
         tasks = element.findall("task")
         for task in tasks:
-            settings = [f"{k.upper()} := {task.get(k)}" for k in ("interval", "single", "priority")]
-            settings = [s for s in settings if not s.endswith(" := None")]
+            values = {k: task.get(k) for k in ("interval", "single", "priority")}
+            values["interval"] = iec_duration(values["interval"])
+            settings = [f"{k.upper()} := {v}" for k, v in values.items() if v is not None]
             self.emit(f"TASK {self.required(task, 'name')} ({', '.join(settings)});", task)
         for task in tasks:
             for instance in task.findall("pouInstance"):
@@ -265,9 +268,32 @@ class _Writer:
         self.emit("END_RESOURCE", element)
 
     def instance(self, element: ET.Element, with_task: str) -> None:
-        """A ``<pouInstance>`` as ``PROGRAM name WITH task : type;``."""
-        name, program = self.required(element, "name"), self.required(element, "typeName")
+        """A ``<pouInstance>`` as ``PROGRAM name WITH task : type;`` (CODESYS exports its
+        programs with an empty ``typeName``: the POU of the instance's name)."""
+        name = self.required(element, "name")
+        program = element.get("typeName", "").strip() or name
         self.emit(f"PROGRAM {name}{with_task} : {program};", element)
+
+
+ISO_DURATION = re.compile(
+    r"P(?:(?P<d>\d+(?:\.\d*)?)D)?"
+    r"(?:T(?:(?P<h>\d+(?:\.\d*)?)H)?(?:(?P<m>\d+(?:\.\d*)?)M)?(?:(?P<s>\d+(?:\.\d*)?)S)?)?",
+    re.IGNORECASE,
+)
+"""An XML Schema duration (``PT0.004S``, ``P0DT0H0M0.010S``), CODESYS' form of a task's interval."""
+
+
+def iec_duration(text: str | None) -> str | None:
+    """A task interval as IEC 61131-3 writes it: an XML Schema duration (``PT0.004S``) becomes
+    ``T#4ms``; an IEC literal (``T#4ms``) or anything else stays as it is (None: none)."""
+    if text is None:
+        return None
+    match = ISO_DURATION.fullmatch(text.strip())
+    if match is None or not any(match.groupdict().values()):
+        return text
+    scale = {"d": 86_400_000.0, "h": 3_600_000.0, "m": 60_000.0, "s": 1000.0}
+    ms = sum(float(v) * scale[k] for k, v in match.groupdict().items() if v)
+    return f"T#{ms:g}ms"
 
 
 def read_plcopen(path: Path) -> Project:

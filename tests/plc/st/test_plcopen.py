@@ -7,6 +7,7 @@ from __future__ import annotations
 import pytest
 
 import plc.st
+from plc.st.frontend.plcopen import iec_duration
 from scenes.tools import cli
 from tests.helpers import ROOT
 from tests.plc.st.test_demos import run_to_done, st_demo
@@ -41,6 +42,34 @@ def test_the_task_of_an_xml_project_sets_the_plc_period(tmp_path):
     task = cli.st_task(str(_write(tmp_path, PROJECT)))
     assert task is not None and task.interval == 0.02 and task.program == "main"
     assert task.where.startswith(f"{tmp_path / 'project.xml'}:")
+
+
+def test_a_codesys_export_with_an_xml_schema_interval_and_no_type_name_runs(tmp_path):
+    """CODESYS exports a task's interval as an XML Schema duration (``PT0.02S``) and its
+    program instance with an empty ``typeName`` (the POU of the instance's name)."""
+    pou = '<pouInstance name="main" typeName=""/>'
+    text = PROJECT.replace('interval="T#20ms"', 'interval="PT0.02S"')
+    text = text.replace('<pouInstance name="Main1" typeName="main"/>', pou)
+    task = cli.st_task(str(_write(tmp_path, text)))
+    assert task is not None and task.interval == 0.02 and task.program == "main"
+    prog = plc.st.load(_write(tmp_path, text), period=0.01)
+    assert prog.name == "main" and prog.every == 2
+
+
+@pytest.mark.parametrize(
+    ("given", "iec"),
+    [
+        ("PT0.004S", "T#4ms"),
+        ("P0DT0H0M0.010S", "T#10ms"),
+        ("PT1M", "T#60000ms"),
+        ("pt0.0005s", "T#0.5ms"),
+        ("T#4ms", "T#4ms"),
+        ("P", "P"),
+        (None, None),
+    ],
+)
+def test_an_xml_schema_duration_becomes_an_iec_time(given, iec):
+    assert iec_duration(given) == iec
 
 
 def test_a_type_error_names_the_xml_line_and_column(tmp_path):
