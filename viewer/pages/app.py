@@ -601,7 +601,8 @@ class ViewerApp:
         slack = 0.5 * self._frame_period  # e.g. every third frame at 30 fps for 10 Hz
         model_scene = self._model_scene
         if model_scene is not None:
-            if now - self._last_pose >= 1.0 / self.renderers.fps - slack:
+            fps = self.renderers.fps  # lowered while a page draws in software
+            if fps >= self.renderers.requested or now - self._last_pose >= 1.0 / fps - slack:
                 self._last_pose = now
                 self._update_3d(model_scene, snapshot)
             else:  # a page draws in software: the latest pose follows at its lower rate
