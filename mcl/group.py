@@ -719,6 +719,9 @@ class AxesGroup:
         inverse kinematics where the path runs in the MCS."""
         self._advance(t)
         f, rate = self.clock.factor, self.clock.rate
+        if self.kin.transform is None or self._joint:  # the members' own coordinates: no lists
+            w = self._v[index]
+            return self._p[index], f * w, f * f * self._a[index] + rate * w
         v = [f * x for x in self._v]
         a = [f * f * y + rate * x for x, y in zip(self._v, self._a, strict=True)]
         q, qd, qdd = self.kin.joints(self._t, self._joint, self._p, v, a, self.axes)
