@@ -161,9 +161,7 @@ class AxesGroup:
             return False
         end = self._end
         if end is None and lost and self._active is not None:
-            end = self.kin.to_joints(
-                self._p, self._joint, self.axes
-            )  # nobody follows the path any more: it ends there
+            end = self.kin.to_joints(self._p, self._joint, self.axes)  # nobody follows: ends there
         if end is None:
             end = [axis.sp_pos for axis in self.axes]
         return all(
@@ -541,10 +539,9 @@ class AxesGroup:
         following: Sequence[bool] | None = None,
         unscaled: bool = False,
     ) -> Element:
-        """A stop on the current path from the path state at path time ``t`` with
-        ``deceleration`` and ``jerk`` (0 = defaults), or the ``following`` members' fastest ramp;
-        without a path the members' own motion is stopped straight on. ``unscaled``: the ramp
-        ignores the override (:meth:`PathClock.unscale`)."""
+        """A stop on the current path from path time ``t`` with ``deceleration`` and ``jerk`` (0 =
+        defaults) or the ``following`` members' fastest ramp; without a path the members' own
+        motion stops straight on. ``unscaled``: ignores the override (:meth:`PathClock.unscale`)."""
         active = self._active
         blends: tuple[Blend | None, Blend | None] = (None, None)
         if active is not None and active.profile is not None:
@@ -714,9 +711,8 @@ class AxesGroup:
         self._t = t
 
     def _setpoint(self, index: int, t: float) -> tuple[float, float, float]:
-        """Member ``index``'s component of the path point at the servo instant ``t`` [s] (the
-        velocity and acceleration in wall-clock time: :mod:`mcl.path_clock`), through the
-        inverse kinematics where the path runs in the MCS."""
+        """Member ``index``'s component of the path point at the servo instant ``t`` [s] (rates in
+        wall-clock time: :mod:`mcl.path_clock`), through the inverse kinematics in the MCS."""
         self._advance(t)
         f, rate = self.clock.factor, self.clock.rate
         if self.kin.transform is None or self._joint:  # the members' own coordinates: no lists
