@@ -46,15 +46,18 @@ typecheck: setup
 
 # the browser tests first, alone (headless Chromium renders the 3-D view in software and needs
 # the cores; beside physics tests its input events starve), then the rest of the suite in the
-# active mode, then again in pure Python when the active one is compiled (without the tests
-# marked `once`, whose subject does not change with the mode)
+# active mode, then again in pure Python when the active one is compiled: the tests of the
+# compiled packages (mcl, plc, scenes) without those marked `once`, whose subject does
+# not change with the mode (the viewer's, the docs' and the journey's tests drive those packages
+# from above: they run in the first pass)
 pytest: setup
 	$(PY) -m pytest -n 0 -m browser
 	$(PY) -m pytest -n auto --dist loadgroup -m "not browser"
 	@if $(PY) -c "import mcl, sys; sys.exit(not mcl.COMPILED)"; then \
-		echo "== the same suite in pure Python (the browser tests drive the page and the tests marked"; \
-		echo "   once a subject the same in both modes: they ran above)"; \
-		MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto --dist loadgroup -m "not browser and not once"; fi
+		echo "== the tests of mcl, plc and scenes in pure Python (the browser, viewer, docs and"; \
+		echo "   journey tests and those marked once have a subject the same in both modes)"; \
+		MCL_PURE_PYTHON=1 $(PY) -m pytest -n auto --dist loadgroup -m "not browser and not once" \
+			tests/mcl tests/plc tests/scenes; fi
 
 test: lint typecheck pytest
 
