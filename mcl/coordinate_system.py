@@ -67,6 +67,8 @@ class ProductFrame:
         belt = self.belt
         if belt is None:
             return 0.0, 0.0, 0.0
+        if t is not None and belt.t_cycle == t:
+            belt.update_setpoint(t)  # the belt's set point of the same instant (as gearing)
         dt = 0.0 if t is None else t - belt.t_sp
         v, a = belt.sp_vel, belt.sp_acc
         return belt.sp_pos + dt * (v + 0.5 * dt * a) - self.latch, v + dt * a, a

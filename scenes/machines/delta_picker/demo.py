@@ -29,6 +29,7 @@ from scenes.machines.delta_picker.axes import (
     BELT_TOP,
     BELT_Y,
     DELTA,
+    EYE_DELAY,
     EYE_X,
     HOMING,
     PART_HEIGHT,
@@ -53,14 +54,24 @@ the belt's centre line, at the grip height; x along the belt [mm]."""
 SLOTS = tuple((x, 155.0) for x in (315.0, -315.0, 225.0, -225.0, 135.0, -135.0, 45.0, -45.0))
 """The tray's places (x, y) [mm], 305 mm across the belt's centre line, filled from the
 outside in (a part carried 25 mm high never passes over one placed)."""
-BELT_SPEED = 500.0
+BELT_SPEED = 250.0
 """Conveyor speed [mm/s]."""
+TRACK_FROM = -250.0
+"""A part is tracked once its centre has come this far [mm of MCS x] (the arms' reach is
+better away from its edge)."""
 HORIZON = 0.5
 """A part is tracked only if it stays within reach this long [s] (reach it, grip, stop)."""
-MOVE = {"Velocity": 2000.0, "Acceleration": 20000.0, "Deceleration": 20000.0, "Jerk": 1.0e6}
+MOVE = {"Velocity": 3000.0, "Acceleration": 40000.0, "Deceleration": 40000.0, "Jerk": 4.0e6}
 """Path velocity [mm/s], acceleration [mm/s²], jerk [mm/s³] of the robot's moves."""
+CORNER = 10.0
+"""How far a blended corner of the cycle may leave the commanded path [mm]."""
 DWELL = 0.05
 """Vacuum build-up and release time [s]."""
+SETTLE = 0.02
+"""The arms settle on the part this long before the vacuum comes on [s]."""
+
+
+CORNERING = (mcl.MC_TRANSITION_MODE.TMMaxCornerDeviation, [CORNER])
 
 
 class Demo(StepSequence):
@@ -192,6 +203,7 @@ class Demo(StepSequence):
         ):
             move.Position, move.BufferMode = list(target), mode
             move.CoordSystem = MC_COORD_SYSTEM.PCS
+            move.TransitionMode, move.TransitionParameter = CORNERING
         self.carry_from(list(PICK))
         up = self.moves["up from the tray"][0]
         up.Position, up.BufferMode = [x, y, z + CLEAR], B.Aborting
@@ -204,12 +216,18 @@ class Demo(StepSequence):
         modes = (B.Aborting, B.BlendingLow, B.BlendingLow)
         for move, target, mode in zip(self.moves["carry to the tray"], targets, modes, strict=True):
             move.Position, move.BufferMode = list(target), mode
+            move.TransitionMode, move.TransitionParameter = CORNERING
 
     def _dwelt(self) -> bool:
-        return self.scene.time - self.entered >= DWELL
+        settle = SETTLE if self.STEPS[self.index] == "grip" else 0.0
+        return self.scene.time - self.entered >= DWELL + settle
 
     def _waited(self) -> bool:
-        return bool(self.queue) or self.latched >= self.parts
+        """A latched part has come to :data:`TRACK_FROM`, or every part was latched."""
+        if not self.queue:
+            return self.latched >= self.parts
+        travel = self.belt.sp_pos - self.queue[0][0]
+        return EYE_X - 500.0 * PART_LENGTH + travel >= TRACK_FROM
 
     def _next_part(self) -> str:
         """Track the next latched part, or end once every part was handled."""
@@ -256,7 +274,9 @@ class Demo(StepSequence):
         probe = self.probe
         if probe.Done and self.latched < self.parts:
             lateral = self.eye.lateral[-1] if self.eye.lateral else BELT_Y
-            self.queue.append((probe.RecordedPosition, lateral))
+            # the belt ran on for the eye's response time before the latch
+            edge = probe.RecordedPosition - self.run.Velocity * EYE_DELAY
+            self.queue.append((edge, lateral))
             self.latched += 1
         probe(Execute=running and not probe.Done and self.latched < self.parts)
 
@@ -279,7 +299,8 @@ class Demo(StepSequence):
         self._latch(running and self.run.InVelocity)
         self.track(Execute=step == "track it")
         self.untrack(Execute=step == "stop tracking")
-        self.vacuum(Execute=step in ("grip", "release"), Value=step == "grip")
+        settled = step != "grip" or self.scene.time - self.entered >= SETTLE
+        self.vacuum(Execute=step in ("grip", "release") and settled, Value=step == "grip")
         for name, moves in self.moves.items():
             for move in moves:
                 move(Execute=step == name)
