@@ -148,7 +148,7 @@ from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
 from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
-from mcl.tracking import MC_SetCoordinateTransform, MC_TrackConveyorBelt
+from mcl.tracking import MC_SetCartesianTransform, MC_SetCoordinateTransform, MC_TrackConveyorBelt
 
 __all__ = [
     "IDEAL_SENSORS",
@@ -253,6 +253,7 @@ __all__ = [
     "MC_ReadParameter",
     "MC_ReadStatus",
     "MC_Reset",
+    "MC_SetCartesianTransform",
     "MC_SetCoordinateTransform",
     "MC_SetKinTransform",
     "MC_SetOverride",

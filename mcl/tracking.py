@@ -1,6 +1,8 @@
-"""Product coordinate systems of an axes group: MC_SetCoordinateTransform (a fixed PCS) and
-MC_TrackConveyorBelt (a PCS that moves with a conveyor belt from a part's latched position)
-(PLCopen Part 4 v2.0; docs/reference.md, Conveyor tracking).
+"""Product coordinate systems of an axes group: MC_SetCoordinateTransform,
+MC_SetCartesianTransform, MC_TrackConveyorBelt (PLCopen Part 4 v2.0).
+
+A fixed PCS (MC_SetCoordinateTransform, MC_SetCartesianTransform) or one that moves with a
+conveyor belt from a part's latched position (MC_TrackConveyorBelt).
 
 Both need a group with a kinematic transformation (:mod:`mcl.kin_fb`) that stands or rests in a
 moving PCS (:attr:`mcl.group.AxesGroup.holding`). They set the group's PCS
@@ -9,12 +11,14 @@ points expressed in it and ramps to rest there (as MC_GroupHalt, ``Acceleration`
 0 = the tool point's defaults): starting to track, the tool point speeds up with the belt;
 ending it, slows down to a standstill in the MCS. The block is Done once the path rests in the
 new PCS; from then on Cartesian moves in PCS (MC_MoveLinear*, MC_MoveCircular*) land on the
-moving part, and the group keeps following it between them.
+moving part, and the group keeps following it between them (a stop, MC_GroupStop or
+MC_GroupHalt, stops the motion relative to the part). While a PCS is set a position in MCS is
+refused (EParam 5); MC_GroupReadActualPosition reads in either.
 """
 
 from __future__ import annotations
 
-__all__ = ["MC_SetCoordinateTransform", "MC_TrackConveyorBelt"]
+__all__ = ["MC_SetCartesianTransform", "MC_SetCoordinateTransform", "MC_TrackConveyorBelt"]
 
 import math
 from collections.abc import Sequence
@@ -96,6 +100,37 @@ class MC_SetCoordinateTransform(_FrameFB):
         if frame is None:
             return ErrorID.EParam
         return ProductFrame(frame[0], frame[1])
+
+
+class MC_SetCartesianTransform(_FrameFB):
+    """Sets a fixed PCS with PLCopen Part 4's inputs: ``TransX``, ``TransY``, ``TransZ`` its
+    origin in the MCS [mm], ``RotAngle1`` its rotation about z [deg] (a delta robot's tool
+    point does not turn: ``RotAngle2`` and ``RotAngle3`` must be 0); otherwise as
+    MC_SetCoordinateTransform. EParam 5 for inputs that are not finite numbers or a rotation
+    about x or y."""
+
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "TransX",
+        "TransY",
+        "TransZ",
+        "RotAngle1",
+        "RotAngle2",
+        "RotAngle3",
+    )
+    TransX: float = 0.0
+    TransY: float = 0.0
+    TransZ: float = 0.0
+    RotAngle1: float = 0.0
+    RotAngle2: float = 0.0
+    RotAngle3: float = 0.0
+
+    def _frame(self, group: AxesGroup) -> ProductFrame | int:
+        values = [number(x) for x in (self.TransX, self.TransY, self.TransZ, self.RotAngle1)]
+        if not all(math.isfinite(x) for x in values) or number(self.RotAngle2) != 0.0:
+            return ErrorID.EParam
+        if number(self.RotAngle3) != 0.0:
+            return ErrorID.EParam
+        return ProductFrame(values[:3], values[3])
 
 
 class MC_TrackConveyorBelt(_FrameFB):

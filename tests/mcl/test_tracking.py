@@ -167,7 +167,7 @@ def _bad(group: mcl.AxesGroup, belt: mcl.Axis) -> list[tuple[dict[str, object], 
 
 @pytest.mark.parametrize("case", range(11))
 def test_bad_input_or_a_part_out_of_reach_is_refused_and_the_group_left_alone(case: int) -> None:
-    machine, group, belt = tracking_machine(200.0)
+    _, group, belt = tracking_machine(200.0)
     inputs, error = _bad(group, belt)[case]
     fb = mcl.MC_TrackConveyorBelt()
     args = dict(
@@ -184,8 +184,18 @@ def test_bad_input_or_a_part_out_of_reach_is_refused_and_the_group_left_alone(ca
 
 
 def test_a_belt_too_fast_to_follow_is_refused() -> None:
-    machine, group, belt = tracking_machine(0.0)
-    belt.sp_vel = 5000.0  # faster than the tool point's 3000 mm/s
+    """The belt at 400 mm/s, the tool point's velocity limited to 300 mm/s."""
+    machine, group, belt = tracking_machine(400.0)
+    slow = mcl.DeltaKinematics(
+        base_radius=200.0,
+        effector_radius=50.0,
+        upper_arm=350.0,
+        forearm=800.0,
+        tcp=mcl.TcpLimits(velocity=300.0),
+    )
+    kin = mcl.MC_SetKinTransform()
+    kin(AxesGroup=group, Execute=True, KinTransform=slow)
+    assert kin.Done
     fb = mcl.MC_TrackConveyorBelt()
     fb(
         AxesGroup=group,
@@ -195,6 +205,7 @@ def test_a_belt_too_fast_to_follow_is_refused() -> None:
         LatchedPosition=belt.sp_pos,
     )
     assert fb.Error and fb.ErrorID == ErrorID.ETrackTooFast and group.kin.frame is None
+    assert group.state == mcl.GroupState.GroupStandby
 
 
 def test_tracking_needs_a_kinematic_transformation_and_a_group_at_rest() -> None:
@@ -214,3 +225,21 @@ def test_tracking_needs_a_kinematic_transformation_and_a_group_at_rest() -> None
     fb(AxesGroup=group, Execute=True, ConveyorBelt=belt, ConveyorBeltOrigin=ORIGIN)
     assert fb.Error and fb.ErrorID == ErrorID.EParam and group.kin.frame is None
     assert move.Busy
+
+
+def test_set_cartesian_transform_takes_plcopen_inputs_and_refuses_a_tilt() -> None:
+    machine, group, _ = tracking_machine(0.0)
+    fb = mcl.MC_SetCartesianTransform()
+    fb(AxesGroup=group, Execute=True, TransX=10.0, TransY=0.0, TransZ=-700.0, RotAngle2=5.0)
+    assert fb.Error and fb.ErrorID == ErrorID.EParam and group.kin.frame is None
+    fb(Execute=False)
+    fb(Execute=True, RotAngle2=0.0, TransY=math.nan)
+    assert fb.Error and fb.ErrorID == ErrorID.EParam and group.kin.frame is None
+    fb(Execute=False)
+    fb(Execute=True, TransY=0.0, RotAngle1=30.0)
+    machine.run(lambda: fb(Execute=True), until=lambda: fb.Done or fb.Error, timeout=1.0)
+    assert fb.Done and group.kin.frame is not None and group.kin.frame.angle == 30.0
+    read = mcl.MC_GroupReadActualPosition(AxesGroup=group, CoordSystem=MC_COORD_SYSTEM.PCS)
+    read(Enable=True)
+    mcs = tool(group)
+    assert math.dist(group.kin.frame.point_to_mcs(read.Position), mcs) < 1e-3
