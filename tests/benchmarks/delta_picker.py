@@ -55,12 +55,12 @@ def kinematics() -> dict[str, Any]:
     return {"fk_ik_worst_mm": worst, "arm_range_deg": [min(angles), max(angles)]}
 
 
-def demo(speed: float | None = None, parts: int | None = None) -> dict[str, Any]:
-    """The demo (at belt ``speed`` [mm/s] for ``parts`` latched parts; None: its own)."""
+def demo(belt_speed: float | None = None, parts: int | None = None) -> dict[str, Any]:
+    """The demo (at ``belt_speed`` [mm/s] for ``parts`` latched parts; None: its own)."""
     scene = scenes.load("delta_picker", trace_every=0)
     program = scenes.demo(scene)
-    if speed is not None:
-        program.run.Velocity = speed  # type: ignore[attr-defined]
+    if belt_speed is not None:
+        program.run.Velocity = belt_speed  # type: ignore[attr-defined]
     if parts is not None:
         program.parts = parts  # type: ignore[attr-defined]
     model, data = scene.model, scene.data

@@ -185,7 +185,7 @@ def test_bad_input_or_a_part_out_of_reach_is_refused_and_the_group_left_alone(ca
 
 def test_a_belt_too_fast_to_follow_is_refused() -> None:
     """The belt at 400 mm/s, the tool point's velocity limited to 300 mm/s."""
-    machine, group, belt = tracking_machine(400.0)
+    _, group, belt = tracking_machine(400.0)
     slow = mcl.DeltaKinematics(
         base_radius=200.0,
         effector_radius=50.0,
