@@ -17,7 +17,6 @@ import mcl
 import scenes
 from scenes.machines.delta_picker import DELTA, PICK, SLOTS, VacuumGripper
 from scenes.machines.delta_picker.axes import ARMS, EYE_X, PART_X
-from scenes.machines.delta_picker.demo import WAIT
 from scenes.machines.delta_picker.devices import PART_LENGTH, PhotoEye
 
 TOOL = "delta_picker/tool"
@@ -74,9 +73,9 @@ def test_a_cartesian_line_keeps_the_cup_on_the_line(
     program = scenes.demo(scene)
     scene.run(program, until=lambda: program.step == "over the belt", timeout=10.0)
     group = program.group  # type: ignore[attr-defined]
-    over = program.moves["over the belt"][0]  # type: ignore[attr-defined]
+    start = [PICK[0], PICK[1], PICK[2] + 25.0]  # over the belt, in the middle
+    over = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=start, **LINE)
     scene.run(lambda: over(Execute=True), until=lambda: over.Done, timeout=1.0)
-    start = list(WAIT)
     end = [250.0, 100.0, PICK[2] + 10.0]  # the cup 40 mm above the tray
     line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=end, **LINE)
     model, data = scene.model, scene.data

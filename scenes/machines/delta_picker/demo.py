@@ -67,8 +67,6 @@ CORNER = 10.0
 """How far a blended corner of the cycle may leave the commanded path [mm]."""
 DWELL = 0.05
 """Vacuum build-up and release time [s]."""
-SETTLE = 0.02
-"""The arms settle on the part this long before the vacuum comes on [s]."""
 
 
 CORNERING = (mcl.MC_TRANSITION_MODE.TMMaxCornerDeviation, [CORNER])
@@ -219,8 +217,7 @@ class Demo(StepSequence):
             move.TransitionMode, move.TransitionParameter = CORNERING
 
     def _dwelt(self) -> bool:
-        settle = SETTLE if self.STEPS[self.index] == "grip" else 0.0
-        return self.scene.time - self.entered >= DWELL + settle
+        return self.scene.time - self.entered >= DWELL
 
     def _waited(self) -> bool:
         """A latched part has come to :data:`TRACK_FROM`, or every part was latched."""
@@ -299,8 +296,7 @@ class Demo(StepSequence):
         self._latch(running and self.run.InVelocity)
         self.track(Execute=step == "track it")
         self.untrack(Execute=step == "stop tracking")
-        settled = step != "grip" or self.scene.time - self.entered >= SETTLE
-        self.vacuum(Execute=step in ("grip", "release") and settled, Value=step == "grip")
+        self.vacuum(Execute=step in ("grip", "release"), Value=step == "grip")
         for name, moves in self.moves.items():
             for move in moves:
                 move(Execute=step == name)
