@@ -61,7 +61,7 @@ TRACK_FROM = -250.0
 better away from its edge)."""
 HORIZON = 0.5
 """A part is tracked only if it stays within reach this long [s] (reach it, grip, stop)."""
-MOVE = {"Velocity": 3000.0, "Acceleration": 40000.0, "Deceleration": 40000.0, "Jerk": 4.0e6}
+MOVE = {"Velocity": 3000.0, "Acceleration": 40000.0, "Deceleration": 40000.0, "Jerk": 2.0e6}
 """Path velocity [mm/s], acceleration [mm/s²], jerk [mm/s³] of the robot's moves."""
 CORNER = 10.0
 """How far a blended corner of the cycle may leave the commanded path [mm]."""
@@ -214,7 +214,6 @@ class Demo(StepSequence):
         modes = (B.Aborting, B.BlendingLow, B.BlendingLow)
         for move, target, mode in zip(self.moves["carry to the tray"], targets, modes, strict=True):
             move.Position, move.BufferMode = list(target), mode
-            move.TransitionMode, move.TransitionParameter = CORNERING
 
     def _dwelt(self) -> bool:
         return self.scene.time - self.entered >= DWELL
