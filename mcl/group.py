@@ -218,9 +218,7 @@ class AxesGroup:
 
     @staticmethod
     def _group_error(code: int) -> int:
-        if code == ErrorID.ERRPOS:
-            return int(ErrorID.ERRPOSG)
-        return int(code) if code else int(ErrorID.EAxis)
+        return int(ErrorID.ERRPOSG) if code == ErrorID.ERRPOS else int(code or ErrorID.EAxis)
 
     # ------------------------------------------------------------------ administration
     def add(self, axis: Axis) -> int:
@@ -772,6 +770,9 @@ class AxesGroup:
         (the members' fastest ramp, or the default deceleration)."""
         self._abort_tickets(status=status, error_id=error_id)
         self._queue.clear()
+        if self._active is not None and self.kin.leave_moving_frame():
+            self._active = None  # the stop runs in the MCS, from the members' own motion
+            self._active = self._ramp(self._current()[0], 0.0, 0.0)
         if self._active is None:
             return
         following = [m is not None for m in self._members]

@@ -222,6 +222,13 @@ class GroupKinematics:
         self.held = rest_element(end, t0)
         return self.held
 
+    def leave_moving_frame(self) -> bool:
+        """Drop a moving PCS (the group stops or fails: it stops in the MCS); True if it did."""
+        if self.frame is None or not self.frame.moving:
+            return False
+        self.frame = None
+        return True
+
     def hold_joints(self, element: Element, axes: Sequence[Axis]) -> int:
         """Check a Cartesian piece and lower its limits to the joints' (module docstring).
 

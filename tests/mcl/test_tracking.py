@@ -243,3 +243,18 @@ def test_set_cartesian_transform_takes_plcopen_inputs_and_refuses_a_tilt() -> No
     read(Enable=True)
     mcs = tool(group)
     assert math.dist(group.kin.frame.point_to_mcs(read.Position), mcs) < 1e-3
+
+
+def test_a_disable_while_tracking_stops_the_group_in_the_mcs() -> None:
+    machine, group, belt = tracking_machine(300.0)
+    assert track(machine, group, belt).Done
+    disable = mcl.MC_GroupDisable()
+    disable(AxesGroup=group, Execute=True)
+    assert group.kin.frame is None
+    machine.run(lambda: disable(Execute=True), until=lambda: disable.Done, timeout=1.0)
+    assert disable.Done
+    assert all(abs(axis.sp_vel) < 1e-9 for axis in group.axes)
+    stood = tool(group)
+    machine.run(lambda: None, timeout=0.1)
+    assert math.dist(tool(group), stood) < 1e-9
+    assert not group.has_path
