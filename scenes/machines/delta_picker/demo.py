@@ -69,6 +69,15 @@ DWELL = 0.05
 """Vacuum build-up and release time [s]."""
 
 
+def _moves(group: mcl.AxesGroup) -> dict[str, list[mcl.MC_MoveLinearAbsolute]]:
+    """The robot's moves, by the step that runs them."""
+    counts = {"over the belt": 1, "down onto it": 2, "carry to the tray": 3, "up from the tray": 1}
+    return {
+        step: [mcl.MC_MoveLinearAbsolute(AxesGroup=group, **MOVE) for _ in range(count)]
+        for step, count in counts.items()
+    }
+
+
 CORNERING = (mcl.MC_TRANSITION_MODE.TMMaxCornerDeviation, [CORNER])
 
 
@@ -124,16 +133,7 @@ class Demo(StepSequence):
         """Latched parts not yet handled: belt position [mm] and lateral position [mm, MCS y]."""
         self.latched = 0
         self.picked = 0
-        self.moves: dict[str, list[mcl.MC_MoveLinearAbsolute]] = {}
-        for step, count in (
-            ("over the belt", 1),
-            ("down onto it", 2),
-            ("carry to the tray", 3),
-            ("up from the tray", 1),
-        ):
-            self.moves[step] = [
-                mcl.MC_MoveLinearAbsolute(AxesGroup=group, **MOVE) for _ in range(count)
-            ]
+        self.moves = _moves(group)
         self._aim(0)
         self.rows: list[dict[str, Any]] = []
         self.started = 0.0
