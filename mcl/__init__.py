@@ -43,6 +43,7 @@ from mcl.cam_readout import CamProfile, RunningCam, cam_profile, running_cam
 from mcl.cam_table import MC_CAM_REF, Cam, CamLaw, MC_CamPoint, rotary_knife
 from mcl.channel import IDEAL as IDEAL_SENSORS
 from mcl.channel import AxisChannel, ChannelSnapshot, Marks, Sensors
+from mcl.coordinate_system import ProductFrame
 from mcl.delta_kinematics import DeltaKinematics
 from mcl.encoder import AbsoluteEncoder
 from mcl.enums import (
@@ -147,6 +148,7 @@ from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
 from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
+from mcl.tracking import MC_SetCartesianTransform, MC_SetCoordinateTransform, MC_TrackConveyorBelt
 
 __all__ = [
     "IDEAL_SENSORS",
@@ -251,6 +253,8 @@ __all__ = [
     "MC_ReadParameter",
     "MC_ReadStatus",
     "MC_Reset",
+    "MC_SetCartesianTransform",
+    "MC_SetCoordinateTransform",
     "MC_SetKinTransform",
     "MC_SetOverride",
     "MC_SetPosition",
@@ -266,6 +270,7 @@ __all__ = [
     "MC_Stop",
     "MC_SwitchMode",
     "MC_TouchProbe",
+    "MC_TrackConveyorBelt",
     "MC_UngroupAllAxes",
     "MC_VelocityProfile",
     "MC_WriteBoolParameter",
@@ -277,6 +282,7 @@ __all__ = [
     "Module",
     "MotionFB",
     "Plant",
+    "ProductFrame",
     "RunningCam",
     "Runtime",
     "Sensors",

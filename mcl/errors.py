@@ -65,6 +65,9 @@ class ErrorID(IntEnum):
     ESingular = 25
     """Beyond the Teco library (kinematic transformation): a target or a point of the path is
     in or too near a singular pose of the kinematics."""
+    ETrackTooFast = 26
+    """Beyond the Teco library (MC_TrackConveyorBelt): the belt moves faster than the tool
+    point's velocity limit, or than a joint can follow the part."""
     EGroupMember = 1000
     EGroupFull = 1001
     ENotGroupMember = 1003
@@ -114,6 +117,10 @@ _TEXTS: dict[int, tuple[str, str]] = {
         "cíl je mimo pracovní prostor kinematiky",
     ),
     25: ("target near a singularity of the kinematics", "cíl je blízko singularity kinematiky"),
+    26: (
+        "the belt is too fast for the robot to follow the part",
+        "pás je příliš rychlý, robot nemůže díl sledovat",
+    ),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

@@ -4,33 +4,22 @@ MotionControlLib chapters 2.2–2.3 (Fig. 2.2, Tab. 2.1) and 5, PLCopen Part 4; 
 Axes groups and BufferMode.
 
 An :class:`AxesGroup` holds up to three axes in the order they were added. A group motion is a
-queue of path elements (lines, arcs, helices; :mod:`mcl.path`) in the space of the members'
-coordinates [mm], each run along a 1-D jerk-limited profile of its arc length, so the tool point
-stays on the commanded path; consecutive elements may blend at their corners. The shapes are in
-:mod:`mcl.geometry`, the elements and blends in :mod:`mcl.path`, their planning (limits,
-look-ahead, blends) in :mod:`mcl.path_planner`; this module keeps the group state machine, the
-membership, the queue of elements and the glue to the member axes.
+queue of path elements (:mod:`mcl.path`; shapes in :mod:`mcl.geometry`, planning in
+:mod:`mcl.path_planner`), each run along a 1-D jerk-limited profile of its arc length, so the
+tool point stays on the commanded path; consecutive elements may blend at their corners.
 
-The members are driven through the normal axis machinery: while the group moves, every member
-runs a :class:`GroupMember` command (axis state SynchronizedMotion) whose set point is the
-member's component of the path point. The path point is computed once per servo instant and
-cached, because every member asks for the same instant. The member commands stay active across
-consecutive elements; the group ends them when the path is complete and nothing is queued.
+While the group moves every member runs a :class:`GroupMember` command (SynchronizedMotion):
+its set point is its component of the path point, computed once per servo instant. The member
+commands stay active across elements; the group ends them when the path is complete and nothing
+is queued (while a PCS moves the path then rests in it: :mod:`mcl.coordinate_system`).
 
-Aborting while moving: when the current velocity vector points along the new command's start
-(each axis' velocity differs by at most what the path acceleration changes in one servo period,
-and the speed is within what the new element allows) the command starts with that velocity;
-otherwise the current motion first ramps to standstill on its path with the new command's
-Deceleration, then the command starts from the stop point (the new block is Active during the
-ramp; an arc is then drawn from there). MC_GroupStop, MC_GroupDisable and member faults ramp the
-path velocity to zero on the path (corner blends included: :func:`mcl.path.stop_element`); a
-member fault uses the other members' fastest ramp (max_deceleration). The profiles run on the
-group's path clock (:mod:`mcl.path_clock`: override and feed hold scale their time); these stops
-ignore the override.
+Aborting while moving: :meth:`AxesGroup.submit`. MC_GroupStop, MC_GroupDisable and member
+faults ramp the path velocity to zero on the path (:func:`mcl.path.stop_element`; a member fault
+on the other members' fastest ramp), ignoring the override of the path clock
+(:mod:`mcl.path_clock`).
 
-Member faults are acted on by :meth:`AxesGroup.update`, which runs with every path evaluation
-(each servo cycle while the group moves) and in the group blocks; reading
-:attr:`AxesGroup.state` never changes the group.
+Member faults are acted on by :meth:`AxesGroup.update` (every path evaluation and the group
+blocks); reading :attr:`AxesGroup.state` never changes the group.
 """
 
 from __future__ import annotations
@@ -172,11 +161,8 @@ class AxesGroup:
     def _lost(self) -> list[GroupMember]:
         """Members whose group command ended by an error or power-off since the last
         :meth:`update`: they dropped out of the group motion."""
-        return [
-            member
-            for member in self._members
-            if member is not None and member.status in (Status.Error, Status.Aborted)
-        ]
+        ended = (Status.Error, Status.Aborted)
+        return [m for m in self._members if m is not None and m.status in ended]
 
     def _loss_error(self, lost: Sequence[GroupMember]) -> int:
         """The group error the loss of ``lost`` latches (0 = none: power-off)."""
@@ -232,9 +218,7 @@ class AxesGroup:
 
     @staticmethod
     def _group_error(code: int) -> int:
-        if code == ErrorID.ERRPOS:
-            return int(ErrorID.ERRPOSG)
-        return int(code) if code else int(ErrorID.EAxis)
+        return int(ErrorID.ERRPOSG) if code == ErrorID.ERRPOS else int(code or ErrorID.EAxis)
 
     # ------------------------------------------------------------------ administration
     def add(self, axis: Axis) -> int:
@@ -426,7 +410,8 @@ class AxesGroup:
         Blending*: the previous element is re-planned to pass the corner at the blending
         velocity (:mod:`mcl.path_planner`).
         """
-        if ticket.buffer_mode != MC_BufferMode.Aborting and not self._idle():
+        resting = self._active is not None and self._active is self.kin.held
+        if ticket.buffer_mode != MC_BufferMode.Aborting and not self._idle() and not resting:
             before = self._queue[0] if self._queue else None
             entry = before.entry_max if before is not None else 0.0
             self._queue.extend(elements)
@@ -479,6 +464,17 @@ class AxesGroup:
         self._active = ramp
         self._engage()
 
+    def reframe(self, ticket: PathCommand, deceleration: float, jerk: float) -> None:
+        """The PCS changed (:mod:`mcl.tracking`): the path restarts from the members' set points
+        in it and ramps to rest there (as MC_GroupHalt; then rests in a moving PCS)."""
+        self._active = None  # the queue is empty: the group rests (:attr:`holding`) or stands
+        self.submit_stop(ticket, deceleration, jerk, halt=True)
+
+    @property
+    def holding(self) -> bool:
+        """The path rests in a moving PCS and nothing is queued."""
+        return self._active is not None and self._active is self.kin.held and not self._queue
+
     @property
     def has_path(self) -> bool:
         """A path runs (a stop ramp included) or is held."""
@@ -517,6 +513,7 @@ class AxesGroup:
                 [axis.start_position(MC_BufferMode.Aborting) for axis in self.axes],
                 [axis.sp_vel for axis in self.axes],
                 [axis.sp_acc for axis in self.axes],
+                self._t,
             )
             self.clock.restart(self._t)
         return self.clock.tau, list(self._p), list(self._v), list(self._a)
@@ -664,9 +661,10 @@ class AxesGroup:
             self._active = ramp
             return ramp
         if nxt is None:
-            self._active = None
-            self._end = self.kin.to_joints(element.end, element.joint, self.axes)
-            return None
+            self._active = self.kin.hold(element.end, element.joint, t_end)
+            if self._active is None:
+                self._end = self.kin.to_joints(element.end, element.joint, self.axes)
+            return self._active
         if nxt.move is not None and (nxt.start != element.end or nxt.joint != element.joint):
             self._queue.appendleft(nxt)
             self._rechain(element)
@@ -772,6 +770,9 @@ class AxesGroup:
         (the members' fastest ramp, or the default deceleration)."""
         self._abort_tickets(status=status, error_id=error_id)
         self._queue.clear()
+        if self._active is not None and self.kin.leave_moving_frame():
+            self._active = None  # the stop runs in the MCS, from the members' own motion
+            self._active = self._ramp(self._current()[0], 0.0, 0.0)
         if self._active is None:
             return
         following = [m is not None for m in self._members]

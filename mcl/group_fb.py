@@ -37,7 +37,9 @@ blending velocity given by the BufferMode (never faster than an arc's own veloci
 into a tangent arc has no corner but a step of the centripetal acceleration v²/R, which is
 spread over a blend of reach 2.8125·v³/(R·J), so that the jerk stays within J without a dip of
 the velocity. The moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide unless the
-group has a kinematic transformation, :mod:`mcl.kin_fb`; PCS is always MCS) and
+group has a kinematic transformation, :mod:`mcl.kin_fb`; PCS is MCS until
+MC_SetCoordinateTransform or MC_TrackConveyorBelt sets one, :mod:`mcl.tracking`, and then a
+position in MCS is refused with EParam 5) and
 ``TransitionMode``: TMNone rounds the corner into the move within the group's corner tolerance,
 TMMaxCornerDeviation within ``TransitionParameter[0]`` [mm], TMCornerDistance leaves the path at
 most ``TransitionParameter[0]`` [mm] from the corner; TMStartVelocity and TMConstantVelocity are
@@ -219,7 +221,8 @@ class MC_GroupReadActualPosition(EnableFB):
     """Publishes the group's actual position ``Position`` (MotionControlLib §5.5): in ACS the
     members' actual positions in member order [mm, deg]; in MCS and PCS the tool point of them
     [mm] through the group's kinematic transformation (:mod:`mcl.kin_fb`; without one the
-    members' positions). 1005 when the group has no axes, EParam 5 for an unknown
+    members' positions), in PCS relative to the group's product coordinate system (moving with
+    a tracked belt: :mod:`mcl.tracking`). 1005 when the group has no axes, EParam 5 for an unknown
     ``CoordSystem``, EWorkspace 24 / ESingular 25 when the members stand where the kinematics
     has no tool point."""
 
@@ -239,8 +242,12 @@ class MC_GroupReadActualPosition(EnableFB):
         if self.CoordSystem not in COORD_SYSTEMS:
             return ErrorID.EParam
         joints = [axis.POS for axis in group.axes]
+        coord = self.CoordSystem
         try:
-            self.Position = group.kin.convert(joints, True, self.CoordSystem == MC_COORD_SYSTEM.ACS)
+            self.Position = group.kin.convert(joints, True, coord == MC_COORD_SYSTEM.ACS)
+            frame = group.kin.frame
+            if coord == MC_COORD_SYSTEM.MCS and frame is not None:
+                self.Position = frame.point_to_mcs(self.Position)
         except KinematicsError as refused:
             return int(refused.error_id)
         return 0
@@ -306,7 +313,7 @@ class _PathMoveFB(GroupMotionFB):
         error = group.check_ready()
         if error:
             return error
-        if self.CoordSystem not in COORD_SYSTEMS:
+        if self.CoordSystem not in COORD_SYSTEMS or self._mcs_in_pcs(group):
             return ErrorID.EParam
         params = self._dynamics(group)
         transition = transition_of(self.TransitionMode, self.TransitionParameter)
@@ -328,6 +335,11 @@ class _PathMoveFB(GroupMotionFB):
                 except KinematicsError as refused:
                     return int(refused.error_id)
         return submit_moves(group, ticket, moves, self.NEEDS_REF)
+
+    def _mcs_in_pcs(self, group: AxesGroup) -> bool:
+        """A position in MCS while the group's path runs in a PCS of its own
+        (:mod:`mcl.tracking`): refused."""
+        return self.CoordSystem == MC_COORD_SYSTEM.MCS and group.kin.frame is not None
 
     @property
     def _in_acs(self) -> bool:

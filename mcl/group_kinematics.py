@@ -21,6 +21,11 @@ v ≤ √(0.3·a_max/|q''|), its acceleration ≤ 0.7·a_max/|q'| (so |q̈| = |q
 its jerk ≤ j_max/|q'|. The Cartesian limits of the tool point (:class:`mcl.kinematics.TcpLimits`)
 bind the path as a member's machine data binds it without a transformation. Pieces of different
 spaces never blend: the path stops between them.
+
+The Cartesian space of a path is the product coordinate system (:attr:`GroupKinematics.frame`,
+:mod:`mcl.coordinate_system`): the MCS until MC_SetCoordinateTransform or MC_TrackConveyorBelt
+sets one. A moving PCS enters the set points with its velocity and acceleration, a piece is
+checked where the PCS stands when it is accepted, and a path that ends rests in the PCS.
 """
 
 from __future__ import annotations
@@ -28,11 +33,12 @@ from __future__ import annotations
 __all__ = ["SAMPLE_STEP", "GroupKinematics", "refusal"]
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Final
 
 from mcl.axis import Axis
 from mcl.axis_config import AxisConfig
+from mcl.coordinate_system import ProductFrame, rest_element
 from mcl.errors import ErrorID
 from mcl.geometry import Geometry, GeometryError
 from mcl.kinematics import KinematicsError, KinTransform, derivatives
@@ -60,6 +66,10 @@ class GroupKinematics:
     def __init__(self) -> None:
         self.transform: KinTransform | None = None
         self.fault = 0
+        self.frame: ProductFrame | None = None
+        """The PCS (None: it is the MCS)."""
+        self.held: Element | None = None
+        """The last element that rests in a moving PCS (:meth:`hold`)."""
         self._t = -math.inf
         self._q: list[float] = []
         self._qd: list[float] = []
@@ -79,7 +89,11 @@ class GroupKinematics:
         transform = self.transform
         if transform is None or joint == to_joint:
             return list(p)
-        return transform.inverse(p) if to_joint else transform.forward(p)
+        frame = self.frame
+        if to_joint:
+            return transform.inverse(p if frame is None else frame.point_to_mcs(p))
+        tcp = transform.forward(p)
+        return tcp if frame is None else frame.point_from_mcs(tcp)
 
     def to_joints(self, p: Sequence[float], joint: bool, axes: Sequence[Axis]) -> list[float]:
         """The path point ``p`` in the members' coordinates (their set points where the
@@ -148,6 +162,8 @@ class GroupKinematics:
         if transform is None or joint:
             return list(p), list(v), list(a)
         if t != self._t:
+            if self.frame is not None:
+                p, v, a = self.frame.to_mcs(p, v, a, t)
             try:
                 self._q, self._qd, self._qdd = derivatives(transform, p, v, a)
             except KinematicsError as refused:
@@ -159,14 +175,16 @@ class GroupKinematics:
         return self._q, self._qd, self._qdd
 
     def path_state(
-        self, q: list[float], qd: list[float], qdd: list[float]
+        self, q: list[float], qd: list[float], qdd: list[float], t: float | None = None
     ) -> tuple[list[float], list[float], list[float], bool]:
-        """The path state a new path starts from at the members' state (q, qd, qdd): in the
-        MCS (:meth:`cartesian_state`) where the transformation gives the pose a tool point,
-        else in the members' coordinates; the flag says the latter."""
+        """The path state a new path starts from at the members' state (q, qd, qdd) at the
+        servo instant ``t``: in the PCS (:meth:`cartesian_state`) where the transformation
+        gives the pose a tool point, else in the members' coordinates; the flag says the latter."""
         if self.transform is not None:
             try:
                 p, v, a = self.cartesian_state(q, qd, qdd)
+                if self.frame is not None:
+                    p, v, a = self.frame.from_mcs(p, v, a, t)
                 return p, v, a, False
             except KinematicsError:
                 pass  # no tool point: the path state stays in the members' coordinates
@@ -195,6 +213,22 @@ class GroupKinematics:
         a = [(f - 2.0 * c + b) / (h * h) for f, c, b in zip(ahead, p, back, strict=True)]
         return p, v, a
 
+    def hold(self, end: Sequence[float], joint: bool, t0: float) -> Element | None:
+        """The element the path that reached ``end`` (in the joint space when ``joint``) at path
+        time ``t0`` [s] rests in while the PCS moves (:func:`rest_element`); None otherwise."""
+        frame = self.frame
+        if joint or self.transform is None or frame is None or not frame.moving:
+            return None
+        self.held = rest_element(end, t0)
+        return self.held
+
+    def leave_moving_frame(self) -> bool:
+        """Drop a moving PCS (the group stops or fails: it stops in the MCS); True if it did."""
+        if self.frame is None or not self.frame.moving:
+            return False
+        self.frame = None
+        return True
+
     def hold_joints(self, element: Element, axes: Sequence[Axis]) -> int:
         """Check a Cartesian piece and lower its limits to the joints' (module docstring).
 
@@ -205,7 +239,7 @@ class GroupKinematics:
         assert transform is not None
         geometry = element.geometry
         try:
-            qs, step = _samples(transform, geometry)
+            qs, step = _samples(lambda p: self.convert(p, False, True), geometry)
         except KinematicsError as refused:
             return int(refused.error_id)
         for q in qs:
@@ -227,15 +261,17 @@ class GroupKinematics:
         return 0
 
 
-def _samples(transform: KinTransform, geometry: Geometry) -> tuple[list[list[float]], float]:
-    """The joints at points of ``geometry`` at most :data:`SAMPLE_STEP` apart, and that step
-    [mm] (0 for a piece of no length)."""
+def _samples(
+    inverse: Callable[[Sequence[float]], list[float]], geometry: Geometry
+) -> tuple[list[list[float]], float]:
+    """The joints (``inverse``) at points of ``geometry`` at most :data:`SAMPLE_STEP` apart, and
+    that step [mm] (0 for a piece of no length)."""
     length = geometry.length
     if length <= 0.0:
-        return [transform.inverse(geometry.start)], 0.0
+        return [inverse(geometry.start)], 0.0
     count = min(_MAX_SAMPLES, max(16, math.ceil(length / SAMPLE_STEP)))
     step = length / count
-    return [transform.inverse(geometry.point(k * step)) for k in range(count + 1)], step
+    return [inverse(geometry.point(k * step)) for k in range(count + 1)], step
 
 
 def _lower(

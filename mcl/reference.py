@@ -76,6 +76,7 @@ CHAPTER_ORDER = (
     "group_fb",
     "group_control",
     "kin_fb",
+    "tracking",
     "path_table",
     "gcode",
 )
@@ -298,6 +299,7 @@ ANNOUNCED: tuple[tuple[str, str, tuple[str, ...]], ...] = (
             "MC_SetKinTransform",
             "MC_ReadKinTransform",
             "MC_SetCartesianTransform",
+            "MC_SetCoordinateTransform",
             "MC_SyncAxisToGroup",
             "MC_MovePathSynchronized",
             "MC_TrackConveyorBelt",

@@ -372,6 +372,16 @@ class World:
                     f"{sorted(self.devices)}"
                 )
             analog = inputs(spec.analog)
+        source = None
+        if spec.probe is not None and spec.probe.device:
+            source = getattr(
+                self.devices.get(names.scene(spec.probe.device)), "probe_coordinate", None
+            )
+            if source is None:
+                raise WiringError(
+                    f"axis {a}: its probe needs the device {spec.probe.device!r} with "
+                    f"probe_coordinate() -> metres; devices: {sorted(self.devices)}"
+                )
         return AxisWiring(
             names.model(spec.joint or a),
             names.prefix,
@@ -379,6 +389,7 @@ class World:
             device=device_name,
             switches=spec.switches,
             probe=spec.probe,
+            probe_source=source,
             digital_outputs=spec.digital_outputs,
             analog=analog,
             sensors=spec.sensors,

@@ -45,11 +45,14 @@ class Probe:
         marks: the marks, in the joint's SI coordinate [m or rad].
         joint: the joint the marks are on (unprefixed); None = the axis' own joint.
         delay: sensor delay between a mark and the latch [s].
+        device: a device whose ``probe_coordinate()`` [m] the marks lie on instead of a joint's
+            (a photo eye that sees bodies cross its beam); empty: a joint's.
     """
 
     marks: Marks
     joint: str | None = None
     delay: float = 0.0
+    device: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,6 +67,7 @@ class AxisWiring:
         device: the device of a ``"device"`` drive.
         switches: the switch kinds the axis has (each needs its sites and window).
         probe: the touch-probe source (None: TP stays low).
+        probe_source: reads the probe's trigger coordinate from a device (:attr:`Probe.device`).
         digital_outputs: digital outputs a program may set.
         analog: reads the analog inputs [V] once per servo cycle (None: none).
         sensors: the imperfections of the axis' sensors (None: the defaults of
@@ -76,6 +80,7 @@ class AxisWiring:
     device: str = ""
     switches: tuple[str, ...] = SWITCHES
     probe: Probe | None = None
+    probe_source: Callable[[], float] | None = None
     digital_outputs: int = 0
     analog: Callable[[], Sequence[float]] | None = None
     sensors: Sensors | None = None
@@ -196,6 +201,7 @@ class MujocoAxisIO(AxisChannel):
             drive=drive,
         )
         self._analog = wiring.analog
+        self._probe_source = wiring.probe_source
         self.write(0.0, False)
         self.sense(float(data.time))
 
@@ -252,9 +258,15 @@ class MujocoAxisIO(AxisChannel):
             pos,
             n,
             r,
-            None if self._probe_qpos is None else qpos[self._probe_qpos],
+            self._probe_coordinate(qpos),
             () if self._analog is None else self._analog(),
         )
+
+    def _probe_coordinate(self, qpos: Any) -> float | None:
+        """The probe's trigger coordinate: a device's, a joint's, or None (the axis')."""
+        if self._probe_source is not None:
+            return self._probe_source()
+        return None if self._probe_qpos is None else float(qpos[self._probe_qpos])
 
 
 def drive_for(

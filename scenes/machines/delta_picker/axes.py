@@ -16,6 +16,7 @@ __all__ = [
     "BELT_TOP",
     "BELT_Y",
     "DELTA",
+    "EYE_DELAY",
     "EYE_X",
     "HOMING",
     "PART_HEIGHT",
@@ -26,7 +27,7 @@ __all__ = [
 import mcl
 from plc.procedures import HomingRecipe
 from scenes.definition import AxisDef
-from scenes.machines.delta_picker.devices import eye_marks
+from scenes.machines.delta_picker.devices import BEAM
 from scenes.plant.mujoco import Probe
 
 ARMS = ("A1", "A2", "A3")
@@ -48,8 +49,10 @@ BELT_TOP = -880.0
 """The belt's top face in the MCS [mm] (the tray's top lies as high)."""
 BELT_Y = -150.0
 """The belt's centre line in the MCS [mm]; side guides centre the parts on it."""
-EYE_X = -200.0
-"""The photo eye across the belt [mm of MCS x]."""
+EYE_X = -400.0
+"""The photo eye across the belt [mm of MCS x], where the parts come within the robot's reach."""
+EYE_DELAY = 0.0005
+"""The photo eye's response time [s] (the belt runs on meanwhile: the demo takes it off)."""
 PART_HEIGHT = 30.0
 """The parts: 60 × 60 × 30 mm, 0.1 kg [mm]."""
 PART_X = (-1000.0, -1328.7, -1580.6, -1900.9, -2250.3, -2598.8, -2905.8, -3227.8)
@@ -117,9 +120,7 @@ AXES = {
             Kp=0.6, Ki=10.0, Ff=1.0, Kc=50.0, Vmax=1500.0, Filter=2.0, Ka=0.004
         ),
         switches=(),
-        probe=Probe(
-            marks=eye_marks(tuple(x / 1000.0 for x in PART_X), EYE_X / 1000.0), delay=0.0005
-        ),
+        probe=Probe(marks=BEAM, device="eye", delay=EYE_DELAY),
     ),
 }
 """Arms A1–A3 (deg) and conveyor C (mm of belt). Digital output 0 of A1 is the vacuum valve."""

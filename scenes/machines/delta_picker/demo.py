@@ -1,21 +1,27 @@
-"""The delta picker's demo: home the arms, group them with the delta kinematics, then pick every
-part the infeed conveyor brings and place it in the tray.
+"""The delta picker's demo: home the arms, group them with the delta kinematics, then pick parts
+on the fly from the running infeed conveyor and place them in the tray.
 
-The conveyor indexes: it runs until the photo eye (the touch probe of ``C``) latches a part's
-leading edge, then stops the part's centre under the pick point (MC_MoveAbsolute to the latched
-position plus the eye-to-pick distance). The robot picks it with the standard cycle, blended:
-down 25 mm onto it, vacuum on, up 25 mm, across to its place in the tray (305 mm for the first
-slot), down 25 mm, vacuum off, up and back over the belt. Every move is a Cartesian move of the
-group (MC_MoveLinearAbsolute in MCS through the delta's inverse kinematics).
+The belt runs on at :data:`BELT_SPEED`. The photo eye (the touch probe of ``C``, re-armed after
+every latch) latches the belt's position as each part's leading edge cuts its beam; the light
+curtain beside it gives the part's lateral position. For each latched part, in turn:
+MC_TrackConveyorBelt makes the product coordinate system (PCS) move with the part (origin: the
+effector's centre when the cup touches the part's centre); a part that will have left the
+robot's reach within :data:`HORIZON`, or comes too fast, is refused with its ErrorID and the
+next one is taken. Tracking, the robot goes across to 25 mm above the part and down onto it
+(blended, in PCS), grips, then MC_SetCoordinateTransform ends the tracking (the robot slows down
+to a standstill holding the part) and the standard cycle carries it into the tray in the MCS:
+up 25 mm, across, down 25 mm, blended; vacuum off, up 25 mm, and the next part is tracked from
+there.
 """
 
 from __future__ import annotations
 
-__all__ = ["CLEAR", "PICK", "SLOTS", "Demo"]
+__all__ = ["BELT_SPEED", "CLEAR", "HORIZON", "MOVE", "PICK", "SLOTS", "Demo"]
 
 from typing import Any
 
 import mcl
+from mcl.enums import MC_COORD_SYSTEM
 from plc.procedures import HomeAxis
 from plc.sequence import REST, Step, StepSequence, at_rest
 from scenes.machines.delta_picker.axes import (
@@ -23,13 +29,14 @@ from scenes.machines.delta_picker.axes import (
     BELT_TOP,
     BELT_Y,
     DELTA,
+    EYE_DELAY,
     EYE_X,
     HOMING,
     PART_HEIGHT,
     PART_X,
     TOOL,
 )
-from scenes.machines.delta_picker.devices import VacuumGripper
+from scenes.machines.delta_picker.devices import PART_LENGTH, PhotoEye, VacuumGripper
 from scenes.scene import Scene
 
 B = mcl.MC_BufferMode
@@ -38,21 +45,46 @@ GRIP_Z = BELT_TOP + PART_HEIGHT + TOOL
 CLEAR = 25.0
 """The standard cycle's lift [mm]."""
 PICK = (0.0, BELT_Y, GRIP_Z)
-"""Where a part is picked [mm, MCS]."""
+"""The middle of the robot's reach over the belt [mm, MCS]."""
+WAIT = (EYE_X + 100.0, BELT_Y, GRIP_Z + CLEAR)
+"""Where the robot waits for the first part [mm, MCS]."""
+BELT_ORIGIN = [EYE_X, BELT_Y, GRIP_Z]
+"""The belt frame in the MCS (MC_TrackConveyorBelt's ConveyorBeltOrigin): at the photo eye on
+the belt's centre line, at the grip height; x along the belt [mm]."""
 SLOTS = tuple((x, 155.0) for x in (315.0, -315.0, 225.0, -225.0, 135.0, -135.0, 45.0, -45.0))
-"""The tray's places (x, y) [mm], 305 mm across the belt from the pick point, filled from the
+"""The tray's places (x, y) [mm], 305 mm across the belt's centre line, filled from the
 outside in (a part carried 25 mm high never passes over one placed)."""
-BELT_SPEED = 200.0
-"""Conveyor speed while it brings a part [mm/s]."""
-MOVE = {"Velocity": 2000.0, "Acceleration": 20000.0, "Deceleration": 20000.0, "Jerk": 1.0e6}
+BELT_SPEED = 250.0
+"""Conveyor speed [mm/s]."""
+TRACK_FROM = -250.0
+"""A part is tracked once its centre has come this far [mm of MCS x] (the arms' reach is
+better away from its edge)."""
+HORIZON = 0.5
+"""A part is tracked only if it stays within reach this long [s] (reach it, grip, stop)."""
+MOVE = {"Velocity": 3000.0, "Acceleration": 40000.0, "Deceleration": 40000.0, "Jerk": 2.0e6}
 """Path velocity [mm/s], acceleration [mm/s²], jerk [mm/s³] of the robot's moves."""
+CORNER = 10.0
+"""How far a blended corner of the cycle may leave the commanded path [mm]."""
 DWELL = 0.05
 """Vacuum build-up and release time [s]."""
 
 
+def _moves(group: mcl.AxesGroup) -> dict[str, list[mcl.MC_MoveLinearAbsolute]]:
+    """The robot's moves, by the step that runs them."""
+    counts = {"over the belt": 1, "down onto it": 2, "carry to the tray": 3, "up from the tray": 1}
+    return {
+        step: [mcl.MC_MoveLinearAbsolute(AxesGroup=group, **MOVE) for _ in range(count)]
+        for step, count in counts.items()
+    }
+
+
+CORNERING = (mcl.MC_TRANSITION_MODE.TMMaxCornerDeviation, [CORNER])
+
+
 class Demo(StepSequence):
-    """Power, home the three arms (REF + motor index), group them and set the kinematics, then
-    pick and place every part; finally ungroup. ``results``: one row per part."""
+    """Power, home the three arms (REF + motor index), group them and set the kinematics, run
+    the belt, then track, pick and place :attr:`parts` latched parts; finally stop the belt and
+    ungroup. ``results``: one row per latched part (picked, or refused with its ErrorID)."""
 
     STEPS = (
         "power on",
@@ -60,12 +92,13 @@ class Demo(StepSequence):
         "group the arms",
         "over the belt",
         "wait for a part",
-        "bring it under the robot",
-        "down to the part",
+        "track it",
+        "down onto it",
         "grip",
+        "stop tracking",
         "carry to the tray",
         "release",
-        "back over the belt",
+        "up from the tray",
         REST,
         "done",
     )
@@ -75,6 +108,9 @@ class Demo(StepSequence):
         self.arms = [scene.axes[a] for a in ARMS]
         self.belt = scene.axes["C"]
         self.gripper = scene.device("vacuum", VacuumGripper)
+        self.eye = scene.device("eye", PhotoEye)
+        self.parts = len(PART_X)
+        """How many latched parts the demo handles before it ends."""
         group = self.group = mcl.AxesGroup("delta", corner_tolerance=2.0)
         self.power = [mcl.MC_Power(Axis=axis) for axis in (*self.arms, self.belt)]
         self.home = [HomeAxis(scene.axes[a], HOMING[a]) for a in ARMS]
@@ -88,18 +124,16 @@ class Demo(StepSequence):
         """The belt's coordinate needs no reference: its power-up count is confirmed."""
         self.probe = mcl.MC_TouchProbe(Axis=self.belt)
         self.run = mcl.MC_MoveVelocity(Axis=self.belt, Velocity=BELT_SPEED, Acceleration=2000.0)
-        self.feed = mcl.MC_MoveAbsolute(Axis=self.belt, Velocity=BELT_SPEED, Acceleration=2000.0)
-        self.part = 0
-        self.moves: dict[str, list[mcl.MC_MoveLinearAbsolute]] = {}
-        for step, count in (
-            ("over the belt", 1),
-            ("down to the part", 1),
-            ("carry to the tray", 3),
-            ("back over the belt", 2),
-        ):
-            self.moves[step] = [
-                mcl.MC_MoveLinearAbsolute(AxesGroup=group, **MOVE) for _ in range(count)
-            ]
+        self.halt = mcl.MC_Halt(Axis=self.belt, Deceleration=2000.0)
+        self.track = mcl.MC_TrackConveyorBelt(
+            AxesGroup=group, ConveyorBelt=self.belt, ConveyorBeltOrigin=BELT_ORIGIN, Horizon=HORIZON
+        )
+        self.untrack = mcl.MC_SetCoordinateTransform(AxesGroup=group)
+        self.queue: list[tuple[float, float]] = []
+        """Latched parts not yet handled: belt position [mm] and lateral position [mm, MCS y]."""
+        self.latched = 0
+        self.picked = 0
+        self.moves = _moves(group)
         self._aim(0)
         self.rows: list[dict[str, Any]] = []
         self.started = 0.0
@@ -118,31 +152,35 @@ class Demo(StepSequence):
             ),
             Step("group the arms", lambda: self.kinematics.Done, grouping),
             self._path("over the belt"),
-            Step(
-                "wait for a part", lambda: self.probe.Done, {"probe": self.probe, "run": self.run}
-            ),
-            Step("bring it under the robot", lambda: self.feed.Done, {"feed": self.feed}),
-            self._path("down to the part"),
+            Step("wait for a part", self._waited, {"run": self.run}, then=self._next_part),
+            Step("track it", lambda: self.track.Done or self.track.Error, then=self._tracked),
+            self._path("down onto it"),
             Step("grip", self._dwelt, {"vacuum": self.vacuum}),
+            Step(
+                "stop tracking",
+                lambda: self.untrack.Done,
+                {"untrack": self.untrack},
+                then=self._stopped,
+            ),
             self._path("carry to the tray"),
             Step("release", self._dwelt, {"vacuum": self.vacuum}),
             Step(
-                "back over the belt",
-                lambda: self.moves["back over the belt"][-1].Done,
-                self._watch("back over the belt"),
-                then=self._next_part,
+                "up from the tray",
+                lambda: self.moves["up from the tray"][-1].Done,
+                self._watch("up from the tray"),
+                then=self._placed,
             ),
             Step(
                 REST,
                 lambda: self.ungroup.Done and at_rest([*self.arms, self.belt]),
-                {"disable": self.disable, "ungroup": self.ungroup},
+                {"disable": self.disable, "ungroup": self.ungroup, "halt": self.halt},
             ),
             Step("done"),
         )
 
     @property
     def results(self) -> list[dict[str, Any]]:
-        """One row per part placed."""
+        """One row per latched part handled."""
         return self.rows
 
     def _watch(self, step: str) -> dict[str, Any]:
@@ -153,41 +191,90 @@ class Demo(StepSequence):
         return Step(step, lambda: moves[-1].Done, self._watch(step))
 
     def _aim(self, k: int) -> None:
-        """Set the moves' positions for part ``k`` (its place in the tray)."""
+        """Set the moves' positions for the ``k``-th part picked (its place in the tray)."""
         x, y = SLOTS[k % len(SLOTS)]
-        px, py, pz = PICK
-        up, place_up, place = (px, py, pz + CLEAR), (x, y, pz + CLEAR), (x, y, pz)
-        self.moves["over the belt"][0].Position = list(up)
-        self.moves["down to the part"][0].Position = list(PICK)
-        carry = self.moves["carry to the tray"]
+        z = GRIP_Z
+        self.moves["over the belt"][0].Position = list(WAIT)
+        down = self.moves["down onto it"]
         for move, target, mode in zip(
-            carry, (up, place_up, place), (B.Aborting, B.BlendingLow, B.BlendingLow), strict=True
+            down, ((0.0, 0.0, CLEAR), (0.0, 0.0, 0.0)), (B.Aborting, B.BlendingLow), strict=True
         ):
             move.Position, move.BufferMode = list(target), mode
-        back = self.moves["back over the belt"]
-        back[0].Position, back[0].BufferMode = list(place_up), B.Aborting
-        back[1].Position, back[1].BufferMode = list(up), B.BlendingLow
+            move.CoordSystem = MC_COORD_SYSTEM.PCS
+            move.TransitionMode, move.TransitionParameter = CORNERING
+        self.carry_from(list(PICK))
+        up = self.moves["up from the tray"][0]
+        up.Position, up.BufferMode = [x, y, z + CLEAR], B.Aborting
+
+    def carry_from(self, grip: list[float]) -> None:
+        """The standard cycle from where the part was gripped [mm, MCS] to its place."""
+        x, y = SLOTS[self.picked % len(SLOTS)]
+        z = GRIP_Z
+        targets = ((grip[0], grip[1], z + CLEAR), (x, y, z + CLEAR), (x, y, z))
+        modes = (B.Aborting, B.BlendingLow, B.BlendingLow)
+        for move, target, mode in zip(self.moves["carry to the tray"], targets, modes, strict=True):
+            move.Position, move.BufferMode = list(target), mode
 
     def _dwelt(self) -> bool:
         return self.scene.time - self.entered >= DWELL
 
+    def _waited(self) -> bool:
+        """A latched part has come to :data:`TRACK_FROM`, or every part was latched."""
+        if not self.queue:
+            return self.latched >= self.parts
+        travel = self.belt.sp_pos - self.queue[0][0]
+        return EYE_X - 500.0 * PART_LENGTH + travel >= TRACK_FROM
+
     def _next_part(self) -> str:
-        """A part is placed: record it; the next part, or the end."""
-        grips = self.gripper.grips
-        grip = grips[-1] if grips else None
+        """Track the next latched part, or end once every part was handled."""
+        if not self.queue:
+            return REST
+        latch, lateral = self.queue.pop(0)
+        self.track.LatchedPosition = latch
+        self.track.InitialObjectPosition = [-500.0 * PART_LENGTH, lateral - BELT_Y, 0.0]
+        return "track it"
+
+    def _tracked(self) -> str:
+        """The part is tracked, or refused: record it and take the next one."""
+        if self.track.Done:
+            return "down onto it"
+        self._record(error_id=self.track.ErrorID)
+        return "wait for a part"
+
+    def _stopped(self) -> str:
+        """The robot stands holding the part: carry it from there."""
+        self.carry_from(DELTA.forward([arm.sp_pos for arm in self.arms]))
+        return "carry to the tray"
+
+    def _placed(self) -> str:
+        self._record()
+        self.picked += 1
+        self._aim(self.picked)
+        return "wait for a part"
+
+    def _record(self, error_id: int = 0) -> None:
+        grip = self.gripper.grips[-1] if self.gripper.grips and not error_id else None
         self.rows.append(
             {
-                "part": self.part,
+                "part": len(self.rows),
+                "picked": not error_id,
+                "error id": error_id,
                 "pick error [mm]": grip.error if grip is not None else None,
                 "cycle [s]": self.scene.time - self.started,
             }
         )
         self.started = self.scene.time
-        self.part += 1
-        if self.part >= len(PART_X):
-            return REST
-        self._aim(self.part)
-        return "wait for a part"
+
+    def _latch(self, running: bool) -> None:
+        """Keep the photo eye armed while the belt runs; queue every part it latches."""
+        probe = self.probe
+        if probe.Done and self.latched < self.parts:
+            lateral = self.eye.lateral[-1] if self.eye.lateral else BELT_Y
+            # the belt ran on for the eye's response time before the latch
+            edge = probe.RecordedPosition - self.run.Velocity * EYE_DELAY
+            self.queue.append((edge, lateral))
+            self.latched += 1
+        probe(Execute=running and not probe.Done and self.latched < self.parts)
 
     def __call__(self) -> None:
         """One PLC scan."""
@@ -202,16 +289,17 @@ class Demo(StepSequence):
             add(Execute=grouping)
         self.enable(Execute=grouping and self.add[-1].Done)
         self.kinematics(Execute=grouping and self.enable.Done)
-        self.probe(Execute=step == "wait for a part")
-        self.run(Execute=step == "wait for a part")
-        if step == "bring it under the robot" and not self.feed.Busy and not self.feed.Done:
-            self.feed.Position = self.probe.RecordedPosition + (PICK[0] - (EYE_X - 30.0))
-        self.feed(Execute=step == "bring it under the robot")
+        running = self.index >= self.STEPS.index("over the belt") and step not in (REST, "done")
+        self.run(Execute=running)
+        self.halt(Execute=step == REST)
+        self._latch(running and self.run.InVelocity)
+        self.track(Execute=step == "track it")
+        self.untrack(Execute=step == "stop tracking")
         self.vacuum(Execute=step in ("grip", "release"), Value=step == "grip")
         for name, moves in self.moves.items():
             for move in moves:
                 move(Execute=step == name)
-        self.disable(Execute=step == REST)
+        self.disable(Execute=step == REST and self.halt.Done)
         self.ungroup(Execute=self.disable.Done)
         if step == "wait for a part" and not self.started:
             self.started = self.scene.time

@@ -1,12 +1,20 @@
-"""The vacuum gripper: digital output 0 of arm ``A1`` opens the vacuum valve; the cup holds a
-part by the force the model's adhesion actuator ``vacuum`` applies where the cup touches it
-(the cup's pull, ``cup_force``), and loses it when the part's inertia and weight ask for more.
-Every grip is recorded with the pick error measured on the physics: the cup's centre against the
-part's centre when the vacuum comes on."""
+"""The delta picker's devices.
+
+- The vacuum gripper: digital output 0 of arm ``A1`` opens the vacuum valve; the cup holds a
+  part by the force the model's adhesion actuator ``vacuum`` applies where the cup touches it
+  (the cup's pull, ``cup_force``), and loses it when the part's inertia and weight ask for more.
+  Every grip is recorded with the pick error measured on the physics: the cup's centre against
+  the part's centre when the vacuum comes on.
+- The photo eye: a beam across the belt that sees the parts' bodies (:class:`PhotoEye`), the
+  touch probe of the conveyor ``C``; a light curtain beside it measures each part's lateral
+  position.
+- The feeder: parts taken from the tray come back on the belt at random spacing and lateral
+  position (:class:`Feeder`).
+"""
 
 from __future__ import annotations
 
-__all__ = ["Feeder", "Grip", "VacuumGripper", "eye_marks"]
+__all__ = ["BEAM", "Feeder", "Grip", "PhotoEye", "VacuumGripper"]
 
 import math
 from collections.abc import Mapping
@@ -23,20 +31,105 @@ HOLD = 0.005
 """A part counts as held while its top face lies within this of the cup's face [m]."""
 PART_LENGTH = 0.060
 """A part's length along the belt [m]."""
+SPACING = (0.240, 0.370)
+"""The range of the random distance between consecutive parts' centres [m]."""
+LATERAL = 0.025
+"""The parts' random lateral offset from the belt's centre line lies within ±this [m] (the belt
+is 180 mm wide, a part 60 mm)."""
+UPSTREAM = 0.4
+"""A part is laid at least this far before the photo eye [m]."""
+SEED = 37
+"""The seed of the parts' random spacing and lateral position."""
+BEAM = mcl.Marks(first=0.0, width=0.2)
+"""The touch probe's mark on the eye's trigger coordinate (:meth:`PhotoEye.probe_coordinate`):
+high while a part's body covers the beam."""
 TAKEN = 1.0
 """The outfeed takes a part away this long after it came to rest in the tray [s]."""
 CHECK = 0.01
 """How often the outfeed looks at the tray [s]."""
 
 
-def eye_marks(part_x: tuple[float, ...], eye_x: float) -> mcl.Marks:
-    """Where the photo eye sees the parts' leading edges, in belt coordinate [m]: part k of
-    the infeed's sequence at ``eye_x − (part_x[k] + half a part)``, the sequence repeating with
-    the spacings of ``part_x`` (the parts' centres at belt coordinate 0 [m])."""
-    edges = [eye_x - (x + PART_LENGTH / 2.0) for x in part_x]
-    pitch = (edges[-1] - edges[0]) / (len(edges) - 1)
-    errors = tuple(e - (edges[0] + k * pitch) for k, e in enumerate(edges))
-    return mcl.Marks(first=edges[0], pitch=pitch, width=PART_LENGTH, errors=errors)
+def _random(j: int) -> tuple[float, float]:
+    """Part ``j``'s spacing behind the part before it and its lateral offset [m]."""
+    rng = np.random.default_rng(SEED * 1000 + j)
+    return float(rng.uniform(*SPACING)), float(rng.uniform(-LATERAL, LATERAL))
+
+
+def _box_parts(model: mujoco.MjModel, prefix: str) -> list[tuple[int, npt.NDArray[np.float64]]]:
+    """The parts ``part0`` … : body id and the half sizes of their box [m]."""
+    parts = []
+    k = 0
+    while mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"{prefix}part{k}") >= 0:
+        body = model.body(f"{prefix}part{k}")
+        parts.append((int(body.id), np.array(model.geom_size[int(body.geomadr[0])])))
+        k += 1
+    return parts
+
+
+class PhotoEye:
+    """A through-beam across the belt at ``eye_x``, 5 mm above the belt's top: it is cut while a
+    part's body (its box, as turned) spans the beam's x and lies on the belt.
+
+    Its trigger coordinate (:meth:`probe_coordinate`) is how far the leading edge of the part
+    nearest the beam and not yet past it has crossed the beam [m] (negative before); the touch
+    probe of ``C`` (mark :data:`BEAM`) latches the belt's encoder where it rises through 0. A
+    light curtain beside the beam measures the part's lateral position when the beam is cut
+    (:attr:`lateral`, the centre's y in the MCS [mm]), as a camera over the belt would.
+
+    Args:
+        model, data: the compiled model and its data.
+        prefix: the machine's name prefix in the model.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+        self.eye_x = float(numeric(model, f"{prefix}eye_x", 1)[0])
+        self.belt_top = float(numeric(model, f"{prefix}belt_top", 1)[0])
+        mujoco.mj_kinematics(model, data)
+        self.belt_y = float(data.xpos[model.body(f"{prefix}belt").id][1])
+        self._parts = _box_parts(model, prefix)
+        self._data = data
+        self.lateral: list[float] = []
+        """Each part's lateral position when it cut the beam, in order [mm, MCS y]."""
+        self._seen = -1
+        """The body that cut the beam last."""
+
+    def _cut(self) -> tuple[int, float, float]:
+        """The part nearest the beam not yet past it: body, leading edge past the beam [m] (-1
+        when none) and its centre's y [m]."""
+        data = self._data
+        best, lead, y = -1, -1.0, 0.0
+        for body, half in self._parts:
+            centre = data.xpos[body]
+            if abs(centre[2] - half[2] - self.belt_top) > 0.005:
+                continue  # not on the belt (held by the cup, in the tray)
+            if abs(centre[1] - self.belt_y) > 0.09:
+                continue
+            turn = np.abs(data.xmat[body].reshape(3, 3)[0])
+            extent = float(turn @ half)
+            front = float(centre[0]) + extent - self.eye_x
+            if front - 2.0 * extent > 0.0:
+                continue  # its trailing edge is past the beam
+            if best < 0 or front > lead:
+                best, lead, y = body, front, float(centre[1])
+        return best, lead, y
+
+    def probe_coordinate(self) -> float:
+        """The trigger coordinate of the touch probe [m] (class docstring)."""
+        return self._cut()[1]
+
+    def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Measure a part's lateral position when it cuts the beam."""
+        body, lead, y = self._cut()
+        if body >= 0 and lead >= 0.0 and body != self._seen:
+            self._seen = body
+            self.lateral.append(1000.0 * y)
+
+    def get_state(self) -> npt.NDArray[np.float64]:
+        return np.array([len(self.lateral), self._seen], dtype=float)
+
+    def set_state(self, state: npt.NDArray[np.float64]) -> None:
+        del self.lateral[int(state[0]) :]
+        self._seen = int(state[1])
 
 
 @dataclass(frozen=True)
@@ -132,9 +225,11 @@ class VacuumGripper:
 
 class Feeder:
     """The infeed and outfeed: a part at rest in the tray for :data:`TAKEN` is taken away and
-    comes back as the next part of the infeed's sequence (:func:`eye_marks`), laid on the belt
-    where that sequence puts it, moving with the belt (so the photo eye, the touch probe of
-    ``C``, sees it where its mark lies).
+    comes back on the belt as the next part of the infeed, moving with the belt, its centre a
+    random :data:`SPACING` behind the part laid before it (never less than :data:`UPSTREAM`
+    before the photo eye) and a random lateral offset within ±:data:`LATERAL` of the centre
+    line (seeded by its sequence number; the model's parts start at ``part_x``, each with its
+    lateral offset).
 
     Args:
         model, data: the compiled model and its data.
@@ -144,7 +239,6 @@ class Feeder:
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
         part_x = tuple(float(x) for x in numeric(model, f"{prefix}part_x", 8))
         eye_x = float(numeric(model, f"{prefix}eye_x", 1)[0])
-        self.marks = eye_marks(part_x, eye_x)
         self.eye_x = eye_x
         self.belt_top = float(numeric(model, f"{prefix}belt_top", 1)[0])
         belt = model.joint(f"{prefix}C")
@@ -160,10 +254,15 @@ class Feeder:
             x = model.joint(f"{prefix}part{k}_x")
             body = model.body(f"{prefix}part{k}")
             self._parts.append((int(x.qposadr[0]), int(x.dofadr[0]), int(body.id)))
+            data.qpos[int(x.qposadr[0]) + 1] = _random(k)[1]
         self.next = list(range(len(part_x)))
         """The sequence number each part has on the belt now."""
+        self.laid = len(part_x)
+        """How many parts were laid on the belt (the model's included)."""
         self.rest = [-1.0] * len(part_x)
         """Since when each part lies at rest in the tray [s] (-1: it does not)."""
+        self._last = eye_x - min(part_x)
+        """Belt coordinate at which the centre of the part laid last reaches the eye [m]."""
         self._origin = [np.array(model.body_pos[body]) for _, _, body in self._parts]
 
     def _in_tray(self, data: mujoco.MjData, body: int, dof: int) -> bool:
@@ -187,31 +286,33 @@ class Feeder:
             if self.rest[k] < 0.0:
                 self.rest[k] = t
             if t - self.rest[k] >= TAKEN:
-                self.next[k] += len(self._parts)
+                self.next[k] = self.laid
+                self.laid += 1
                 self._lay(data, k, q, dof, body)
                 self.rest[k] = -1.0
 
     def _lay(self, data: mujoco.MjData, k: int, q: int, dof: int, body: int) -> None:
-        """Put part ``k`` on the belt where its sequence number says, at the belt's speed."""
-        marks, j = self.marks, self.next[k]
-        mark = marks.first + j * marks.pitch + marks.errors[j % len(marks.errors)]
+        """Put part ``k`` on the belt as the next of the infeed, at the belt's speed."""
+        spacing, lateral = _random(self.next[k])
         belt = float(data.qpos[self._belt_q])
-        centre_x = self.eye_x - (mark - belt) - PART_LENGTH / 2.0
+        self._last = max(self._last + spacing, belt + UPSTREAM)
+        centre_x = self.eye_x - (self._last - belt)
         frame = data.xpos[body] - data.qpos[q : q + 3] - self._origin[k]
-        target = np.array([centre_x, 0.0, 0.0])
         origin = self._origin[k] + frame
-        data.qpos[q] = target[0] - origin[0]
-        data.qpos[q + 1] = 0.0
+        data.qpos[q] = centre_x - origin[0]
+        data.qpos[q + 1] = lateral
         data.qpos[q + 2] = 0.0005
         data.qpos[q + 3 : q + 7] = (1.0, 0.0, 0.0, 0.0)
         data.qvel[dof : dof + 6] = 0.0
         data.qvel[dof] = data.qvel[self._belt_v]
 
     def get_state(self) -> npt.NDArray[np.float64]:
-        return np.array([*self.next, *self.rest, self._due], dtype=float)
+        return np.array([*self.next, *self.rest, self._due, self.laid, self._last], dtype=float)
 
     def set_state(self, state: npt.NDArray[np.float64]) -> None:
         n = len(self._parts)
         self.next = [int(x) for x in state[:n]]
         self.rest = [float(x) for x in state[n : 2 * n]]
         self._due = float(state[2 * n])
+        self.laid = int(state[2 * n + 1])
+        self._last = float(state[2 * n + 2])
