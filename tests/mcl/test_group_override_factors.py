@@ -12,12 +12,20 @@ import pytest
 
 import mcl
 from mcl import ErrorID
-from tests.mcl.test_group_control import DT, JERK, scans, xy  # noqa: F401 (fixture)
-from tests.mcl.test_group import Recorder, record
+from tests.helpers import make_machine
+from tests.mcl.test_group import Recorder, build_group, record
+from tests.mcl.test_group_control import DT, JERK, scans
 
 V, ACC = 100.0, 2000.0
 LINE = dict(Position=[30.0, 40.0], Velocity=V, Acceleration=ACC, Deceleration=ACC, Jerk=JERK)
 """A line of 50 mm from (0, 0)."""
+
+
+@pytest.fixture
+def xy() -> tuple[mcl.SimMachine, mcl.AxesGroup]:
+    """Two powered, referenced axes X, Y at 0 mm in an enabled group."""
+    machine = make_machine("XY")
+    return machine, build_group(machine, "XY")
 
 
 def path_figures(rec: Recorder, start: int = 0) -> tuple[float, float, float]:

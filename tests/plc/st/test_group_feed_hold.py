@@ -5,6 +5,7 @@ limits a line's path acceleration from ST."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
@@ -101,7 +102,7 @@ def test_an_st_program_limits_the_path_acceleration_by_acc_factor() -> None:
     assert prog.done and not prog.error
     speeds = rec.speeds()
     assert max(speeds) == pytest.approx(50.0)
-    assert max(abs(b - a) / 0.001 for a, b in zip(speeds, speeds[1:])) <= 500.0 * 1.0001
+    assert max(abs(b - a) / 0.001 for a, b in itertools.pairwise(speeds)) <= 500.0 * 1.0001
     assert rec.model[-1] == pytest.approx((30.0, 40.0), abs=1e-9)
     prog.acc = 0.0
     machine.run(prog, timeout=0.01)
