@@ -212,7 +212,7 @@ class MC_GroupSetOverride(FunctionBlock):
         return 0
 
 
-def set_override(group: AxesGroup, factor: float, acc: float = 1.0, jerk: float = 1.0) -> None:
+def set_override(group: AxesGroup, factor: float, acc: float, jerk: float) -> None:
     """The path of ``group`` runs at ``factor`` times its planned velocity, its acceleration
     within ``acc`` and its jerk within ``jerk`` times the planned ones (:attr:`PathClock.scale`);
     ramped with the members' default deceleration × ``acc`` and jerk × ``jerk`` (a feed hold

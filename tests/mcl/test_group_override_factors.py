@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import replace
 
 import pytest
 
@@ -114,6 +115,46 @@ def test_a_lower_acc_factor_in_motion_is_ramped(xy: tuple[mcl.SimMachine, mcl.Ax
     assert 0.9 * 0.25 * decel < acc <= 0.25 * decel * 1.0001
     machine.run(program, until=lambda: line.Done, timeout=10.0)
     assert [a.sp_pos for a in group.axes] == pytest.approx([120.0, 160.0], abs=1e-9)
+
+
+def test_a_lower_jerk_factor_in_motion_ramps_with_its_jerk(
+    xy: tuple[mcl.SimMachine, mcl.AxesGroup],
+) -> None:
+    """At full speed JerkFactor drops to 0.125: the path velocity ramps down to half, its jerk
+    within the members' default jerk × 0.125 (× 1.5 in the cycle the ramp lands, see
+    mcl.path_clock)."""
+    machine, group = xy
+    for axis in group.axes:
+        axis.config = replace(axis.config, jerk=JERK)  # the default ramp's (none by default)
+    override = mcl.MC_GroupSetOverride(AxesGroup=group, Enable=True)
+    line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, **{**LINE, "Position": [120.0, 160.0]})
+    rec = record(machine, "XY")
+
+    def program() -> None:
+        line(Execute=True)
+        override()
+
+    scans(machine, program, 0.3)
+    override.JerkFactor = 0.125
+    start = len(rec.t)
+    scans(machine, program, 0.6)
+    assert rec.speeds()[-1] == pytest.approx(0.5 * V)
+    _, _, jerk = path_figures(rec, start - 1)
+    assert 0.125 * JERK * 0.9 < jerk <= 1.5 * 0.125 * JERK * 1.0001
+
+
+def test_the_factors_start_at_one_and_take_their_largest_values(
+    xy: tuple[mcl.SimMachine, mcl.AxesGroup],
+) -> None:
+    """A group's override factors are 1.0 until a block sets them; AccFactor 4.0 and
+    JerkFactor 8.0, the largest, are taken."""
+    _, group = xy
+    clock = group.clock
+    assert (clock.override, clock.acc_factor, clock.jerk_factor) == (1.0, 1.0, 1.0)
+    full = mcl.MC_GroupSetOverride(AxesGroup=group, Enable=True, AccFactor=4.0, JerkFactor=8.0)
+    full()
+    assert full.Enabled and not full.Error
+    assert (clock.acc_factor, clock.jerk_factor) == (4.0, 8.0)
 
 
 @pytest.mark.parametrize(
