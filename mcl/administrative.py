@@ -31,13 +31,14 @@ from mcl.servo import ServoConstants, dac_code_volts
 
 class GT_SetConstant(ExecuteFB):
     """Writes the servo constants of the axis (MotionControlLib §3.1); ``Ka``, ``Kf``, ``FfNeg``,
-    ``Deadband``, ``Kfp`` and ``Tfp`` are this library's extensions.
+    ``Deadband``, ``Kfp``, ``Tfp`` and ``Vf`` are this library's extensions.
 
     Inputs: Kp [V/u], Ki [V/(u·s)], Kd [V·s/u], Ff [-], Kc [1/s], Vmax [u/s at 10 V],
     LimPos, LimNeg [u] (LimPos <= LimNeg: no software limits), Ki1 [V/(u·s)], Filter [ms],
     Ka [s], Kf [V], FfNeg [-] (0 = as Ff), Deadband [V], Kfp [V] and Tfp [s] (the friction
-    pulse at a reversal; see :class:`ServoConstants`). Vmax must be > 0, gains, Filter,
-    Deadband, Kfp and Tfp >= 0, all finite; else EParam.
+    pulse at a reversal) and Vf [u/s] (the friction feed-forward's band; see
+    :class:`ServoConstants`). Vmax must be > 0, gains, Filter, Deadband, Kfp, Tfp and Vf >= 0,
+    all finite; else EParam.
 
     Software limits (active once the axis has Ref, not on a modulo axis): a command whose
     target lies beyond one is refused (Ecil 8) and leaves the axis alone; a target exactly on a
@@ -53,7 +54,7 @@ class GT_SetConstant(ExecuteFB):
     # the fields of ServoConstants, in order and with its defaults (a test keeps them equal)
     INPUTS: ClassVar[tuple[str, ...]] = (
         "Kp", "Ki", "Kd", "Ff", "Kc", "Vmax", "LimPos", "LimNeg", "Ki1", "Filter", "Ka", "Kf",
-        "FfNeg", "Deadband", "Kfp", "Tfp",
+        "FfNeg", "Deadband", "Kfp", "Tfp", "Vf",
     )  # fmt: skip
     Kp: float = 0.0
     Ki: float = 0.0
@@ -71,6 +72,7 @@ class GT_SetConstant(ExecuteFB):
     Deadband: float = 0.0
     Kfp: float = 0.0
     Tfp: float = 0.0
+    Vf: float = 0.0
 
     def _begin(self) -> int:
         values = {f.name: number(getattr(self, f.name)) for f in dataclasses.fields(ServoConstants)}

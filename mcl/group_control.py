@@ -166,10 +166,13 @@ class MC_GroupSetOverride(FunctionBlock):
 
     Level-sensitive: while ``Enable`` is TRUE the factor is written in every call; with
     ``Enable`` FALSE the group keeps the last one. ``Enabled`` and ``Busy`` while the group
-    follows this block's factor. A VelFactor negative, not finite or above 2.0, an AccFactor or
-    JerkFactor negative or not finite → EParam 5 (the group keeps its override); no members →
-    1005. ``AccFactor`` and ``JerkFactor`` are checked, not applied separately: with time
-    scaling the acceleration follows VelFactor² and the jerk VelFactor³.
+    follows this block's factors. ``AccFactor`` and ``JerkFactor`` limit the path's acceleration
+    and jerk to those factors of the planned ones: the path runs at min(VelFactor, √AccFactor,
+    ∛JerkFactor) (with time scaling the acceleration follows the factor squared, the jerk
+    cubed; a lower AccFactor or JerkFactor therefore lowers the velocity too), and a change is
+    ramped with the members' default deceleration × AccFactor and jerk × JerkFactor. VelFactor
+    negative, not finite or above 2.0, AccFactor not in ]0, 4.0], JerkFactor not in ]0, 8.0]
+    → EParam 5 (the group keeps its factors); no members → 1005.
     """
 
     REFS: ClassVar[tuple[str, ...]] = ("AxesGroup",)
@@ -201,21 +204,25 @@ class MC_GroupSetOverride(FunctionBlock):
         vel, acc, jerk = number(self.VelFactor), number(self.AccFactor), number(self.JerkFactor)
         if not (non_negative(vel) and vel <= MAX_FACTOR):
             return ErrorID.EParam
-        if not (non_negative(acc) and non_negative(jerk)):
+        if not (0.0 < acc <= MAX_FACTOR**2 and 0.0 < jerk <= MAX_FACTOR**3):
             return ErrorID.EParam
-        if vel != group.clock.override:
-            set_override(group, vel)
+        clock = group.clock
+        if (vel, acc, jerk) != (clock.override, clock.acc_factor, clock.jerk_factor):
+            set_override(group, vel, acc, jerk)
         return 0
 
 
-def set_override(group: AxesGroup, factor: float) -> None:
-    """The path of ``group`` runs at ``factor`` times its planned velocity, ramped with the
-    members' default deceleration and jerk (a feed hold keeps its own ramp)."""
+def set_override(group: AxesGroup, factor: float, acc: float, jerk: float) -> None:
+    """The path of ``group`` runs at ``factor`` times its planned velocity, its acceleration
+    within ``acc`` and its jerk within ``jerk`` times the planned ones (:attr:`PathClock.scale`);
+    ramped with the members' default deceleration × ``acc`` and jerk × ``jerk`` (a feed hold
+    keeps its own ramp)."""
     clock = group.clock
     if not clock.held:
         limits = group.nominal_limits(1.0, 0.0, 0.0, 0.0)
-        clock.deceleration, clock.jerk = limits.deceleration, limits.jerk
-    clock.override = factor  # a motion that starts from rest takes it at once (restart)
+        clock.deceleration, clock.jerk = limits.deceleration * acc, limits.jerk * jerk
+    # a motion that starts from rest takes them at once (restart)
+    clock.override, clock.acc_factor, clock.jerk_factor = factor, acc, jerk
 
 
 class MC_GroupSetPosition(ExecuteFB):

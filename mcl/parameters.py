@@ -4,7 +4,7 @@ MC_WriteBoolParameter (PLCopen Part 1 v2.0; announced in the MotionControlLib, T
 A parameter is chosen by its number: the PLCopen numbers 1–16 and, in the vendor range, the
 axis error as 1000 (the MotionControlLib notes at MC_ReadAxisError that MC_ReadParameter
 reads the same AxisErrorID) and the servo constants of GT_SetConstant as 1000 + their place in
-its inputs (1001 Kp … 1016 Tfp); the table below lists them.
+its inputs (1001 Kp … 1017 Vf); the table below lists them.
 
 A write takes effect as PLCopen describes: the software limits and the following-error
 supervision from the next servo cycle; MaxVelocityAppl, MaxAccelerationAppl,
@@ -15,14 +15,14 @@ ramp. An application maximum above the system's is clamped to it (read it back t
 value in force); MaxJerk 0 means the machine data's `max_jerk` (no limit where that is 0 too).
 Writing a software limit behaves as GT_SWLim (switching a limit on or moving it where the axis
 or a commanded target lies beyond it is refused with `Ecil` 8, switching one off never is; both
-on with SWLimitPos <= SWLimitNeg is `EParam`). Writing a constant 1001–1016 is GT_SetConstant
+on with SWLimitPos <= SWLimitNeg is `EParam`). Writing a constant 1001–1017 is GT_SetConstant
 with that one value changed (1007 and 1008 set both software limits and switch them on when
 LimPos > LimNeg, as GT_SetConstant does); GT_SetConstant itself sets the software limits anew
 from its LimPos/LimNeg.
 
 Errors: an unknown number, or a BOOL parameter given to a REAL block and the other way round:
 `ENoParameter` 19; a write to a read-only parameter: `EReadOnly` 20; a value out of range, NaN
-or infinite: `EParam` 5; 8, 9 and 1001–1016 before GT_SetConstant: `Econst` 12.
+or infinite: `EParam` 5; 8, 9 and 1001–1017 before GT_SetConstant: `Econst` 12.
 """
 
 from __future__ import annotations

@@ -7,7 +7,15 @@ the planned path point p(s(τ)) exactly, whatever ``f`` does: the contour never 
 still ends at its end point, and ``f`` = 0 holds the group on its path. The wall-clock
 kinematics are v = f·v_τ and a = f²·a_τ + ḟ·v_τ.
 
-``f`` follows its target (the override, or 0 while held) along a jerk-limited ramp: its rate ḟ
+MC_GroupSetOverride's AccFactor and JerkFactor limit the path's acceleration and jerk to those
+factors of the planned ones: as ``f`` scales them by f² and f³, the override's factor is
+``min(VelFactor, √AccFactor, ∛JerkFactor)`` (:attr:`PathClock.scale`): a lower AccFactor or
+JerkFactor also lowers the path velocity (time scaling keeps the planned profile's shape), and
+a VelFactor above 1 takes full effect only with AccFactor ≥ VelFactor² and JerkFactor ≥
+VelFactor³.
+
+``f`` follows its target (the override's factor, or 0 while held) along a jerk-limited ramp: its
+rate ḟ
 is at most D / v_τ and changes by at most J / v_τ per second, with v_τ the path velocity in path
 time and D, J the deceleration and jerk of the ramp (the feed hold's inputs, or the members'
 defaults for an override change); so the ramp adds at most D to the path acceleration and J to
@@ -23,7 +31,8 @@ from collections.abc import Sequence
 from mcl.geometry import Vector
 
 MAX_FACTOR = 2.0
-"""The largest VelFactor MC_GroupSetOverride accepts (200 %)."""
+"""The largest VelFactor MC_GroupSetOverride accepts (200 %); AccFactor up to its square and
+JerkFactor up to its cube (the acceleration and the jerk of a path at that factor)."""
 
 _SLOW = 1.0e-9
 """The path velocity below which the factor may change at once [mm/s]."""
@@ -35,7 +44,8 @@ class PathClock:
     Attributes:
         tau: the path time at the group's last servo instant [s].
         factor: the applied factor f; ``rate`` its derivative ḟ [1/s].
-        override: MC_GroupSetOverride's VelFactor (the target while not held).
+        override: MC_GroupSetOverride's VelFactor.
+        acc_factor, jerk_factor: its AccFactor and JerkFactor (> 0).
         held: a feed hold (MC_GroupInterrupt) is in force: the target is 0.
         unscaled: a stop that ignores the override runs (MC_GroupStop, a disable, a member
             fault): the target is 1 until the group stands.
@@ -47,17 +57,25 @@ class PathClock:
         self.factor = 1.0
         self.rate = 0.0
         self.override = 1.0
+        self.acc_factor = 1.0
+        self.jerk_factor = 1.0
         self.held = False
         self.unscaled = False
         self.deceleration = 1.0
         self.jerk = 1.0
 
     @property
+    def scale(self) -> float:
+        """The override's factor: VelFactor, at most √AccFactor and ∛JerkFactor (the path's
+        acceleration and jerk follow f² and f³)."""
+        return min(self.override, math.sqrt(self.acc_factor), math.pow(self.jerk_factor, 1 / 3))
+
+    @property
     def target(self) -> float:
         """The factor the ramp heads for."""
         if self.unscaled:
             return 1.0
-        return 0.0 if self.held else self.override
+        return 0.0 if self.held else self.scale
 
     @property
     def at_rest(self) -> bool:
@@ -69,7 +87,7 @@ class PathClock:
         starts from rest takes the override at once."""
         self.tau = t
         self.held = self.unscaled = False
-        self.factor, self.rate = self.override, 0.0
+        self.factor, self.rate = self.scale, 0.0
 
     def unscale(self) -> None:
         """Run what follows at factor 1 (a stop that ignores the override; the caller re-plans

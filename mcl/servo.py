@@ -1,8 +1,9 @@
 """Servo core of one GT-x75x axis: position regulator and DAC.
 
-``u = Kp·e + Ki·∫e + Kd·ė + (10 V/Vmax)·(Ff·v + Ka·a) + clip((10 V/Vmax)·v, ±Kf)`` (for
-``v < 0`` the feed-forward scaled by FfNeg/Ff; plus the deadband compensation and the friction
-pulse at a reversal of the model velocity, ``Kfp`` decaying with ``Tfp``), with
+``u = Kp·e + Ki·∫e + Kd·ė + (10 V/Vmax)·(Ff·v + Ka·a) + Kf·clip(v/Vf, ±1)`` (for ``v < 0``
+the feed-forward scaled by FfNeg/Ff; Vf = 0: the band ``Kf·Vmax/10``; plus the deadband
+compensation and the friction pulse at a reversal of the model velocity, ``Kfp`` decaying with
+``Tfp``), with
 back-calculation anti-windup (``Kc``) when the 12-bit DAC output saturates at ±10 V, and ``Ki1``
 integral action that only works while the model stands still and the axis is outside its
 in-position window.
@@ -76,14 +77,20 @@ class ServoConstants:
             (beyond the Teco library; it keeps the following error small while accelerating).
         Kf: friction feed-forward [V]: the voltage that makes up for the drive's Coulomb
             friction while the axis moves, so the integrator need not build it up at each
-            start; it adds ``clip((10 V/Vmax)·v, ±Kf)`` (v = model velocity), i.e. it fades in
-            over the first ``Kf·Vmax/10`` of speed (beyond the Teco library).
+            start; it adds ``Kf·clip(v/Vf, ±1)`` (v = model velocity): it fades in over the
+            first ``Vf`` of speed (beyond the Teco library).
         Kfp: friction pulse [V]: when the model velocity changes its sign, ``±Kfp`` (the new
             direction) is added and decays with the time constant Tfp, so that the drive
             breaks loose from the Coulomb friction at once instead of standing until the
             following error has built up the force (the reversal spikes of a circle test);
             Kf alone passes through 0 V there. 0 = off (beyond the Teco library).
         Tfp: decay time constant of the friction pulse [s].
+        Vf: friction band [u/s]: the friction feed-forward is full from ``|v| = Vf`` on; 0 = the
+            band ``Kf·Vmax/10`` (the speed whose velocity feed-forward is Kf, where Kf passes
+            through 0 V slowly and the axis stands in its friction at a reversal: the quadrant
+            spikes of a circle test). A narrow band switches the voltage where the model
+            velocity reverses, as the Coulomb friction switches where the axis does (beyond the
+            Teco library).
         FfNeg: velocity feed-forward for negative model velocities [-]; 0 = the same as Ff.
             For a drive whose speed per volt differs by direction (a differential cylinder:
             extend and retract differ by the area ratio); the acceleration feed-forward is
@@ -110,6 +117,7 @@ class ServoConstants:
     Deadband: float = 0.0
     Kfp: float = 0.0
     Tfp: float = 0.0
+    Vf: float = 0.0
 
     @property
     def sw_limits_active(self) -> bool:
@@ -120,7 +128,17 @@ class ServoConstants:
 class Regulator:
     """Discrete PID position regulator with feed-forward, anti-windup and DAC output."""
 
-    __slots__ = ("_direction", "_e_prev", "_ff", "_integral", "_neg", "_pulse", "c", "period")
+    __slots__ = (
+        "_band",
+        "_direction",
+        "_e_prev",
+        "_ff",
+        "_integral",
+        "_neg",
+        "_pulse",
+        "c",
+        "period",
+    )
 
     def __init__(self, constants: ServoConstants, period: float) -> None:
         """Args: constants: the axis' servo constants; period: servo period [s]."""
@@ -130,6 +148,8 @@ class Regulator:
         ff, neg = constants.Ff, constants.FfNeg
         self._neg = neg / ff if neg > 0.0 and ff > 0.0 else 1.0
         """Feed-forward factor for negative model velocities (FfNeg/Ff)."""
+        self._band = constants.Kf / constants.Vf if constants.Vf > 0.0 else self._ff
+        """The friction feed-forward's slope inside its band [V·s/u]."""
         self._integral = 0.0
         self._e_prev = 0.0
         self._pulse = 0.0
@@ -184,7 +204,7 @@ class Regulator:
             + self._integral
             + c.Kd * (e - self._e_prev) / period
             + (feed * self._neg if v_model < 0.0 else feed)
-            + max(-c.Kf, min(c.Kf, ff * v_model))
+            + max(-c.Kf, min(c.Kf, self._band * v_model))
             + self._friction_pulse(v_model)
         )
         db = c.Deadband

@@ -111,8 +111,8 @@ GROUP_METHODS = (
         "set_override",
         (
             Argument("VelFactor", "f32", "vel_factor", "path velocity factor (1.0: 100 %)"),
-            Argument("AccFactor", "f32", "acc_factor", "acceleration factor"),
-            Argument("JerkFactor", "f32", "jerk_factor", "jerk factor"),
+            Argument("AccFactor", "f32", "acc_factor", "acceleration factor (0 < … ≤ 4.0)"),
+            Argument("JerkFactor", "f32", "jerk_factor", "jerk factor (0 < … ≤ 8.0)"),
         ),
         "MC_GroupSetOverride, enabled until the group's next command; the group keeps it",
     ),

@@ -187,8 +187,8 @@ def group_specs(members: int) -> list[FieldSpec]:
         ("deceleration", 20, "u/s²", "Deceleration along the path (0: default; also of stop)"),
         ("jerk", 22, "u/s³", "Jerk along the path (0: default)"),
         ("vel_factor", 44, "", "VelFactor of set_override (1.0: 100 %, 0 … 2.0)"),
-        ("acc_factor", 46, "", "AccFactor of set_override"),
-        ("jerk_factor", 48, "", "JerkFactor of set_override"),
+        ("acc_factor", 46, "", "AccFactor of set_override (0 < … ≤ 4.0)"),
+        ("jerk_factor", 48, "", "JerkFactor of set_override (0 < … ≤ 8.0)"),
     )
     specs = [FieldSpec(n, o, "u16", a, u, t) for n, o, a, u, t in words]
     specs += [FieldSpec(n, o, "f32", "rw", u, t) for n, o, u, t in reals]

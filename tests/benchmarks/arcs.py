@@ -17,9 +17,9 @@ Prints JSON:
   encoders): with the feed-forward on (as commissioned) G, the largest radial deviation and
   the largest reversal spike [µm]; with the velocity and acceleration feed-forward off (Ff =
   Ka = 0) the mean radius change against the first-order estimate ``−v²/(2·R·Kv²)`` (Kv =
-  Kp·Vmax/10) and against the loop's linear model (:func:`loop_radius_change`); and, R 50, the
-  spikes with the friction feed-forward Kf off, and G and the spikes with the friction pulse
-  (Kfp = 2·Kf, Tfp = 0.2 s) on.
+  Kp·Vmax/10) and against the loop's linear model (:func:`loop_radius_change`); G and the
+  spikes with the friction feed-forward's band off (Vf = 0: Kf's own ramp over 1.3 mm/s, as
+  before the band); and, R 50, the spikes with the friction feed-forward Kf off.
 
 Run: ``python -m tests.benchmarks.arcs`` (``--circle`` for the circle test alone).
 """
@@ -137,21 +137,13 @@ def gantry_contour() -> dict[str, float]:
     }
 
 
-PULSE = 2.0
-"""The friction pulse of the benchmark: Kfp = PULSE·Kf (tried on R 50 F1000: 1·Kf with 20, 50,
-200 and 500 ms left 8, 7, 5 and 4.5 µm spikes; 2·Kf with 50 ms 5 µm, with 200 ms 1.7 µm). A
-pulse of fixed height and time suits one feed: at F3000 and F5000 the same pulse outlasts the
-reversal and pushes the axis out (spikes 7 and 11 µm instead of 5 and 3 µm)."""
-PULSE_TIME = 0.2
-"""Its decay time constant Tfp [s]."""
 CIRCLE_START = {"X": 0.5, "Y": 0.3, "Z": -0.1}
 """Joint coordinates of the circle test's centre [m]: the middle of X's and Y's travel."""
 
 
-def _circle(radius: float, feed: float, pulse: float = 0.0, **changes: float) -> Any:
+def _circle(radius: float, feed: float, **changes: float) -> Any:
     """The circle test on a fresh gantry, both directions, X's and Y's servo constants changed
-    by ``changes`` (e.g. ``Ff=0.0``), and a friction pulse ``Kfp = pulse·Kf`` of each axis
-    decaying with PULSE_TIME (``pulse`` > 0)."""
+    by ``changes`` (e.g. ``Ff=0.0``)."""
     scene = gantry.build(start=CIRCLE_START, trace_every=0)
     for name in ("X", "Y"):
         axis = scene.axes[name]
@@ -159,8 +151,6 @@ def _circle(radius: float, feed: float, pulse: float = 0.0, **changes: float) ->
         constants = copy.copy(axis.constants)
         for key, value in changes.items():
             setattr(constants, key, value)
-        if pulse > 0.0:
-            constants.Kfp, constants.Tfp = pulse * constants.Kf, PULSE_TIME
         axis.set_constants(constants)
     return circle_test(scene, "XY", radius, feed, "both"), scene
 
@@ -180,11 +170,12 @@ def loop_radius_change(constants: mcl.ServoConstants, radius: float, speed: floa
 
 
 def gantry_circle_test() -> dict[str, Any]:
-    """The circle test with and without feed-forward, and the spikes without Kf."""
+    """The circle test with and without feed-forward, without the friction band, and the
+    spikes without Kf."""
     on: dict[str, Any] = {}
     off: dict[str, Any] = {}
     friction: dict[str, Any] = {}
-    pulsed: dict[str, Any] = {}
+    no_band: dict[str, Any] = {}
     for radius in (50.0, 150.0):
         for feed in (1000.0, 3000.0, 5000.0):
             key = f"R{radius:g}_F{feed:g}"
@@ -215,22 +206,22 @@ def gantry_circle_test() -> dict[str, Any]:
                 "loop_model_um": round(float(model) * 1e3, 3),
                 "G_um": round(max(f.G for f in result.figures["joints"].values()) * 1e3, 2),
             }
+            result, _ = _circle(radius, feed, Vf=0.0)
+            no_band[key] = {
+                d: {"G_um": round(f.G * 1e3, 2), "spike_um": round(f.spike * 1e3, 2)}
+                for d, f in result.figures["joints"].items()
+            }
             if radius == 50.0:
                 result, _ = _circle(radius, feed, Kf=0.0)
                 friction[key] = {
                     d: round(f.spike * 1e3, 2) for d, f in result.figures["joints"].items()
                 }
-                result, _ = _circle(radius, feed, pulse=PULSE)
-                pulsed[key] = {
-                    d: {"G_um": round(f.G * 1e3, 2), "spike_um": round(f.spike * 1e3, 2)}
-                    for d, f in result.figures["joints"].items()
-                }
-            print(key, on[key], off[key], friction.get(key), pulsed.get(key), file=sys.stderr)
+            print(key, on[key], off[key], no_band[key], friction.get(key), file=sys.stderr)
     return {
         "feed_forward_on": on,
         "feed_forward_off": off,
+        "friction_band_off": no_band,
         "spike_without_Kf_um": friction,
-        f"friction_pulse_{PULSE:g}Kf_{PULSE_TIME * 1e3:g}ms": pulsed,
     }
 
 

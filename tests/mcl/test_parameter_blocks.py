@@ -98,14 +98,14 @@ def test_every_real_parameter_reads_what_the_axis_holds(machine, X):
 
 CONSTANTS_ORDER = (
     "Kp", "Ki", "Kd", "Ff", "Kc", "Vmax", "LimPos", "LimNeg", "Ki1", "Filter", "Ka", "Kf",
-    "FfNeg", "Deadband", "Kfp", "Tfp",
+    "FfNeg", "Deadband", "Kfp", "Tfp", "Vf",
 )  # fmt: skip
 
 
 def test_the_vendor_numbers_follow_the_inputs_of_gt_setconstant():
     assert CONSTANTS_ORDER == mcl.GT_SetConstant.INPUTS
     names = {n: name for n, name, _, _, _ in PARAMETERS}
-    assert [names[1000 + i] for i in range(1, 17)] == list(CONSTANTS_ORDER)
+    assert [names[1000 + i] for i in range(1, 18)] == list(CONSTANTS_ORDER)
 
 
 def test_bool_parameters_and_wrong_numbers(machine, X):
@@ -114,7 +114,7 @@ def test_bool_parameters_and_wrong_numbers(machine, X):
         rb(ParameterNumber=number)
         assert rb.Valid and rb.Value is value
     r = mcl.MC_ReadParameter(Axis=X, Enable=True)
-    for number in (0, 4, 5, 6, 17, 999, 1017, -1):
+    for number in (0, 4, 5, 6, 17, 999, 1018, -1):
         r(ParameterNumber=number)
         valid_or_error(r)
         assert r.Error and r.ErrorID == ErrorID.ENoParameter and not r.Valid and r.Value == 0.0
@@ -161,7 +161,7 @@ def test_read_only_unknown_and_invalid_writes_are_refused_and_change_nothing(mac
     before = (X.parameters, X.constants)
     for number in sorted(READ_ONLY):
         assert write(X, number, 1.0).ErrorID == ErrorID.EReadOnly, number
-    for number in (0, 17, 4, 1017):
+    for number in (0, 17, 4, 1018):
         assert write(X, number, 1.0).ErrorID == ErrorID.ENoParameter, number
     for number in (1, 7, 2):
         assert write(X, number, True).ErrorID == ErrorID.ENoParameter, number

@@ -252,9 +252,26 @@ def test_the_friction_pulse_is_part_of_the_regulator_state():
     assert [reg.output(0.0, -0.1, 0.0, False) for _ in range(5)] == again
 
 
+def test_the_friction_feed_forward_switches_within_its_band():
+    """Kf = 0.1 V with the band Vf = 0.01 u/s: while the model velocity sweeps from +0.5 to
+    −0.5 u/s (0.0025 u/s per cycle) the output holds +Kf down to +Vf, −Kf from −Vf on, and
+    passes from one to the other in the 8 cycles between; without a band (Vf = 0) Kf's ramp
+    over Kf·Vmax/10 = 5 u/s gives only ±0.01 V there."""
+    out = _reversal(regulator(Ff=0.0, Kf=0.1, Vf=0.01))
+    speeds = [0.5 - k / 399 for k in range(400)]
+    outside = [(v, u) for v, u in zip(speeds, out, strict=True) if abs(v) >= 0.01]
+    assert all(u == pytest.approx(dac(0.1 if v > 0 else -0.1)) for v, u in outside)
+    inside = [u for v, u in zip(speeds, out, strict=True) if abs(v) < 0.01]
+    assert len(inside) == 8
+    assert all(-0.1 - STEP < u < 0.1 + STEP for u in inside)
+    assert inside == sorted(inside, reverse=True)  # one way, no chatter
+    wide = _reversal(regulator(Ff=0.0, Kf=0.1))
+    assert max(abs(u) for u in wide) < 0.011
+
+
 def test_gt_setconstant_refuses_a_negative_friction_pulse(machine, X):
-    """Kfp and Tfp are checked like the other gains (>= 0)."""
-    for name in ("Kfp", "Tfp"):
+    """Kfp, Tfp and the friction band Vf are checked like the other gains (>= 0)."""
+    for name in ("Kfp", "Tfp", "Vf"):
         block = mcl.GT_SetConstant(Axis=X, Kp=1.0, Vmax=500.0, **{name: -0.1})
         block(Execute=True)
         assert block.Error and block.ErrorID == mcl.ErrorID.EParam

@@ -4,7 +4,7 @@ Commissioning data: encoder 1 µm per count, Vmax = the axis velocity at 10 V (3
 motor), servo constants found by ``python -m scenes.tools.commissioning gantry X`` (Y, Z): velocity
 steps on each amplifier give its gain, lag and friction; Ff corrects the gain, Ka = the lag plus
 the module's delays, Kv = 1/(2·lag) ≈ 195 1/s, Kf the friction's voltage, Ki a corner at Kv/8
-(what is left, and the weight on Z).
+(what is left, and the weight on Z); Vf (FRICTION_BAND) the friction feed-forward's band.
 Software limits 2 mm outside the working travel, inside the LIM switches (5 mm outside it); from
 Vmax the error-stop ramp (max_deceleration) ends before the hard stops.
 """
@@ -49,11 +49,22 @@ def _spec(
             Filter=2.0,
             Ka=ka,
             Kf=kf,
+            Vf=FRICTION_BAND,
             Ki1=0.0,
         ),
         homing=homing,
     )
 
+
+FRICTION_BAND = 0.02
+"""The band Vf of each axis' friction feed-forward [mm/s]. At a reversal the model velocity
+crosses zero with the acceleration a; inside the band the feed-forward makes up for only part
+of the Coulomb friction, and the amplifier's velocity loop lets the carriage stand while the
+model velocity is below about Vf (Vf is small against the ~1.3 mm/s the friction takes away),
+so the axis falls behind by about Vf²/(2·a). Vf = 0.02 mm/s keeps that below 0.1 µm (a tenth
+of an encoder count) down to a = 2 mm/s², the reversal of F1000 on a circle of R 140 mm; without
+a band (Vf = 0: Kf's own band of 1.3 mm/s) it is the whole following error that builds up the
+friction force, ~7 µm on Y."""
 
 SW_MARGIN = 2.0
 """Software limits outside the working travel [mm]; the LIM switches trip 5 mm outside it."""

@@ -201,3 +201,29 @@ def test_the_bridge_holds_overrides_and_halts_the_group(
     write(table, "group.control", group_bit("enable", "set_override"))
     scene.run(program, timeout=0.01)
     assert group_status(table, "error") and table.get("group.error_id") == mcl.ErrorID.EParam
+
+
+def test_the_bridge_sets_the_acceleration_factor(
+    rig: tuple[Scene, SignalTable, BridgeProgram],
+) -> None:
+    """acc_factor 0.25 (register 46) with vel_factor 1.0: the path's acceleration stays within
+    a quarter, so a 50 mm/s line runs at √0.25 of it, 25 mm/s, and ends at its end; acc_factor
+    0 and jerk_factor 0 are refused with EParam."""
+    scene, table, program = rig
+    start = joints(scene)
+    for name, value in (("vel_factor", 1.0), ("acc_factor", 0.25), ("jerk_factor", 1.0)):
+        write(table, f"group.{name}", value)
+    command(scene, table, program, "set_override", 0.01)
+    write(table, "group.relative", 1)
+    write(table, "group.end_1", -40.0)
+    command(scene, table, program, "move_linear", 0.6)
+    assert speed(scene, program) == pytest.approx(25.0, abs=0.5)
+    scene.run(program, timeout=1.6)
+    assert joints(scene) - start == pytest.approx([-40.0, 0.0, 0.0], abs=0.005)
+    for name in ("acc_factor", "jerk_factor"):
+        write(table, f"group.{name}", 0.0)
+        write(table, "group.control", group_bit("enable", "set_override"))
+        scene.run(program, timeout=0.01)
+        assert group_status(table, "error") and table.get("group.error_id") == mcl.ErrorID.EParam
+        write(table, "group.control", group_bit("enable"))
+        write(table, f"group.{name}", 1.0)

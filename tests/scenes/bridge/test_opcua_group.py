@@ -2,8 +2,9 @@
 process: the gantry's axes powered, the group enabled by MC_GroupEnable, a line and a full
 circle by MC_MoveLinearRelative and MC_MoveCircularRelative, a path of a line and a half circle
 by AppendLine, AppendArc and MC_MovePath, measured at the actual positions (the encoders on the
-physics' joints); points of a wrong length or with a NaN refused with Bad status codes;
-MC_GroupStop, MC_GroupReset and MC_GroupDisable."""
+physics' joints); points of a wrong length or with a NaN refused with Bad status codes; a line
+at 50 % override (MC_GroupSetOverride), held and resumed (MC_GroupInterrupt, MC_GroupContinue),
+halted (MC_GroupHalt); MC_GroupStop, MC_GroupReset and MC_GroupDisable."""
 
 from __future__ import annotations
 
@@ -25,6 +26,7 @@ pytestmark = pytest.mark.once  # see the marker in pyproject.toml
 
 D = ua.VariantType.Double
 U16 = ua.VariantType.UInt16
+U32 = ua.VariantType.UInt32
 codes = ua.StatusCodes
 
 
@@ -80,9 +82,16 @@ class Gantry:
         assert result.StatusCode.is_good(), (method, result.StatusCode)
 
     async def advance(self, cycles: int) -> None:
-        await self.node("sim").call_method(
-            f"{self.ns}:Advance", ua.Variant(cycles, ua.VariantType.UInt32)
-        )
+        """Run ``cycles`` PLC cycles. Advance answers once the scene is there, or after 2 s with
+        the cycle it has reached (a loaded computer): then Advance(0) waits for the rest."""
+        sim = self.node("sim")
+        reached = await sim.call_method(f"{self.ns}:Advance", ua.Variant(cycles, U32))
+        target = await self.value("sim.target")
+        for _ in range(100):
+            if reached >= target:
+                return
+            reached = await sim.call_method(f"{self.ns}:Advance", ua.Variant(0, U32))
+        raise AssertionError(f"the scene stands at cycle {reached}, short of {target}")
 
     async def actual(self) -> np.ndarray:
         """The members' actual positions X, Y, Z [mm]."""
@@ -189,6 +198,67 @@ async def path(g: Gantry) -> None:
     assert (await g.actual() - start)[:2] == pytest.approx([40.0, 20.0], abs=0.005)
 
 
+async def speed(g: Gantry) -> float:
+    """The path speed over the next 50 cycles (0.1 s) [mm/s]."""
+    before = await g.actual()
+    await g.advance(50)
+    return float(np.linalg.norm(await g.actual() - before)) / 0.1
+
+
+async def hold_override_halt(g: Gantry) -> None:
+    """At 50 % override a line runs at half its velocity; interrupted it stands, continued it
+    ends at its end; back at 100 % a halt stops the next line on the way, in GroupStandby."""
+    start = await g.actual()
+    await g.group("MC_GroupSetOverride", *[ua.Variant(v, D) for v in (0.5, 1.0, 1.0)])
+    await g.advance(2)
+    assert await g.status("done")
+    await g.group("MC_MoveLinearRelative", point(-40.0, 0.0, 0.0), *motion())
+    await g.advance(300)
+    assert await speed(g) == pytest.approx(25.0, abs=0.5)
+    await g.group("MC_GroupInterrupt", ua.Variant(2000.0, D), ua.Variant(0.0, D))
+    await g.advance(100)
+    held = await g.actual()
+    await g.advance(100)
+    # the path stands: X, the line's axis, to the count; a standing axis whose carriage rests
+    # on an encoder edge may show the neighbouring count
+    assert (np.round(np.abs(await g.actual() - held) * 1000.0) <= [0, 1, 1]).all()
+    assert 1.0 < start[0] - held[0] < 39.0
+    await g.group("MC_GroupContinue")
+    await g.advance(100)
+    assert await speed(g) == pytest.approx(25.0, abs=0.5)
+    await g.advance(1500)
+    assert await g.actual() - start == pytest.approx([-40.0, 0.0, 0.0], abs=0.005)
+    await g.group("MC_GroupSetOverride", *[ua.Variant(1.0, D)] * 3)
+    await g.advance(2)
+    await g.group("MC_MoveLinearRelative", point(40.0, 0.0, 0.0), *motion())
+    await g.advance(300)
+    assert await speed(g) == pytest.approx(50.0, abs=0.5)
+    await g.group("MC_GroupHalt", ua.Variant(2000.0, D), ua.Variant(0.0, D))
+    await g.advance(100)
+    assert await g.status("done")
+    assert await g.value("group.state") == mcl.GroupState.GroupStandby
+    halted = await g.actual()
+    assert 1.0 < halted[0] - start[0] + 40.0 < 39.0
+
+
+async def acceleration_factor(g: Gantry) -> None:
+    """AccFactor 0 is refused (EParam); AccFactor 0.25 keeps the path's acceleration within a
+    quarter, so the line runs at √0.25 of its velocity."""
+    await g.group("MC_GroupSetOverride", *[ua.Variant(v, D) for v in (1.0, 0.0, 1.0)])
+    await g.advance(2)
+    assert await g.status("error")
+    assert await g.value("group.error_id") == mcl.ErrorID.EParam
+    await g.group("MC_GroupSetOverride", *[ua.Variant(v, D) for v in (1.0, 0.25, 1.0)])
+    await g.advance(2)
+    assert await g.status("done")
+    await g.group("MC_MoveLinearRelative", point(0.0, 20.0, 0.0), *motion())
+    await g.advance(300)
+    assert await speed(g) == pytest.approx(25.0, abs=0.5)
+    await g.run_until_done(5.0)
+    await g.group("MC_GroupSetOverride", *[ua.Variant(1.0, D)] * 3)
+    await g.advance(2)
+
+
 async def stop_reset_disable(g: Gantry) -> None:
     """A line stopped on the way (GroupStopping while the stop holds), reset, disabled."""
     start = await g.actual()
@@ -211,7 +281,14 @@ async def stop_reset_disable(g: Gantry) -> None:
 async def session(port: int) -> None:
     async with Client(f"opc.tcp://127.0.0.1:{port}/", timeout=10) as client:
         g = Gantry(client, await client.get_namespace_index(NAMESPACE))
-        for phase in (enable, refusals, line_and_circle, path):
+        for phase in (
+            enable,
+            refusals,
+            line_and_circle,
+            path,
+            hold_override_halt,
+            acceleration_factor,
+        ):
             await phase(g)
         await stop_reset_disable(g)
 
