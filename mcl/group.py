@@ -24,9 +24,9 @@ otherwise the current motion first ramps to standstill on its path with the new 
 Deceleration, then the command starts from the stop point (the new block is Active during the
 ramp; an arc is then drawn from there). MC_GroupStop, MC_GroupDisable and member faults ramp the
 path velocity to zero on the path (corner blends included: :func:`mcl.path.stop_element`); a
-member fault uses the other members' fastest ramp (max_deceleration). The profiles run on the
-group's path clock (:mod:`mcl.path_clock`: override and feed hold scale their time); these stops
-ignore the override.
+member fault uses the other members' fastest ramp (max_deceleration); a path point the
+kinematics refuses stops each member on its own fastest ramp in joint space. The profiles run on
+the path clock (:mod:`mcl.path_clock`: override, feed hold); these stops ignore the override.
 
 Member faults are acted on by :meth:`AxesGroup.update`, which runs with every path evaluation
 (each servo cycle while the group moves) and in the group blocks; reading
@@ -329,7 +329,7 @@ class AxesGroup:
         self.update()
         if self.state != GroupState.GroupErrorStop:
             return True
-        done = self._active is None
+        done = self._active is None and not self.moving  # a refusal's ramps ended too
         for axis in self.axes:
             if axis.state == AxisState.ErrorStop and not axis.reset():
                 done = False
@@ -726,14 +726,15 @@ class AxesGroup:
         return q[index], qd[index], qdd[index]
 
     def _refused(self) -> None:
-        """The kinematics refused the path point: members hold, commands end with its error."""
+        """The kinematics refused the path point: the commands end with its error, every member
+        ramps to standstill in its own coordinate on its fastest ramp (:meth:`Axis.max_ramp`)."""
         self.GroupErrorID = self.kin.fault
         self._abort_tickets(status=Status.Error, error_id=self.kin.fault)
         self._queue.clear()
-        self._active, self._end = None, [axis.sp_pos for axis in self.axes]
+        self._active = self._end = None
         for i, member in enumerate(self._members):
             if member is not None:
-                member.release()
+                member.stop(self.axes[i].max_ramp())
                 self._members[i] = None
 
     def _engage(self) -> None:

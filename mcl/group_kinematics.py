@@ -54,7 +54,7 @@ class GroupKinematics:
     Attributes:
         transform: the kinematic transformation (None: the members' coordinates are the MCS).
         fault: the ErrorID of a tool point the inverse kinematics refused during a motion (the
-            members then hold their last set points; 0 = none).
+            members then ramp to standstill in joint space; 0 = none).
     """
 
     def __init__(self) -> None:

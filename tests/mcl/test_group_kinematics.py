@@ -6,6 +6,7 @@ angles in deg)."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 
@@ -397,10 +398,11 @@ def test_set_position_of_a_transformed_group_takes_only_acs() -> None:
     assert acs.Done
 
 
-def test_a_path_point_refused_during_a_motion_stops_the_group_with_the_error() -> None:
+def test_a_path_point_refused_during_a_motion_ramps_the_arms_to_standstill() -> None:
     """The kinematics refuses a point while the group moves (here its range narrowed under
-    the running path): every arm holds its last set point, the move ends with EWorkspace and
-    the group is in GroupErrorStop until MC_GroupReset."""
+    the running path): the move ends with EWorkspace, every arm ramps from its last set point to
+    standstill on its own fastest ramp (no step of its velocity, within its stop distance) and
+    the group is in GroupErrorStop until MC_GroupReset, which waits for the ramps."""
     machine = make_machine(ARMS)
     delta = mcl.DeltaKinematics(200.0, 50.0, 350.0, 800.0)
     group = build_group(machine, ARMS)
@@ -416,12 +418,21 @@ def test_a_path_point_refused_during_a_motion_stops_the_group_with_the_error() -
     machine.run(program, until=lambda: move.Error, timeout=0.5)
     assert move.ErrorID == ErrorID.EWorkspace and group.GroupErrorID == ErrorID.EWorkspace
     assert group.state == mcl.GroupState.GroupErrorStop
-    held = joints.q[-1]
-    machine.run(program, timeout=0.1)
-    assert joints.q[-1] == held and max(held) <= delta.theta_max
-    assert all(v == 0.0 for v in joints.qd[-1])
+    k = next(k for k, q in enumerate(joints.q) if max(q) > delta.theta_max) - 1
+    last, speed, acc = joints.q[k], joints.qd[k], joints.qdd[k]
+    assert min(speed) > 10.0  # the arms ran when the point was refused
     reset = mcl.MC_GroupReset()
-    machine.run(
-        scan(lambda: reset(AxesGroup=group, Execute=True)), until=lambda: reset.Done, timeout=1
-    )
+    reset(AxesGroup=group, Execute=True)
+    assert not reset.Done and group.state == mcl.GroupState.GroupErrorStop  # still ramping
+    machine.run(scan(reset), until=lambda: reset.Done, timeout=1.0)
     assert group.state == mcl.GroupState.GroupStandby and group.GroupErrorID == 0
+    assert all(v == 0.0 for v in joints.qd[-1])
+    axes = [machine.axes[n] for n in ARMS]
+    period = axes[0].servo_period
+    for i, axis in enumerate(axes):
+        ramp = axis.max_ramp()
+        steps = [abs(b[i] - a[i]) for a, b in itertools.pairwise(joints.qd[k:])]
+        assert max(steps) <= ramp.deceleration * period * 1.001, (i, max(steps))
+        stop = mcl.trajectory.stop(last[i], speed[i], acc[i], ramp.deceleration, ramp.jerk)
+        assert joints.q[-1][i] == pytest.approx(stop.end_position, abs=1e-9)
+        assert joints.q[-1][i] > last[i]  # it went on a little: no hold at the last set point
