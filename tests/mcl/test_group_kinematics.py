@@ -6,6 +6,7 @@ angles in deg)."""
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from collections.abc import Sequence
@@ -436,3 +437,39 @@ def test_a_path_point_refused_during_a_motion_ramps_the_arms_to_standstill() -> 
         stop = mcl.trajectory.stop(last[i], speed[i], acc[i], ramp.deceleration, ramp.jerk)
         assert joints.q[-1][i] == pytest.approx(stop.end_position, abs=1e-9)
         assert joints.q[-1][i] > last[i]  # it went on a little: no hold at the last set point
+
+
+def test_a_blended_corner_keeps_every_arm_within_its_acceleration() -> None:
+    """The standard pick cycle (up 25, across 305, down 25 mm) blended with a 10 mm corner
+    tolerance, the tool point allowed 60 m/s² but the arms only 1000 deg/s²: the corners' curves
+    keep every arm within its max_acceleration and Vmax, not only the straight pieces."""
+    machine = make_machine(ARMS)
+    for name in ARMS:
+        axis = machine.axes[name]
+        axis.config = dataclasses.replace(
+            axis.config,
+            acceleration=1000.0,
+            deceleration=1000.0,
+            max_acceleration=1000.0,
+            max_deceleration=1000.0,
+        )
+    group = build_group(machine, ARMS)
+    group.corner_tolerance = 10.0
+    kin = mcl.MC_SetKinTransform()
+    kin(AxesGroup=group, Execute=True, KinTransform=DELTA)
+    joints = record(machine)
+    cycle = ([0.0, -150.0, -775.0], [305.0, -150.0, -775.0], [305.0, -150.0, -800.0])
+    moves = [mcl.MC_MoveLinearAbsolute() for _ in cycle]
+    fast = dict(Velocity=3000.0, Acceleration=60000.0, Deceleration=60000.0, Jerk=1e7)
+
+    def program() -> None:
+        for k, (move, target) in enumerate(zip(moves, cycle, strict=True)):
+            mode = MC_BufferMode.BlendingNext if k else MC_BufferMode.Aborting
+            move(AxesGroup=group, Execute=True, Position=target, BufferMode=mode, **fast)
+
+    machine.run(program, until=lambda: moves[-1].Done or any(m.Error for m in moves), timeout=5)
+    assert all(m.Done for m in moves)
+    assert DELTA.forward(joints.q[-1]) == pytest.approx(cycle[-1], abs=1e-6)
+    peak = max(abs(a) for row in joints.qdd for a in row)
+    assert peak <= 1000.0 * 1.001, peak
+    assert max(abs(v) for row in joints.qd for v in row) <= machine.axes["A"].constants.Vmax
