@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+import types
 from collections.abc import Sequence
 
 import pytest
@@ -473,3 +474,25 @@ def test_a_blended_corner_keeps_every_arm_within_its_acceleration() -> None:
     peak = max(abs(a) for row in joints.qdd for a in row)
     assert peak <= 1000.0 * 1.001, peak
     assert max(abs(v) for row in joints.qd for v in row) <= machine.axes["A"].constants.Vmax
+
+
+def test_set_kin_transform_takes_a_structure_of_a_deltas_parameters() -> None:
+    """MC_KIN_REF as a structure read by name: the delta's lengths, its arms' range (0° a value
+    like any other) and the tool point's limits (0 or missing: the default)."""
+    machine = make_machine(ARMS)
+    group = build_group(machine, ARMS)
+    fields = dict(BaseRadius=200.0, EffectorRadius=50.0, UpperArm=350.0, Forearm=800.0)
+    described = types.SimpleNamespace(**fields, ThetaMin=0.0, MaxVelocity=1500.0, Jerk=0.0)
+    kin = mcl.MC_SetKinTransform()
+    kin(AxesGroup=group, Execute=True, KinTransform=described)
+    assert kin.Done and not kin.Error
+    transform = group.kin.transform
+    assert isinstance(transform, mcl.DeltaKinematics)
+    assert transform.parameters()["forearm"] == 800.0
+    assert transform.theta_min == 0.0 and transform.theta_max == 100.0
+    assert transform.tcp.velocity == 1500.0 and transform.tcp.jerk == mcl.TcpLimits().jerk
+    for bad in (dict(fields, Forearm=math.nan), dict(fields, UpperArm="long"), {}):
+        kin(Execute=False)
+        kin(Execute=True, KinTransform=types.SimpleNamespace(**bad))
+        assert kin.Error and kin.ErrorID == ErrorID.EParam, bad
+    assert group.kin.transform is transform
