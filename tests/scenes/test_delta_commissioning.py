@@ -23,6 +23,7 @@ def test_the_commissioning_of_a_delta_arm_verifies_with_the_chain_closed(
     assert commissioning.robot_joints(machine, "A1") == ("A2", "A3")
     assert commissioning.robot_joints(scenes.definition("gantry"), "X") == ()
     spec = machine.axes["A1"]
+    assert spec.constants is not None
     tuning = commissioning.derive(spec, commissioning.identify(machine, "A1"))
     assert tuning.constants.Kp == pytest.approx(spec.constants.Kp, rel=0.01)  # the shipped ones
     out_fig, back_fig = commissioning.verify(machine, "A1", tuning.constants, 400.0, 20.0)

@@ -117,10 +117,15 @@ def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance
     over = program.moves["over the belt"][0]  # type: ignore[attr-defined]
     scene.run(lambda: over(Execute=True), until=lambda: over.Done, timeout=1.0)
     axes = [scene.axes[a] for a in ARMS]
-    set_points: list[tuple[list[float], list[float], list[float]]] = []
+    set_points: list[tuple[list[float], list[float], list[float], int]] = []
     scene.runtime.observers.append(
         lambda t: set_points.append(
-            ([a.sp_pos for a in axes], [a.sp_vel for a in axes], [a.sp_acc for a in axes])
+            (
+                [a.sp_pos for a in axes],
+                [a.sp_vel for a in axes],
+                [a.sp_acc for a in axes],
+                group.GroupErrorID,
+            )
         )
     )
     line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=[505.0, BELT_Y, -775.0], **MOVE)
@@ -136,8 +141,9 @@ def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance
     assert stop.Error and stop.ErrorID == ErrorID.EWorkspace and line.CommandAborted
     assert group.state == mcl.GroupState.GroupErrorStop and group.GroupErrorID == 24
     scene.run(scan, timeout=0.2)
-    k = next(k for k, (q, _, _) in enumerate(set_points) if max(q) > DELTA.theta_max) - 1
-    last, speed, acc = set_points[k]
+    k = next(k for k, row in enumerate(set_points) if row[3]) - 1  # the last point of the path
+    last, speed, acc, _ = set_points[k]
+    assert max(last) <= DELTA.theta_max  # the last point the kinematics gave
     assert max(speed) > 50.0  # deg/s: arm A2 ran fast when its point was refused
     for i, axis in enumerate(axes):
         ramp = axis.max_ramp()
@@ -146,6 +152,7 @@ def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance
         end = mcl.trajectory.stop(last[i], speed[i], acc[i], ramp.deceleration, ramp.jerk)
         angle = math.degrees(scene.joint_position(axis.name))
         assert angle == pytest.approx(end.end_position, abs=0.02), axis.name
+        assert axis.constants is not None
         assert axis.state == mcl.AxisState.StandStill and angle < axis.constants.LimPos
     reset = mcl.MC_GroupReset(AxesGroup=group)
     scene.run(lambda: reset(Execute=True), until=lambda: reset.Done, timeout=0.1)
