@@ -495,7 +495,19 @@ def test_set_kin_transform_takes_a_structure_of_a_deltas_parameters() -> None:
     assert transform.parameters()["forearm"] == 800.0
     assert transform.theta_min == 0.0 and transform.theta_max == 100.0
     assert transform.tcp.velocity == 1500.0 and transform.tcp.jerk == mcl.TcpLimits().jerk
-    for bad in (dict(fields, Forearm=math.nan), dict(fields, UpperArm="long"), {}):
+    kin(Execute=False)  # the range's upper end alone, the lower one missing: its default
+    kin(Execute=True, KinTransform=types.SimpleNamespace(**fields, ThetaMax=80.0))
+    assert kin.Done
+    transform = group.kin.transform
+    assert isinstance(transform, mcl.DeltaKinematics)
+    assert transform.theta_min == -60.0 and transform.theta_max == 80.0
+    bad_ones: list[dict[str, object]] = [
+        dict(fields, Forearm=math.nan),
+        dict(fields, UpperArm="long"),
+        dict(fields, BaseRadius=True),  # a BOOL is no length
+        {},
+    ]
+    for bad in bad_ones:
         kin(Execute=False)
         kin(Execute=True, KinTransform=types.SimpleNamespace(**bad))
         assert kin.Error and kin.ErrorID == ErrorID.EParam, bad
