@@ -14,9 +14,8 @@ commands stay active across elements; the group ends them when the path is compl
 is queued (while a PCS moves the path then rests in it: :mod:`mcl.coordinate_system`).
 
 Aborting while moving: :meth:`AxesGroup.submit`. MC_GroupStop, MC_GroupDisable and member
-faults ramp the path velocity to zero on the path (:func:`mcl.path.stop_element`; a member fault
-on the other members' fastest ramp), ignoring the override of the path clock
-(:mod:`mcl.path_clock`).
+faults ramp the path velocity to zero on the path (:func:`mcl.path.stop_element`), ignoring the
+override; a point the kinematics refuses stops each member on its own fastest ramp.
 
 Member faults are acted on by :meth:`AxesGroup.update` (every path evaluation and the group
 blocks); reading :attr:`AxesGroup.state` never changes the group.
@@ -313,7 +312,7 @@ class AxesGroup:
         self.update()
         if self.state != GroupState.GroupErrorStop:
             return True
-        done = self._active is None
+        done = self._active is None and not self.moving  # a refusal's ramps ended too
         for axis in self.axes:
             if axis.state == AxisState.ErrorStop and not axis.reset():
                 done = False
@@ -724,14 +723,15 @@ class AxesGroup:
         return q[index], qd[index], qdd[index]
 
     def _refused(self) -> None:
-        """The kinematics refused the path point: members hold, commands end with its error."""
+        """The kinematics refused the path point: the commands end with its error, every member
+        ramps to standstill in its own coordinate on its fastest ramp (:meth:`Axis.max_ramp`)."""
         self.GroupErrorID = self.kin.fault
         self._abort_tickets(status=Status.Error, error_id=self.kin.fault)
         self._queue.clear()
-        self._active, self._end = None, [axis.sp_pos for axis in self.axes]
+        self._active = self._end = None
         for i, member in enumerate(self._members):
             if member is not None:
-                member.release()
+                member.stop(self.axes[i].max_ramp())
                 self._members[i] = None
 
     def _engage(self) -> None:

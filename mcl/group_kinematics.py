@@ -41,6 +41,7 @@ from mcl.axis_config import AxisConfig
 from mcl.coordinate_system import ProductFrame, rest_element
 from mcl.errors import ErrorID
 from mcl.geometry import Geometry, GeometryError
+from mcl.joint_check import JointCheck
 from mcl.kinematics import KinematicsError, KinTransform, derivatives
 from mcl.path import Element, Move, PathCommand
 from mcl.path_planner import PathPlanner
@@ -60,7 +61,7 @@ class GroupKinematics:
     Attributes:
         transform: the kinematic transformation (None: the members' coordinates are the MCS).
         fault: the ErrorID of a tool point the inverse kinematics refused during a motion (the
-            members then hold their last set points; 0 = none).
+            members then ramp to standstill in joint space; 0 = none).
     """
 
     def __init__(self) -> None:
@@ -106,7 +107,8 @@ class GroupKinematics:
     def planner(self, joint: bool, axes: Sequence[Axis], tolerance: float) -> PathPlanner:
         """The path planner for pieces in the members' coordinates (``joint``: their machine
         data and servo constants) or in the MCS (the tool point's limits along each Cartesian
-        axis); ``tolerance`` the corner tolerance [mm]."""
+        axis; its corner blends within the joints' limits too); ``tolerance`` the corner tolerance
+        [mm]."""
         transform = self.transform
         if transform is None or joint:
             vmax = [axis.constants.Vmax if axis.constants is not None else None for axis in axes]
@@ -121,7 +123,10 @@ class GroupKinematics:
             max_jerk=tcp.jerk,
         )
         tcp_vmax: list[float | None] = [tcp.velocity] * 3
-        return PathPlanner([config] * 3, tcp_vmax, tolerance)
+        velocity = [axis.constants.Vmax if axis.constants else math.inf for axis in axes]
+        acceleration = [min(a.config.max_acceleration, a.config.max_deceleration) for a in axes]
+        joints = JointCheck(transform, velocity, acceleration)
+        return PathPlanner([config] * 3, tcp_vmax, tolerance, joints)
 
     def element(
         self,

@@ -65,6 +65,7 @@ from mcl.trajectory import Limits, PlanningError, Profile
 
 if TYPE_CHECKING:
     from mcl.axis import AxisConfig
+    from mcl.joint_check import JointCheck
 
 CENTRIPETAL_SHARE: Final = 0.7
 """Share of the acceleration an arc's centripetal acceleration may take at its velocity."""
@@ -159,19 +160,23 @@ class PathPlanner:
         configs: the members' machine data, in member order.
         vmax: the members' Vmax [mm/s] (None: no servo constants written yet).
         corner_tolerance: largest distance of a blended corner from the path [mm].
+        joints: the limits of a robot's joints behind a Cartesian path (its corner blends keep
+            them too), None without a kinematic transformation.
     """
 
-    __slots__ = ("configs", "corner_tolerance", "vmax")
+    __slots__ = ("configs", "corner_tolerance", "joints", "vmax")
 
     def __init__(
         self,
         configs: Sequence[AxisConfig],
         vmax: Sequence[float | None],
         corner_tolerance: float,
+        joints: JointCheck | None = None,
     ) -> None:
         self.configs = configs
         self.vmax = vmax
         self.corner_tolerance = corner_tolerance
+        self.joints = joints
 
     # ------------------------------------------------------------------ limits
     def limits(
@@ -426,7 +431,8 @@ class PathPlanner:
         reach covers at most the second half of ``element`` and the first half of ``nxt``,
         :func:`_blend`; the motion on ``nxt`` is estimated by planning it without its own
         successor), keeps the path within :data:`_SETPOINT_SHARE` of ``tolerance`` of the
-        elements and every member within its max_acceleration and max_jerk.
+        elements and every member within its max_acceleration and max_jerk (and, on a
+        Cartesian path, every joint within its Vmax and max_acceleration: :attr:`joints`).
         """
         if blend.begin <= now or blend.begin < t0:
             return _NO_FIT
@@ -447,7 +453,7 @@ class PathPlanner:
                 d = s - element.length
             else:
                 d, v, a = after.at(t - blend.t_c)
-            p, _, acc = blend.mix(d, v, a)
+            p, vel, acc = blend.mix(d, v, a)
             deviation = min(element.geometry.distance(p), nxt.geometry.distance(p))
             if deviation > limit:
                 return _NO_FIT
@@ -457,6 +463,8 @@ class PathPlanner:
                     jerk = abs(acc[i] - last[1][i]) / (t - last[0])
                 if abs(acc[i]) > c.max_acceleration or 0.0 < c.max_jerk < jerk:
                     too_hard = True
+            if self.joints is not None and self.joints.exceeds(p, vel, acc):
+                too_hard = True
             last = (t, acc)
         return _TOO_HARD if too_hard else _FITS
 

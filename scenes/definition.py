@@ -181,6 +181,10 @@ class MachineDef:
             cell's demo and signals see them all).
         group: the axes that move together on a path (a Cartesian machine's X, Y, Z), in
             member order: the bridge's group block (docs/bridge.md) groups them.
+        kinematics: the group's kinematic transformation when its members are a robot's
+            joints (the delta picker's arms); the bridge's group block sets it
+            (MC_SetKinTransform) when it enables the group. None: the members' coordinates are
+            the machine's.
         scope: the channels and recording length a viewer's scope shows first.
     """
 
@@ -197,6 +201,7 @@ class MachineDef:
     plc_period: float = 0.002
     parts: tuple[Part, ...] = ()
     group: tuple[str, ...] = ()
+    kinematics: mcl.KinTransform | None = None
     scope: ScopeDefaults = field(default_factory=ScopeDefaults)
 
     def __post_init__(self) -> None:
@@ -213,6 +218,11 @@ class MachineDef:
             raise ValueError(
                 f"machine {self.name!r}: group {self.group} must name 2 or 3 of its axes "
                 f"{sorted(self.axes)}"
+            )
+        if self.kinematics is not None and self.kinematics.joints != len(self.group):
+            raise ValueError(
+                f"machine {self.name!r}: kinematics {self.kinematics.name!r} takes "
+                f"{self.kinematics.joints} joints, the group {self.group} has {len(self.group)}"
             )
         for axis, spec in self.axes.items():
             if spec.drive not in ("electric", "device", "encoder"):

@@ -29,10 +29,13 @@ set_override    ``MC_GroupSetOverride`` (vel_factor, acc_factor, jerk_factor): E
 ==============  ==================================================================================
 
 velocity, acceleration, deceleration, jerk and buffer_mode are the parameters of every move and
-segment; ``relative`` is sampled when a move starts (it picks the absolute or the relative
-block). The path-table commands are the program's own (:class:`TableCommand`): Done in the scan
-they start, Error with EParam when the table is full. A command's block is called while its
-Execute is set, in the scan it falls, and while it is busy or shows an output, as an axis' is.
+segment, coord_system (an ``MC_COORD_SYSTEM``) of every move and of move_path; ``relative`` is
+sampled when a move starts (it picks the absolute or the relative block). A group whose members
+are a robot's joints gets its kinematics (``MC_SetKinTransform``) once it is enabled: a move in
+MCS then moves the tool point, one in ACS the joints. The path-table commands are the
+program's own (:class:`TableCommand`): Done in the scan they start, Error with EParam when the
+table is full. A command's block is called while its Execute is set, in the scan it falls, and
+while it is busy or shows an output, as an axis' is.
 """
 
 from __future__ import annotations
@@ -155,13 +158,23 @@ class GroupOperator:
     Args:
         name: The group's name.
         members: Its axes, in member order.
+        kinematics: The group's kinematic transformation (None: the members' coordinates are
+            the machine's).
     """
 
-    def __init__(self, name: str, members: Sequence[mcl.Axis]) -> None:
+    def __init__(
+        self, name: str, members: Sequence[mcl.Axis], kinematics: mcl.KinTransform | None = None
+    ) -> None:
         self.members = list(members)
         self.group = group = mcl.AxesGroup(name)
         self.add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=axis) for axis in members]
         self.enable = mcl.MC_GroupEnable(AxesGroup=group)
+        self.kinematics = (
+            mcl.MC_SetKinTransform(AxesGroup=group, KinTransform=kinematics)
+            if kinematics is not None
+            else None
+        )
+        """Sets the kinematics once the group is enabled (None: the group has none)."""
         self.disable = mcl.MC_GroupDisable(AxesGroup=group)
         self.ungroup = mcl.MC_UngroupAllAxes(AxesGroup=group)
         self.reset = mcl.MC_GroupReset(AxesGroup=group)
@@ -224,6 +237,8 @@ class GroupOperator:
         for k, block in enumerate(add):
             block(Execute=on and (k == 0 or add[k - 1].Done))
         self.enable(Execute=on and add[-1].Done)
+        if self.kinematics is not None:
+            self.kinematics(Execute=on and self.enable.Done)
         self.disable(Execute=not on and bool(self.group.axes))
         self.ungroup(Execute=not on and self.disable.Done)
 
@@ -264,8 +279,9 @@ class GroupOperator:
                 "AccFactor": p("acc_factor"),
                 "JerkFactor": p("jerk_factor"),
             }
+        coord = {"CoordSystem": whole(p("coord_system"))}
         if name == "move_path":
-            return {"PathData": self.path, "BufferMode": whole(p("buffer_mode"))}
+            return {"PathData": self.path, "BufferMode": whole(p("buffer_mode")), **coord}
         motion = {
             "Velocity": p("velocity"),
             "Acceleration": p("acceleration"),
@@ -275,8 +291,8 @@ class GroupOperator:
         }
         if name == "move_linear":
             target = "Distance" if whole(p("relative")) else "Position"
-            return {target: self._point(p, "end"), **motion}
-        return {**self._arc(p), **motion}
+            return {target: self._point(p, "end"), **motion, **coord}
+        return {**self._arc(p), **motion, **coord}
 
     def _point(self, p: Parameters, name: str) -> list[float]:
         """A point of the members: parameters ``<name>_1`` … ``<name>_n``."""

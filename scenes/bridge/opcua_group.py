@@ -50,6 +50,11 @@ ARC = (
     Argument("Turns", "u16", "turns", "more full turns of a CENTER arc"),
 )
 MOTION = (*RAMP, BUFFER_MODE)
+COORD_SYSTEM = Argument(
+    "CoordSystem", "u16", "coord_system", "mcl.MC_COORD_SYSTEM: 0 ACS (joints), 1 MCS (Cartesian)"
+)
+MOVE = (*RAMP, COORD_SYSTEM, BUFFER_MODE)
+"""A move's dynamics, coordinate system and BufferMode (PLCopen's order of the inputs)."""
 RELATIVE = Argument("Relative", "bool", "relative", "end and aux relative to the start")
 ABSOLUTE: tuple[tuple[str, float], ...] = (("relative", 0.0),)
 BY_DISTANCE: tuple[tuple[str, float], ...] = (("relative", 1.0),)
@@ -61,28 +66,28 @@ GROUP_METHODS = (
     GroupMethod(
         "MC_MoveLinearAbsolute",
         "move_linear",
-        (Argument("Position", "point", "end", "target, one value per member [u]"), *MOTION),
+        (Argument("Position", "point", "end", "target, one value per member [u]"), *MOVE),
         "MC_MoveLinearAbsolute",
         ABSOLUTE,
     ),
     GroupMethod(
         "MC_MoveLinearRelative",
         "move_linear",
-        (Argument("Distance", "point", "end", "distance, one value per member [u]"), *MOTION),
+        (Argument("Distance", "point", "end", "distance, one value per member [u]"), *MOVE),
         "MC_MoveLinearRelative",
         BY_DISTANCE,
     ),
     GroupMethod(
         "MC_MoveCircularAbsolute",
         "move_circular",
-        (*ARC, *MOTION),
+        (*ARC, *MOVE),
         "MC_MoveCircularAbsolute",
         ABSOLUTE,
     ),
     GroupMethod(
         "MC_MoveCircularRelative",
         "move_circular",
-        (*ARC, *MOTION),
+        (*ARC, *MOVE),
         "MC_MoveCircularRelative",
         BY_DISTANCE,
     ),
@@ -99,7 +104,9 @@ GROUP_METHODS = (
         "append an arc to the group's path table",
     ),
     GroupMethod("ClearPath", "clear_path", (), "empty the group's path table"),
-    GroupMethod("MC_MovePath", "move_path", (BUFFER_MODE,), "MC_MovePath of the path table"),
+    GroupMethod(
+        "MC_MovePath", "move_path", (COORD_SYSTEM, BUFFER_MODE), "MC_MovePath of the path table"
+    ),
     GroupMethod("MC_GroupStop", "stop", (DECELERATION, JERK), "MC_GroupStop"),
     GroupMethod("MC_GroupHalt", "halt", (DECELERATION, JERK), "MC_GroupHalt along the path"),
     GroupMethod(

@@ -57,7 +57,11 @@ class BridgeProgram(OperatorProgram[CommandWords]):
                 front_ends.append(CommandWords(operator, AxisRegisters(table, axis.name)))
         self.group_words = [
             GroupWords(
-                GroupOperator(table.group, [scene.axes[a] for a in table.members]),
+                GroupOperator(
+                    table.group,
+                    [scene.axes[a] for a in table.members],
+                    table.definition.kinematics,
+                ),
                 AxisRegisters(table, table.group),
             )
             for table in self.tables

@@ -173,6 +173,7 @@ def group_specs(members: int) -> list[FieldSpec]:
         ("plane", 25, "rw", "", "Plane of arcs (0 automatic, 17 XY, 18 ZX, 19 YZ)"),
         ("relative", 26, "rw", "", "1: end and aux relative to the start (MC_Move*Relative)"),
         ("turns", 27, "rw", "", "Turns: more full turns of a CENTER arc"),
+        ("coord_system", 28, "rw", "", "CoordSystem of moves (mcl.MC_COORD_SYSTEM: 0 ACS, 1 MCS)"),
         ("status", 30, "r", "bits", "status word: " + ", ".join(GROUP_STATUS_BITS)),
         ("state", 31, "r", "", "group state number (mcl.GroupState)"),
         ("error_id", 32, "r", "", "ErrorID of the current command"),

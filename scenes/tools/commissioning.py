@@ -26,7 +26,12 @@ axis). The procedure is the one a commissioning engineer runs on a velocity-mode
      voltage) without adding phase where the loop crosses over.
 3. **Verification**: a jerk-limited move each way with the derived constants, on the whole stack
    (PLC scan, mcl servo cycle, encoder, the module's delay), measured on the physics: peak
-   following error, overshoot at the stop and settling time into ±5 µm.
+   following error, overshoot at the stop and settling time into the axis' in-position window
+   (±5 µm on the gantry). A joint of a parallel robot (an axis of a group with a kinematic
+   transformation, the delta picker's arms) cannot move alone: its closed chains tie it to the
+   other joints. It moves with them, each by the same distance (the delta's effector then moves
+   straight along z), out from the machine's start pose and back; the figures are the tuned
+   joint's.
 """
 
 from __future__ import annotations
@@ -40,6 +45,7 @@ __all__ = [
     "identify",
     "main",
     "measure_move",
+    "robot_joints",
     "run_into_limit",
     "verify",
 ]
@@ -47,6 +53,7 @@ __all__ = [
 import argparse
 import math
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import mujoco
@@ -228,46 +235,64 @@ def measure_move(
     jerk: float = 0.0,
     window: float = 0.005,
     settle: float = 0.2,
+    together: Sequence[str] = (),
 ) -> MoveFigures:
     """Power ``axis`` on, run MC_MoveRelative and measure it on the joint (not the encoder).
 
-    The axis coordinate is its joint coordinate in user units from where it was powered on.
+    The axis coordinate is its joint coordinate in user units, offset as its encoder reads it.
 
     Args:
-        scene: a scene whose axis is still Disabled.
+        scene: a scene whose axis is Disabled (or powered by an earlier measurement).
         axis: the axis name.
         distance, velocity, acceleration, jerk: the move (0: the axis' defaults) [u, u/s, ...].
         window: settling window [u].
         settle: how long to watch after the set point stopped [s].
+        together: other axes powered and moved the same way in the same scans (a parallel
+            robot's joints that close a chain with ``axis``).
     """
-    a = scene.axes[axis]
+    axes = [scene.axes[name] for name in (axis, *together)]
+    a = axes[0]
     scale = scene.scales[axis]
-    power, move = mcl.MC_Power(), mcl.MC_MoveRelative()
-    scene.run(lambda: power(Axis=a, Enable=True), until=lambda: power.Status, timeout=1.0)
-    scene.run(lambda: power(Axis=a, Enable=True), timeout=0.2)
-    origin = scene.joint_position(axis) * scale - a.sp_pos
+    powers = [mcl.MC_Power(Axis=x) for x in axes]
+    moves = [mcl.MC_MoveRelative(Axis=x) for x in axes]
+
+    def power_on() -> None:
+        for power in powers:
+            power(Enable=True)
+
+    scene.run(power_on, until=lambda: all(p.Status for p in powers), timeout=1.0)
+    scene.run(power_on, timeout=0.2)
+    # the joint's coordinate against the encoder's (not the set point's: a loaded joint stands
+    # off its set point until the integral has taken the load)
+    origin = scene.joint_position(axis) * scale - a.actual
     samples: list[tuple[float, float, float, float]] = []
 
     def observe(t: float) -> None:
         samples.append((t, a.sp_pos, scene.joint_position(axis) * scale - origin, a.sp_vel))
 
     def program() -> None:
-        power(Axis=a, Enable=True)
-        move(
-            Axis=a,
-            Execute=True,
-            Distance=distance,
-            Velocity=velocity,
-            Acceleration=acceleration,
-            Deceleration=acceleration,
-            Jerk=jerk,
-        )
+        power_on()
+        for block in moves:
+            block(
+                Execute=True,
+                Distance=distance,
+                Velocity=velocity,
+                Acceleration=acceleration,
+                Deceleration=acceleration,
+                Jerk=jerk,
+            )
 
     scene.runtime.observers.append(observe)
     try:
-        scene.run(program, until=lambda: move.Done or move.Error, timeout=30.0)
-        if move.Error:
-            raise RuntimeError(f"axis {axis}: the move ended in error {move.ErrorID}")
+        scene.run(
+            program,
+            until=lambda: all(m.Done for m in moves) or any(m.Error for m in moves),
+            timeout=30.0,
+        )
+        failed = next((m for m in moves if m.Error), None)
+        if failed is not None:
+            name = failed.Axis.name if failed.Axis is not None else axis
+            raise RuntimeError(f"axis {name}: the move ended in error {failed.ErrorID}")
         t_done = scene.time
         scene.run(program, until=lambda: scene.time - t_done >= settle, timeout=settle + 1.0)
     finally:
@@ -380,9 +405,19 @@ def verify(
     distance: float,
 ) -> list[MoveFigures]:
     """A move each way across the middle of the travel with ``constants``, on the whole stack
-    (PLC scan, servo cycle, encoder, the module's delay); figures from the physics."""
+    (PLC scan, servo cycle, encoder, the module's delay); figures from the physics, settled into
+    the axis' in-position window. A joint of a parallel robot moves with the other joints of its
+    group (:func:`robot_joints`), out from the machine's start pose and back."""
     spec, joint_name, _ = _axis_names(machine, axis)
     test = replace(machine, axes={**machine.axes, axis: replace(spec, constants=constants)})
+    window = spec.config.in_position
+    chain = robot_joints(machine, axis)
+    if chain:
+        scene = Scene([test], start=dict(machine.demo_start), trace_every=0)
+        return [
+            measure_move(scene, axis, d, velocity, window=window, together=chain)
+            for d in (distance, -distance)
+        ]
     model, _ = compose([machine])
     rotary = model.jnt_type[model.joint(joint_name).id] == mujoco.mjtJoint.mjJNT_HINGE
     _, scale = unit_and_scale(spec, rotary=bool(rotary))
@@ -391,8 +426,29 @@ def verify(
     for sign in (1.0, -1.0):
         begin = middle - sign * distance / 2.0 / scale
         scene = Scene([test], start={**machine.demo_start, axis: begin}, trace_every=0)
-        out.append(measure_move(scene, axis, sign * distance, velocity))
+        out.append(measure_move(scene, axis, sign * distance, velocity, window=window))
     return out
+
+
+def _unit(machine: MachineDef, axis: str) -> str:
+    """The user unit of ``axis`` (mm on a slide, deg on a hinge unless its definition says)."""
+    spec, joint_name, _ = _axis_names(machine, axis)
+    model, _ = compose([machine])
+    rotary = model.jnt_type[model.joint(joint_name).id] == mujoco.mjtJoint.mjJNT_HINGE
+    return unit_and_scale(spec, rotary=bool(rotary))[0]
+
+
+def robot_joints(machine: MachineDef, axis: str) -> tuple[str, ...]:
+    """The other joints of the parallel robot ``axis`` belongs to (the members of its group
+    when the group has a kinematic transformation), empty for an axis that moves alone."""
+    if machine.kinematics is None or axis not in machine.group:
+        return ()
+    return tuple(name for name in machine.group if name != axis)
+
+
+ROBOT_DISTANCE = 20.0
+"""The verification's default distance for a parallel robot's joint [u] (deg on the delta
+picker: the effector 136 mm along z, clear of the belt)."""
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -407,13 +463,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("machine", help="registered machine, e.g. gantry")
     parser.add_argument("axis", help="axis name, e.g. X")
     parser.add_argument("--velocity", type=float, default=400.0, help="verification [u/s]")
-    parser.add_argument("--distance", type=float, default=150.0, help="verification [u]")
+    parser.add_argument(
+        "--distance",
+        type=float,
+        default=None,
+        help=f"verification [u]; default 150, a parallel robot's joint {ROBOT_DISTANCE:g}",
+    )
     args = parser.parse_args(argv)
     machine = scenes.definition(args.machine)
     spec, _, _ = _axis_names(machine, args.axis)
     response = identify(machine, args.axis)
     tuning = derive(spec, response, machine.servo_period)
-    c, u = tuning.constants, spec.unit or "u"
+    c, u = tuning.constants, _unit(machine, args.axis)
+    milli = "µm" if u == "mm" else f"m{u}"  # the figures' thousandths
     print(f"{args.machine} {args.axis}: velocity steps of {response.step:g} V on the amplifier")
     print(f"  gain K        {response.gain:10.3f} {u}/s per V")
     print(
@@ -425,12 +487,16 @@ def main(argv: list[str] | None = None) -> int:
     print(f"  loop lag      {tuning.loop_lag * 1e3:10.3f} ms  Kv {tuning.kv:.1f} 1/s")
     print(f"ServoConstants(Kp={c.Kp}, Ki={c.Ki}, Ff={c.Ff}, Ka={c.Ka}, Kf={c.Kf})")
     print(f"  holding voltage {-response.drift / response.gain:.4f} V")
-    figures = verify(machine, args.axis, c, args.velocity, args.distance)
+    chain = robot_joints(machine, args.axis)
+    distance = args.distance or (ROBOT_DISTANCE if chain else 150.0)
+    figures = verify(machine, args.axis, c, args.velocity, distance)
+    if chain:
+        print(f"  {args.axis} moves with {', '.join(chain)} (closed chains), out and back")
     for fig, sign in zip(figures, "+-", strict=True):
         print(
-            f"  move {sign}{args.distance:g} at {args.velocity:g}: peak following error "
-            f"{fig.peak_error * 1e3:.1f} µm, overshoot {fig.overshoot * 1e3:.1f} µm, settled "
-            f"to 5 µm in {fig.settling * 1e3:.0f} ms"
+            f"  move {sign}{distance:g} at {args.velocity:g}: peak following error "
+            f"{fig.peak_error * 1e3:.1f} {milli}, overshoot {fig.overshoot * 1e3:.1f} {milli}, "
+            f"settled to {spec.config.in_position * 1e3:g} {milli} in {fig.settling * 1e3:.0f} ms"
         )
     return 0
 

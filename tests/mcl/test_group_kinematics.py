@@ -6,7 +6,10 @@ angles in deg)."""
 
 from __future__ import annotations
 
+import dataclasses
+import itertools
 import math
+import types
 from collections.abc import Sequence
 
 import pytest
@@ -397,16 +400,19 @@ def test_set_position_of_a_transformed_group_takes_only_acs() -> None:
     assert acs.Done
 
 
-def test_a_path_point_refused_during_a_motion_stops_the_group_with_the_error() -> None:
+def test_a_path_point_refused_during_a_motion_ramps_the_arms_to_standstill() -> None:
     """The kinematics refuses a point while the group moves (here its range narrowed under
-    the running path): every arm holds its last set point, the move ends with EWorkspace and
-    the group is in GroupErrorStop until MC_GroupReset."""
+    the running path): the move ends with EWorkspace, every arm ramps from its last set point to
+    standstill on its own fastest ramp (no step of its velocity, within its stop distance) and
+    the group is in GroupErrorStop until MC_GroupReset, which waits for the ramps."""
     machine = make_machine(ARMS)
     delta = mcl.DeltaKinematics(200.0, 50.0, 350.0, 800.0)
     group = build_group(machine, ARMS)
     kin = mcl.MC_SetKinTransform()
     kin(AxesGroup=group, Execute=True, KinTransform=delta)
     joints = record(machine)
+    errors: list[int] = []  # the group's error, every servo cycle
+    machine.runtime.observers.append(lambda t: errors.append(group.GroupErrorID))
     move = mcl.MC_MoveLinearAbsolute()
     target = [0.0, 0.0, -800.0]  # straight down: every arm turns from 0 to 25.4 deg
     program = scan(lambda: move(AxesGroup=group, Execute=True, Position=target, **MOVE))
@@ -416,12 +422,93 @@ def test_a_path_point_refused_during_a_motion_stops_the_group_with_the_error() -
     machine.run(program, until=lambda: move.Error, timeout=0.5)
     assert move.ErrorID == ErrorID.EWorkspace and group.GroupErrorID == ErrorID.EWorkspace
     assert group.state == mcl.GroupState.GroupErrorStop
-    held = joints.q[-1]
-    machine.run(program, timeout=0.1)
-    assert joints.q[-1] == held and max(held) <= delta.theta_max
-    assert all(v == 0.0 for v in joints.qd[-1])
+    k = next(k for k, error in enumerate(errors) if error) - 1  # the last point of the path
+    last, speed, acc = joints.q[k], joints.qd[k], joints.qdd[k]
+    assert min(speed) > 10.0  # the arms ran when the point was refused
     reset = mcl.MC_GroupReset()
-    machine.run(
-        scan(lambda: reset(AxesGroup=group, Execute=True)), until=lambda: reset.Done, timeout=1
-    )
+    reset(AxesGroup=group, Execute=True)
+    assert not reset.Done and group.state == mcl.GroupState.GroupErrorStop  # still ramping
+    machine.run(scan(reset), until=lambda: reset.Done, timeout=1.0)
     assert group.state == mcl.GroupState.GroupStandby and group.GroupErrorID == 0
+    assert all(v == 0.0 for v in joints.qd[-1])
+    axes = [machine.axes[n] for n in ARMS]
+    period = axes[0].servo_period
+    for i, axis in enumerate(axes):
+        ramp = axis.max_ramp()
+        steps = [abs(b[i] - a[i]) for a, b in itertools.pairwise(joints.qd[k:])]
+        assert max(steps) <= ramp.deceleration * period * 1.001, (i, max(steps))
+        stop = mcl.trajectory.stop(last[i], speed[i], acc[i], ramp.deceleration, ramp.jerk)
+        assert joints.q[-1][i] == pytest.approx(stop.end_position, abs=1e-9)
+        assert joints.q[-1][i] > last[i]  # it went on a little: no hold at the last set point
+
+
+def test_a_blended_corner_keeps_every_arm_within_its_acceleration() -> None:
+    """The standard pick cycle (up 25, across 305, down 25 mm) blended with a 10 mm corner
+    tolerance, the tool point allowed 60 m/s² but the arms only 1000 deg/s²: the corners' curves
+    keep every arm within its max_acceleration and Vmax, not only the straight pieces."""
+    machine = make_machine(ARMS)
+    for name in ARMS:
+        axis = machine.axes[name]
+        axis.config = dataclasses.replace(
+            axis.config,
+            acceleration=1000.0,
+            deceleration=1000.0,
+            max_acceleration=1000.0,
+            max_deceleration=1000.0,
+        )
+    group = build_group(machine, ARMS)
+    group.corner_tolerance = 10.0
+    kin = mcl.MC_SetKinTransform()
+    kin(AxesGroup=group, Execute=True, KinTransform=DELTA)
+    joints = record(machine)
+    cycle = ([0.0, -150.0, -775.0], [305.0, -150.0, -775.0], [305.0, -150.0, -800.0])
+    moves = [mcl.MC_MoveLinearAbsolute() for _ in cycle]
+    fast = dict(Velocity=3000.0, Acceleration=60000.0, Deceleration=60000.0, Jerk=1e7)
+
+    def program() -> None:
+        for k, (move, target) in enumerate(zip(moves, cycle, strict=True)):
+            mode = MC_BufferMode.BlendingNext if k else MC_BufferMode.Aborting
+            move(AxesGroup=group, Execute=True, Position=target, BufferMode=mode, **fast)
+
+    machine.run(program, until=lambda: moves[-1].Done or any(m.Error for m in moves), timeout=5)
+    assert all(m.Done for m in moves)
+    assert DELTA.forward(joints.q[-1]) == pytest.approx(cycle[-1], abs=1e-6)
+    peak = max(abs(a) for row in joints.qdd for a in row)
+    assert peak <= 1000.0 * 1.001, peak
+    constants = machine.axes["A"].constants
+    assert constants is not None
+    assert max(abs(v) for row in joints.qd for v in row) <= constants.Vmax
+
+
+def test_set_kin_transform_takes_a_structure_of_a_deltas_parameters() -> None:
+    """MC_KIN_REF as a structure read by name: the delta's lengths, its arms' range (0° a value
+    like any other) and the tool point's limits (0 or missing: the default)."""
+    machine = make_machine(ARMS)
+    group = build_group(machine, ARMS)
+    fields = dict(BaseRadius=200.0, EffectorRadius=50.0, UpperArm=350.0, Forearm=800.0)
+    described = types.SimpleNamespace(**fields, ThetaMin=0.0, MaxVelocity=1500.0, Jerk=0.0)
+    kin = mcl.MC_SetKinTransform()
+    kin(AxesGroup=group, Execute=True, KinTransform=described)
+    assert kin.Done and not kin.Error
+    transform = group.kin.transform
+    assert isinstance(transform, mcl.DeltaKinematics)
+    assert transform.parameters()["forearm"] == 800.0
+    assert transform.theta_min == 0.0 and transform.theta_max == 100.0
+    assert transform.tcp.velocity == 1500.0 and transform.tcp.jerk == mcl.TcpLimits().jerk
+    kin(Execute=False)  # the range's upper end alone, the lower one missing: its default
+    kin(Execute=True, KinTransform=types.SimpleNamespace(**fields, ThetaMax=80.0))
+    assert kin.Done
+    transform = group.kin.transform
+    assert isinstance(transform, mcl.DeltaKinematics)
+    assert transform.theta_min == -60.0 and transform.theta_max == 80.0
+    bad_ones: list[dict[str, object]] = [
+        dict(fields, Forearm=math.nan),
+        dict(fields, UpperArm="long"),
+        dict(fields, BaseRadius=True),  # a BOOL is no length
+        {},
+    ]
+    for bad in bad_ones:
+        kin(Execute=False)
+        kin(Execute=True, KinTransform=types.SimpleNamespace(**bad))
+        assert kin.Error and kin.ErrorID == ErrorID.EParam, bad
+    assert group.kin.transform is transform

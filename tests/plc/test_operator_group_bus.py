@@ -12,10 +12,12 @@ import pytest
 
 import mcl
 import plc.operator.group
-from plc.operator.group import GroupOperator
+from mcl.enums import MC_COORD_SYSTEM
+from plc.operator.group import GroupOperator, GroupOrders
 from plc.operator.group_bus import GROUP_CONTROL_BITS, GROUP_STATUS_BITS, GroupWords
 from scenes.bridge.table import AxisRegisters
-from tests.helpers import carriage_mm
+from tests.helpers import carriage_mm, make_machine
+from tests.mcl.test_group_kinematics import ARMS, DELTA
 from tests.plc.test_operator_bus import Bus
 
 MOVE = {"velocity": 200.0, "acceleration": 2000.0, "deceleration": 2000.0, "jerk": 20000.0}
@@ -234,3 +236,26 @@ def test_a_start_passes_every_field_to_its_block_and_segment(bus: GroupBus) -> N
     bus.write(control=bits("enable"))
     bus.run(0.004)
     assert not append.Done
+
+
+def test_the_bridges_group_moves_a_robot_in_acs_or_mcs() -> None:
+    """The operator program of a group with the delta's kinematics (the bridge's group block):
+    enabled, it sets the kinematics; a line with coord_system MCS runs the tool point to its
+    target, one with ACS the arms to theirs."""
+    machine = make_machine(ARMS)
+    operator = GroupOperator("delta", [machine.axes[n] for n in ARMS], DELTA)
+    orders = GroupOrders(True, frozenset({"move_linear"}))
+    machine.run(lambda: operator(GroupOrders(enable=True)), timeout=0.05)
+    assert operator.group.kin.transform is DELTA
+    target = [100.0, -50.0, -700.0]
+    for coord, end, where in (
+        (MC_COORD_SYSTEM.MCS, target, DELTA.forward),
+        (MC_COORD_SYSTEM.ACS, [10.0, 20.0, 5.0], list),
+    ):
+        values = {"coord_system": float(coord), "velocity": 500.0, "acceleration": 5000.0}
+        values |= {"deceleration": 5000.0, "jerk": 200000.0, "buffer_mode": 0.0, "relative": 0.0}
+        values |= {f"end_{k + 1}": x for k, x in enumerate(end)}
+        start = GroupOrders(True, frozenset({"move_linear"}), {"move_linear": values.__getitem__})
+        operator(start)
+        machine.run(lambda: operator(orders), until=lambda: operator.move_linear.Done, timeout=2)
+        assert where([machine.axes[n].sp_pos for n in ARMS]) == pytest.approx(end, abs=1e-6)

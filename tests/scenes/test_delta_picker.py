@@ -15,8 +15,10 @@ import pytest
 
 import mcl
 import scenes
+from mcl import ErrorID
 from scenes.machines.delta_picker import DELTA, PICK, SLOTS, VacuumGripper
-from scenes.machines.delta_picker.axes import ARMS, EYE_X, PART_X
+from scenes.machines.delta_picker.axes import ARMS, BELT_Y, EYE_X, PART_X
+from scenes.machines.delta_picker.demo import MOVE
 from scenes.machines.delta_picker.devices import PART_LENGTH, PhotoEye
 
 TOOL = "delta_picker/tool"
@@ -159,3 +161,59 @@ def test_the_photo_eye_latches_where_a_part_cuts_its_beam() -> None:
     speed = program.run.Velocity  # type: ignore[attr-defined]
     assert probe.RecordedPosition == pytest.approx(crossing + speed * 0.0005, abs=0.02)
     assert eye.lateral[0] == pytest.approx(1000.0 * gripper.part_position(0)[1], abs=0.01)
+
+
+def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance() -> None:
+    """A line toward the workspace's edge, stopped (MC_GroupStop) with a gentle deceleration:
+    the stop ramp runs on along the line beyond its end, where arm A2 would pass its 85° and the
+    kinematics refuses the point. Every arm ramps from its last set point to standstill on its
+    own fastest ramp: no step of a set point velocity beyond what that ramp changes in a servo
+    cycle, each arm (on the physics) within its stop distance, inside its SW limits; the group
+    in GroupErrorStop with EWorkspace until MC_GroupReset."""
+    scene = scenes.load("delta_picker", trace_every=0)
+    program = scenes.demo(scene)
+    scene.run(program, until=lambda: program.step == "over the belt", timeout=10.0)
+    group = program.group  # type: ignore[attr-defined]
+    over = program.moves["over the belt"][0]  # type: ignore[attr-defined]
+    scene.run(lambda: over(Execute=True), until=lambda: over.Done, timeout=1.0)
+    axes = [scene.axes[a] for a in ARMS]
+    set_points: list[tuple[list[float], list[float], list[float], int]] = []
+    scene.runtime.observers.append(
+        lambda t: set_points.append(
+            (
+                [a.sp_pos for a in axes],
+                [a.sp_vel for a in axes],
+                [a.sp_acc for a in axes],
+                group.GroupErrorID,
+            )
+        )
+    )
+    line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=[505.0, BELT_Y, -775.0], **MOVE)
+    stop = mcl.MC_GroupStop(AxesGroup=group, Deceleration=8000.0)
+    read = mcl.MC_GroupReadActualPosition(AxesGroup=group)
+
+    def scan() -> None:
+        line(Execute=True)
+        read(Enable=True)
+        stop(Execute=stop.Busy or (read.Valid and read.Position[0] > 300.0))
+
+    scene.run(scan, until=lambda: stop.Error or stop.Done, timeout=2.0)
+    assert stop.Error and stop.ErrorID == ErrorID.EWorkspace and line.CommandAborted
+    assert group.state == mcl.GroupState.GroupErrorStop and group.GroupErrorID == 24
+    scene.run(scan, timeout=0.2)
+    k = next(k for k, row in enumerate(set_points) if row[3]) - 1  # the last point of the path
+    last, speed, acc, _ = set_points[k]
+    assert max(last) <= DELTA.theta_max  # the last point the kinematics gave
+    assert max(speed) > 50.0  # deg/s: arm A2 ran fast when its point was refused
+    for i, axis in enumerate(axes):
+        ramp = axis.max_ramp()
+        steps = [abs(b[1][i] - a[1][i]) for a, b in itertools.pairwise(set_points)]
+        assert max(steps) <= ramp.deceleration * axis.servo_period * (1.0 + 1e-9), (i, max(steps))
+        end = mcl.trajectory.stop(last[i], speed[i], acc[i], ramp.deceleration, ramp.jerk)
+        angle = math.degrees(scene.joint_position(axis.name))
+        assert angle == pytest.approx(end.end_position, abs=0.02), axis.name
+        assert axis.constants is not None
+        assert axis.state == mcl.AxisState.StandStill and angle < axis.constants.LimPos
+    reset = mcl.MC_GroupReset(AxesGroup=group)
+    scene.run(lambda: reset(Execute=True), until=lambda: reset.Done, timeout=0.1)
+    assert group.state == mcl.GroupState.GroupStandby

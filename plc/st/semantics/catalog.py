@@ -51,6 +51,7 @@ _PYTHON_TYPES: dict[str, Type] = {
     "list": SEQUENCE,
     "TableRef": ANY_STRUCT,
     "MC_PATH_DATA_REF": ANY_STRUCT,
+    "KinRef": ANY_STRUCT,
 }
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 __all__ = ["DEVICES", "MACHINE"]
 
 from scenes.definition import DeviceFactory, MachineDef, ScopeDefaults, Signal
-from scenes.machines.delta_picker.axes import AXES
+from scenes.machines.delta_picker.axes import AXES, DELTA
 from scenes.machines.delta_picker.demo import Demo
 from scenes.machines.delta_picker.devices import Feeder, PhotoEye, VacuumGripper
 from scenes.scene import Scene
@@ -41,6 +41,7 @@ MACHINE = MachineDef(
         "belt_speed": Signal("mm/s", _signal_belt, "conveyor speed"),
     },
     group=("A1", "A2", "A3"),
+    kinematics=DELTA,
     scope=ScopeDefaults(
         channels=("A1 following error", "A2 following error", "A3 following error"),
         seconds=10.0,

@@ -38,13 +38,22 @@ def point(*values: float) -> ua.Variant:
     return ua.Variant(list(values), D, is_array=True)
 
 
-def motion(velocity: float = 50.0, buffer_mode: int = 0) -> list[ua.Variant]:
-    """Velocity, Acceleration, Deceleration, Jerk and BufferMode."""
+def motion(
+    velocity: float = 50.0, buffer_mode: int = 0, coord_system: int | None = None
+) -> list[ua.Variant]:
+    """Velocity, Acceleration, Deceleration, Jerk, a move's CoordSystem (None: a segment's
+    arguments, which have none) and BufferMode."""
     ramp = [ua.Variant(v, D) for v in (velocity, 2000.0, 2000.0, 20000.0)]
-    return [*ramp, ua.Variant(buffer_mode, U16)]
+    coord = [] if coord_system is None else [ua.Variant(coord_system, U16)]
+    return [*ramp, *coord, ua.Variant(buffer_mode, U16)]
 
 
-def circle(radius: float) -> list[ua.Variant]:
+def move(velocity: float = 50.0) -> list[ua.Variant]:
+    """A move's dynamics in ACS (the gantry has no kinematics: ACS is the machine's frame)."""
+    return motion(velocity, coord_system=int(mcl.MC_COORD_SYSTEM.ACS))
+
+
+def circle(radius: float, coord_system: int | None = 0) -> list[ua.Variant]:
     """A full counter-clockwise circle in XY by its centre, relative to the start."""
     return [
         ua.Variant(int(mcl.MC_CIRC_MODE.CENTER), U16),
@@ -53,7 +62,7 @@ def circle(radius: float) -> list[ua.Variant]:
         ua.Variant(int(mcl.MC_CIRC_PATHCHOICE.COUNTERCLOCKWISE), U16),
         ua.Variant(17, U16),
         ua.Variant(0, U16),
-        *motion(),
+        *motion(coord_system=coord_system),
     ]
 
 
@@ -137,10 +146,10 @@ async def refusals(g: Gantry) -> None:
     assert bad(result.StatusCode, codes.BadInvalidArgument)
     assert bad(result.InputArgumentResults[1], codes.BadOutOfRange)
     assert all(r.is_good() for k, r in enumerate(result.InputArgumentResults) if k != 1)
-    nan = [point(math.nan, 0.0, 0.0), *motion()]
+    nan = [point(math.nan, 0.0, 0.0), *move()]
     result = await g.call("group", "MC_MoveLinearRelative", *nan)
     assert bad(result.InputArgumentResults[0], codes.BadOutOfRange)
-    scalar = [ua.Variant(10.0, D), *motion()]
+    scalar = [ua.Variant(10.0, D), *move()]
     result = await g.call("group", "MC_MoveLinearAbsolute", *scalar)
     assert bad(result.InputArgumentResults[0], codes.BadTypeMismatch)
     result = await g.call("group", "MC_GroupStop", ua.Variant(1.0, D))
@@ -155,7 +164,7 @@ async def line_and_circle(g: Gantry) -> None:
     """A line away from the limit switches, then a full circle of R = 30 mm: every actual
     position on it, back at the start."""
     start = await g.actual()
-    await g.group("MC_MoveLinearRelative", point(100.0, 80.0, 0.0), *motion(velocity=200.0))
+    await g.group("MC_MoveLinearRelative", point(100.0, 80.0, 0.0), *move(velocity=200.0))
     await g.run_until_done(5.0)
     await g.advance(200)
     assert await g.actual() - start == pytest.approx([100.0, 80.0, 0.0], abs=0.005)
@@ -181,12 +190,12 @@ async def path(g: Gantry) -> None:
     line = [point(40.0, 0.0, 0.0), *motion(buffer_mode=mcl.MC_BufferMode.BlendingLow)]
     await g.group("AppendLine", *line, ua.Variant(True))
     await g.advance(2)  # one command a scan: the next call takes over from this one
-    half = circle(10.0)
+    half = circle(10.0, coord_system=None)
     half[1], half[2] = point(0.0, 10.0, 0.0), point(0.0, 20.0, 0.0)
     await g.group("AppendArc", *half, ua.Variant(True))
     await g.advance(2)
     assert await g.value("group.segments") == 2
-    await g.group("MC_MovePath", ua.Variant(0, U16))
+    await g.group("MC_MovePath", ua.Variant(0, U16), ua.Variant(0, U16))
     points = await g.run_until_done(10.0) - start
     pieces = [
         Line([0.0, 0.0], [40.0, 0.0]),
@@ -262,7 +271,7 @@ async def acceleration_factor(g: Gantry) -> None:
 async def stop_reset_disable(g: Gantry) -> None:
     """A line stopped on the way (GroupStopping while the stop holds), reset, disabled."""
     start = await g.actual()
-    await g.group("MC_MoveLinearRelative", point(-30.0, 0.0, 0.0), *motion())
+    await g.group("MC_MoveLinearRelative", point(-30.0, 0.0, 0.0), *move())
     await g.advance(200)
     await g.group("MC_GroupStop", ua.Variant(2000.0, D), ua.Variant(0.0, D))
     await g.advance(300)

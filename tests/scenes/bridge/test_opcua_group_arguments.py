@@ -66,6 +66,7 @@ def test_a_method_sets_the_group_fields_and_requests_its_command() -> None:
         "Acceleration": 600.0,
         "Deceleration": 700.0,
         "Jerk": 8000.0,
+        "CoordSystem": 1.0,
         "BufferMode": 4.0,
     }
     group_command(table, "group", method("MC_MoveCircularRelative"), values)
@@ -73,16 +74,17 @@ def test_a_method_sets_the_group_fields_and_requests_its_command() -> None:
         "circ_mode": 1.0, "aux_1": 30.0, "aux_2": 1.0, "aux_3": 2.0, "end_1": 3.0,
         "end_2": 4.0, "end_3": 5.0, "path_choice": 1.0, "plane": 17.0, "turns": 2.0,
         "velocity": 50.0, "acceleration": 600.0, "deceleration": 700.0, "jerk": 8000.0,
-        "buffer_mode": 4.0, "relative": 1.0,
+        "buffer_mode": 4.0, "relative": 1.0, "coord_system": 1.0,
     }  # fmt: skip
     assert {name: table.get(f"group.{name}") for name in expected} == expected
     assert table.requested("group")[0] == GROUP_CONTROL_BITS.index("move_circular")
     group_command(table, "group", method("MC_MoveCircularAbsolute"), values)
     assert table.get("group.relative") == 0.0
     line = {"Position": [7.0, 8.0, 9.0], "Velocity": 1.0, "Acceleration": 2.0}
-    line |= {"Deceleration": 3.0, "Jerk": 4.0, "BufferMode": 0.0}
+    line |= {"Deceleration": 3.0, "Jerk": 4.0, "CoordSystem": 0.0, "BufferMode": 0.0}
     group_command(table, "group", method("MC_MoveLinearAbsolute"), line)
     assert [table.get(f"group.end_{k}") for k in (1, 2, 3)] == [7.0, 8.0, 9.0]
+    assert table.get("group.coord_system") == 0.0
     assert table.requested("group")[0] == GROUP_CONTROL_BITS.index("move_linear")
     append = {"EndPoint": [1.0, 0.0, 0.0], **{k: v for k, v in line.items() if k != "Position"}}
     group_command(table, "group", method("AppendLine"), {**append, "Relative": True})
