@@ -223,11 +223,11 @@ def test_each_camera_preset_turns_the_camera_onto_the_cell(browser: Browser, cel
         for name in ("Side", "Top", "Front", "Fit"):
             page.get_by_role("button", name=name, exact=True).locator("visible=true").first.click()
             target = _camera_position(center, radius, VIEWS[name])
-            wait_for(
-                lambda: bool(np.allclose(camera.position, target, atol=1e-3)),
-                20.0,
-                f"the page's camera at the {name} view",
-            )
+
+            def there(at: npt.NDArray[np.float64] = target) -> bool:
+                return bool(np.allclose(camera.position, at, atol=1e-3))
+
+            wait_for(there, 20.0, f"the page's camera at the {name} view")
             assert np.allclose(camera.look_at, center, atol=1e-3), (name, camera.look_at)
             for machine in ("gantry/", "press/"):
                 image = projected(camera, machine_points(cell, machine))

@@ -73,7 +73,7 @@ def test_a_recording_the_fine_ring_holds_is_every_sample() -> None:
     fine, extremes = buffers()
     feed(fine, extremes, 0, round(90.0 / DT))
     now = fine.latest
-    t, values, bucket = extremes.samples(now - 60.0, now, [0])
+    t, _, bucket = extremes.samples(now - 60.0, now, [0])
     assert bucket == 0.0 and t.size >= round(60.0 / DT)
     assert np.all(np.diff(t) == pytest.approx(DT))
     fine, extremes = buffers()

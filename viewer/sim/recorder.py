@@ -122,7 +122,7 @@ class Ring:
         self._count = 0
         self._lock = threading.Lock()
 
-    def append(self, t: float, row: Sequence[float]) -> None:
+    def append(self, t: float, row: Sequence[float] | npt.NDArray[np.float64]) -> None:
         """Store the sample ``row`` (one value per channel) taken at time ``t`` [s]."""
         with self._lock:
             k = self._next
