@@ -134,9 +134,10 @@ VISIBLE = """(timeout) => { window.__visible = new Promise((done) => {
             (td) => td.textContent.trim() === 'Position' && td.offsetParent !== null);
         return cell ? cell.nextElementSibling.textContent : '';
     };
-    let t0 = null; const before = value();
-    const observer = new MutationObserver(() => {
-        if (t0 !== null && value() !== before) {
+    const number = () => parseFloat(value().replace('\u2212', '-'));
+    let t0 = null; const before = number();
+    const observer = new MutationObserver(() => {  // moved, not the last digit's flicker
+        if (t0 !== null && Math.abs(number() - before) >= 0.01) {
             observer.disconnect(); done(performance.now() - t0);
         }
     });
@@ -145,8 +146,9 @@ VISIBLE = """(timeout) => { window.__visible = new Promise((done) => {
                             {once: true, capture: true});
     setTimeout(() => { observer.disconnect(); done(null); }, timeout);
 }); }"""
-"""From the page's pointerdown to the first change of the shown axis' Position read-out [ms]
-(in the page's own clock; null: no change within ``timeout``)."""
+"""From the page's pointerdown to the shown axis' Position read-out moving by 0.01 u [ms] (in
+the page's own clock; the last digit's flicker at standstill is no motion; null: no change
+within ``timeout``)."""
 
 
 def _visible_latency(page: Page, viewer: Viewer, axis: str = "X") -> dict[str, Any]:
