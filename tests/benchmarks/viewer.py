@@ -16,8 +16,8 @@ Prints JSON:
   ``frame_update_us``, ``browser_fps``, ``browser_panel_hz``) for a second window with every
   view open: the set-point ghost and the contact forces shown, the cameras following the Z ram
   and the page's scope recording eight channels;
-- ``visible``: from the click on *Step+* to the page's Position read-out changing (the page's
-  own clock), with the 3-D view (the gantry) and without one (``single_axis``), and the 3-D
+- ``visible``: from the click on *Step+* to the page's Position read-out moving by 0.01 u (the
+  page's own clock), with the 3-D view (the gantry) and without one (``single_axis``), and the 3-D
   frame rate the viewer chose for the page (:mod:`viewer.view3d.renderer`);
 - ``click_to_motion_ms``: from the click on *Step+* (Playwright's mouse click in the page) to the
   first motion of the X joint in the physics (1 µm), ``hold_to_motion_ms`` for holding *Jog−*,
