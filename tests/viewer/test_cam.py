@@ -200,3 +200,6 @@ def test_a_new_profile_reaches_the_page_with_its_data_in_one_message(
     assert len(sent) == 1 and sent[0][0] == sent[0][1] > initial[0]  # series with their rows
     panel.update(sess.snapshot)
     assert len(sent) == 1  # nothing new: nothing sent
+    run(sess, clock, 0.1)
+    panel.update(sess.snapshot)  # the operating point moved: its data alone
+    assert len(sent) == 2 and sent[1] == sent[0]

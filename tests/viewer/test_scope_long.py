@@ -73,8 +73,9 @@ def test_a_recording_the_fine_ring_holds_is_every_sample() -> None:
     fine, extremes = buffers()
     feed(fine, extremes, 0, round(90.0 / DT))
     now = fine.latest
-    t, _, bucket = extremes.samples(now - 60.0, now, [0])
-    assert bucket == 0.0 and t.size >= round(60.0 / DT)
+    t, values, bucket = extremes.samples(now - 60.0, now, [1])
+    assert bucket == 0.0 and t.size >= round(60.0 / DT) and values.shape == (1, t.size)
+    assert not values.any()  # the flag (its one-sample spike was at 7 min)
     assert np.all(np.diff(t) == pytest.approx(DT))
     fine, extremes = buffers()
     feed(fine, extremes, 0, round(30.0 / DT))  # the ring not full yet: all of it, as recorded
@@ -133,6 +134,8 @@ def test_the_scope_shows_ten_minutes_with_the_spike_and_says_the_resolution(
     assert np.nanmax(flag) == 1.0
     assert "min and max of every 0.1 s" in scope.status
     assert recording_csv(recording).startswith("t [s] (min and max of every 0.1 s),")
+    kept = scope.history.add(recording)
+    assert kept.bucket == recording.bucket and kept.resolution == recording.resolution
 
 
 def test_a_short_recording_says_it_is_every_sample() -> None:
