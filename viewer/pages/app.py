@@ -84,10 +84,6 @@ _Hold = Hold
 
 T = TypeVar("T")
 
-PROMPT_SECONDS = 0.3
-"""After an axis' state, motion or message changes, the panels go out every frame for this
-long [s of wall time] (a click's effect shows at the next frame, not the next panel refresh)."""
-
 
 class _Part(Generic[T]):
     """An attribute of one of the app's parts (its views), read and written under a
@@ -191,11 +187,6 @@ class ViewerApp:
         """The HTML last sent to each panel, by panel name (only changes are sent)."""
         self._pause_label = ""
         self._redraw = False
-        self._motion: tuple[tuple[str, bool, str], ...] = ()
-        """Each axis' state, motion and message at the last frame."""
-        self._prompt_until = -math.inf
-        """Until when [s, monotonic] the panels go out every frame (an axis just started or
-        stopped a command: the page shows it at once, not at the next panel refresh)."""
         self.operators = Operators(session, server, clock)
         """Who operates and the jogs their pages hold."""
         self.control: Control = self.operators.control
@@ -616,10 +607,7 @@ class ViewerApp:
                 self._update_3d(model_scene, snapshot)
             else:  # a page draws in software: the latest pose follows at its lower rate
                 self._redraw = True
-        motion = tuple((v.state, v.moving, v.message) for v in snapshot.axes.values())
-        if motion != self._motion:
-            self._motion, self._prompt_until = motion, now + PROMPT_SECONDS
-        if now - self._last_panel >= self._panel_period - slack or now < self._prompt_until:
+        if now - self._last_panel >= self._panel_period - slack:
             self._last_panel = now
             self._update_panels(snapshot)
             self.pages.update_panels(snapshot)
