@@ -11,7 +11,7 @@ folder is printed at the end.
 
 It waits for what the page shows (a demo's step, an axis' message), never for a fixed time, and
 fails with one clear message when the page logs an error to its console, a demo does not run
-twice, or a view draws no series.
+twice, a view draws no series, or a camera preset draws an empty 3-D view.
 
 Run: ``python -m tests.journey [--out DIR] [--machines a,b] [--speed S]`` (about 2 minutes per
 machine on two cores).
@@ -115,6 +115,32 @@ class Chart:
 def charts_drawing_nothing(charts: Sequence[Chart]) -> list[Chart]:
     """The visible charts that draw no series (no series has two finite points)."""
     return [c for c in charts if c.visible and not c.drawn]
+
+
+BLANK = 0.98
+"""Share of a 3-D view's pixels in one colour above which it draws nothing (the background)."""
+
+OPEN_PART = (0.1, 0.125, 0.9, 0.75)
+"""The part of the 3-D view no floating window or button covers (left, top, right, bottom as
+fractions of its box): the Operator window floats over its lower left."""
+
+
+def blank(picture: bytes) -> bool:
+    """Whether a screenshot (PNG) of the 3-D view is one colour in its :data:`OPEN_PART` but
+    for less than 1 - :data:`BLANK` of the pixels: the camera sees nothing of the machine."""
+    import io
+
+    from PIL import Image
+
+    with Image.open(io.BytesIO(picture)) as image:
+        w, h = image.size
+        left, top, right, bottom = OPEN_PART
+        part = image.convert("RGB").crop(
+            (int(left * w), int(top * h), int(right * w), int(bottom * h))
+        )
+    colours = part.getcolors(part.width * part.height) or []
+    most = max((count for count, _ in colours), default=0)
+    return most > BLANK * part.width * part.height
 
 
 def free_port(host: str = "127.0.0.1") -> int:
@@ -507,11 +533,14 @@ class Journey:
         folder.first.click()
         for name in ("Front", "Side", "Top", "Fit"):
             self.button(name).first.click()
-            self.settle()
+            picture = self.settle()
             self.shot(f"view-{name.lower()}")
+            if blank(picture):
+                raise JourneyError(f"{self.machine}: the {name} camera preset draws an empty view")
 
-    def settle(self, timeout: float = 10.0) -> None:
-        """Wait until the 3-D canvas draws the same picture twice (a camera move is animated)."""
+    def settle(self, timeout: float = 10.0) -> bytes:
+        """Wait until the 3-D canvas draws the same picture twice (a camera move is animated);
+        the picture (PNG)."""
         canvas = self.page.locator("canvas").first
         deadline = time.monotonic() + timeout
         last = canvas.screenshot()
@@ -519,8 +548,9 @@ class Journey:
             self.page.wait_for_timeout(200)
             picture = canvas.screenshot()
             if picture == last:
-                return
+                return picture
             last = picture
+        return last
 
     def picture(self, name: str) -> None:
         """Machine ``name`` chosen, its demo a few steps in: the documentation's picture."""

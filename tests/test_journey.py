@@ -5,6 +5,7 @@ does on each machine, how it reads charts and the console, and the viewer proces
 from __future__ import annotations
 
 import http.client
+import io
 import subprocess
 import urllib.parse
 from pathlib import Path
@@ -19,6 +20,7 @@ from tests.journey import (
     Chart,
     Console,
     JourneyError,
+    blank,
     charts_drawing_nothing,
     plan,
     publish,
@@ -58,6 +60,22 @@ def test_a_chart_without_two_finite_points_in_any_series_draws_nothing() -> None
     hidden = Chart(["force [kN]"], 0, [0], visible=False)
     assert drawn.drawn == ["X position [mm]"] and empty.drawn == []
     assert charts_drawing_nothing([drawn, empty, hidden]) == [empty]
+
+
+def png(image: Image.Image) -> bytes:
+    out = io.BytesIO()
+    image.save(out, format="PNG")
+    return out.getvalue()
+
+
+def test_a_3d_view_of_the_background_alone_is_blank() -> None:
+    """A camera that looks away from the machine: white but for a sliver of the floor's edge
+    (half a percent); a view of the machine: a fifth of it drawn."""
+    view = Image.new("RGB", (640, 500), "white")
+    view.paste((220, 218, 210), (300, 0, 304, 400))  # 1600 px: 0.5 %
+    assert blank(png(view))
+    view.paste((60, 60, 70), (100, 100, 420, 300))  # a machine: 64000 px
+    assert not blank(png(view))
 
 
 def test_console_errors_fail_with_their_text() -> None:

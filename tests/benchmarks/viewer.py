@@ -16,8 +16,8 @@ Prints JSON:
   ``frame_update_us``, ``browser_fps``, ``browser_panel_hz``) for a second window with every
   view open: the set-point ghost and the contact forces shown, the cameras following the Z ram
   and the page's scope recording eight channels;
-- ``visible``: from the click on *Step+* to the page's Position read-out changing (the page's
-  own clock), with the 3-D view (the gantry) and without one (``single_axis``), and the 3-D
+- ``visible``: from the click on *Step+* to the page's Position read-out moving by 0.01 u (the
+  page's own clock), with the 3-D view (the gantry) and without one (``single_axis``), and the 3-D
   frame rate the viewer chose for the page (:mod:`viewer.view3d.renderer`);
 - ``click_to_motion_ms``: from the click on *Step+* (Playwright's mouse click in the page) to the
   first motion of the X joint in the physics (1 µm), ``hold_to_motion_ms`` for holding *Jog−*,
@@ -134,9 +134,10 @@ VISIBLE = """(timeout) => { window.__visible = new Promise((done) => {
             (td) => td.textContent.trim() === 'Position' && td.offsetParent !== null);
         return cell ? cell.nextElementSibling.textContent : '';
     };
-    let t0 = null; const before = value();
-    const observer = new MutationObserver(() => {
-        if (t0 !== null && value() !== before) {
+    const number = () => parseFloat(value().replace('\u2212', '-'));
+    let t0 = null; const before = number();
+    const observer = new MutationObserver(() => {  // moved, not the last digit's flicker
+        if (t0 !== null && Math.abs(number() - before) >= 0.01) {
             observer.disconnect(); done(performance.now() - t0);
         }
     });
@@ -145,8 +146,9 @@ VISIBLE = """(timeout) => { window.__visible = new Promise((done) => {
                             {once: true, capture: true});
     setTimeout(() => { observer.disconnect(); done(null); }, timeout);
 }); }"""
-"""From the page's pointerdown to the first change of the shown axis' Position read-out [ms]
-(in the page's own clock; null: no change within ``timeout``)."""
+"""From the page's pointerdown to the shown axis' Position read-out moving by 0.01 u [ms] (in
+the page's own clock; the last digit's flicker at standstill is no motion; null: no change
+within ``timeout``)."""
 
 
 def _visible_latency(page: Page, viewer: Viewer, axis: str = "X") -> dict[str, Any]:

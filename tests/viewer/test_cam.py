@@ -3,13 +3,17 @@ profile and an operating point that agrees with its set point; nothing when no a
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 import numpy as np
 import pytest
+import viser
 
 import mcl
 from scenes.scene import Scene
 from tests.viewer.test_session import FakeClock, run
-from viewer.pages.cam_panel import info_html, plot_data, plot_style
+from viewer.pages.cam_panel import CamPanel, info_html, plot_data, plot_style
 from viewer.sim.cam_view import CamView
 from viewer.sim.session import Session
 
@@ -173,3 +177,29 @@ def test_a_modulo_slave_shows_its_actual_position_in_the_tables_period() -> None
         assert low is not None and high is not None and np.isfinite([low, high]).all(), name
     low, high = ranges["y0"]
     assert low is not None and high is not None and low <= 0.0 and high >= 360.0
+
+
+def test_a_new_profile_reaches_the_page_with_its_data_in_one_message(
+    server: viser.ViserServer, session: tuple[Session, FakeClock]
+) -> None:
+    """The cam view sends a profile's series, axes and scales with its data in one atomic
+    message (a page given the series first drew series without data and failed in uPlot)."""
+    sess, clock = session
+    sess.start_demo()
+    run(sess, clock, 0.3)
+    sent: list[tuple[int, int]] = []
+
+    @contextmanager
+    def atomic() -> Iterator[None]:
+        yield
+        sent.append((len(panel.plot.series), len(panel.plot.data)))
+
+    panel = CamPanel(server.gui, server.gui.add_folder("Cam"), atomic)
+    initial = (len(panel.plot.series), len(panel.plot.data))
+    panel.update(sess.snapshot)
+    assert len(sent) == 1 and sent[0][0] == sent[0][1] > initial[0]  # series with their rows
+    panel.update(sess.snapshot)
+    assert len(sent) == 1  # nothing new: nothing sent
+    run(sess, clock, 0.1)
+    panel.update(sess.snapshot)  # the operating point moved: its data alone
+    assert len(sent) == 2 and sent[1] == sent[0]

@@ -22,6 +22,7 @@ from viewer.pages.layout import COLUMN_WIDTH
 from viewer.pages.overview import Overview
 from viewer.serving.server import Viewer
 from viewer.sim.session import Session
+from viewer.view3d.views import VIEWS, _camera_position
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
@@ -202,5 +203,35 @@ def test_the_cell_s_camera_shows_the_gantry_and_the_press(browser: Browser, cell
             image = projected(camera, machine_points(cell, machine))
             assert (image[:, 2] > 0.0).all(), machine  # in front of the camera
             assert (np.abs(image[:, :2]) <= 0.95).all(), (machine, image)
+    finally:
+        page.context.close()
+
+
+def test_each_camera_preset_turns_the_camera_onto_the_cell(browser: Browser, cell: Viewer) -> None:
+    """Fit, Front, Side and Top, one after the other: the page's camera (as the page reports
+    it) stands where the preset puts it, looks at the machine's centre and sees both
+    machines (a preset that kept the previous view's direction drew an empty, white view)."""
+    before = set(cell.server.get_clients())
+    page = open_page(browser, cell, 1280, 800)
+    try:
+        (client_id,) = set(cell.server.get_clients()) - before
+        camera = cell.server.get_clients()[client_id].camera
+        bounds = cell.app.views._bounds
+        assert bounds is not None
+        center, radius = bounds
+        page.get_by_text("View", exact=True).locator("visible=true").first.click()
+        for name in ("Side", "Top", "Front", "Fit"):
+            page.get_by_role("button", name=name, exact=True).locator("visible=true").first.click()
+            target = _camera_position(center, radius, VIEWS[name])
+
+            def there(at: npt.NDArray[np.float64] = target) -> bool:
+                return bool(np.allclose(camera.position, at, atol=1e-3))
+
+            wait_for(there, 20.0, f"the page's camera at the {name} view")
+            assert np.allclose(camera.look_at, center, atol=1e-3), (name, camera.look_at)
+            for machine in ("gantry/", "press/"):
+                image = projected(camera, machine_points(cell, machine))
+                assert (image[:, 2] > 0.0).all(), (name, machine)  # in front of the camera
+                assert (np.abs(image[:, :2]) <= 1.0).all(), (name, machine, image)
     finally:
         page.context.close()

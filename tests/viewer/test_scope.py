@@ -204,7 +204,9 @@ def test_an_overlay_is_aligned_at_its_trigger_and_exported_with_units() -> None:
     assert history.find(shown.label) is shown
     text = recording_csv(live, shown)
     header, *lines = text.splitlines()
-    assert header == "t [s],X position [mm],X error [0/1],X position [mm] (#2),X error [0/1] (#2)"
+    assert header == (
+        "t [s] (every 2 ms),X position [mm],X error [0/1],X position [mm] (#2),X error [0/1] (#2)"
+    )
     assert len(lines) == live.t.size
 
 

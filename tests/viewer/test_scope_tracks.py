@@ -30,7 +30,13 @@ from viewer.scope.tracks import (
 from viewer.scope.units import display_of, format_value
 from viewer.serving.security import BoundedLog, GuiGate
 from viewer.sim.recorder import Ring
-from viewer.sim.session import HISTORY_SAMPLE, SCOPE_SECONDS, Session
+from viewer.sim.session import (
+    HISTORY_SAMPLE,
+    LONG_BUCKET,
+    LONG_SECONDS,
+    SCOPE_SECONDS,
+    Session,
+)
 from viewer.sim.snapshot import Channel, Snapshot
 
 DT = 0.002
@@ -150,7 +156,7 @@ def test_an_error_recording_is_still_shown_and_kept_30_s_after_the_error(
     gone from it but not from the scope."""
     channels = (Channel("X position", "mm", False), Channel("X error", "", True))
     ring = Ring(2, round(20.0 / DT))
-    session = SimpleNamespace(recorder=SimpleNamespace(channels=channels, ring=ring))
+    session = SimpleNamespace(recorder=OneRing(channels, ring))
     snapshot = SimpleNamespace(channels=channels, axes={"X": None}, scene="single_axis")
     scope = PageScope(
         server.gui, gate, cast(Session, session), cast(Snapshot, snapshot), nullcontext
@@ -179,9 +185,22 @@ def test_an_error_recording_is_still_shown_and_kept_30_s_after_the_error(
     assert "triggered at t = 5.0000 s" in kept[0].window.status
 
 
+class OneRing:
+    """A recorder of ``channels`` with a fine ring only (no long buffer)."""
+
+    def __init__(self, channels: tuple[Channel, ...], ring: Ring) -> None:
+        self.channels, self.ring, self.samples = channels, ring, ring.samples
+
+    @property
+    def oldest(self) -> float:
+        return self.ring.oldest
+
+
 def test_the_history_of_minute_long_recordings_is_bounded() -> None:
+    """The most samples a recording holds: a minute's, every 2 ms (a longer recording holds
+    each 0.1 s' minimum and maximum: fewer)."""
     history = History()
-    samples = round(max(RECORDING_LENGTHS.values()) / HISTORY_SAMPLE) + 1
+    samples = round(SCOPE_SECONDS / HISTORY_SAMPLE) + 1
     for number in range(20):
         t = np.arange(samples, dtype=np.float64) * HISTORY_SAMPLE + number * 60.0
         values = np.zeros((8, samples))
@@ -191,7 +210,8 @@ def test_the_history_of_minute_long_recordings_is_bounded() -> None:
     assert len(kept) == 5 and kept[-1].number == 20
     megabytes = sum(r.t.nbytes + r.values.nbytes for r in kept) / 1e6
     assert megabytes < 12.0  # five minute-long recordings of eight channels
-    assert max(RECORDING_LENGTHS.values()) <= SCOPE_SECONDS
+    assert max(RECORDING_LENGTHS.values()) <= LONG_SECONDS
+    assert samples > 2 * LONG_SECONDS / LONG_BUCKET + LONG_BUCKET / HISTORY_SAMPLE  # 10 min: fewer
 
 
 # ------------------------------------------------------------------------------- defaults

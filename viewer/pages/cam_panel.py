@@ -19,6 +19,8 @@ __all__ = [
 import html
 import itertools
 import math
+from collections.abc import Callable
+from contextlib import AbstractContextManager, nullcontext
 
 import numpy as np
 import numpy.typing as npt
@@ -135,10 +137,17 @@ def plot_style(
 
 
 class CamPanel:
-    """The cam view in a page's GUI (``gui``: the page's ``client.gui``, inside its folder)."""
+    """The cam view in a page's GUI (``gui``: the page's ``client.gui``, inside its folder;
+    ``atomic``: groups the plot's updates into one message, ``client.atomic``: a page that
+    got a new profile's series before its data would draw series without data and fail)."""
 
-    def __init__(self, gui: viser.GuiApi, folder: viser.GuiFolderHandle) -> None:
-        self._folder = folder
+    def __init__(
+        self,
+        gui: viser.GuiApi,
+        folder: viser.GuiFolderHandle,
+        atomic: Callable[[], AbstractContextManager[None]] = nullcontext,
+    ) -> None:
+        self._folder, self._atomic = folder, atomic
         with folder:
             self._info = gui.add_html("")
             self.plot = gui.add_uplot(
@@ -167,13 +176,15 @@ class CamPanel:
         content = info_html(view, tuple(v.slave for v in views[1:]))
         if content != self._shown:
             self._shown = self._info.content = content
-        if view.profile is not self._profile:
-            self._profile = view.profile
-            self._point = ()
-            series, axes, scales = plot_style(view)
-            self.plot.series, self.plot.axes, self.plot.scales = series, axes, scales
         point = (view.table_master, view.table_slave, view.set_slave, view.actual_slave)
-        if point != self._point:
+        profile = view.profile is not self._profile
+        if not profile and point == self._point:
+            return
+        with self._atomic():  # a new profile's series and its data in one message
+            if profile:
+                self._profile = view.profile
+                series, axes, scales = plot_style(view)
+                self.plot.series, self.plot.axes, self.plot.scales = series, axes, scales
             self._point = point
             self.plot.data = plot_data(view)
 

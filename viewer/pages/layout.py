@@ -90,7 +90,7 @@ class Page:
             self.scope = PageScope(
                 gui, self._gate, self.session, snapshot, self.client.atomic, self._redraw
             )
-        self.cam = CamPanel(gui, self._cam)
+        self.cam = CamPanel(gui, self._cam, self.client.atomic)
         self.generation = snapshot.generation
 
     def clear(self) -> None:

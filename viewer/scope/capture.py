@@ -13,6 +13,7 @@ __all__ = [
     "Acquisition",
     "History",
     "Recording",
+    "Samples",
     "Trigger",
     "Window",
     "error_trigger",
@@ -25,6 +26,7 @@ import math
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -262,6 +264,8 @@ class Recording:
         t: Sample times [s] of simulated time.
         values: Samples (channels × samples) [display units].
         window: The stretch of time it covers (its origin: trigger or start).
+        bucket: 0: every sample as recorded; > 0: a long recording, each pair of samples the
+            minimum and maximum over a bucket this long [s] (the newest samples as recorded).
     """
 
     number: int
@@ -270,6 +274,17 @@ class Recording:
     t: npt.NDArray[np.float64]
     values: npt.NDArray[np.float64]
     window: Window
+    bucket: float = 0.0
+
+    @property
+    def resolution(self) -> str:
+        """What its samples are: ``every 2 ms`` or ``min and max of every 0.1 s`` ('' when it
+        has fewer than two samples)."""
+        if self.bucket > 0.0:
+            return f"min and max of every {self.bucket:.3g} s"
+        if self.t.size < 2:
+            return ""
+        return f"every {1e3 * float(np.median(np.diff(self.t))):.3g} ms"
 
     @property
     def x(self) -> npt.NDArray[np.float64]:
@@ -306,18 +321,27 @@ class Recording:
         return float(self.x[int(np.nanargmax(row))])
 
 
+class Samples(Protocol):
+    """Where a recording's samples come from (a :class:`Ring`, or the recorder's two
+    buffers)."""
+
+    def samples(
+        self, since: float, until: float, rows: Sequence[int] | None
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], float]: ...
+
+
 def recording_of(
-    ring: Ring,
+    source: Samples,
     window: Window,
     rows: Sequence[int],
     names: Sequence[str],
     displays: Sequence[Display],
     number: int = 0,
 ) -> Recording:
-    """The samples of channels ``rows`` of ``ring`` over ``window``, in display units."""
-    t, values = ring.window(window.start, window.end, rows)
+    """The samples of channels ``rows`` of ``source`` over ``window``, in display units."""
+    t, values, bucket = source.samples(window.start, window.end, rows)
     factors = np.array([d.factor for d in displays]).reshape(-1, 1)
-    return Recording(number, tuple(names), tuple(displays), t, values * factors, window)
+    return Recording(number, tuple(names), tuple(displays), t, values * factors, window, bucket)
 
 
 class History:
@@ -337,6 +361,7 @@ class History:
             recording.t,
             recording.values,
             recording.window,
+            recording.bucket,
         )
         self._kept.append(numbered)
         return numbered

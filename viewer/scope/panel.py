@@ -62,7 +62,7 @@ from viewer.scope.tracks import LAYOUTS, SHARED, aspect_of, layout_of
 from viewer.scope.units import auto_range, display_of, settled_range
 from viewer.serving.retire import retire
 from viewer.serving.security import GuiGate, choice_of, number_in
-from viewer.sim.recorder import Ring
+from viewer.sim.recorder import Recorder
 from viewer.sim.session import Session
 from viewer.sim.snapshot import Snapshot
 
@@ -81,8 +81,12 @@ RECORDING_LENGTHS = {
     "10 s": 10.0,
     "20 s": 20.0,
     "60 s": 60.0,
+    "2 min": 120.0,
+    "5 min": 300.0,
+    "10 min": 600.0,
 }
-"""Recording lengths (time bases) the scope offers [s]."""
+"""Recording lengths (time bases) the scope offers [s] (beyond the last 60 s, the minimum and
+maximum of every 0.1 s: :class:`~viewer.sim.recorder.Extremes`)."""
 
 NO_CHANNEL = "—"
 """Channel choice: nothing."""
@@ -114,7 +118,7 @@ CURSOR_COLORS = {"A": "#000000", "B": "#7f7f7f"}
 VALUE_LIMIT = 1e9
 """Largest |level| or |range| a page may send [display unit]."""
 
-CURSOR_LIMIT = 120.0
+CURSOR_LIMIT = 1200.0
 """Largest |cursor time| a page may send [s from the origin]."""
 
 
@@ -451,34 +455,37 @@ class PageScope:
             recorder = self.session.recorder
             if recorder.channels != self._all:
                 return  # the session moved on to another scene: the page rebuilds
-            ring = recorder.ring
-            now = ring.latest
+            now = recorder.ring.latest
             if not math.isfinite(now):
                 return
-            window, completed = self.acquisition.poll(ring, now)
-            self.recording = self._read(ring, window)
+            window, completed = self.acquisition.poll(recorder.ring, now)
+            self.recording = self._read(recorder, window)
             if completed:
                 self._keep(self.recording)
             self.status = window.status
-            self._show("status", self._status, scope_status_html(window.status))
+            if self.recording.bucket:
+                self.status += f" · {self.recording.resolution}"
+            self._show("status", self._status, scope_status_html(self.status))
             r = readout(self.recording, self.cursors["A"], self.cursors["B"])
             self._show("readout", self._readout, readout_html(r))
             self._send()
 
-    def _read(self, ring: Ring, window: Window) -> Recording:
+    def _read(self, recorder: Recorder, window: Window) -> Recording:
         """The recording of the chosen channels over ``window`` (the one shown if it is the
-        same, or if the ring no longer holds the frozen window's samples)."""
+        same, or if the recorder no longer holds the frozen window's samples)."""
         shown = self.recording
         names = tuple(self.channels)
         if _span(shown.window) == _span(window) and (
-            shown.names == names or ring.oldest > window.start
+            shown.names == names or recorder.oldest > window.start
         ):
             if shown.window == window:
                 return shown
-            return Recording(0, shown.names, shown.displays, shown.t, shown.values, window)
+            return Recording(
+                0, shown.names, shown.displays, shown.t, shown.values, window, shown.bucket
+            )
         rows = [self._index[n] for n in names]
         displays = [self._displays[n] for n in names]
-        return recording_of(ring, window, rows, names, displays)
+        return recording_of(recorder, window, rows, names, displays)
 
     def _show(self, name: str, handle: viser.GuiHtmlHandle, content: str) -> None:
         if self._text.get(name) != content:

@@ -24,6 +24,7 @@ import numpy.typing as npt
 
 from viewer.scope.capture import Recording
 from viewer.scope.units import Display, format_value
+from viewer.sim.recorder import extreme_order
 
 MAX_POINTS = 2000
 """Points per channel a page is sent at most."""
@@ -128,9 +129,7 @@ def decimate(
     pad = buckets * size - n
     xs = np.pad(x, (0, pad), mode="edge").reshape(buckets, size)
     vs = np.pad(rows, ((0, 0), (0, pad)), mode="edge").reshape(rows.shape[0], buckets, size)
-    low = np.argmin(np.where(np.isnan(vs), np.inf, vs), axis=2)
-    high = np.argmax(np.where(np.isnan(vs), -np.inf, vs), axis=2)
-    first, second = np.minimum(low, high), np.maximum(low, high)
+    first, second = extreme_order(vs)
     pick = np.stack([first, second], axis=2)  # (rows, buckets, 2)
     values = np.take_along_axis(vs, pick, axis=2).reshape(rows.shape[0], 2 * buckets)
     times = np.stack([xs[:, 0], xs[:, -1]], axis=1).reshape(2 * buckets)
@@ -138,8 +137,9 @@ def decimate(
 
 
 def recording_csv(recording: Recording, overlay: Recording | None = None) -> str:
-    """The recording as CSV: ``t [s]`` (from its origin, the trigger or start), one column per
-    channel (header with units), then the overlay's channels at the same times."""
+    """The recording as CSV: ``t [s]`` (from its origin, the trigger or start; its header says
+    the resolution, ``t [s] (every 2 ms)``), one column per channel (header with units), then
+    the overlay's channels at the same times."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     headers = list(recording.headers())
@@ -148,7 +148,8 @@ def recording_csv(recording: Recording, overlay: Recording | None = None) -> str
         headers += [f"{h} (#{overlay.number})" for h in recording.headers()]
         columns.append(aligned(recording, overlay))
     table = np.vstack(columns) if columns else np.zeros((0, recording.t.size))
-    writer.writerow(["t [s]", *headers])
+    resolution = recording.resolution
+    writer.writerow([f"t [s] ({resolution})" if resolution else "t [s]", *headers])
     for k, x in enumerate(recording.x):
         writer.writerow([f"{x:.6f}", *(_cell(v) for v in table[:, k])])
     return out.getvalue()

@@ -19,6 +19,8 @@ from __future__ import annotations
 __all__ = [
     "EVENTS_KEPT",
     "HISTORY_SAMPLE",
+    "LONG_BUCKET",
+    "LONG_SECONDS",
     "SCOPE_SECONDS",
     "DemoFactory",
     "Session",
@@ -72,7 +74,14 @@ HISTORY_SAMPLE = 0.002
 """Sampling period [s] of simulated time of the scope channels (rounded to whole PLC cycles)."""
 
 SCOPE_SECONDS = 60.0
-"""Simulated seconds every scope channel keeps (the longest recording the scope offers)."""
+"""Simulated seconds every scope channel keeps every sample of."""
+
+LONG_SECONDS = 600.0
+"""Simulated seconds every scope channel keeps its minimum and maximum of every
+:data:`LONG_BUCKET` of (the longest recording the scope offers)."""
+
+LONG_BUCKET = 0.1
+"""Simulated seconds a bucket of the long buffer spans (rounded to whole samples)."""
 
 EVENTS_KEPT = 200
 """Entries of the error history kept (oldest dropped)."""
@@ -196,8 +205,13 @@ class Session:
         plc = scene.runtime.plc_period
         self._record_every = max(1, round(HISTORY_SAMPLE / plc))
         self._scan_count = 0
+        sample = plc * self._record_every
         self._recorder = Recorder(
-            scene, self._axis_info, round(SCOPE_SECONDS / (plc * self._record_every)) + 1
+            scene,
+            self._axis_info,
+            round(SCOPE_SECONDS / sample) + 1,
+            every=max(1, round(LONG_BUCKET / sample)),
+            buckets=round(LONG_SECONDS / LONG_BUCKET),
         )
         self._axis_errors = {name: axis.AxErrorID for name, axis in scene.axes.items()}
         self._peaks = PeakHold(scene.axes)

@@ -198,8 +198,10 @@ class Views:
             if event.client is not None and self._bounds is not None:
                 center, radius = self._bounds
                 position = _camera_position(center, radius, direction)
-                event.client.camera.look_at = center
+                # position first: setting it carries the look-at point along (the camera
+                # keeps its orientation), so the look-at point goes second
                 event.client.camera.position = position
+                event.client.camera.look_at = center
 
         return look
 
