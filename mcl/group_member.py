@@ -40,11 +40,10 @@ class GroupMember(Command):
         self.signal = True
 
     def setpoint(self, axis: Axis, t: float) -> tuple[float, float, float]:
-        if self.signal:
-            return self._last, 0.0, 0.0
-        # the servo instant itself (not t0 + t), so every member reads the same path point
-        p, v, a = self.group._setpoint(self.index, axis.t_cycle)
-        if self.signal:  # released by this very evaluation: the path stands at its end
-            return self._last, 0.0, 0.0
-        self._last = p
-        return p, v, a
+        if not self.signal:
+            # the servo instant itself (not t0 + t), so every member reads the same path point
+            p, v, a = self.group._setpoint(self.index, axis.t_cycle)
+            if not self.signal:  # else released by this very evaluation: the path has ended
+                self._last = p
+                return p, v, a
+        return self._last, 0.0, 0.0  # released: it holds there, at rest
