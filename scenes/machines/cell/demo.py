@@ -83,9 +83,10 @@ class Demo:
 
     def __call__(self) -> None:
         """One PLC scan of the cell."""
-        if self.error:
+        gantry, press = self.gantry, self.press
+        if gantry.demo.error or press.demo.error:
             return
-        if self.press.demo.done and not self.gantry.demo.done and not self.press.holding:
+        if press.demo.done and not gantry.demo.done and not press.holding:
             self.press.demo = own_demo(self.scene, "press")
             self.cycles += 1
         self.interlock()

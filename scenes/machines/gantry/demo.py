@@ -68,8 +68,8 @@ class Demo(StepSequence):
         self.scene = scene
         self.axes = [scene.axes[n] for n in ("X", "Y", "Z")]
         group = self.group = mcl.AxesGroup("gantry", corner_tolerance=0.02)
-        # constant inputs are bound once; a scan passes only what changes (Enable, Execute)
-        self.power = [mcl.MC_Power(Axis=axis) for axis in self.axes]
+        # constant inputs are bound once; a scan sets only what changes (Execute)
+        self.power = [mcl.MC_Power(Axis=axis, Enable=True) for axis in self.axes]
         self.home = {n: HomeAxis(scene.axes[n], HOMING[n]) for n in ("X", "Y", "Z")}
         self.add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=axis) for axis in self.axes]
         self.enable = mcl.MC_GroupEnable(AxesGroup=group)
@@ -137,24 +137,26 @@ class Demo(StepSequence):
         """One PLC scan."""
         step = self.STEPS[self.index]
         for power in self.power:
-            power.Enable = True
             power()
-        self.home["Z"](Execute=step == "home Z")
-        for name in ("X", "Y"):
-            self.home[name](Execute=step == "home X and Y")
+        home = self.home
+        home["Z"](Execute=step == "home Z")
+        homing = step == "home X and Y"
+        home["X"](Execute=homing)
+        home["Y"](Execute=homing)
         grouping = step == "group X, Y, Z"
         for add in self.add:
             add.Execute = grouping
             add()
-        self.enable.Execute = grouping and self.add[-1].Done
-        self.enable()
-        self.disable.Execute = step == REST
-        self.disable()
-        self.ungroup.Execute = self.disable.Done
-        self.ungroup()
-        batch_of = self.BATCH_OF
+        enable, disable, ungroup = self.enable, self.disable, self.ungroup
+        enable.Execute = grouping and self.add[-1].Done
+        enable()
+        disable.Execute = step == REST
+        disable()
+        ungroup.Execute = disable.Done
+        ungroup()
+        batch = self.BATCH_OF.get(step)
         for b, moves in enumerate(self.moves):
-            start = batch_of.get(step) == b
+            start = b == batch
             for move in moves:
                 move.Execute = start
                 move()
