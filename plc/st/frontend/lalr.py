@@ -29,7 +29,6 @@ _RULE_PRIORITIES = {
     "variable_name": 3,
     "fb_name": 2,
     "simple_type_name": 2,
-    "structure_type_name": 3,
     "non_generic_type_name": 2,
     "elementary_type_name": 2,
     "string_type_specification": 2,
@@ -65,6 +64,12 @@ _EDITS = [
     (
         "?case_list_element: subrange\n                  | expression",
         "?case_list_element: subrange\n                  | expression\n | case_label",
+    ),
+    # a structure's type name before ":= (": its own terminal (one token of look-ahead would
+    # not tell "p : Point := (x := 1)" from "e : Color := Red")
+    (
+        'initialized_structure: structure_type_name ":="',
+        'initialized_structure: STRUCTURE_NAME ":="',
     ),
     # TYPE s : STRING(25) := 'x': the Earley parser reads a simple declaration
     ("                 | string_type_declaration\n", ""),
@@ -104,6 +109,7 @@ _ADDED = (
     r"""
 ENUMERATION_NAME: /[A-Za-z_][A-Za-z0-9_]*(?=#)/
 CASE_LABEL: IDENTIFIER /(?=\s*(,|:(?!=)))/
+STRUCTURE_NAME: IDENTIFIER /(?=\s*:=\s*\()/
 case_label_name: CASE_LABEL [ DEREFERENCED ] -> variable_name
 case_label_unary_expression: [ UNARY_OPERATOR ] case_label_name -> unary_expression
 """
@@ -129,14 +135,27 @@ def _terminal_priority(terminal: lark.lexer.TerminalDef) -> None:
     (``TRUE``), unless it could cut a name short (``T``, ``d``): that goes after them; the unary
     operator and a base (``16#``) go first (``-1``, ``16#FF``)."""
     pattern = terminal.pattern
-    if terminal.name == "UNARY_OPERATOR":
-        terminal.priority = 4
+    if terminal.name in _FIXED:
+        terminal.priority = _FIXED[terminal.name]
     elif terminal.name in _NAMES:
         terminal.priority = _NAMES[terminal.name]
         terminal.pattern = lark.lexer.PatternRE(pattern.value + r"\b(?!#)", pattern.flags)
+    elif terminal.name in _WORDS:  # TRUE, not the start of TRUEy
+        terminal.priority = 3
+        terminal.pattern = lark.lexer.PatternRE(
+            f"(?:{pattern.to_regexp()})(?![A-Za-z0-9_])", pattern.flags
+        )
     elif not any(_cuts(pattern.to_regexp(), pattern.flags, probe) for probe in _probes(pattern)):
         prefix = isinstance(pattern, lark.lexer.PatternStr) and pattern.value.endswith("#")
         terminal.priority = max(terminal.priority, 0) + (4 if prefix else 3)
+
+
+_FIXED = {"UNARY_OPERATOR": 4, "POWER_OPERATOR": 4, "EQUALS_OP": 2, "COMPARE_OP": 1}
+"""Operators that begin alike: ``-1`` is a unary minus, ``**`` no ``*``, ``=>`` no ``=``,
+``<>`` no ``<``."""
+
+_WORDS = frozenset({"TRUE_VALUE", "FALSE_VALUE"})
+"""Literals that are words without a word boundary in blark's grammar."""
 
 
 def _prioritized(text: str) -> str:
@@ -209,9 +228,16 @@ def parse(text: str) -> lark.Tree | None:
     """The tree of ``text`` (comments already blanked), or None if the LALR parser cannot
     read it (the Earley parser decides)."""
     try:
-        return parser().parse(text, start="iec_source", on_error=_as_other_name)
+        tree = parser().parse(text, start="iec_source", on_error=_as_other_name)
     except lark.exceptions.LarkError:
         return None
+    for token in tree.scan_values(lambda v: isinstance(v, lark.Token) and v.type in _RENAMED):
+        token.type = "IDENTIFIER"
+    return tree
+
+
+_RENAMED = frozenset({"CASE_LABEL", "STRUCTURE_NAME", "ENUMERATION_NAME"})
+"""The terminals of names this parser adds: IDENTIFIERs in the tree, as the Earley parser's."""
 
 
 def _as_other_name(error: lark.exceptions.UnexpectedInput) -> bool:
@@ -231,5 +257,5 @@ def _as_other_name(error: lark.exceptions.UnexpectedInput) -> bool:
     return False
 
 
-_NAME_KINDS = ("IDENTIFIER", "CASE_LABEL", "DOTTED_IDENTIFIER")
+_NAME_KINDS = ("IDENTIFIER", "CASE_LABEL", "STRUCTURE_NAME", "DOTTED_IDENTIFIER")
 """The terminals that read a name, the most common first."""
