@@ -15,9 +15,11 @@ __all__ = ["parse", "parser"]
 
 import hashlib
 import importlib.resources
+import itertools
 import re
 from collections.abc import Collection
 from functools import cache
+from pathlib import Path
 
 import lark
 
@@ -50,7 +52,7 @@ _EDITS = [
     ("PRAGMA: /(?s){[^}]*?}/", "PRAGMA: /{[^}]*?}/s"),
     # a type name in VAR_EXTERNAL: the Earley parser reads it as a simple specification
     (
-        "| array_specification | structure_type_name | function_block_type_name ) \";\"+",
+        '| array_specification | structure_type_name | function_block_type_name ) ";"+',
         '| array_specification ) ";"+',
     ),
     # an enumeration's name before "#": its own terminal, so that a value without it, where
@@ -105,18 +107,15 @@ _LEVELS = [
 ]
 """The levels of an expression, outermost first, each a node of the Earley parser's tree."""
 
-_ADDED = (
-    r"""
+_ADDED = r"""
 ENUMERATION_NAME: /[A-Za-z_][A-Za-z0-9_]*(?=#)/
 CASE_LABEL: IDENTIFIER /(?=\s*(,|:(?!=)))/
 STRUCTURE_NAME: IDENTIFIER /(?=\s*:=\s*\()/
 case_label_name: CASE_LABEL [ DEREFERENCED ] -> variable_name
 case_label_unary_expression: [ UNARY_OPERATOR ] case_label_name -> unary_expression
-"""
-    + "".join(
-        f"case_label{'_' + outer if i else ''}: case_label_{inner} -> {outer}\n"
-        for i, (outer, inner) in enumerate(zip(_LEVELS, _LEVELS[1:]))
-    )
+""" + "".join(
+    f"case_label{'_' + outer if i else ''}: case_label_{inner} -> {outer}\n"
+    for i, (outer, inner) in enumerate(itertools.pairwise(_LEVELS))
 )
 """The terminals and rules the LALR parser adds: an enumeration's name before ``#``, and a
 CASE label that is a name, read as the same tree as the Earley parser's (a variable as an
@@ -219,9 +218,7 @@ def parser() -> lark.Lark:
 
 def _identity() -> bytes:
     """This module's code (its priorities change the tables)."""
-    return importlib.resources.files(__package__ or "plc.st.frontend").joinpath(
-        "lalr.py"
-    ).read_bytes()
+    return Path(__file__).read_bytes()
 
 
 def parse(text: str) -> lark.Tree | None:
@@ -250,10 +247,10 @@ def _as_other_name(error: lark.exceptions.UnexpectedInput) -> bool:
         return False
     dotted = "." in token
     for kind in _NAME_KINDS:
-        if kind != token.type and (kind == "DOTTED_IDENTIFIER" or not dotted):
-            if kind in error.interactive_parser.accepts():
-                error.interactive_parser.feed_token(lark.Token.new_borrow_pos(kind, token, token))
-                return True
+        fits = kind == "DOTTED_IDENTIFIER" or not dotted
+        if kind != token.type and fits and kind in error.interactive_parser.accepts():
+            error.interactive_parser.feed_token(lark.Token.new_borrow_pos(kind, token, token))
+            return True
     return False
 
 

@@ -18,10 +18,9 @@ import os
 import pickle
 import tempfile
 from collections.abc import Callable
-from typing import IO
 from importlib import metadata
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 
 def directory() -> Path | None:
@@ -60,7 +59,10 @@ def store(name: str, tree: Any) -> None:
     read-only or full disk, nothing is kept)."""
     folder = directory()
     if folder is not None:
-        keep(folder / f"{name}.pickle", lambda file: pickle.dump(tree, file, protocol=pickle.HIGHEST_PROTOCOL))
+        keep(
+            folder / f"{name}.pickle",
+            lambda file: pickle.dump(tree, file, protocol=pickle.HIGHEST_PROTOCOL),
+        )
 
 
 def keep(path: Path, write: Callable[[IO[bytes]], Any]) -> None:

@@ -41,12 +41,16 @@ def _both(text: str) -> tuple[Any, Any]:
     except _Refused:
         read = None
     finally:
-        st_parse.parser = earley  # type: ignore[assignment]
+        st_parse.parser = earley
     try:
-        lalr.parse = lambda _: None  # type: ignore[assignment]
+        lalr.parse = _unread
         return read, _same_values(st_parse._parse(text, "x.st"))
     finally:
-        lalr.parse = fast  # type: ignore[assignment]
+        lalr.parse = fast
+
+
+def _unread(text: str) -> None:
+    """The LALR parser reading nothing: the Earley parser reads every text."""
 
 
 class _Refused(Exception):
