@@ -96,7 +96,7 @@ def parse_directory(text: str) -> Path:
     """
     path = Path(text)
     if not path.is_dir():
-        raise argparse.ArgumentTypeError(f"expected a directory of .st files, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected a directory of ST programs, got {text!r}")
     return path
 
 
@@ -172,7 +172,8 @@ def _add_programs(p: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="DIR",
-        help="a directory whose *.st programs the Demo folder offers (read at start); repeatable",
+        help="a directory whose programs the Demo folder offers (read at start): *.st, PLCopen "
+        "*.xml, TwinCAT project folders; repeatable",
     )
     p.add_argument(
         "--map",

@@ -1,7 +1,10 @@
 """The programs the viewer's Demo folder offers for a machine: its Python demo and every
-Structured Text program found for it, ``examples/st/<machine>_demo.st`` of the repository and
-each ``*.st`` of the directories the viewer is started with (``--programs DIR``, read once at
-start). A file that fails to translate for the machine is listed with its error, never run.
+Structured Text program found for it, ``examples/st/<machine>_demo.st`` of the repository and,
+in each directory the viewer is started with (``--programs DIR``, read once at start), every
+program as :func:`plc.st.load` takes it: an ``*.st`` file, a PLCopen XML export (``*.xml``), and
+a TwinCAT project (a sub-folder holding ``.TcPOU``/``.TcDUT``/``.TcGVL`` files; the directory
+itself if it holds them). A program that fails to translate for the machine is listed with its
+error, never run.
 
 An external PLC the viewer serves (``--modbus PORT``, :mod:`viewer.sim.external_plc`) is the last
 entry for its machine. Programs are chosen from this fixed list only: a page can neither type
@@ -10,7 +13,14 @@ nor upload one.
 
 from __future__ import annotations
 
-__all__ = ["EXAMPLES", "PYTHON_DEMO", "ProgramCatalog", "ProgramChoice", "ProgramSelection"]
+__all__ = [
+    "EXAMPLES",
+    "PYTHON_DEMO",
+    "ProgramCatalog",
+    "ProgramChoice",
+    "ProgramSelection",
+    "programs_in",
+]
 
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
@@ -20,6 +30,7 @@ import plc.st
 import scenes
 from plc.st import STProgram
 from plc.st.codegen.translate import Module
+from plc.st.frontend.project import SUFFIXES, read_project
 from plc.st.runtime.watch import WatchedProgram
 from scenes import DemoProgram
 from scenes.scene import Scene
@@ -70,12 +81,12 @@ class ProgramCatalog:
     ) -> None:
         self._examples = examples
         self.external = external
-        self._found = tuple(
-            sorted(p for d in directories for p in Path(d).glob("*.st") if p.is_file())
-        )
+        self._found = tuple(p for d in directories for p in programs_in(Path(d)))
         self._mapping = dict(mapping or {})
         self._modules: dict[tuple[str, Path], Module | str] = {}
-        """Each file translated for a machine (by machine name), or its error."""
+        """Each program translated for a machine (by machine name), or its error."""
+        self._places: dict[Path, Callable[[int], str]] = {}
+        """A project's file:line of each line of its source."""
 
     def choices(self, scene: Scene, python_demo: bool) -> tuple[ProgramChoice, ...]:
         """What the Program dropdown offers for ``scene`` (``python_demo``: it has one), with
@@ -108,16 +119,33 @@ class ProgramCatalog:
         key = (scene.name, path)
         if key not in self._modules:
             try:
-                source = path.read_text(encoding="utf-8")
-                self._modules[key] = plc.st.compile_source(
-                    source, str(path), scene.axes, self.mapping_for(scene), machine_blocks(scene)
-                )
+                self._modules[key] = self._compiled(scene, path)
             except (OSError, UnicodeDecodeError) as error:
                 self._modules[key] = f"{path}: cannot read it ({error})"
             except plc.st.STError as error:
                 self._modules[key] = str(error)
         translated = self._modules[key]
         return translated if isinstance(translated, str) else ""
+
+    def _compiled(self, scene: Scene, path: Path) -> Module:
+        """``path`` (an ST file or a project) translated for ``scene``; a project's messages
+        name its files' lines.
+
+        Raises:
+            plc.st.STError: it does not translate.
+        """
+        axes, mapping, blocks = scene.axes, self.mapping_for(scene), machine_blocks(scene)
+        if path.suffix.lower() == ".st":
+            source = path.read_text(encoding="utf-8")
+            return plc.st.compile_source(source, str(path), axes, mapping, blocks)
+        project = read_project(path)
+        generated = f"{path.name}.st"
+        try:
+            module = plc.st.compile_source(project.source, generated, axes, mapping, blocks)
+        except plc.st.STError as error:
+            raise project.relocated(error, generated) from None
+        self._places[path] = project.where
+        return module
 
     def factory(
         self, choice: ProgramChoice, python: Callable[[Scene], DemoProgram] | None
@@ -141,9 +169,27 @@ class ProgramCatalog:
             clock = lambda: scene.time  # noqa: E731
             period = scene.runtime.plc_period
             program = STProgram(module, None, scene.axes, clock, period, str(path), blocks)
+            if path in self._places:  # a run-time fault names the project's file and line
+                program.__dict__["_place"] = self._places[path]
             return WatchedProgram(program)
 
         return make
+
+
+def programs_in(directory: Path) -> list[Path]:
+    """The programs of ``directory``, by name: its ``*.st`` and PLCopen ``*.xml`` files and its
+    TwinCAT projects (each sub-folder holding TwinCAT sources, the directory itself if it
+    holds some)."""
+    found = [p for p in directory.iterdir() if p.is_file() and p.suffix.lower() in (".st", ".xml")]
+    found += [p for p in directory.iterdir() if p.is_dir() and _holds_twincat(p)]
+    if any(p.is_file() and p.suffix.lower() in SUFFIXES for p in directory.iterdir()):
+        found.append(directory)
+    return sorted(found)
+
+
+def _holds_twincat(folder: Path) -> bool:
+    """``folder`` (or a folder under it) holds TwinCAT source files."""
+    return any(p.is_file() and p.suffix.lower() in SUFFIXES for p in folder.rglob("*"))
 
 
 class ProgramSelection:

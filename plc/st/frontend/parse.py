@@ -25,7 +25,7 @@ import lark
 from blark import util
 
 from plc.st.errors import STError
-from plc.st.frontend import chunks, grammar, tree_cache
+from plc.st.frontend import chunks, grammar, lalr, tree_cache
 
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
@@ -154,16 +154,17 @@ def parse_kept(text: str, filename: str, line: int, name: str) -> tf.SourceCode:
 def _parser_identity() -> bytes:
     """What changes when the grammar or the transformer does: this module's, the grammar's and
     the cutting's code."""
-    modules = (sys.modules[__name__], grammar, chunks)
+    modules = (sys.modules[__name__], grammar, chunks, lalr)
     return b"".join(Path(str(m.__file__)).read_bytes() for m in modules)
 
 
 def _parse(source: str, filename: str, lines_before: int = 0) -> tf.SourceCode:
-    """The tree of ``source``, its positions as in ``source``; an error names its line in the
-    file (``lines_before`` the lines before it there)."""
+    """The tree of ``source``, its positions as in ``source``, read by the LALR parser
+    (:mod:`~plc.st.frontend.lalr`) or, where it cannot, by the Earley parser; an error names its
+    line in the file (``lines_before`` the lines before it there)."""
     comments, cleaned = util.find_and_clean_comments(source)
     try:
-        tree = parser().parse(cleaned, start="iec_source")
+        tree = lalr.parse(cleaned) or parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
         line = error.line + lines_before if error.line > 0 else error.line
         raise STError.at(

@@ -10,7 +10,7 @@ private (0700). A file that does not load is parsed again and replaced.
 
 from __future__ import annotations
 
-__all__ = ["cached", "directory", "key", "load", "store"]
+__all__ = ["cached", "directory", "keep", "key", "load", "store", "versions"]
 
 import functools
 import hashlib
@@ -20,7 +20,7 @@ import tempfile
 from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 
 def directory() -> Path | None:
@@ -36,7 +36,7 @@ def key(source: str, filename: str, parser: bytes) -> str:
     """The name of the kept tree of ``source`` (from ``filename``) parsed by ``parser`` (bytes
     that change when the grammar or the transformer does)."""
     digest = hashlib.sha256()
-    for part in (_versions(), parser, filename.encode(), source.encode()):
+    for part in (versions(), parser, filename.encode(), source.encode()):
         digest.update(len(part).to_bytes(8, "little") + part)
     return digest.hexdigest()
 
@@ -58,22 +58,30 @@ def store(name: str, tree: Any) -> None:
     """Keep ``tree`` as ``name`` (atomically: a reader sees the old file or the new one; on a
     read-only or full disk, nothing is kept)."""
     folder = directory()
-    if folder is None:
-        return
+    if folder is not None:
+        keep(
+            folder / f"{name}.pickle",
+            lambda file: pickle.dump(tree, file, protocol=pickle.HIGHEST_PROTOCOL),
+        )
+
+
+def keep(path: Path, write: Callable[[IO[bytes]], Any]) -> None:
+    """Write a file of the cache with ``write`` (atomically; on a read-only or full disk, or
+    if ``write`` cannot pickle, nothing is kept)."""
     temporary: str | None = None
     try:
-        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=folder, suffix=".tmp")
+        path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
         with os.fdopen(handle, "wb") as file:
-            pickle.dump(tree, file, protocol=pickle.HIGHEST_PROTOCOL)
-        os.replace(temporary, folder / f"{name}.pickle")
+            write(file)
+        os.replace(temporary, path)
     except (OSError, pickle.PicklingError):  # a read-only or full disk: not kept
         if temporary is not None:
             Path(temporary).unlink(missing_ok=True)
 
 
 @functools.cache
-def _versions() -> bytes:
+def versions() -> bytes:
     """blark's and lark's versions (read once: the package metadata is slow to read)."""
     return f"{metadata.version('blark')} {metadata.version('lark')}".encode()
 
