@@ -18,7 +18,6 @@ import scenes
 from mcl import ErrorID
 from scenes.machines.delta_picker import DELTA, PICK, SLOTS, VacuumGripper
 from scenes.machines.delta_picker.axes import ARMS, BELT_Y, EYE_X, PART_X
-from scenes.machines.delta_picker.demo import MOVE
 from scenes.machines.delta_picker.devices import PART_LENGTH, PhotoEye
 
 TOOL = "delta_picker/tool"
@@ -188,7 +187,8 @@ def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance
             )
         )
     )
-    line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=[505.0, BELT_Y, -775.0], **MOVE)
+    edge = {"Velocity": 2000.0, "Acceleration": 20000.0, "Deceleration": 20000.0, "Jerk": 1.0e6}
+    line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=[505.0, BELT_Y, -775.0], **edge)
     stop = mcl.MC_GroupStop(AxesGroup=group, Deceleration=8000.0)
     read = mcl.MC_GroupReadActualPosition(AxesGroup=group)
 
