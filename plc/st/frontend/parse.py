@@ -60,7 +60,8 @@ def parser() -> lark.Lark:
 def parse(source: str, filename: str) -> tf.SourceCode:
     """The typed tree of ``source``, parsed item by item (:mod:`~plc.st.frontend.chunks`): an
     item parsed before comes from the cache (:mod:`~plc.st.frontend.tree_cache`), the others
-    parse, in parallel processes when there are several (:func:`jobs`).
+    by the LALR parser here, and what it cannot read in parallel processes when there are
+    several (:func:`jobs`).
 
     Raises:
         STError: a syntax error, ``filename:line:column: ...; expected ...``.
@@ -68,6 +69,9 @@ def parse(source: str, filename: str) -> tf.SourceCode:
     pieces = chunks.chunks(source)
     names = [tree_cache.key(c.text, filename, _parser_identity()) for c in pieces]
     trees: list[Any] = [tree_cache.load(name) for name in names]
+    for i, tree in enumerate(trees):  # the fast parser here first: a worker starts slower
+        if tree is None:
+            trees[i] = _parse_fast(pieces[i].text, filename, pieces[i].line, names[i])
     missing = [i for i, tree in enumerate(trees) if tree is None]
     work = [(pieces[i].text, filename, pieces[i].line, names[i]) for i in missing]
     for i, tree in zip(missing, _parse_all(work), strict=True):
@@ -145,8 +149,20 @@ _ROOT = str(Path(__file__).resolve().parents[3])
 def parse_kept(text: str, filename: str, line: int, name: str) -> tf.SourceCode:
     """One piece parsed (its first line ``line`` in the file, for messages) and kept in the
     cache as ``name``."""
-    tree = _parse(text, filename, line - 1)
+    tree: tf.SourceCode = _parse(text, filename, line - 1)
     tree_cache.store(name, tree)
+    return tree
+
+
+def _parse_fast(text: str, filename: str, line: int, name: str) -> tf.SourceCode | None:
+    """:func:`parse_kept` by the LALR parser alone: None where it cannot read the piece (an
+    error is left to the full parse, which reports the file's first)."""
+    try:
+        tree: tf.SourceCode | None = _parse(text, filename, line - 1, fast=True)
+    except STError:
+        return None
+    if tree is not None:
+        tree_cache.store(name, tree)
     return tree
 
 
@@ -158,13 +174,18 @@ def _parser_identity() -> bytes:
     return b"".join(Path(str(m.__file__)).read_bytes() for m in modules)
 
 
-def _parse(source: str, filename: str, lines_before: int = 0) -> tf.SourceCode:
+def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False) -> Any:
     """The tree of ``source``, its positions as in ``source``, read by the LALR parser
-    (:mod:`~plc.st.frontend.lalr`) or, where it cannot, by the Earley parser; an error names its
-    line in the file (``lines_before`` the lines before it there)."""
+    (:mod:`~plc.st.frontend.lalr`) or, where it cannot and not ``fast``, by the Earley parser
+    (``fast``: None then); an error names its line in the file (``lines_before`` the lines
+    before it there)."""
     comments, cleaned = util.find_and_clean_comments(source)
     try:
-        tree = lalr.parse(cleaned) or parser().parse(cleaned, start="iec_source")
+        tree = lalr.parse(cleaned)
+        if tree is None:
+            if fast:
+                return None
+            tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
         line = error.line + lines_before if error.line > 0 else error.line
         raise STError.at(

@@ -100,9 +100,11 @@ def _parsed_pieces(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     parsed: list[int] = []
     parse_piece = st_parse._parse
 
-    def counting(text: str, filename: str, lines_before: int = 0):
-        parsed.append(lines_before + 1)
-        return parse_piece(text, filename, lines_before)
+    def counting(text: str, filename: str, lines_before: int = 0, fast: bool = False):
+        tree = parse_piece(text, filename, lines_before, fast)
+        if tree is not None:  # read (by the fast parser alone it may not be)
+            parsed.append(lines_before + 1)
+        return tree
 
     monkeypatch.setattr(st_parse, "_parse", counting)
     return parsed
@@ -149,10 +151,12 @@ def test_a_syntax_error_in_a_later_item_names_its_line(cache: Path):
 
 
 def test_items_parse_in_worker_processes_as_here(cache: Path, monkeypatch: pytest.MonkeyPatch):
-    """With two jobs and enough lines the items parse in two worker processes: the same trees
-    as one process gives, kept for the next load; the first syntax error in the file wins."""
+    """With two jobs and enough lines the items the fast parser cannot read here (none, as if)
+    parse in two worker processes: the same trees as one process gives, kept for the next
+    load; the first syntax error in the file wins."""
     monkeypatch.setenv("MCL_ST_JOBS", "2")
     monkeypatch.setattr(st_parse, "_PARALLEL_LINES", 1)
+    monkeypatch.setattr(st_parse.lalr, "parse", lambda text: None)
     parsed = _parsed_pieces(monkeypatch)
     trees = st_parse.parse(TWO, "two.st")
     assert parsed == [] and len(kept(cache)) == 3  # parsed in the workers, kept by them
@@ -166,3 +170,16 @@ def test_a_source_that_cannot_be_cut_parses_whole(cache: Path):
     """Text between the items (here a stray ';' line of TwinCAT's) keeps the source one piece."""
     assert [c.line for c in chunks.chunks(TWO)] == [1, 2, 8]
     assert len(chunks.chunks(TWO.replace("\nPROGRAM Main", "\n42\nPROGRAM Main"))) == 1
+
+
+def test_items_the_fast_parser_reads_parse_here_without_workers(
+    cache: Path, monkeypatch: pytest.MonkeyPatch
+):
+    """A worker process starts slower than the fast parser reads an item: with two jobs and
+    enough lines, items it reads parse in this process (each one once, kept)."""
+    monkeypatch.setenv("MCL_ST_JOBS", "2")
+    monkeypatch.setattr(st_parse, "_PARALLEL_LINES", 1)
+    parsed = _parsed_pieces(monkeypatch)
+    trees = st_parse.parse(TWO, "two.st")
+    assert parsed == [1, 2, 8] and len(kept(cache)) == 3
+    assert trees.items == st_parse._parse(TWO, "two.st").items
