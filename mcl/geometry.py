@@ -55,7 +55,11 @@ RADIUS_TOLERANCE: Final = 1e-3
 """How much the end point's distance from a CENTER arc's centre may differ from the start
 point's, relative to the radius."""
 COLLINEAR: Final = 1e-9
-"""BORDER points whose triangle has a sine of its largest angle below this are collinear."""
+"""Three points whose triangle has a sine of its largest angle below this are collinear."""
+BORDER_SINE: Final = 5e-4
+"""BORDER points whose triangle has a sine of its largest angle below this lie on a line: their
+circle would be over 1000 times as large as its longest chord (law of sines), a line within the
+positions' rounding (a start 1 µm off a 100 mm line made a circle of 2.5e9 mm)."""
 PLANES: Final = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
 """G-code plane number → (first axis, second axis, normal axis), member indices."""
 TWO_PI: Final = 2.0 * math.pi
@@ -329,8 +333,11 @@ def _border(start: Vector, aux: Vector, end: Vector) -> Arc:
         raise GeometryError("BORDER needs three different points (start, AuxPoint, EndPoint)")
     n = cross(a, b)
     area = norm(n)  # = the product of two sides times the sine of the angle between them
-    if area <= COLLINEAR * min(norm(a) * norm(b), norm(a) * norm(c), norm(b) * norm(c)):
-        raise GeometryError("the start, AuxPoint and EndPoint lie on a line: no circle")
+    if area <= BORDER_SINE * min(norm(a) * norm(b), norm(a) * norm(c), norm(b) * norm(c)):
+        raise GeometryError(
+            "the start, AuxPoint and EndPoint lie on a line (their circle over 1000 times its"
+            " chord): no circle"
+        )
     n = [x / area for x in n]
     # circumcentre: start + (|a|²·b − |b|²·a) × (a × b) / (2·|a × b|²)
     w = [dot(a, a) * y - dot(b, b) * x for x, y in zip(a, b, strict=True)]
@@ -460,6 +467,7 @@ def arc(
 
 
 __all__ = [
+    "BORDER_SINE",
     "COLLINEAR",
     "EPS",
     "PLANES",

@@ -35,8 +35,9 @@ behind it allow (look-ahead over every queued piece; the last one ends at stands
 Corners. With a Blending BufferMode a corner is rounded within the group's corner tolerance, the
 blending velocity given by the BufferMode (never faster than an arc's own velocity); a line
 into a tangent arc has no corner but a step of the centripetal acceleration v²/R, which is
-spread over a blend of reach 2.8125·v³/(R·J), so that the jerk stays within J without a dip of
-the velocity. The moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide unless the
+spread over a blend of reach 2.8125·v³/(R·J), so that the jerk stays within J (with a low jerk
+the velocity may dip there: 200 → 140 mm/s into R 50 at J 20000 mm/s³, none at 50000). The
+moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide unless the
 group has a kinematic transformation, :mod:`mcl.kin_fb`; PCS is MCS until
 MC_SetCoordinateTransform or MC_TrackConveyorBelt sets one, :mod:`mcl.tracking`, and then a
 position in MCS is refused with EParam 5) and
@@ -549,9 +550,10 @@ class MC_MoveCircularAbsolute(_MoveCircularFB):
     linearly to its end coordinate (a helix). Velocity, Acceleration, Deceleration and Jerk act
     along the path; the velocity is lowered where the curvature needs it so that every member
     stays within its limits (docs/reference.md, Group paths). Needs Ref (Ehome 9); an arc
-    passing a member's SW limit → Ecil 8; points that are not finite, collinear BORDER points,
-    a radius shorter than half the chord, an end point off the circle (CENTER, beyond 0.1 % of
-    the radius), an arc of zero length, an unknown CircMode, PathChoice or Plane → EParam 5.
+    passing a member's SW limit → Ecil 8; points that are not finite, BORDER points on a line
+    (a circle over 1000 times its chord), a radius shorter than half the chord, an end point
+    off the circle (CENTER, beyond 0.1 % of the radius), an arc of zero length, an unknown
+    CircMode, PathChoice or Plane → EParam 5.
     """
 
     NEEDS_REF: ClassVar[bool] = True

@@ -185,7 +185,8 @@ def circle_test(
         radius: nominal radius [mm].
         feed: path velocity [mm/min].
         direction: "ccw", "cw" or "both".
-        center: the centre in the axes' coordinates [mm]; None: where they stand.
+        center: the centre in the axes' coordinates [mm]; None: where they stand (a machine
+            loaded at its start may stand on a limit switch: home it first or give a centre).
         acceleration, jerk: along the path [mm/s², mm/s³].
         timeout: simulated time for the whole test [s].
 
@@ -268,7 +269,10 @@ def _evaluate(result: CircleResult, speed: float) -> None:
             )
 
 
-_WHAT_FITS = "a circle within the axes' software limits and velocity"
+_WHAT_FITS = (
+    "a circle within the axes' travel (software limits, limit switches: home first or give a"
+    " centre clear of them) and velocity"
+)
 
 
 def _checked(scene: Any, plane: str, radius: float, feed: float, direction: str) -> tuple[str, str]:

@@ -297,6 +297,14 @@ def measure_move(
         scene.run(program, until=lambda: scene.time - t_done >= settle, timeout=settle + 1.0)
     finally:
         scene.runtime.observers.remove(observe)
+    return _move_figures(samples, distance, window)
+
+
+def _move_figures(
+    samples: list[tuple[float, float, float, float]], distance: float, window: float
+) -> MoveFigures:
+    """A move's figures from its samples (time [s], set point, joint [u], set velocity [u/s])
+    of a move by ``distance`` [u] with the settling ``window`` [u]."""
     t, sp, q, v = np.array(samples).T
     stop = t[np.nonzero(v)[0][-1] + 1]
     after = t >= stop

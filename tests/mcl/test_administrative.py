@@ -458,6 +458,10 @@ ERROR_TEXTS: dict[int, tuple[str, str]] = {
         "cíl je mimo pracovní prostor kinematiky",
     ),
     25: ("target near a singularity of the kinematics", "cíl je blízko singularity kinematiky"),
+    26: (
+        "the belt is too fast for the robot to follow the part",
+        "pás je příliš rychlý, robot nemůže díl sledovat",
+    ),
     1000: ("axis is a group member, command refused", "osa je členem Group, příkaz nelze provést"),
     1001: ("group full", "Group je plná, nelze již přidat osu"),
     1003: ("axis is not a group member", "osa není členem Group"),

@@ -162,6 +162,9 @@ def test_bounds_and_distance_of_a_quarter() -> None:
     ("args", "message"),
     [
         (([0.0, 0.0], BORDER, [1.0, 1.0], [2.0, 2.0]), "on a line"),
+        # a start one encoder count (1 µm) off a 100 mm line: a circle of 2.5e9 mm before
+        (([300.001, 200.001], BORDER, [350.0, 200.0], [400.0, 200.0]), "on a line"),
+        (([0.0, 0.0], BORDER, [50.0, 0.012], [100.0, 0.0]), "on a line"),  # R 104 167 mm
         (([0.0, 0.0], BORDER, [0.0, 0.0], [2.0, 2.0]), "three different points"),
         (([0.0, 0.0], BORDER, [1.0, 1.0], [0.0, 0.0]), "three different points"),
         (([0.0, 0.0], RADIUS, [1.0, 0.0], [10.0, 0.0]), "shorter than half the chord"),
@@ -184,3 +187,11 @@ def test_bounds_and_distance_of_a_quarter() -> None:
 def test_inputs_that_describe_no_arc(args: tuple, message: str) -> None:
     with pytest.raises(GeometryError, match=message):
         arc(*args)
+
+
+def test_a_flat_border_arc_is_still_an_arc() -> None:
+    """A sagitta of 0.013 mm on a 100 mm chord (R 96 154 mm, under 1000 chords): an arc through
+    the three points."""
+    a = arc([0.0, 0.0], BORDER, [50.0, 0.013], [100.0, 0.0])
+    assert a.radius == pytest.approx((50.0**2 + 0.013**2) / (2 * 0.013))
+    assert a.distance([50.0, 0.013]) == pytest.approx(0.0, abs=1e-6)

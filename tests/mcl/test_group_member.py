@@ -1,10 +1,12 @@
 """What each member axis does when a group's path lets it go (mcl.group_member): at the end of a
-path, when the kinematics refuses a path point (also the very first) and when the axes are
-ungrouped after a group stop, every member holds its last set point exactly, with set velocity
-and acceleration 0, from the cycle it is let go on; on simulated axes."""
+path, when the kinematics refuses a path point (after its ramp to rest; at the very first point
+at once) and when the axes are ungrouped after a group stop, every member holds its last set
+point exactly, with set velocity and acceleration 0, from the cycle it is let go on; on
+simulated axes."""
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 
 import mcl
@@ -68,7 +70,10 @@ def delta_move(machine: mcl.SimMachine) -> tuple[mcl.AxesGroup, mcl.DeltaKinemat
     return group, delta
 
 
-def test_a_refused_path_point_leaves_every_arm_at_its_last_set_point_with_zero_rates() -> None:
+def test_a_refused_path_point_ramps_every_arm_to_rest_and_leaves_it_there() -> None:
+    """The kinematics refuses a point: each arm ramps from its last set point to standstill on
+    its own fastest ramp (no velocity step beyond it), is let go at the ramp's end and holds it
+    with zero rates."""
     machine = make_machine(ARMS)
     group, delta = delta_move(machine)
     members = watch(machine, ARMS)
@@ -79,11 +84,15 @@ def test_a_refused_path_point_leaves_every_arm_at_its_last_set_point_with_zero_r
     machine.run(program, until=lambda: move.Error, timeout=0.5)
     machine.run(program, timeout=0.02)
     assert move.ErrorID == ErrorID.EWorkspace
-    for i in range(len(ARMS)):
+    for i, axis in enumerate(group.axes):
         released = members.released(i)
-        column = [row[i] for row in members.rows]
-        held = column[len(column) - len(released) - 1][1]  # the last set point on the path
+        held = released[0][1]  # where the ramp ended
         assert all(r[1:] == (held, 0.0, 0.0) for r in released), released[:3]
+        column = [row[i] for row in members.rows]
+        ramp = axis.max_ramp().deceleration * axis.servo_period * (1.0 + 1e-9)
+        assert all(abs(b[2] - a[2]) <= ramp for a, b in itertools.pairwise(column))
+        before = column[len(column) - len(released) - 1]
+        assert before[0] == AxisState.SynchronizedMotion and before[2] > 0.0  # still ramping
 
 
 def test_a_path_refused_at_its_first_point_leaves_the_arms_where_they_stand() -> None:
