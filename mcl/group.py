@@ -113,8 +113,7 @@ class AxesGroup:
         """The group state, derived from the group's flags and the members' states.
 
         A pure read: member faults that :meth:`update` has not acted on yet count as it will
-        count them (a member whose group command ended with an error makes GroupErrorStop).
-        """
+        count them (a member whose group command ended with an error makes GroupErrorStop)."""
         if not self.enabled:
             return GroupState.GroupDisabled
         lost = self._lost()
@@ -150,8 +149,7 @@ class AxesGroup:
         end = self._end
         if end is None and lost and self._active is not None:
             end = self.kin.to_joints(self._p, self._joint, self.axes)  # nobody follows: ends there
-        if end is None:
-            end = [axis.sp_pos for axis in self.axes]
+        end = end if end is not None else [axis.sp_pos for axis in self.axes]
         return all(
             abs(axis.actual - e) <= axis.config.in_position
             for axis, e in zip(self.axes, end, strict=True)
@@ -370,8 +368,7 @@ class AxesGroup:
         """The path limits of FB inputs (validated, >= 0; 0 = the members' default) before any
         clamping to a direction or a curve (the 100 s rule of the parameter checks)."""
         zero = Line([0.0] * len(self.axes), [0.0] * len(self.axes))
-        planner = self._planner(joint=False)
-        return planner.limits(zero, velocity, acceleration, deceleration, jerk)[0]
+        return self._planner(False).limits(zero, velocity, acceleration, deceleration, jerk)[0]
 
     # ------------------------------------------------------------------ commands
     def prepare(self, ticket: PathCommand, moves: Sequence[Move]) -> list[Element]:
@@ -386,9 +383,8 @@ class AxesGroup:
         start = self.start_point(ticket.buffer_mode, moves[0].joint)
         elements: list[Element] = []
         for move in moves:
-            start = self.kin.convert(
-                start, elements[-1].joint if elements else move.joint, move.joint
-            )
+            space = elements[-1].joint if elements else move.joint
+            start = self.kin.convert(start, space, move.joint)
             element = self.kin.element(ticket, start, move, self.axes, self.corner_tolerance)
             element.completes = False
             elements.append(element)
@@ -451,8 +447,11 @@ class AxesGroup:
         """MC_GroupStop: abort everything (a feed hold included) and ramp the path velocity to
         zero on the path with ``deceleration`` [mm/s²] and ``jerk`` [mm/s³] (0 = defaults),
         unaffected by the override; the group stays in GroupStopping until the ticket is Done
-        and no longer held. ``halt`` (MC_GroupHalt): the ramp runs on the path clock (the
-        override acts on it), the group stays GroupMoving and the next move may abort it."""
+        and no longer held (it leaves a moving PCS: stops in the MCS). ``halt`` (MC_GroupHalt):
+        the ramp runs on the path clock (the override acts on it), the group stays GroupMoving
+        and the next move may abort it. A ramp refused: :meth:`GroupKinematics.ramp_fault`."""
+        if not halt and self.kin.leave_moving_frame():
+            self._active = None  # the stop runs in the MCS, from the members' own motion
         t = self._current()[0]
         self._abort_tickets(except_ticket=ticket)
         self._queue.clear()
@@ -462,6 +461,8 @@ class AxesGroup:
             self._stop = ticket
         self._active = ramp
         self._engage()
+        if self.kin.ramp_fault(ramp, self.axes) and not self.GroupErrorID:
+            self._refused()
 
     def reframe(self, ticket: PathCommand, deceleration: float, jerk: float) -> None:
         """The PCS changed (:mod:`mcl.tracking`): the path restarts from the members' set points
@@ -492,8 +493,7 @@ class AxesGroup:
             ticket.status = Status.Aborted
         self._rechain(self._active)
         self._lookahead()
-        after = self._queue[0] if self._queue else None
-        if after is not before:
+        if (self._queue[0] if self._queue else None) is not before:
             self._replan_active()
 
     # ------------------------------------------------------------------ path bookkeeping

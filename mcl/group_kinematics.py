@@ -24,8 +24,17 @@ spaces never blend: the path stops between them.
 
 The Cartesian space of a path is the product coordinate system (:attr:`GroupKinematics.frame`,
 :mod:`mcl.coordinate_system`): the MCS until MC_SetCoordinateTransform or MC_TrackConveyorBelt
-sets one. A moving PCS enters the set points with its velocity and acceleration, a piece is
-checked where the PCS stands when it is accepted, and a path that ends rests in the PCS.
+sets one. A moving PCS enters the set points with its velocity and acceleration, and a path that
+ends rests in the PCS. In a moving PCS a piece is also checked along the PCS's positions while
+it runs (:meth:`GroupKinematics.sweep`: its profile from rest to rest started when it is
+accepted, the belt moving on at its velocity then): every point within the workspace and the SW
+limits, every joint's velocity, the belt's share included, within its Vmax (else ETrackTooFast
+26); the belt's share of a joint's velocity lowers the path velocity too,
+v ≤ (Vmax − |q̇_belt|)/|q'|.
+
+A stop ramp (MC_GroupStop, MC_GroupHalt, a PCS set) is checked when it is planned the same way
+(:meth:`GroupKinematics.sweep`): one that would leave the workspace or a SW limit is refused at
+once, as a point refused during a motion (every member stops on its own fastest ramp).
 """
 
 from __future__ import annotations
@@ -45,7 +54,7 @@ from mcl.joint_check import JointCheck
 from mcl.kinematics import KinematicsError, KinTransform, derivatives
 from mcl.path import Element, Move, PathCommand
 from mcl.path_planner import PathPlanner
-from mcl.trajectory import Limits
+from mcl.trajectory import Limits, PlanningError, Profile, move_to
 
 SAMPLE_STEP: Final = 2.0
 """Largest distance between the checked points of a Cartesian piece [mm]."""
@@ -53,6 +62,9 @@ SAMPLE_STEP: Final = 2.0
 _MAX_SAMPLES: Final = 2000
 _VELOCITY_SHARE: Final = 0.3
 """Share of a joint's acceleration the path velocity may take through the curvature q''."""
+_VMAX_TOLERANCE: Final = 1e-3
+"""A joint's velocity along a swept piece may exceed its Vmax by this share (the path velocity
+is lowered from the joints' slopes between points :data:`SAMPLE_STEP` apart)."""
 
 
 class GroupKinematics:
@@ -256,14 +268,97 @@ class GroupKinematics:
             return 0
         slopes = [0.0] * len(axes)
         bends = [0.0] * len(axes)
+        carried = self.carried(geometry, axes)
+        if carried is None:
+            return ErrorID.ETrackTooFast
         for k in range(1, len(qs)):
             for i in range(len(axes)):
                 slopes[i] = max(slopes[i], abs(qs[k][i] - qs[k - 1][i]) / step)
                 if k + 1 < len(qs):
                     second = (qs[k + 1][i] - 2.0 * qs[k][i] + qs[k - 1][i]) / (step * step)
                     bends[i] = max(bends[i], abs(second))
-        _lower(element, axes, slopes, bends)
+        _lower(element, axes, slopes, bends, carried)
+        if self.frame is None or not self.frame.moving:
+            return 0
+        try:
+            profile = move_to(0.0, 0.0, 0.0, geometry.length, element.limits)
+        except PlanningError:
+            return 0  # the profile is planned when the piece starts; it refuses it then
+        return self.sweep(element, profile, axes, velocity=True)
+
+    def carried(self, geometry: Geometry, axes: Sequence[Axis]) -> list[float] | None:
+        """Each joint's largest velocity [u/s] the moving PCS alone gives it at the points of
+        ``geometry`` (zeros in a fixed PCS); None when it reaches a joint's Vmax."""
+        frame, transform = self.frame, self.transform
+        shares = [0.0] * len(axes)
+        if frame is None or not frame.moving or transform is None:
+            return shares
+        zero = (0.0, 0.0, 0.0)
+        for p in _points(geometry):
+            point, velocity, _ = frame.to_mcs(p, zero, zero)
+            try:
+                _, qd, _ = derivatives(transform, point, velocity, zero)
+            except KinematicsError:
+                continue  # the point is refused by the samples' check
+            shares = [max(x, abs(w)) for x, w in zip(shares, qd, strict=True)]
+        for axis, share in zip(axes, shares, strict=True):
+            if axis.constants is not None and share >= axis.constants.Vmax:
+                return None
+        return shares
+
+    def sweep(
+        self, element: Element, profile: Profile, axes: Sequence[Axis], velocity: bool
+    ) -> int:
+        """Check ``element`` (Cartesian) run along ``profile`` (path time 0 = now, arc length)
+        at the PCS's positions meanwhile (the belt moving on at its velocity): 0, or the error
+        of the first point refused (EWorkspace 24, ESingular 25, Ecil 8), with ``velocity`` also
+        ETrackTooFast 26 for a joint faster than its Vmax (the belt's share included)."""
+        transform, frame = self.transform, self.frame
+        if transform is None or element.joint:
+            return 0
+        belt = frame.travel()[1] if frame is not None else 0.0
+        duration = profile.duration
+        start = profile.at(0.0)[0]
+        travel = abs(profile.end_position - start) + abs(belt) * duration
+        count = min(_MAX_SAMPLES, max(16, math.ceil(travel / SAMPLE_STEP)))
+        zero = [0.0, 0.0, 0.0]
+        for k in range(count + 1):
+            tau = duration * k / count
+            s, v, _ = profile.at(tau)
+            p, vel, _ = element.state(s, v if velocity else 0.0, 0.0)
+            if frame is not None:
+                p, vel, _ = frame.to_mcs([p[0] + belt * tau, p[1], p[2]], vel, zero)
+            try:
+                q, qd, _ = derivatives(transform, p, vel, zero)
+            except KinematicsError as refused:
+                return int(refused.error_id)
+            for axis, x, w in zip(axes, q, qd, strict=True):
+                error = axis.check_target(x)
+                if error:
+                    return error
+                vmax = axis.constants.Vmax if axis.constants is not None else math.inf
+                if velocity and abs(w) > vmax * (1.0 + _VMAX_TOLERANCE):
+                    return ErrorID.ETrackTooFast
         return 0
+
+    def ramp_fault(self, ramp: Element, axes: Sequence[Axis]) -> int:
+        """Check a stop ramp when it is planned (module docstring); its error is recorded in
+        :attr:`fault` (the group then stops every member on its fastest ramp). Returns it."""
+        error = 0
+        if ramp.profile is not None and ramp.profile.duration > 0.0:
+            error = self.sweep(ramp, ramp.profile, axes, velocity=False)
+        self.fault = error or self.fault
+        return error
+
+
+def _points(geometry: Geometry) -> list[list[float]]:
+    """Points of ``geometry`` at most :data:`SAMPLE_STEP` apart (its start alone when it has no
+    length)."""
+    length = geometry.length
+    if length <= 0.0:
+        return [list(geometry.start)]
+    count = min(_MAX_SAMPLES, max(16, math.ceil(length / SAMPLE_STEP)))
+    return [geometry.point(k * length / count) for k in range(count + 1)]
 
 
 def _samples(
@@ -271,26 +366,28 @@ def _samples(
 ) -> tuple[list[list[float]], float]:
     """The joints (``inverse``) at points of ``geometry`` at most :data:`SAMPLE_STEP` apart, and
     that step [mm] (0 for a piece of no length)."""
-    length = geometry.length
-    if length <= 0.0:
-        return [inverse(geometry.start)], 0.0
-    count = min(_MAX_SAMPLES, max(16, math.ceil(length / SAMPLE_STEP)))
-    step = length / count
-    return [inverse(geometry.point(k * step)) for k in range(count + 1)], step
+    points = _points(geometry)
+    step = geometry.length / (len(points) - 1) if len(points) > 1 else 0.0
+    return [inverse(p) for p in points], step
 
 
 def _lower(
-    element: Element, axes: Sequence[Axis], slopes: Sequence[float], bends: Sequence[float]
+    element: Element,
+    axes: Sequence[Axis],
+    slopes: Sequence[float],
+    bends: Sequence[float],
+    carried: Sequence[float],
 ) -> None:
-    """Lower ``element``'s limits so that no joint exceeds its own (module docstring)."""
+    """Lower ``element``'s limits so that no joint exceeds its own (module docstring);
+    ``carried`` each joint's velocity the moving PCS alone gives it [u/s]."""
     limits = element.limits
     v, acc, dec, jerk = limits.velocity, limits.acceleration, limits.deceleration, limits.jerk
     cap = element.cap
-    for axis, slope, bend in zip(axes, slopes, bends, strict=True):
+    for axis, slope, bend, share in zip(axes, slopes, bends, carried, strict=True):
         config = axis.config
         if slope > 0.0:
             if axis.constants is not None:
-                cap = min(cap, axis.constants.Vmax / slope)
+                cap = min(cap, (axis.constants.Vmax - share) / slope)
             acc = min(acc, (1.0 - _VELOCITY_SHARE) * config.max_acceleration / slope)
             dec = min(dec, (1.0 - _VELOCITY_SHARE) * config.max_deceleration / slope)
             if config.max_jerk > 0.0:

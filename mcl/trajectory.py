@@ -175,6 +175,13 @@ def _solve(calculate: Any, inp: Any) -> Any:
     return traj
 
 
+_JERK_RETRIES = (1e-9, 1e-8, 1e-7)
+"""ruckig 0.19 finds no profile for about 2 % of valid inputs with a velocity and acceleration
+limit reached (a numerical edge of its step 1: 591 mm from rest at 3000 mm/s, 40000 mm/s²,
+2291473.292 mm/s³ fails, 1e-9 less jerk plans): the plan is retried with the jerk lowered by
+these shares, within the limits and indistinguishable in the motion."""
+
+
 def _plan(
     interface: Any,
     p0: float,
@@ -198,6 +205,11 @@ def _plan(
     inp.max_acceleration = [acc_up]
     inp.min_acceleration = [-acc_down]
     inp.max_jerk = [jerk]
+    for share in _JERK_RETRIES:
+        try:
+            return _solve(calculate, inp)
+        except PlanningError:
+            inp.max_jerk = [jerk * (1.0 - share)]
     return _solve(calculate, inp)
 
 
