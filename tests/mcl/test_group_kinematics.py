@@ -512,3 +512,31 @@ def test_set_kin_transform_takes_a_structure_of_a_deltas_parameters() -> None:
         kin(Execute=True, KinTransform=types.SimpleNamespace(**bad))
         assert kin.Error and kin.ErrorID == ErrorID.EParam, bad
     assert group.kin.transform is transform
+
+
+def test_a_stop_ramp_beyond_the_workspace_stops_the_arms_at_once() -> None:
+    """MC_GroupStop with a gentle deceleration on a line that ends 0.5 deg inside the arms'
+    range: the ramp would run on along the line beyond it. It is checked when it is planned:
+    the stop ends with EWorkspace on the scan it starts, every arm ramps to standstill on its
+    own fastest ramp from there and stays within the range (checked only when reached, the
+    ramp took them beyond it)."""
+    machine = make_machine(ARMS)
+    target = [300.0, 0.0, -800.0]
+    delta = mcl.DeltaKinematics(200.0, 50.0, 350.0, 800.0)
+    delta.theta_max = max(delta.inverse(target)) + 0.5
+    group = build_group(machine, ARMS)
+    kin = mcl.MC_SetKinTransform()
+    kin(AxesGroup=group, Execute=True, KinTransform=delta)
+    joints = record(machine)
+    move, stop = mcl.MC_MoveLinearAbsolute(), mcl.MC_GroupStop()
+    machine.run(
+        scan(lambda: move(AxesGroup=group, Execute=True, Position=target, **MOVE)), timeout=0.3
+    )
+    assert move.Busy
+    stop(AxesGroup=group, Execute=True, Deceleration=500.0)
+    move(Execute=True)
+    assert stop.Error and stop.ErrorID == ErrorID.EWorkspace and move.CommandAborted
+    assert group.state == mcl.GroupState.GroupErrorStop
+    machine.run(lambda: None, timeout=0.5)
+    assert all(v == 0.0 for v in joints.qd[-1])
+    assert max(max(q) for q in joints.q) < delta.theta_max

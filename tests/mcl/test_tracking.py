@@ -13,13 +13,14 @@ import pytest
 import mcl
 from mcl import ErrorID, MC_BufferMode
 from mcl.enums import MC_COORD_SYSTEM
-from tests.helpers import in_velocity, make_machine, scan
+from tests.helpers import configure, in_velocity, make_machine, scan
 from tests.mcl.test_group import build_group
 from tests.mcl.test_group_kinematics import ARMS, DELTA, MOVE
 
 BELT = "D"
 ORIGIN = [-300.0, -100.0, -760.0]
 """The belt frame in the MCS [mm] (x along the belt)."""
+PCS = {"CoordSystem": MC_COORD_SYSTEM.PCS}
 
 
 def tracking_machine(speed: float = 200.0) -> tuple[mcl.SimMachine, mcl.AxesGroup, mcl.Axis]:
@@ -258,3 +259,76 @@ def test_a_disable_while_tracking_stops_the_group_in_the_mcs() -> None:
     machine.run(lambda: None, timeout=0.1)
     assert math.dist(tool(group), stood) < 1e-9
     assert not group.has_path
+
+
+def test_a_group_stop_while_tracking_stops_the_tool_in_the_mcs() -> None:
+    """MC_GroupStop while the group follows the part: the tool point ramps from the belt's
+    velocity to a standstill in the MCS with the stop's deceleration and jerk (the PCS is no
+    longer followed) and stays there."""
+    machine, group, belt = tracking_machine(300.0)
+    assert track(machine, group, belt).Done
+    machine.run(lambda: None, timeout=0.05)
+    stop = mcl.MC_GroupStop()
+    stop(AxesGroup=group, Execute=True, Deceleration=3000.0, Jerk=1.0e5)
+    start = tool(group)
+    assert group.kin.frame is None and group.state == mcl.GroupState.GroupStopping
+    machine.run(lambda: stop(Execute=True), until=lambda: stop.Done or stop.Error, timeout=2.0)
+    assert stop.Done
+    distance = mcl.trajectory.stop(0.0, 300.0, 0.0, 3000.0, 1.0e5).end_position
+    assert math.dist(tool(group), start) == pytest.approx(distance, abs=0.5)
+    stood = tool(group)
+    machine.run(lambda: stop(Execute=False), timeout=0.1)
+    assert math.dist(tool(group), stood) < 1e-9
+    assert group.state == mcl.GroupState.GroupStandby and not group.has_path
+
+
+def test_a_move_in_the_tracked_pcs_is_checked_along_the_belts_travel() -> None:
+    """A slow move in PCS to a point within reach where the part is now: at 50 mm/s it takes
+    1.3 s, while the belt carries the part 260 mm on, out of reach. It is refused with
+    EWorkspace when it is given, and the group keeps following the part."""
+    machine, group, belt = tracking_machine(200.0)
+    assert track(machine, group, belt).Done
+    slow = dict(Velocity=50.0, Acceleration=5000.0, Deceleration=5000.0, Jerk=2.0e5)
+    move = mcl.MC_MoveLinearAbsolute()
+    move(AxesGroup=group, Execute=True, Position=[0.0, 0.0, 60.0], **PCS, **slow)
+    assert move.Error and move.ErrorID == ErrorID.EWorkspace
+    assert group.holding and group.kin.frame is not None
+    move(Execute=False)
+    move(Execute=True, Velocity=500.0)  # fast enough: done before the part leaves the reach
+    machine.run(lambda: move(Execute=True), until=lambda: move.Done or move.Error, timeout=2.0)
+    assert move.Done
+
+
+def test_the_belts_share_of_a_joints_velocity_lowers_the_path_velocity() -> None:
+    """The arms' Vmax 80 deg/s, the belt at 300 mm/s: a move of 200 mm along the belt in PCS
+    runs slower, so that path and belt together keep every arm within its Vmax (without the
+    belt's share the arms were asked for more than they can give: ERRPOSG 8001)."""
+    machine, group, belt = tracking_machine(300.0)
+    assert track(machine, group, belt).Done
+    for axis in group.axes:
+        configure(axis, Vmax=80.0)
+    move = mcl.MC_MoveLinearAbsolute()
+    fast = dict(Velocity=1000.0, Acceleration=20000.0, Deceleration=20000.0, Jerk=2.0e6)
+    peak = 0.0
+
+    def program() -> None:
+        nonlocal peak
+        move(AxesGroup=group, Execute=True, Position=[200.0, 0.0, 0.0], **PCS, **fast)
+        peak = max(peak, *(abs(axis.sp_vel) for axis in group.axes))
+
+    machine.run(program, until=lambda: move.Done or move.Error, timeout=3.0)
+    assert move.Done and group.GroupErrorID == 0
+    assert 40.0 < peak <= 80.0
+
+
+def test_a_move_is_refused_where_the_belt_alone_is_too_fast_for_a_joint() -> None:
+    """The belt sped up after the part was tracked: the belt's share of an arm's velocity
+    alone reaches its Vmax at the move's points: ETrackTooFast, the group left following."""
+    machine, group, belt = tracking_machine(300.0)
+    assert track(machine, group, belt).Done
+    for axis in group.axes:
+        configure(axis, Vmax=30.0)
+    move = mcl.MC_MoveLinearAbsolute()
+    move(AxesGroup=group, Execute=True, Position=[0.0, 0.0, 20.0], **PCS, **MOVE)
+    assert move.Error and move.ErrorID == ErrorID.ETrackTooFast
+    assert group.holding

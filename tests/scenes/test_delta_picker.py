@@ -18,6 +18,7 @@ import scenes
 from mcl import ErrorID
 from scenes.machines.delta_picker import DELTA, PICK, SLOTS, VacuumGripper
 from scenes.machines.delta_picker.axes import ARMS, BELT_Y, EYE_X, PART_X
+from scenes.machines.delta_picker.demo import MOVE
 from scenes.machines.delta_picker.devices import PART_LENGTH, PhotoEye
 
 TOOL = "delta_picker/tool"
@@ -162,13 +163,18 @@ def test_the_photo_eye_latches_where_a_part_cuts_its_beam() -> None:
     assert eye.lateral[0] == pytest.approx(1000.0 * gripper.part_position(0)[1], abs=0.01)
 
 
-def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance() -> None:
+@pytest.mark.parametrize("edge", [LINE, MOVE], ids=["2 m/s", "the demo's 3 m/s"])
+def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance(
+    edge: dict[str, float],
+) -> None:
     """A line toward the workspace's edge, stopped (MC_GroupStop) with a gentle deceleration:
-    the stop ramp runs on along the line beyond its end, where arm A2 would pass its 85° and the
-    kinematics refuses the point. Every arm ramps from its last set point to standstill on its
-    own fastest ramp: no step of a set point velocity beyond what that ramp changes in a servo
-    cycle, each arm (on the physics) within its stop distance, inside its SW limits; the group
-    in GroupErrorStop with EWorkspace until MC_GroupReset."""
+    the stop ramp would run on along the line beyond its end, where arm A2 would pass its 85°
+    and the kinematics refuses the point; the ramp is refused when it is planned. Every arm
+    ramps from its last set point to standstill on its own fastest ramp: no step of a set point
+    velocity beyond what that ramp changes in a servo cycle, each arm (on the physics) within
+    its stop distance, inside its SW limits; the group in GroupErrorStop with EWorkspace until
+    MC_GroupReset. (Refused where the ramp reached the edge, the demo's 3 m/s line left A2 at
+    88.7°, beyond its 86° SW limit.)"""
     scene = scenes.load("delta_picker", trace_every=0)
     program = scenes.demo(scene)
     scene.run(program, until=lambda: program.step == "over the belt", timeout=10.0)
@@ -187,7 +193,6 @@ def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance
             )
         )
     )
-    edge = {"Velocity": 2000.0, "Acceleration": 20000.0, "Deceleration": 20000.0, "Jerk": 1.0e6}
     line = mcl.MC_MoveLinearAbsolute(AxesGroup=group, Position=[505.0, BELT_Y, -775.0], **edge)
     stop = mcl.MC_GroupStop(AxesGroup=group, Deceleration=8000.0)
     read = mcl.MC_GroupReadActualPosition(AxesGroup=group)
@@ -198,9 +203,10 @@ def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance
         stop(Execute=stop.Busy or (read.Valid and read.Position[0] > 300.0))
 
     scene.run(scan, until=lambda: stop.Error or stop.Done, timeout=2.0)
-    assert stop.Error and stop.ErrorID == ErrorID.EWorkspace and line.CommandAborted
+    assert stop.Error and stop.ErrorID == ErrorID.EWorkspace
     assert group.state == mcl.GroupState.GroupErrorStop and group.GroupErrorID == 24
     scene.run(scan, timeout=0.2)
+    assert line.CommandAborted  # the stop aborted it (read on its next call)
     k = next(k for k, row in enumerate(set_points) if row[3]) - 1  # the last point of the path
     last, speed, acc, _ = set_points[k]
     assert max(last) <= DELTA.theta_max  # the last point the kinematics gave
@@ -216,4 +222,32 @@ def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance
         assert axis.state == mcl.AxisState.StandStill and angle < axis.constants.LimPos
     reset = mcl.MC_GroupReset(AxesGroup=group)
     scene.run(lambda: reset(Execute=True), until=lambda: reset.Done, timeout=0.1)
+    assert group.state == mcl.GroupState.GroupStandby
+
+
+def test_a_group_stop_while_tracking_brings_the_cup_to_rest_in_the_mcs() -> None:
+    """The cup on the part, following it on the belt (0.25 m/s): MC_GroupStop (2.5 m/s², jerk
+    1e5 mm/s³) brings the cup (MuJoCo's site) to rest in the MCS within the stop's distance
+    from the belt's velocity; it no longer follows the part."""
+    scene = scenes.load("delta_picker", trace_every=0)
+    program = scenes.demo(scene)
+    scene.run(program, until=lambda: program.step == "grip", timeout=20.0)
+    group = program.group  # type: ignore[attr-defined]
+    tool = scene.model.site(TOOL).id
+    stop = mcl.MC_GroupStop(AxesGroup=group, Deceleration=2500.0, Jerk=1.0e5)
+    stop(Execute=True)
+    start = 1000.0 * scene.data.site_xpos[tool].copy()
+    scene.run(lambda: stop(Execute=True), until=lambda: stop.Done or stop.Error, timeout=1.0)
+    assert stop.Done, stop.ErrorID
+    scene.run(lambda: stop(Execute=False), timeout=0.2)
+    rest = 1000.0 * scene.data.site_xpos[tool].copy()
+    scene.run(lambda: None, timeout=0.3)
+    end = 1000.0 * scene.data.site_xpos[tool]
+    speed = program.run.Velocity  # type: ignore[attr-defined]
+    distance = mcl.trajectory.stop(0.0, speed, 0.0, 2500.0, 1.0e5).end_position
+    print(f"stop: {np.linalg.norm(end - start):.2f} mm of {distance:.2f} mm")
+    # at rest (the servo's give under the belt's drag on the gripped part; following the
+    # part, the cup went on 75 mm)
+    assert np.linalg.norm(end - rest) < 1.0
+    assert np.linalg.norm(end - start) == pytest.approx(distance, abs=1.0)
     assert group.state == mcl.GroupState.GroupStandby
