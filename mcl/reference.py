@@ -553,7 +553,8 @@ def render_block(cls: type[FunctionBlock]) -> list[str]:
     if how:
         lines += [f"Call: {how}.", ""]
     lines += ["| input | type | default |", "| --- | --- | --- |"]
-    lines += [f"| `{n}` | `{t}` | {d} |" for n, t, d in inputs(cls)]
+    rows = [(n, t.replace("|", "\\|"), d) for n, t, d in inputs(cls)]  # a "|" would end a cell
+    lines += [f"| `{n}` | `{t}` | {d} |" for n, t, d in rows]
     out = []
     for name, typ, note in outputs(cls):
         extra = f"; {note.rstrip('.')}" if note else ""

@@ -11,9 +11,11 @@ points expressed in it and ramps to rest there (as MC_GroupHalt, ``Acceleration`
 0 = the tool point's defaults): starting to track, the tool point speeds up with the belt;
 ending it, slows down to a standstill in the MCS. The block is Done once the path rests in the
 new PCS; from then on Cartesian moves in PCS (MC_MoveLinear*, MC_MoveCircular*) land on the
-moving part, and the group keeps following it between them (a stop, MC_GroupStop or
-MC_GroupHalt, stops the motion relative to the part). While a PCS is set a position in MCS is
-refused (EParam 5); MC_GroupReadActualPosition reads in either.
+moving part, each checked along the part's travel while it runs (:mod:`mcl.group_kinematics`),
+and the group keeps following it between them (MC_GroupHalt stops the motion relative to the
+part; MC_GroupStop ends the tracking and brings the tool point to rest in the MCS, as
+MC_GroupDisable does). While a PCS is set a position in MCS is refused (EParam 5);
+MC_GroupReadActualPosition reads in either.
 """
 
 from __future__ import annotations
@@ -158,7 +160,7 @@ class MC_TrackConveyorBelt(_FrameFB):
         "LatchedPosition",
         "Horizon",
     )
-    ConveyorBelt: object = None
+    ConveyorBelt: Axis | None = None
     ConveyorBeltOrigin: Sequence[float] = (0.0, 0.0, 0.0)
     InitialObjectPosition: Sequence[float] = (0.0, 0.0, 0.0)
     LatchedPosition: float = 0.0

@@ -26,6 +26,11 @@ interrupt       ``MC_GroupInterrupt`` (deceleration, jerk): a feed hold on the p
 continue        ``MC_GroupContinue``: the interrupted path resumes
 set_override    ``MC_GroupSetOverride`` (vel_factor, acc_factor, jerk_factor): Enable while its
                 Execute is set, with the factors sampled at its start; the group keeps them
+track_belt      ``MC_TrackConveyorBelt`` (belt: the belt's axis number, frame_k and frame_rz:
+                ConveyorBeltOrigin, object_k: InitialObjectPosition, latched_position, horizon,
+                acceleration, jerk): the PCS moves with the part (a robot's group)
+set_frame       ``MC_SetCoordinateTransform`` (frame_k, frame_rz, acceleration, jerk): a fixed
+                PCS (zeros: the MCS), which ends a conveyor tracking
 ==============  ==================================================================================
 
 velocity, acceleration, deceleration, jerk and buffer_mode are the parameters of every move and
@@ -70,6 +75,8 @@ GROUP_COMMANDS = (
     "interrupt",
     "continue",
     "set_override",
+    "track_belt",
+    "set_frame",
 )
 """The group's Execute commands, in the order of their control bits."""
 
@@ -160,12 +167,18 @@ class GroupOperator:
         members: Its axes, in member order.
         kinematics: The group's kinematic transformation (None: the members' coordinates are
             the machine's).
+        axes: The axes track_belt's ``belt`` numbers (the machine's, in its table's order).
     """
 
     def __init__(
-        self, name: str, members: Sequence[mcl.Axis], kinematics: mcl.KinTransform | None = None
+        self,
+        name: str,
+        members: Sequence[mcl.Axis],
+        kinematics: mcl.KinTransform | None = None,
+        axes: Sequence[mcl.Axis] = (),
     ) -> None:
         self.members = list(members)
+        self.axes = list(axes)
         self.group = group = mcl.AxesGroup(name)
         self.add = [mcl.MC_AddAxisToGroup(AxesGroup=group, Axis=axis) for axis in members]
         self.enable = mcl.MC_GroupEnable(AxesGroup=group)
@@ -193,6 +206,8 @@ class GroupOperator:
         self.resume = mcl.MC_GroupContinue(AxesGroup=group)
         """The block of command ``continue``."""
         self.set_override = OverrideCommand(mcl.MC_GroupSetOverride(AxesGroup=group))
+        self.track_belt = mcl.MC_TrackConveyorBelt(AxesGroup=group)
+        self.set_frame = mcl.MC_SetCoordinateTransform(AxesGroup=group)
         self.status = mcl.MC_GroupReadStatus(AxesGroup=group)
         self.error = mcl.MC_GroupReadError(AxesGroup=group)
         self.path = mcl.MC_PATH_DATA_REF()
@@ -279,6 +294,8 @@ class GroupOperator:
                 "AccFactor": p("acc_factor"),
                 "JerkFactor": p("jerk_factor"),
             }
+        if name in ("track_belt", "set_frame"):
+            return self._frame(name, p)
         coord = {"CoordSystem": whole(p("coord_system"))}
         if name == "move_path":
             return {"PathData": self.path, "BufferMode": whole(p("buffer_mode")), **coord}
@@ -293,6 +310,23 @@ class GroupOperator:
             target = "Distance" if whole(p("relative")) else "Position"
             return {target: self._point(p, "end"), **motion, **coord}
         return {**self._arc(p), **motion, **coord}
+
+    def _frame(self, name: str, p: Parameters) -> dict[str, Any]:
+        """The inputs of MC_TrackConveyorBelt or MC_SetCoordinateTransform: the frame and the
+        ramp into it; a belt number no axis has gives no belt (the block's EParam)."""
+        frame = [*self._point(p, "frame"), p("frame_rz")]
+        ramp = {"Acceleration": p("acceleration"), "Jerk": p("jerk")}
+        if name == "set_frame":
+            return {"CoordTransform": frame, **ramp}
+        belt = whole(p("belt"))
+        return {
+            "ConveyorBelt": self.axes[belt] if 0 <= belt < len(self.axes) else None,
+            "ConveyorBeltOrigin": frame,
+            "InitialObjectPosition": self._point(p, "object"),
+            "LatchedPosition": p("latched_position"),
+            "Horizon": p("horizon"),
+            **ramp,
+        }
 
     def _point(self, p: Parameters, name: str) -> list[float]:
         """A point of the members: parameters ``<name>_1`` … ``<name>_n``."""

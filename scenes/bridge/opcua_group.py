@@ -19,6 +19,7 @@ from typing import Any
 from asyncua import ua
 
 from scenes.bridge.opcua_methods import (
+    ACCELERATION,
     BUFFER_MODE,
     DECELERATION,
     F32_MAX,
@@ -51,11 +52,35 @@ ARC = (
 )
 MOTION = (*RAMP, BUFFER_MODE)
 COORD_SYSTEM = Argument(
-    "CoordSystem", "u16", "coord_system", "mcl.MC_COORD_SYSTEM: 0 ACS (joints), 1 MCS (Cartesian)"
+    "CoordSystem",
+    "u16",
+    "coord_system",
+    "mcl.MC_COORD_SYSTEM: 0 ACS (joints), 1 MCS (Cartesian), 2 PCS (the product's)",
 )
 MOVE = (*RAMP, COORD_SYSTEM, BUFFER_MODE)
 """A move's dynamics, coordinate system and BufferMode (PLCopen's order of the inputs)."""
 RELATIVE = Argument("Relative", "bool", "relative", "end and aux relative to the start")
+FRAME_RAMP = (ACCELERATION, JERK)
+"""The ramp of the tool point into a new PCS (0: its defaults)."""
+ROTATION = Argument("RotZ", "f32", "frame_rz", "the frame's rotation about z [deg]")
+TRACK = (
+    Argument("ConveyorBelt", "axis", "belt", "the belt axis' name"),
+    Argument("ConveyorBeltOrigin", "point", "frame", "the belt frame's origin x, y, z [mm, MCS]"),
+    ROTATION,
+    Argument("InitialObjectPosition", "point", "object", "the part in the belt frame [mm]"),
+    Argument("LatchedPosition", "f32", "latched_position", "the belt's position at the latch"),
+    Argument("Horizon", "f32", "horizon", "the part within reach that long [s]"),
+    *FRAME_RAMP,
+)
+"""MC_TrackConveyorBelt's inputs (the origin's rotation, a part of PLCopen's frame, apart)."""
+CARTESIAN = (
+    Argument("TransX", "f32", "frame_1", "the PCS origin's x [mm, MCS]"),
+    Argument("TransY", "f32", "frame_2", "its y [mm]"),
+    Argument("TransZ", "f32", "frame_3", "its z [mm]"),
+    Argument("RotAngle1", "f32", "frame_rz", "its rotation about z [deg]"),
+    *FRAME_RAMP,
+)
+"""MC_SetCartesianTransform's inputs (a delta's tool point turns about z alone)."""
 ABSOLUTE: tuple[tuple[str, float], ...] = (("relative", 0.0),)
 BY_DISTANCE: tuple[tuple[str, float], ...] = (("relative", 1.0),)
 
@@ -122,6 +147,28 @@ GROUP_METHODS = (
             Argument("JerkFactor", "f32", "jerk_factor", "jerk factor (0 < … ≤ 8.0)"),
         ),
         "MC_GroupSetOverride, enabled until the group's next command; the group keeps it",
+    ),
+    GroupMethod(
+        "MC_TrackConveyorBelt",
+        "track_belt",
+        TRACK,
+        "MC_TrackConveyorBelt: the PCS moves with a part",
+    ),
+    GroupMethod(
+        "MC_SetCoordinateTransform",
+        "set_frame",
+        (
+            Argument("CoordTransform", "point", "frame", "the PCS origin x, y, z [mm, MCS]"),
+            ROTATION,
+            *FRAME_RAMP,
+        ),
+        "MC_SetCoordinateTransform: a fixed PCS (zeros: the MCS); ends a conveyor tracking",
+    ),
+    GroupMethod(
+        "MC_SetCartesianTransform",
+        "set_frame",
+        CARTESIAN,
+        "MC_SetCartesianTransform: a fixed PCS, as MC_SetCoordinateTransform",
     ),
 )
 """The methods of the group."""

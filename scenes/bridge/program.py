@@ -61,6 +61,7 @@ class BridgeProgram(OperatorProgram[CommandWords]):
                     table.group,
                     [scene.axes[a] for a in table.members],
                     table.definition.kinematics,
+                    [scene.axes[a] for a in table.axes],
                 ),
                 AxisRegisters(table, table.group),
             )

@@ -173,7 +173,7 @@ def group_specs(members: int) -> list[FieldSpec]:
         ("plane", 25, "rw", "", "Plane of arcs (0 automatic, 17 XY, 18 ZX, 19 YZ)"),
         ("relative", 26, "rw", "", "1: end and aux relative to the start (MC_Move*Relative)"),
         ("turns", 27, "rw", "", "Turns: more full turns of a CENTER arc"),
-        ("coord_system", 28, "rw", "", "CoordSystem of moves (mcl.MC_COORD_SYSTEM: 0 ACS, 1 MCS)"),
+        ("coord_system", 28, "rw", "", "CoordSystem of moves (mcl.MC_COORD_SYSTEM: 0 ACS … 2 PCS)"),
         ("status", 30, "r", "bits", "status word: " + ", ".join(GROUP_STATUS_BITS)),
         ("state", 31, "r", "", "group state number (mcl.GroupState)"),
         ("error_id", 32, "r", "", "ErrorID of the current command"),
@@ -184,20 +184,45 @@ def group_specs(members: int) -> list[FieldSpec]:
     )
     reals = (
         ("velocity", 16, "u/s", "Velocity along the path"),
-        ("acceleration", 18, "u/s²", "Acceleration along the path (0: default)"),
+        ("acceleration", 18, "u/s²", "Acceleration along the path (0: default; also of frames)"),
         ("deceleration", 20, "u/s²", "Deceleration along the path (0: default; also of stop)"),
-        ("jerk", 22, "u/s³", "Jerk along the path (0: default)"),
+        ("jerk", 22, "u/s³", "Jerk along the path (0: default; also of stop and frames)"),
         ("vel_factor", 44, "", "VelFactor of set_override (1.0: 100 %, 0 … 2.0)"),
         ("acc_factor", 46, "", "AccFactor of set_override (0 < … ≤ 4.0)"),
         ("jerk_factor", 48, "", "JerkFactor of set_override (0 < … ≤ 8.0)"),
     )
     specs = [FieldSpec(n, o, "u16", a, u, t) for n, o, a, u, t in words]
     specs += [FieldSpec(n, o, "f32", "rw", u, t) for n, o, u, t in reals]
-    return sorted(specs + per_member, key=lambda spec: spec.offset)
+    return sorted(specs + per_member + _frame_specs(members), key=lambda spec: spec.offset)
+
+
+_FRAME_FIELDS = (
+    ("frame", 52, "set_frame CoordTransform, track_belt ConveyorBeltOrigin: the PCS origin"),
+    ("object", 60, "track_belt InitialObjectPosition: the part in the belt frame at the latch"),
+)
+"""The group block's points of the product coordinate system (x, y, z [mm] of the MCS)."""
+
+
+def _frame_specs(members: int) -> list[FieldSpec]:
+    """The fields of the product coordinate system (:mod:`mcl.tracking`): its points, their
+    rotation, the belt and the part's latch."""
+    specs = [
+        FieldSpec(f"{name}_{k + 1}", offset + 2 * k, "f32", "rw", "mm", f"{text}, {'xyz'[k]}")
+        for name, offset, text in _FRAME_FIELDS
+        for k in range(members)
+    ]
+    belt = "track_belt ConveyorBelt: the belt's axis number in this table"
+    return [
+        *specs,
+        FieldSpec("belt", 50, "u16", "rw", "", belt),
+        FieldSpec("frame_rz", 58, "f32", "rw", "deg", "the PCS's rotation about z (frame)"),
+        FieldSpec("latched_position", 66, "f32", "rw", "u", "track_belt LatchedPosition (belt)"),
+        FieldSpec("horizon", 68, "f32", "rw", "s", "track_belt Horizon (0: the part now)"),
+    ]
 
 
 GROUP_BLOCK = max(f.offset + 2 for f in group_specs(3))
-"""Registers of the group block (offsets 0 … 49)."""
+"""Registers of the group block (offsets 0 … 69)."""
 
 OUTPUTS = FieldSpec("outputs", 1, "u16", "rw", "bits", "digital outputs, bit k = output k")
 """The digital outputs of an axis that has some (MC_WriteDigitalOutput on every change)."""

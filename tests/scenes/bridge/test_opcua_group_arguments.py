@@ -99,3 +99,39 @@ def test_a_method_sets_the_group_fields_and_requests_its_command() -> None:
     assert int(table.get("group.control")) == 0
     bits = {m.name: m.bit for m in GROUP_METHODS}
     assert {b for b in bits.values()} == set(GROUP_CONTROL_BITS)  # every command has a method
+
+
+def test_the_frame_methods_set_the_pcs_fields_and_request_their_command() -> None:
+    """MC_TrackConveyorBelt (the belt by its axis number), MC_SetCoordinateTransform and
+    MC_SetCartesianTransform (a fixed PCS: both set_frame)."""
+    table = SignalTable(scenes.definition("delta_picker"))
+    values = {
+        "ConveyorBelt": float(table.axes.index("C")),
+        "ConveyorBeltOrigin": [-400.0, -150.0, -775.0],
+        "RotZ": 5.0,
+        "InitialObjectPosition": [-30.0, 2.0, 0.5],
+        "LatchedPosition": 1234.5,
+        "Horizon": 0.5,
+        "Acceleration": 3000.0,
+        "Jerk": 1.0e5,
+    }
+    group_command(table, "group", method("MC_TrackConveyorBelt"), values)
+    expected = {
+        "belt": 3.0, "frame_1": -400.0, "frame_2": -150.0, "frame_3": -775.0, "frame_rz": 5.0,
+        "object_1": -30.0, "object_2": 2.0, "object_3": 0.5, "latched_position": 1234.5,
+        "horizon": 0.5, "acceleration": 3000.0, "jerk": 1.0e5,
+    }  # fmt: skip
+    assert {name: table.get(f"group.{name}") for name in expected} == expected
+    assert table.requested("group")[0] == GROUP_CONTROL_BITS.index("track_belt")
+    fixed = {"CoordTransform": [1.0, 2.0, -700.0], "RotZ": 30.0, "Acceleration": 0.0, "Jerk": 0.0}
+    group_command(table, "group", method("MC_SetCoordinateTransform"), fixed)
+    frame = [table.get(f"group.frame_{k}") for k in ("1", "2", "3", "rz")]
+    assert frame == [1.0, 2.0, -700.0, 30.0]
+    assert table.requested("group")[0] == GROUP_CONTROL_BITS.index("set_frame")
+    cartesian = {"TransX": 4.0, "TransY": 5.0, "TransZ": -650.0, "RotAngle1": -15.0}
+    cartesian |= {"Acceleration": 100.0, "Jerk": 2000.0}
+    group_command(table, "group", method("MC_SetCartesianTransform"), cartesian)
+    frame = [table.get(f"group.frame_{k}") for k in ("1", "2", "3", "rz")]
+    assert frame == [4.0, 5.0, -650.0, -15.0]
+    assert (table.get("group.acceleration"), table.get("group.jerk")) == (100.0, 2000.0)
+    assert table.requested("group")[0] == GROUP_CONTROL_BITS.index("set_frame")
