@@ -1,8 +1,9 @@
 """Conveyor tracking over the bridge, in-process through the delta picker's signal table as a
 PLC writes it: the arms and the belt powered by their blocks, the group enabled (the bridge sets
-its kinematics), the arms homed, the belt running; track_belt makes the product coordinate system move with a
-part, a move in PCS (coord_system 2) lands on it and the cup follows it (on the physics); set_frame
-ends the tracking and the cup stands. A belt number that names no belt is refused with EParam."""
+its kinematics), the arms homed, the belt running; track_belt makes the product coordinate
+system move with a part, a move in PCS (coord_system 2) lands on it and the cup follows it (on
+the physics); set_frame ends the tracking and the cup stands. A belt number that names no belt
+is refused with EParam."""
 
 from __future__ import annotations
 
