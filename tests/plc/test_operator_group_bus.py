@@ -259,3 +259,49 @@ def test_the_bridges_group_moves_a_robot_in_acs_or_mcs() -> None:
         operator(start)
         machine.run(lambda: operator(orders), until=lambda: operator.move_linear.Done, timeout=2)
         assert where([machine.axes[n].sp_pos for n in ARMS]) == pytest.approx(end, abs=1e-6)
+
+
+def test_the_bridges_group_tracks_a_belt_and_sets_a_fixed_frame() -> None:
+    """track_belt: the PCS moves with the belt (its axis number among the operator's axes) from
+    the frame, the part and the latch of its parameters; the tool point then follows the part.
+    A belt number of no axis gives no belt: EParam. set_frame: a fixed PCS turned about z."""
+    machine = make_machine(ARMS + "D")
+    axes = [machine.axes[n] for n in ARMS + "D"]
+    operator = GroupOperator("delta", axes[:3], DELTA, axes)
+    machine.run(lambda: operator(GroupOrders(enable=True)), timeout=0.05)
+    belt = axes[3]
+    run = mcl.MC_MoveVelocity(Axis=belt, Velocity=100.0, Acceleration=2000.0)
+    machine.run(lambda: run(Execute=True), until=lambda: run.InVelocity, timeout=1.0)
+    values = {"frame_1": -300.0, "frame_2": -100.0, "frame_3": -760.0, "frame_rz": 10.0}
+    values |= {"object_1": 5.0, "object_2": -4.0, "object_3": 3.0, "horizon": 0.5}
+    values |= {"belt": 7.0, "latched_position": belt.sp_pos - 20.0}
+    values |= {"acceleration": 3000.0, "jerk": 1.0e5}
+
+    def track(belt_number: float) -> mcl.MC_TrackConveyorBelt:
+        params = {**values, "belt": belt_number}.__getitem__
+        operator(GroupOrders(True, frozenset({"track_belt"}), {"track_belt": params}))
+        orders = GroupOrders(True, frozenset({"track_belt"}))
+        fb = operator.track_belt
+        machine.run(lambda: (operator(orders), run()), until=lambda: fb.Done or fb.Error, timeout=2)
+        return fb
+
+    for number in (7.0, -1.0, 0.0):  # no axis; a member of the group
+        assert track(number).ErrorID == mcl.ErrorID.EParam and operator.group.kin.frame is None
+        operator(GroupOrders(enable=True))
+    assert track(3.0).Done
+    frame = operator.group.kin.frame
+    assert frame is not None and frame.belt is belt and frame.latch == values["latched_position"]
+    assert (frame.origin, frame.angle, frame.offset) == (
+        [-300.0, -100.0, -760.0],
+        10.0,
+        [5.0, -4.0, 3.0],
+    )
+    fixed = {**values, "frame_1": 20.0, "frame_2": 0.0, "frame_3": -700.0, "frame_rz": -30.0}
+    operator(GroupOrders(enable=True))
+    operator(GroupOrders(True, frozenset({"set_frame"}), {"set_frame": fixed.__getitem__}))
+    orders = GroupOrders(True, frozenset({"set_frame"}))
+    done = lambda: operator.set_frame.Done or operator.set_frame.Error  # noqa: E731
+    machine.run(lambda: (operator(orders), run()), until=done, timeout=2)
+    frame = operator.group.kin.frame
+    assert operator.set_frame.Done and frame is not None and not frame.moving
+    assert (frame.origin, frame.angle) == ([20.0, 0.0, -700.0], -30.0)
