@@ -285,7 +285,7 @@ def test_the_bridges_group_tracks_a_belt_and_sets_a_fixed_frame() -> None:
         machine.run(lambda: (operator(orders), run()), until=lambda: fb.Done or fb.Error, timeout=2)
         return fb
 
-    for number in (7.0, -1.0, 0.0):  # no axis; a member of the group
+    for number in (4.0, -1.0, 0.0):  # no axis (4 axes: 0 … 3); a member of the group
         assert track(number).ErrorID == mcl.ErrorID.EParam and operator.group.kin.frame is None
         operator(GroupOrders(enable=True))
     assert track(3.0).Done
