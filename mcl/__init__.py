@@ -148,7 +148,12 @@ from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
 from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
-from mcl.tracking import MC_SetCartesianTransform, MC_SetCoordinateTransform, MC_TrackConveyorBelt
+from mcl.tracking import (
+    MC_SetCartesianTransform,
+    MC_SetCoordinateTransform,
+    MC_TrackConveyorBelt,
+    MC_TrackRotaryTable,
+)
 
 __all__ = [
     "IDEAL_SENSORS",
@@ -271,6 +276,7 @@ __all__ = [
     "MC_SwitchMode",
     "MC_TouchProbe",
     "MC_TrackConveyorBelt",
+    "MC_TrackRotaryTable",
     "MC_UngroupAllAxes",
     "MC_VelocityProfile",
     "MC_WriteBoolParameter",
