@@ -93,6 +93,7 @@ from mcl.group_fb import (
     MC_MoveLinearRelative,
     MC_UngroupAllAxes,
 )
+from mcl.group_sync import MC_MovePathSynchronized, MC_SyncAxisToGroup
 from mcl.homing import (
     MC_FinishHoming,
     MC_StepAbsolute,
@@ -242,6 +243,7 @@ __all__ = [
     "MC_MoveLinearAbsolute",
     "MC_MoveLinearRelative",
     "MC_MovePath",
+    "MC_MovePathSynchronized",
     "MC_MoveRelative",
     "MC_MoveVelocity",
     "MC_PathSelect",
@@ -274,6 +276,7 @@ __all__ = [
     "MC_StepRefPulse",
     "MC_Stop",
     "MC_SwitchMode",
+    "MC_SyncAxisToGroup",
     "MC_TouchProbe",
     "MC_TrackConveyorBelt",
     "MC_TrackRotaryTable",

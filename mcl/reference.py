@@ -77,6 +77,7 @@ CHAPTER_ORDER = (
     "group_control",
     "kin_fb",
     "tracking",
+    "group_sync",
     "path_table",
     "gcode",
 )

@@ -122,7 +122,7 @@ def test_the_frames_feed_forward_is_the_derivative_of_its_positions(rotary: bool
 def test_the_turning_pcs_origin_is_the_part_turned_by_the_tables_travel() -> None:
     machine = make_machine(TABLE)
     table = machine.axes[TABLE]
-    frame = ProductFrame(CENTRE + [90.0], 90.0, PART, table, table.sp_pos - 30.0, rotary=True)
+    frame = ProductFrame(CENTRE, 90.0, PART, table, table.sp_pos - 30.0, rotary=True)
     # the table frame turned 90° in the MCS, the table 30° on since the latch: 120° in all
     point = frame.point_to_mcs([0.0, 0.0, 10.0])
     expected = [CENTRE[0] + 150.0 * math.cos(math.radians(120.0)), 150.0 * 0.8660254037844386]
@@ -162,7 +162,7 @@ def test_bad_input_or_a_part_out_of_reach_is_refused_and_the_group_left_alone(ca
 
 
 def test_a_horizon_within_reach_is_accepted() -> None:
-    machine, group, table = table_machine(30.0)
+    _, group, table = table_machine(30.0)
     fb = mcl.MC_TrackRotaryTable()
     fb(AxesGroup=group, Execute=True, **args(table, Horizon=2.0))  # 60° on: still in reach
     assert fb.Busy and not fb.Error and group.kin.frame is not None
@@ -186,7 +186,7 @@ def test_a_table_too_fast_to_follow_is_refused() -> None:
     fb(AxesGroup=group, Execute=True, **args(table))
     assert fb.Error and fb.ErrorID == ErrorID.ETrackTooFast and group.kin.frame is None
     assert group.state == mcl.GroupState.GroupStandby
-    machine, group, table = table_machine(100.0)
+    _, group, table = table_machine(100.0)
     kin = mcl.MC_SetKinTransform()
     kin(AxesGroup=group, Execute=True, KinTransform=slow)
     fb = mcl.MC_TrackRotaryTable()
