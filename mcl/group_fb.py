@@ -39,8 +39,8 @@ spread over a blend of reach 2.8125·v³/(R·J), so that the jerk stays within J
 the velocity may dip there: 200 → 140 mm/s into R 50 at J 20000 mm/s³, none at 50000). The
 moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide unless the
 group has a kinematic transformation, :mod:`mcl.kin_fb`; PCS is MCS until
-MC_SetCoordinateTransform or MC_TrackConveyorBelt sets one, :mod:`mcl.tracking`, and then a
-position in MCS is refused with EParam 5) and
+MC_SetCoordinateTransform, MC_TrackConveyorBelt or MC_TrackRotaryTable sets one,
+:mod:`mcl.tracking`, and then a position in MCS is refused with EParam 5) and
 ``TransitionMode``: TMNone rounds the corner into the move within the group's corner tolerance,
 TMMaxCornerDeviation within ``TransitionParameter[0]`` [mm], TMCornerDistance leaves the path at
 most ``TransitionParameter[0]`` [mm] from the corner; TMStartVelocity and TMConstantVelocity are

@@ -23,9 +23,10 @@ bind the path as a member's machine data binds it without a transformation. Piec
 spaces never blend: the path stops between them.
 
 The Cartesian space of a path is the product coordinate system (:attr:`GroupKinematics.frame`,
-:mod:`mcl.coordinate_system`): the MCS until MC_SetCoordinateTransform or MC_TrackConveyorBelt
-sets one. A moving PCS enters the set points with its velocity and acceleration, a piece is
-checked where the PCS stands when it is accepted, and a path that ends rests in the PCS.
+:mod:`mcl.coordinate_system`): the MCS until MC_SetCoordinateTransform, MC_TrackConveyorBelt
+or MC_TrackRotaryTable sets one. A moving PCS enters the set points with its velocity and
+acceleration, a piece is checked where the PCS stands when it is accepted, and a path that ends
+rests in the PCS.
 """
 
 from __future__ import annotations

@@ -201,7 +201,7 @@ class MC_TrackConveyorBelt(_TrackFB):
         "LatchedPosition",
         "Horizon",
     )
-    ConveyorBelt: object = None
+    ConveyorBelt: Axis | None = None
     ConveyorBeltOrigin: Sequence[float] = (0.0, 0.0, 0.0)
 
     def _carrier(self) -> tuple[object, Any]:
@@ -233,7 +233,7 @@ class MC_TrackRotaryTable(_TrackFB):
         "LatchedPosition",
         "Horizon",
     )
-    RotaryTable: object = None
+    RotaryTable: Axis | None = None
     RotaryTableOrigin: Sequence[float] = (0.0, 0.0, 0.0)
     ROTARY: ClassVar[bool] = True
 

@@ -46,6 +46,7 @@ _PYTHON_TYPES: dict[str, Type] = {
     "float": LREAL,
     "str": STRING,
     "Axis": AXIS,
+    "Axis | None": AXIS,
     "AxesGroup": GROUP,
     "Sequence[float]": SEQUENCE,
     "list": SEQUENCE,
