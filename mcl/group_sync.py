@@ -139,8 +139,10 @@ class MC_SyncAxisToGroup(MotionFB):
     point is ``Ratio`` × the coordinate + ``Offset`` [u]; it catches up from its own motion on a
     jerk-limited ramp of the difference (``Velocity``, ``Acceleration``, ``Deceleration``,
     ``Jerk`` of the difference; 0 = the slave's Vmax and defaults), then ``InSync``. It follows
-    whatever moves the group and never ends by itself: any Aborting motion command on the slave
-    ends it (CommandAborted); Buffered and blending commands cannot queue behind it.
+    whatever moves the group and never ends by itself (Done stays FALSE): any Aborting motion
+    command on the slave ends it (CommandAborted); Buffered and blending commands cannot queue
+    behind it. The coupling does not limit the slave: Ratio × the coordinate's velocity beyond
+    the slave's Vmax ends in its following error (ERRPOS 2001), as a geared slave's would.
 
     Errors at the edge (the slave and the group left alone): the slave's readiness errors as for
     every motion block (a member of a group: EGroupMember 1000); 1005 an empty group, Epower 10

@@ -7,13 +7,18 @@ ErrorID and leave the axes alone; the outputs follow Tab. 2.3."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
 
 import mcl
-from mcl import ErrorID, MC_BufferMode
+from mcl import ErrorID, MC_BufferMode, trajectory
 from mcl.enums import MC_COORD_SYSTEM
+from mcl.gearing import DEFAULT_KV, MasterReader
+from mcl.group_sync import MasterProfile
+from mcl.path_clock import PathClock
+from mcl.trajectory import Limits
 from tests.helpers import carriage_mm, make_machine, scan
 from tests.mcl.test_group import build_group
 from tests.mcl.test_group_kinematics import ARMS, DELTA, MOVE
@@ -346,3 +351,222 @@ def test_a_failed_master_or_a_moving_group_is_refused() -> None:
     failed = path_block(group, belt)
     failed(Execute=True)
     assert failed.Error and failed.ErrorID == ErrorID.EMasterError
+
+
+# ------------------------------------------------------------------- details of the two blocks
+def test_the_slave_follows_a_pcs_coordinate_and_an_mcs_one_while_a_pcs_is_set() -> None:
+    """A fixed PCS turned 90° and shifted: the PCS x of the tool point is its MCS y − 20."""
+    machine, group = robot(SLAVE + "R")
+    fixed = mcl.MC_SetCoordinateTransform(AxesGroup=group, CoordTransform=[0.0, 20.0, 0.0, 90.0])
+    machine.run(lambda: fixed(Execute=True), until=lambda: fixed.Done, timeout=1.0)
+    pcs = mcl.MC_SyncAxisToGroup(AxesGroup=group, Axis=machine.axes[SLAVE])
+    pcs(CoordSystem=MC_COORD_SYSTEM.PCS)
+    mcs = mcl.MC_SyncAxisToGroup(AxesGroup=group, Axis=machine.axes["R"], Offset=300.0)
+    both = scan(lambda: pcs(Execute=True), lambda: mcs(Execute=True))
+    machine.run(both, until=lambda: pcs.InSync and mcs.InSync, timeout=2.0)
+    move = mcl.MC_MoveLinearAbsolute(AxesGroup=group, CoordSystem=MC_COORD_SYSTEM.PCS, **MOVE)
+    machine.run(
+        scan(lambda: move(Execute=True, Position=[60.0, 40.0, -700.0]), both),
+        until=lambda: move.Done,
+        timeout=3.0,
+    )
+    tcp = tool(group)
+    assert tcp[1] == pytest.approx(80.0, abs=1e-6) and tcp[0] == pytest.approx(-40.0, abs=1e-6)
+    assert machine.axes[SLAVE].sp_pos == pytest.approx(60.0, abs=1e-6)  # PCS x
+    assert machine.axes["R"].sp_pos == pytest.approx(300.0 - 40.0, abs=1e-6)  # MCS x
+
+
+def test_the_slave_rests_on_a_tracked_part_in_pcs() -> None:
+    """The tool point rests on a part on the running belt: its PCS x stands, so does the
+    slave (the belt's set point of the same servo instant, whatever the axes' order)."""
+    machine, group = robot(SLAVE + BELT)
+    belt = machine.axes[BELT]
+    drive = mcl.MC_MoveVelocity(Axis=belt, Velocity=200.0)
+    machine.run(lambda: drive(Execute=True), until=lambda: drive.InVelocity, timeout=2.0)
+    track = mcl.MC_TrackConveyorBelt(
+        AxesGroup=group,
+        ConveyorBelt=belt,
+        ConveyorBeltOrigin=[-300.0, -100.0, -760.0],
+        LatchedPosition=belt.sp_pos,
+    )
+    sync = mcl.MC_SyncAxisToGroup(
+        AxesGroup=group, Axis=machine.axes[SLAVE], CoordSystem=MC_COORD_SYSTEM.PCS, Offset=-250.0
+    )
+    program = scan(
+        lambda: drive(Execute=True), lambda: track(Execute=True), lambda: sync(Execute=True)
+    )
+    machine.run(program, until=lambda: track.Done and sync.InSync, timeout=3.0)
+    slave = machine.axes[SLAVE]
+    held = slave.sp_pos
+    machine.run(program, timeout=0.1)
+    assert slave.sp_pos == pytest.approx(held, abs=1e-6) and abs(slave.sp_vel) < 1e-6
+
+
+def test_the_ramp_in_starts_from_the_slaves_motion_and_lands_without_a_step() -> None:
+    """The group runs along x at 150 mm/s when the slave (at rest) is coupled: its velocity
+    starts at 0 and grows, its set point never steps, and at InSync it moves with the group."""
+    machine, group = robot(SLAVE)
+    slave = machine.axes[SLAVE]
+    move = mcl.MC_MoveLinearAbsolute(
+        AxesGroup=group, Position=[350.0, 0.0, -700.0], Velocity=150.0, Acceleration=2000.0
+    )
+    machine.run(lambda: move(Execute=True), until=lambda: tool(group)[0] > 40.0, timeout=2.0)
+    sync = mcl.MC_SyncAxisToGroup(
+        AxesGroup=group, Axis=slave, Offset=20.0, Velocity=300.0, Jerk=50000.0
+    )
+    states: list[tuple[float, float]] = []
+
+    def program() -> None:
+        move(Execute=True)
+        sync(Execute=True)
+        states.append((slave.sp_pos, slave.sp_vel))
+
+    machine.run(program, until=lambda: sync.InSync, timeout=2.0)
+    assert sync.InSync and move.Busy
+    assert abs(states[0][1]) < 5.0  # no step of its velocity: it starts from rest
+    period = 0.002
+    for (p0, v0), (p1, v1) in itertools.pairwise(states):
+        assert abs((p1 - p0) / period - 0.5 * (v0 + v1)) < 1.0  # the velocity is the slope
+        assert abs(v1 - v0) < 40.0  # no step (acceleration within 20 m/s²)
+    assert slave.sp_vel == pytest.approx(150.0, abs=1e-6)
+    machine.run(program, timeout=0.01)
+    assert slave.sp_pos == pytest.approx(tool(group)[0] + 20.0, abs=1e-6)
+
+
+def test_coordinates_beyond_a_group_without_kinematics_are_refused() -> None:
+    machine = make_machine("XYS")
+    group = build_group(machine, "XY")
+    sync = mcl.MC_SyncAxisToGroup(AxesGroup=group, Axis=machine.axes[SLAVE], Coordinate=2)
+    sync(Execute=True)  # MCS is the members' coordinates: two of them
+    assert sync.Error and sync.ErrorID == ErrorID.EParam
+    assert mcl.MC_SyncAxisToGroup().InSync is False
+    sync = mcl.MC_SyncAxisToGroup(AxesGroup=group, Axis=machine.axes[SLAVE], Coordinate=1)
+    machine.run(lambda: sync(Execute=True), until=lambda: sync.InSync, timeout=2.0)
+    assert machine.axes[SLAVE].sp_pos == pytest.approx(machine.axes["Y"].sp_pos, abs=1e-9)
+
+
+def test_a_pose_without_a_tool_point_refuses_the_coupling() -> None:
+    machine = make_machine(ARMS + SLAVE)
+    moves = [mcl.MC_MoveAbsolute(Axis=machine.axes[n], Position=98.0, Velocity=200.0) for n in ARMS]
+    machine.run(
+        scan(*[lambda m=m: m(Execute=True) for m in moves]),
+        until=lambda: all(m.Done for m in moves),
+        timeout=3.0,
+    )
+    group = build_group(machine, ARMS)
+    kin = mcl.MC_SetKinTransform(AxesGroup=group, KinTransform=DELTA)
+    kin(Execute=True)
+    sync = mcl.MC_SyncAxisToGroup(AxesGroup=group, Axis=machine.axes[SLAVE])
+    sync(Execute=True)
+    assert sync.Error and sync.ErrorID == ErrorID.ESingular
+    assert machine.axes[SLAVE].state == mcl.AxisState.StandStill
+
+
+def test_the_master_profile_is_the_plan_over_the_masters_travel() -> None:
+    """MasterProfile.at: before MasterStart the path stands at 0; on the plan s = S(x),
+    ṡ = S'·ṁ, s̈ = S''·ṁ² + S'·m̈, in path time of the clock's factor; beyond the plan it
+    rests at its end from then on."""
+    machine = make_machine(BELT)
+    belt = machine.axes[BELT]
+    ramp = mcl.MC_MoveVelocity(Axis=belt, Velocity=300.0, Acceleration=1000.0)
+    machine.run(lambda: ramp(Execute=True), timeout=0.1)
+    assert belt.sp_acc > 100.0 and belt.sp_vel > 50.0
+    plan = trajectory.move_to(0.0, 0.0, 0.0, 10.0, Limits(0.5, 0.02, 0.02, 0.001))
+    clock = PathClock()
+    reader = MasterReader(belt, DEFAULT_KV)
+    m, w, acc = belt.sp_pos, belt.sp_vel, belt.sp_acc
+    early = MasterProfile(plan, reader, m + 0.5, clock)
+    assert early.at(0.0) == (0.0, 0.0, 0.0)
+    x = plan.duration * 0.3
+    profile = MasterProfile(plan, reader, m - x, clock)
+    s, slope, bend = plan.at(x)
+    assert profile.at(0.0) == pytest.approx((s, slope * w, bend * w * w + slope * acc))
+    clock.factor, clock.rate = 0.5, 0.2
+    v = slope * w / 0.5
+    expected = (s, v, (bend * w * w + slope * acc - 0.2 * v) / 0.25)
+    assert profile.at(0.0) == pytest.approx(expected)
+    clock.factor = 0.0  # held: the path follows the master's positions, no feed-forward
+    assert profile.at(0.0) == pytest.approx((s, 0.0, 0.0))
+    assert profile.duration == math.inf
+    done = MasterProfile(plan, reader, m - plan.duration - 1.0, clock)
+    assert done.at(0.25) == (10.0, 0.0, 0.0) and done.duration == 0.25
+    assert MasterProfile(plan, reader, m - x - 0.6, clock).at(0.0)[0] > s  # 0.6 further on
+    done.start = m + 100.0  # the master back before MasterStart: the end was reached
+    assert done.at(0.3) == (10.0, 0.0, 0.0)
+
+
+def test_the_paths_acceleration_stays_within_the_groups_at_the_masters_top_speed() -> None:
+    """Laid out for the belt at 200 mm/s (MasterVelocity) with Acceleration 1000 mm/s² and
+    Jerk 20000 mm/s³: driven at 200 mm/s, the path's acceleration reaches 1000 mm/s² and no more,
+    its set point never steps, and a short path (0.5 mm) is a path too."""
+    machine, group = robot(BELT)
+    belt = machine.axes[BELT]
+    drive = mcl.MC_MoveVelocity(Axis=belt, Velocity=200.0, Acceleration=5000.0)
+    machine.run(lambda: drive(Execute=True), until=lambda: drive.InVelocity, timeout=1.0)
+    path = path_block(
+        group,
+        belt,
+        MasterStart=belt.sp_pos + 5.0,
+        Ratio=1.0,
+        MasterVelocity=200.0,
+        Acceleration=1000.0,
+        Deceleration=1000.0,
+        Jerk=20000.0,
+    )
+    along: list[float] = []
+
+    def program() -> None:
+        drive(Execute=True)
+        path(Execute=True)
+        along.append(tool(group)[0])
+
+    machine.run(program, until=lambda: path.Done or path.Error, timeout=3.0)
+    assert path.Done, path.ErrorID
+    period = 0.002
+    speeds = [(b - a) / period for a, b in itertools.pairwise(along)]
+    accelerations = [(b - a) / period for a, b in itertools.pairwise(speeds)]
+    assert max(speeds) == pytest.approx(200.0, rel=1e-3)  # Ratio × the belt
+    assert 900.0 < max(abs(x) for x in accelerations) < 1000.0 * 1.05
+    short = path_block(group, belt, Position=[100.5, 0.0, -700.0], MasterStart=belt.sp_pos)
+    short(Execute=True)
+    assert short.Busy and not short.Error
+
+
+def test_path_refusals_of_the_group_and_of_its_coordinates() -> None:
+    machine, group = robot(BELT)
+    belt = machine.axes[BELT]
+    fixed = mcl.MC_SetCoordinateTransform(AxesGroup=group, CoordTransform=[0.0, 0.0, -700.0])
+    machine.run(lambda: fixed(Execute=True), until=lambda: fixed.Done, timeout=1.0)
+    path = path_block(group, belt)  # MCS while a PCS is set
+    path(Execute=True)
+    assert path.Error and path.ErrorID == ErrorID.EParam
+    pcs = path_block(group, belt, CoordSystem=MC_COORD_SYSTEM.PCS, Position=[50.0, 0.0, 0.0])
+    pcs(Execute=True)
+    assert pcs.Busy and not pcs.Error
+    machine, group = robot(BELT)
+    belt = machine.axes[BELT]
+    group.axes[1].Ref = False
+    path = path_block(group, belt)
+    path(Execute=True)
+    assert path.Error and path.ErrorID == ErrorID.Ehome
+    disable = mcl.MC_GroupDisable(AxesGroup=group)
+    machine.run(lambda: disable(Execute=True), until=lambda: disable.Done, timeout=1.0)
+    path = path_block(group, belt)
+    path(Execute=True)
+    assert path.Error and path.ErrorID == ErrorID.Epower
+
+
+def test_a_synchronized_path_in_acs_ends_on_the_joint_target() -> None:
+    machine, group = robot(BELT)
+    belt = machine.axes[BELT]
+    joints = [20.0, 25.0, 30.0]
+    path = path_block(group, belt, CoordSystem=MC_COORD_SYSTEM.ACS, Position=joints, Ratio=0.2)
+    path(MasterStart=belt.sp_pos)
+    drive = mcl.MC_MoveVelocity(Axis=belt, Velocity=300.0)
+    machine.run(
+        scan(lambda: drive(Execute=True), lambda: path(Execute=True)),
+        until=lambda: path.Done or path.Error,
+        timeout=5.0,
+    )
+    assert path.Done, path.ErrorID
+    assert [axis.sp_pos for axis in group.axes] == pytest.approx(joints, abs=1e-9)
