@@ -491,6 +491,7 @@ def test_the_master_profile_is_the_plan_over_the_masters_travel() -> None:
     done = MasterProfile(plan, reader, m - plan.duration - 1.0, clock)
     assert done.at(0.25) == (10.0, 0.0, 0.0) and done.duration == 0.25
     assert MasterProfile(plan, reader, m - x - 0.6, clock).at(0.0)[0] > s  # 0.6 further on
+    assert MasterProfile(plan, reader, m - 0.5, clock).at(0.0)[0] > 0.0  # just past the start
     done.start = m + 100.0  # the master back before MasterStart: the end was reached
     assert done.at(0.3) == (10.0, 0.0, 0.0)
 
