@@ -93,6 +93,7 @@ from mcl.group_fb import (
     MC_MoveLinearRelative,
     MC_UngroupAllAxes,
 )
+from mcl.group_sync import MC_MovePathSynchronized, MC_SyncAxisToGroup
 from mcl.homing import (
     MC_FinishHoming,
     MC_StepAbsolute,
@@ -148,7 +149,12 @@ from mcl.runtime import ConditionTimeout, Machine, MachineState, Plant, Runtime
 from mcl.servo import ServoConstants
 from mcl.simaxis import SimAxis, SimAxisParams, SimMachine, SimPlant, SimPlantState
 from mcl.touch_probe import MC_AbortTrigger, MC_TouchProbe
-from mcl.tracking import MC_SetCartesianTransform, MC_SetCoordinateTransform, MC_TrackConveyorBelt
+from mcl.tracking import (
+    MC_SetCartesianTransform,
+    MC_SetCoordinateTransform,
+    MC_TrackConveyorBelt,
+    MC_TrackRotaryTable,
+)
 
 __all__ = [
     "IDEAL_SENSORS",
@@ -237,6 +243,7 @@ __all__ = [
     "MC_MoveLinearAbsolute",
     "MC_MoveLinearRelative",
     "MC_MovePath",
+    "MC_MovePathSynchronized",
     "MC_MoveRelative",
     "MC_MoveVelocity",
     "MC_PathSelect",
@@ -269,8 +276,10 @@ __all__ = [
     "MC_StepRefPulse",
     "MC_Stop",
     "MC_SwitchMode",
+    "MC_SyncAxisToGroup",
     "MC_TouchProbe",
     "MC_TrackConveyorBelt",
+    "MC_TrackRotaryTable",
     "MC_UngroupAllAxes",
     "MC_VelocityProfile",
     "MC_WriteBoolParameter",

@@ -39,8 +39,8 @@ spread over a blend of reach 2.8125·v³/(R·J), so that the jerk stays within J
 the velocity may dip there: 200 → 140 mm/s into R 50 at J 20000 mm/s³, none at 50000). The
 moves take PLCopen's ``CoordSystem`` (ACS, MCS and PCS coincide unless the
 group has a kinematic transformation, :mod:`mcl.kin_fb`; PCS is MCS until
-MC_SetCoordinateTransform or MC_TrackConveyorBelt sets one, :mod:`mcl.tracking`, and then a
-position in MCS is refused with EParam 5) and
+MC_SetCoordinateTransform, MC_TrackConveyorBelt or MC_TrackRotaryTable sets one,
+:mod:`mcl.tracking`, and then a position in MCS is refused with EParam 5) and
 ``TransitionMode``: TMNone rounds the corner into the move within the group's corner tolerance,
 TMMaxCornerDeviation within ``TransitionParameter[0]`` [mm], TMCornerDistance leaves the path at
 most ``TransitionParameter[0]`` [mm] from the corner; TMStartVelocity and TMConstantVelocity are
@@ -50,7 +50,7 @@ not offered (EParam 5).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
 
 from mcl.command import Status
@@ -68,7 +68,7 @@ from mcl.geometry import GeometryError
 from mcl.group import AxesGroup
 from mcl.group_kinematics import refusal
 from mcl.kinematics import KinematicsError
-from mcl.path import ARC, Move, PathCommand
+from mcl.path import ARC, Element, Move, PathCommand
 
 
 def _vector(value: Any, size: int) -> list[float] | None:
@@ -394,11 +394,18 @@ def transition_of(mode: int, parameters: Any) -> tuple[float, float] | None:
     return 0.0, values[0]
 
 
-def submit_moves(group: AxesGroup, ticket: PathCommand, moves: list[Move], needs_ref: bool) -> int:
+def submit_moves(
+    group: AxesGroup,
+    ticket: PathCommand,
+    moves: list[Move],
+    needs_ref: bool,
+    adapt: Callable[[list[Element]], int] | None = None,
+) -> int:
     """Build the elements of ``moves`` and hand them to the group, or return the error that
     refuses them without touching the group: Ehome 9 (``needs_ref`` and a member without Ref),
     EParam 5 (a piece that describes no path), Ecil 8 (a piece that passes a member's SW
-    limit), EWorkspace 24 / ESingular 25 (a Cartesian piece the kinematics refuses)."""
+    limit), EWorkspace 24 / ESingular 25 (a Cartesian piece the kinematics refuses), or the
+    error of ``adapt``, which may change the checked elements before they are handed over."""
     axes = group.axes
     if needs_ref and not all(axis.Ref for axis in axes):
         return ErrorID.Ehome
@@ -413,6 +420,9 @@ def submit_moves(group: AxesGroup, ticket: PathCommand, moves: list[Move], needs
             error = axis.check_target(lo) or axis.check_target(hi)
             if error:
                 return error
+    error = adapt(elements) if adapt is not None else 0
+    if error:
+        return error
     group.submit(ticket, elements)
     return 0
 

@@ -23,8 +23,8 @@ bind the path as a member's machine data binds it without a transformation. Piec
 spaces never blend: the path stops between them.
 
 The Cartesian space of a path is the product coordinate system (:attr:`GroupKinematics.frame`,
-:mod:`mcl.coordinate_system`): the MCS until MC_SetCoordinateTransform or MC_TrackConveyorBelt
-sets one. A moving PCS enters the set points with its velocity and acceleration, and a path that
+:mod:`mcl.coordinate_system`): the MCS until MC_SetCoordinateTransform, MC_TrackConveyorBelt
+or MC_TrackRotaryTable sets one. A moving PCS enters the set points with its velocity and acceleration, and a path that
 ends rests in the PCS. In a moving PCS a piece is also checked along the PCS's positions while
 it runs (:meth:`GroupKinematics.sweep`: its profile from rest to rest started when it is
 accepted, the belt moving on at its velocity then): every point within the workspace and the SW
@@ -310,16 +310,17 @@ class GroupKinematics:
         self, element: Element, profile: Profile, axes: Sequence[Axis], velocity: bool
     ) -> int:
         """Check ``element`` (Cartesian) run along ``profile`` (path time 0 = now, arc length)
-        at the PCS's positions meanwhile (the belt moving on at its velocity): 0, or the error
+        at the PCS's positions meanwhile (the master moving on at its velocity): 0, or the error
         of the first point refused (EWorkspace 24, ESingular 25, Ecil 8), with ``velocity`` also
         ETrackTooFast 26 for a joint faster than its Vmax (the belt's share included)."""
         transform, frame = self.transform, self.frame
         if transform is None or element.joint:
             return 0
-        belt = frame.travel()[1] if frame is not None else 0.0
         duration = profile.duration
         start = profile.at(0.0)[0]
-        travel = abs(profile.end_position - start) + abs(belt) * duration
+        travel = abs(profile.end_position - start)
+        if frame is not None:  # the PCS origin's travel meanwhile [mm]
+            travel += math.hypot(*frame.ahead(0.0)[1]) * duration
         count = min(_MAX_SAMPLES, max(16, math.ceil(travel / SAMPLE_STEP)))
         zero = [0.0, 0.0, 0.0]
         for k in range(count + 1):
@@ -327,7 +328,7 @@ class GroupKinematics:
             s, v, _ = profile.at(tau)
             p, vel, _ = element.state(s, v if velocity else 0.0, 0.0)
             if frame is not None:
-                p, vel, _ = frame.to_mcs([p[0] + belt * tau, p[1], p[2]], vel, zero)
+                p, vel = frame.moved_on(p, vel, tau)
             try:
                 q, qd, _ = derivatives(transform, p, vel, zero)
             except KinematicsError as refused:

@@ -77,6 +77,7 @@ CHAPTER_ORDER = (
     "group_control",
     "kin_fb",
     "tracking",
+    "group_sync",
     "path_table",
     "gcode",
 )
@@ -607,14 +608,19 @@ def render_errors() -> list[str]:
 
 def render_announced() -> list[str]:
     """The table of announced blocks: which the library has and which remain."""
+    complete = all(hasattr(mcl, n) for _, _, names in ANNOUNCED for n in names)
+    state = (
+        "every one of them is available and listed above"
+        if complete
+        else "available ones are listed above, the others remain"
+    )
     lines = [
         "## Announced blocks",
         "",
         *_wrap(
             "The blocks the MotionControlLib announced as being prepared, and PLCopen Part 4's "
-            "group blocks, built to PLCopen's definitions: available ones are listed above, "
-            "the others remain. GT_Touch, GT_Pulse and GT_Show have no description in the "
-            "manual and are not implemented."
+            f"group blocks, built to PLCopen's definitions: {state}. GT_Touch, GT_Pulse and "
+            "GT_Show have no description in the manual and are not implemented."
         ),
         "",
         "| family | PLCopen | available | remaining |",

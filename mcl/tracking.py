@@ -1,8 +1,9 @@
 """Product coordinate systems of an axes group: MC_SetCoordinateTransform,
-MC_SetCartesianTransform, MC_TrackConveyorBelt (PLCopen Part 4 v2.0).
+MC_SetCartesianTransform, MC_TrackConveyorBelt, MC_TrackRotaryTable (PLCopen Part 4 v2.0).
 
 A fixed PCS (MC_SetCoordinateTransform, MC_SetCartesianTransform) or one that moves with a
-conveyor belt from a part's latched position (MC_TrackConveyorBelt).
+conveyor belt (MC_TrackConveyorBelt) or turns with a rotary table (MC_TrackRotaryTable) from a
+part's latched position.
 
 Both need a group with a kinematic transformation (:mod:`mcl.kin_fb`) that stands or rests in a
 moving PCS (:attr:`mcl.group.AxesGroup.holding`). They set the group's PCS
@@ -11,7 +12,7 @@ points expressed in it and ramps to rest there (as MC_GroupHalt, ``Acceleration`
 0 = the tool point's defaults): starting to track, the tool point speeds up with the belt;
 ending it, slows down to a standstill in the MCS. The block is Done once the path rests in the
 new PCS; from then on Cartesian moves in PCS (MC_MoveLinear*, MC_MoveCircular*) land on the
-moving part, each checked along the part's travel while it runs (:mod:`mcl.group_kinematics`),
+moving part (on a table in the PCS that turns with it), each checked along the part's travel while it runs (:mod:`mcl.group_kinematics`),
 and the group keeps following it between them (MC_GroupHalt stops the motion relative to the
 part; MC_GroupStop ends the tracking and brings the tool point to rest in the MCS, as
 MC_GroupDisable does). While a PCS is set a position in MCS is refused (EParam 5);
@@ -20,7 +21,12 @@ MC_GroupReadActualPosition reads in either.
 
 from __future__ import annotations
 
-__all__ = ["MC_SetCartesianTransform", "MC_SetCoordinateTransform", "MC_TrackConveyorBelt"]
+__all__ = [
+    "MC_SetCartesianTransform",
+    "MC_SetCoordinateTransform",
+    "MC_TrackConveyorBelt",
+    "MC_TrackRotaryTable",
+]
 
 import math
 from collections.abc import Sequence
@@ -36,7 +42,7 @@ from mcl.group_fb import GroupMotionFB, _vector
 from mcl.kinematics import KinematicsError, KinTransform, derivatives
 
 HORIZON_STEP = 2.0
-"""Largest belt travel between the points of the part's track that are checked [mm]."""
+"""Largest travel of the part between the points of its track that are checked [mm]."""
 _MAX_CHECKS = 2000
 
 
@@ -135,7 +141,43 @@ class MC_SetCartesianTransform(_FrameFB):
         return ProductFrame(values[:3], values[3])
 
 
-class MC_TrackConveyorBelt(_FrameFB):
+class _TrackFB(_FrameFB):
+    """Makes the PCS move with a master axis from a part's latched position: the inputs and
+    checks MC_TrackConveyorBelt and MC_TrackRotaryTable share; subclasses name the master and
+    its frame (:meth:`_carrier`) and list the inputs (the master's first, as PLCopen orders
+    them)."""
+
+    InitialObjectPosition: Sequence[float] = (0.0, 0.0, 0.0)
+    LatchedPosition: float = 0.0
+    Horizon: float = 0.0
+    ROTARY: ClassVar[bool] = False
+
+    def _carrier(self) -> tuple[object, Any]:
+        """The master axis input and its frame input."""
+        raise NotImplementedError
+
+    def _frame(self, group: AxesGroup) -> ProductFrame | int:
+        master, frame_input = self._carrier()
+        origin = _frame_input(frame_input)
+        offset = _vector(self.InitialObjectPosition, 3)
+        latch, horizon = number(self.LatchedPosition), number(self.Horizon)
+        if (
+            not isinstance(master, Axis)
+            or master in group.axes
+            or master.state in (AxisState.Disabled, AxisState.ErrorStop)
+            or origin is None
+            or offset is None
+            or not math.isfinite(latch)
+            or not non_negative(horizon)
+        ):
+            return ErrorID.EParam
+        frame = ProductFrame(origin[0], origin[1], offset, master, latch, self.ROTARY)
+        transform = group.kin.transform
+        assert transform is not None
+        return _reachable(frame, transform, group.axes, horizon) or frame
+
+
+class MC_TrackConveyorBelt(_TrackFB):
     """Makes the PCS move with the belt ``ConveyorBelt`` (an axis, mm) (PLCopen Part 4).
 
     ``ConveyorBeltOrigin`` [x, y, z] or [x, y, z, rz]: the belt frame in the MCS [mm, deg], its x
@@ -162,43 +204,58 @@ class MC_TrackConveyorBelt(_FrameFB):
     )
     ConveyorBelt: Axis | None = None
     ConveyorBeltOrigin: Sequence[float] = (0.0, 0.0, 0.0)
-    InitialObjectPosition: Sequence[float] = (0.0, 0.0, 0.0)
-    LatchedPosition: float = 0.0
-    Horizon: float = 0.0
 
-    def _frame(self, group: AxesGroup) -> ProductFrame | int:
-        belt = self.ConveyorBelt
-        origin = _frame_input(self.ConveyorBeltOrigin)
-        offset = _vector(self.InitialObjectPosition, 3)
-        latch, horizon = number(self.LatchedPosition), number(self.Horizon)
-        if (
-            not isinstance(belt, Axis)
-            or belt in group.axes
-            or belt.state in (AxisState.Disabled, AxisState.ErrorStop)
-            or origin is None
-            or offset is None
-            or not math.isfinite(latch)
-            or not non_negative(horizon)
-        ):
-            return ErrorID.EParam
-        frame = ProductFrame(origin[0], origin[1], offset, belt, latch)
-        transform = group.kin.transform
-        assert transform is not None
-        return _reachable(frame, transform, group.axes, horizon) or frame
+    def _carrier(self) -> tuple[object, Any]:
+        return self.ConveyorBelt, self.ConveyorBeltOrigin
+
+
+class MC_TrackRotaryTable(_TrackFB):
+    """Makes the PCS turn with the rotary table ``RotaryTable`` (an axis, deg) (PLCopen Part 4).
+
+    ``RotaryTableOrigin`` [x, y, z] or [x, y, z, rz]: the table frame in the MCS [mm, deg], its
+    origin the table's centre, its z the axis the table turns about (a positive table angle
+    turns counter-clockwise seen from above); ``InitialObjectPosition`` [x, y, z]: the part's
+    position in the table frame when the table stood at ``LatchedPosition`` [deg] (the touch
+    probe's RecordedPosition), the PCS origin; the PCS turns with the table, so a move in PCS
+    lands on the part and keeps its place on the table. Done once the tool point moves with the
+    part (module docstring). ``Horizon`` [s] (≥ 0): the part is refused unless its PCS origin
+    stays within the workspace for that long at the table's angular velocity, and the joints
+    can follow it there.
+
+    Errors (the group left alone): as MC_TrackConveyorBelt's, with RotaryTable for
+    ConveyorBelt; ETrackTooFast 26 when the part's speed on the turning table exceeds the tool
+    point's velocity limit or what a joint's Vmax can follow.
+    """
+
+    INPUTS: ClassVar[tuple[str, ...]] = (
+        "RotaryTable",
+        "RotaryTableOrigin",
+        "InitialObjectPosition",
+        "LatchedPosition",
+        "Horizon",
+    )
+    RotaryTable: Axis | None = None
+    RotaryTableOrigin: Sequence[float] = (0.0, 0.0, 0.0)
+    ROTARY: ClassVar[bool] = True
+
+    def _carrier(self) -> tuple[object, Any]:
+        return self.RotaryTable, self.RotaryTableOrigin
 
 
 def _reachable(
     frame: ProductFrame, transform: KinTransform, axes: Sequence[Axis], horizon: float
 ) -> int:
     """0 when the PCS origin stays within the workspace from now for ``horizon`` [s] at the
-    belt's velocity and every joint can follow it there, else the error that refuses it."""
-    _, v, _ = frame.travel()
-    if abs(v) > transform.tcp.velocity:
+    master's velocity and every joint can follow it there, else the error that refuses it."""
+    _, w, _ = frame.travel()
+    _, velocity = frame.ahead(0.0)
+    speed = math.hypot(*velocity)
+    if speed > transform.tcp.velocity:
         return ErrorID.ETrackTooFast
-    count = min(_MAX_CHECKS, max(1, math.ceil(abs(v) * horizon / HORIZON_STEP)))
+    count = min(_MAX_CHECKS, max(1, math.ceil(speed * horizon / HORIZON_STEP)))
     zero = (0.0, 0.0, 0.0)
     for k in range(count + 1):
-        p, vel, _ = frame.to_mcs((v * horizon * k / count, 0.0, 0.0), zero, zero)
+        p, vel = frame.ahead(w * horizon * k / count)
         try:
             _, qd, _ = derivatives(transform, p, vel, zero)
         except KinematicsError as refused:

@@ -290,7 +290,7 @@ def test_the_bridges_group_tracks_a_belt_and_sets_a_fixed_frame() -> None:
         operator(GroupOrders(enable=True))
     assert track(3.0).Done
     frame = operator.group.kin.frame
-    assert frame is not None and frame.belt is belt and frame.latch == values["latched_position"]
+    assert frame is not None and frame.master is belt and frame.latch == values["latched_position"]
     assert (frame.origin, frame.angle, frame.offset) == (
         [-300.0, -100.0, -760.0],
         10.0,

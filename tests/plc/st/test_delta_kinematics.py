@@ -123,7 +123,7 @@ def test_an_st_program_tracks_a_part_on_the_belt_and_sets_a_fixed_pcs() -> None:
     machine.run(prog, until=lambda: prog.onto.Done or prog.onto.Error, timeout=3.0)
     assert prog.follow.Done and prog.onto.Done, (prog.follow.ErrorID, prog.onto.ErrorID)
     frame = prog.grp.kin.frame
-    assert frame is not None and frame.belt is machine.axes["D"]
+    assert frame is not None and frame.master is machine.axes["D"]
     for _ in range(3):  # on the part, 20 mm above it, while it moves on
         machine.run(prog, timeout=0.05)
         tool = DELTA.forward([machine.axes[a].sp_pos for a in "ABC"])
