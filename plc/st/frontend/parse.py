@@ -232,9 +232,9 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
                 return None
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
-        line = error.line + lines_before if error.line > 0 else error.line
+        line, column = _place(error, cleaned)
         raise STError.at(
-            f"{filename}:{line}:{error.column}", _found(error, cleaned), _expected(error)
+            f"{filename}:{line + lines_before}:{column}", _found(error, cleaned), _expected(error)
         ) from None
     transformer = grammar.Transformer(comments=comments, fn=filename, source_code=source)
     result: Any = transformer.transform(tree)
@@ -245,6 +245,15 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
         where = f"{filename}:{lines_before + 1}:1"
         raise STError.at(where, "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
+
+
+def _place(error: lark.UnexpectedInput, text: str) -> tuple[int, int]:
+    """The line and column (from 1) of a syntax error in ``text``; an unexpected end of the
+    text (which lark places nowhere) at the end of its last line."""
+    if error.line > 0:
+        return error.line, error.column
+    lines = text.rstrip().splitlines() or [""]
+    return len(lines), len(lines[-1]) + 1
 
 
 def _listed(item: Any) -> list[Any]:
