@@ -84,10 +84,13 @@ def run(
             scene.run(scan, until=lambda: program.done or bool(program.error), timeout=timeout)
         except mcl.ConditionTimeout:
             timed_out = True
+    stop = ""
+    if st_program is not None and plc.st.stopped(program):
+        stop = _ramped_down(scene)
     log.summary()
     log.results(getattr(program, "results", None) or [])
     if program.error:
-        print(f"demo stopped: {program.error}", file=sys.stderr)
+        print(f"demo stopped: {program.error}{stop}", file=sys.stderr)
         return 1
     if timed_out:
         what = f"the demo (at {program.step})" if st_program is None else st_program
@@ -98,6 +101,34 @@ def run(
         )
         return 1
     return 0
+
+
+RAMP_DOWN_TIMEOUT = 30.0
+"""Simulated seconds the axes have to come to rest after a run-time fault stopped an ST
+program (their stop ramps take well under a second)."""
+
+
+def _ramped_down(scene: scenes.Scene) -> str:
+    """Run the machine without the program (stopped by a run-time fault or the watchdog:
+    every axis ramps down and is disabled) until every axis is at rest, so that the summary
+    shows where they came to rest; what to add to the stop's message."""
+
+    def moving() -> list[str]:
+        return [p for p in (axis.rest_problem() for axis in scene.axes.values()) if p]
+
+    start = scene.time
+    if moving():
+        try:
+            scene.run(None, until=lambda: not moving(), timeout=RAMP_DOWN_TIMEOUT)
+        except mcl.ConditionTimeout:
+            return (
+                f"; {RAMP_DOWN_TIMEOUT:g} s after the stop the axes were not at rest "
+                f"({'; '.join(moving())}): the summary shows them then"
+            )
+    return (
+        f"; the axes ramped down and were at rest at t={scene.time:.3f} s "
+        f"({scene.time - start:.3f} s after the stop): the summary shows where"
+    )
 
 
 def machine_blocks(scene: scenes.Scene) -> dict[str, plc.st.External]:
@@ -176,7 +207,13 @@ def main(argv: list[str] | None = None) -> int:
     run_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
     run_parser.add_argument(
         "--program",
-        help="an IEC 61131-3 Structured Text file to run (.st; a TwinCAT folder or a PLCopen .xml)",
+        help=(
+            "an IEC 61131-3 Structured Text file to run (.st; a TwinCAT folder or a PLCopen "
+            ".xml) instead of the demo: the machine starts as for the demo (its joints at the "
+            "demo's start, every axis Disabled, not homed, POS 0), the program scans from the "
+            "first PLC cycle (t = 0); after a run-time fault the run goes on until the axes "
+            "rest, then reports"
+        ),
     )
     run_parser.add_argument(
         "--map",

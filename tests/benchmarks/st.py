@@ -16,7 +16,10 @@ a plant, each a FUNCTION_BLOCK with its enumeration and structure, and the PROGR
 them): its first load (an empty parse cache) with one parsing process and with one per CPU,
 then a load with every POU in the cache (targets: ≤ 10 s on one core, ≤ 1 s cached); wall
 and CPU time of this process (a shared machine's load inflates the wall time; the CPU time of
-the parallel load leaves out its workers), and the load average.
+the parallel load leaves out its workers), and the load average. Then the same for a TwinCAT
+project of 48 function blocks (:mod:`tests.benchmarks.st_twincat`: a motion station each, with
+its DUTs, a GVL and the PROGRAM that runs them on the single axis): its first load and a
+cached one, each in a fresh process (what a user's ``python -m scenes run`` pays).
 
 Run: ``python -m tests.benchmarks.st`` (``--load``: the load times alone).
 """
@@ -218,6 +221,50 @@ def load_times() -> dict[str, Any]:
     for _ in range(100):
         prog()
     figures["runs"] = not prog.fault
+    figures["twincat_48_blocks"] = twincat_load_times()
+    return figures
+
+
+TIMED_LOAD = """
+import json, sys, time
+from pathlib import Path
+import plc.st, scenes
+scene = scenes.load("single_axis", trace_every=0)
+start, cpu = time.perf_counter(), time.process_time()
+prog = plc.st.load(Path(sys.argv[1]), scene)
+wall, cpu = time.perf_counter() - start, time.process_time() - cpu
+for _ in range(10):
+    prog()
+print(json.dumps([wall, cpu, not prog.fault]))
+"""
+"""A load of the project in the folder ``argv[1]`` in a fresh process: wall and CPU seconds,
+and whether it then runs."""
+
+
+def twincat_load_times() -> dict[str, Any]:
+    """Seconds to load the TwinCAT project of :mod:`tests.benchmarks.st_twincat` in a fresh
+    process (parse, translate, compile, with the scene made first): its first load (one
+    parsing process, an empty parse cache) and a cached load, wall and CPU."""
+    import json
+    import subprocess
+    from pathlib import Path
+
+    from tests.benchmarks.st_twincat import write_project
+
+    root = str(Path(__file__).resolve().parents[2])
+    figures: dict[str, Any] = {}
+    with tempfile.TemporaryDirectory() as folder:
+        project = Path(folder) / "Plant"
+        figures["lines"] = write_project(project)
+        env = {**os.environ, "MCL_ST_CACHE": os.path.join(folder, "cache"), "MCL_ST_JOBS": "1"}
+        env["PYTHONPATH"] = os.pathsep.join([root, os.environ.get("PYTHONPATH", "")])
+        for label in ("first_load", "cached_load"):
+            command = [sys.executable, "-c", TIMED_LOAD, str(project)]
+            out = subprocess.run(command, env=env, capture_output=True, text=True, check=True)
+            wall, cpu, runs = json.loads(out.stdout.strip().splitlines()[-1])
+            figures[f"{label}_s"], figures[f"{label}_cpu_s"] = round(wall, 2), round(cpu, 2)
+            figures["runs"] = runs
+    figures["load_average"] = round(os.getloadavg()[0], 1)
     return figures
 
 

@@ -18,13 +18,13 @@ from __future__ import annotations
 
 __all__ = [
     "BIND",
+    "Body",
     "Slot",
     "fixed_inputs",
     "hoisted",
     "own_fixed",
     "self_written",
     "uncopied",
-    "written",
 ]
 
 import dataclasses
@@ -61,14 +61,73 @@ def _nodes(node: Any) -> Iterator[Any]:
         yield node
         if isinstance(node, list | tuple):
             stack.extend(reversed(node))
-        elif dataclasses.is_dataclass(node) and not isinstance(node, type):
-            stack.extend(getattr(node, name) for name in reversed(_fields(type(node))))
+        else:
+            kind: type = type(node)
+            fields = _fields(kind)
+            if fields:
+                stack.extend(getattr(node, name) for name in reversed(fields))
 
 
 @functools.cache
 def _fields(cls: type) -> tuple[str, ...]:
-    """The fields of a tree node's class but its position (``meta``)."""
+    """The fields of a tree node's class but its position (``meta``); none for what is no
+    tree node (a name, a number, a position)."""
+    if not dataclasses.is_dataclass(cls) or cls is tf.Meta:
+        return ()
     return tuple(f.name for f in dataclasses.fields(cls) if f.name != "meta")
+
+
+class Body:
+    """A POU's statements, walked once for every question this module asks of them (what
+    they write, which instances they call with what, what they pass on).
+
+    Attributes:
+        x: the POU's expressions (its scope).
+        statements: the POU's statements.
+    """
+
+    def __init__(self, x: Expressions, statements: Any) -> None:
+        self.x = x
+        self.statements = statements
+        self.nodes = list(_nodes(statements))
+        self._codes: dict[int, str | None] = {}
+        self._written: set[str] | None = None
+        self._calls: list[tuple[Var, dict[str, Any]]] | None = None
+        self._passed_on: set[str] | None = None
+
+    def code(self, node: Any) -> str | None:
+        """The Python code of a variable node (of the whole variable for a part, ``w.3``),
+        None where it does not translate (reported later)."""
+        key = id(node)
+        if key not in self._codes:
+            self._codes[key] = _code(self.x, node)
+        return self._codes[key]
+
+    def written(self) -> set[str]:
+        """The codes of everything the statements write (:func:`_written`)."""
+        if self._written is None:
+            self._written = _written(self)
+        return self._written
+
+    def calls(self) -> list[tuple[Var, dict[str, Any]]]:
+        """Every call of an own block instance: the instance and its parameters by upper
+        name."""
+        if self._calls is None:
+            self._calls = list(_own_calls(self))
+        return self._calls
+
+    def passed_on(self) -> set[str]:
+        """The codes of the variables a call passes as a value (an instance passed on may be
+        called elsewhere)."""
+        if self._passed_on is None:
+            codes = {
+                self.code(node.value)
+                for node in self.nodes
+                if isinstance(node, tf.ParameterAssignment)
+                and isinstance(node.value, tf.SimpleVariable | tf.MultiElementVariable)
+            }
+            self._passed_on = {c for c in codes if c is not None}
+        return self._passed_on
 
 
 def _code(x: Expressions, node: Any) -> str | None:
@@ -90,20 +149,21 @@ def _instance(x: Expressions, node: tf.FunctionCallStatement) -> Var | None:
     return var if var is not None and isinstance(var.type, BlockType) else None
 
 
-def written(x: Expressions, body: Any) -> set[str]:
+def _written(body: Body) -> set[str]:
     """The codes of everything a POU's statements write: assignment, S=/R= and FOR targets,
     ``=>`` outputs, what a user block's or function's in-out copies back, and every variable
     a REF() refers to (it may be written through the reference)."""
+    x = body.x
     codes: set[str | None] = set()
-    for node in _nodes(body):
+    for node in body.nodes:
         if isinstance(node, tf.AssignmentStatement):
-            codes.update(_code(x, v) for v in node.variables)
+            codes.update(body.code(v) for v in node.variables)
         elif isinstance(node, tf.SetStatement | tf.ResetStatement):
-            codes.add(_code(x, node.variable))
+            codes.add(body.code(node.variable))
         elif isinstance(node, tf.ForStatement):
-            codes.add(_code(x, node.control))
+            codes.add(body.code(node.control))
         elif isinstance(node, tf.OutputParameterAssignment):
-            codes.add(_code(x, node.value))
+            codes.add(body.code(node.value))
         elif isinstance(node, tf.FunctionCallStatement):
             var = _instance(x, node)
             block = var.type if var is not None else None
@@ -115,11 +175,11 @@ def written(x: Expressions, body: Any) -> set[str]:
                 if member is None or (
                     member.direction == "in_out" and member.type.kind not in ("axis", "group")
                 ):
-                    codes.add(_code(x, p.value))
+                    codes.add(body.code(p.value))
         elif isinstance(node, tf.FunctionCall) and _writes_back(x, node):
             for p in node.parameters or []:
                 if isinstance(p.value, tf.SimpleVariable | tf.MultiElementVariable):
-                    codes.add(_code(x, p.value))
+                    codes.add(body.code(p.value))
     return {c.split("[")[0] for c in codes if c is not None}  # an element: the whole array
 
 
@@ -133,19 +193,18 @@ def _writes_back(x: Expressions, node: tf.FunctionCall) -> bool:
     return name == "REF"
 
 
-def _calls(x: Expressions, body: Any) -> Iterator[tuple[Var, dict[str, Any]]]:
+def _own_calls(body: Body) -> Iterator[tuple[Var, dict[str, Any]]]:
     """Every call of an own block instance: the instance and its parameters by upper name."""
-    for node in _nodes(body):
+    for node in body.nodes:
         if isinstance(node, tf.FunctionCallStatement):
-            var = _instance(x, node)
+            var = _instance(body.x, node)
             if var is not None and _OWN.match(var.code):
                 params = node.parameters or []
                 yield var, {str(p.name.name).upper(): p for p in params if p.name is not None}
 
 
 def hoisted(
-    x: Expressions,
-    body: Any,
+    body: Body,
     convert: Any,
     fixed: frozenset[str] = frozenset(),
     self_written: dict[str, set[str]] | None = None,
@@ -154,24 +213,25 @@ def hoisted(
     call passes or a statement writes.
 
     Args:
-        x: the POU's expressions (its scope).
-        body: the POU's statements.
+        body: the POU's statements (with its expressions).
         convert: ``(member, value E, node) -> code`` as a call passes the input.
         fixed: the codes of the POU's own fixed inputs (``self.SetPosition``): a value that is
             one of them counts as constant.
         self_written: per user block type (upper name), the inputs its own statements write
             (:func:`self_written`): a call sets those every time.
     """
+    x = body.x
     first: dict[Slot, str] = {}
     varying: set[Slot] = set()
     touched: set[Slot] = set()
-    for target in written(x, body):  # inst.Input := v: set where the program sets it
+    by_code = {v.code: v for v in reversed(list(x.scope.vars.values()))}  # the first wins
+    for target in body.written():  # inst.Input := v: set where the program sets it
         head, _, field = target.rpartition(".")
-        var = next((v for v in x.scope.vars.values() if v.code == head), None)
+        var = by_code.get(head)
         if var is not None and isinstance(var.type, BlockType):
             varying.add((head, field))
     touched |= varying
-    for var, given in _calls(x, body):
+    for var, given in body.calls():
         assert isinstance(var.type, BlockType)
         own_writes = (self_written or {}).get(var.type.name.upper(), set())
         for key, member in var.type.members.items():
@@ -219,18 +279,18 @@ def _blocks_in(t: Type) -> Iterator[BlockType]:
             yield from _blocks_in(field_type)
 
 
-def self_written(blocks: Iterable[tuple[str, Expressions, Any]]) -> dict[str, set[str]]:
-    """Per user block type (upper name; its expressions and statements given): the members
-    (Python names) its own statements write."""
+def self_written(blocks: Iterable[tuple[str, Body]]) -> dict[str, set[str]]:
+    """Per user block type (upper name; its statements given): the members (Python names)
+    its own statements write."""
     found: dict[str, set[str]] = {}
-    for name, x, body in blocks:
-        codes = [c[5:] for c in written(x, body) if c.startswith("self.")]
+    for name, body in blocks:
+        codes = [c[5:] for c in body.written() if c.startswith("self.")]
         found[name.upper()] = {c for c in codes if "." not in c}
     return found
 
 
 def fixed_inputs(
-    pous: Iterable[tuple[Expressions, Any, bool]],
+    pous: Iterable[tuple[Body, bool]],
     globals_: Iterable[Var],
     self_written: dict[str, set[str]],
 ) -> dict[str, set[str]]:
@@ -239,15 +299,15 @@ def fixed_inputs(
     whose calls pass the input the same constant or never, and nothing writes it.
 
     Args:
-        pous: per PROGRAM, FUNCTION_BLOCK and FUNCTION: its expressions, its statements, and
-            whether it is a FUNCTION.
+        pous: per PROGRAM, FUNCTION_BLOCK and FUNCTION: its statements (with its
+            expressions), and whether it is a FUNCTION.
         globals_: the global variables.
         self_written: the members each user block type writes itself (:func:`self_written`).
     """
     fixed: dict[str, set[str]] = {}
     analysed = list(pous)
-    for x, _, _ in analysed:  # every user block type seen
-        for var in x.scope.vars.values():
+    for body, _ in analysed:  # every user block type seen
+        for var in body.x.scope.vars.values():
             for block in _blocks_in(var.type):
                 fixed.setdefault(block.name.upper(), set()).update(
                     m.python
@@ -258,13 +318,13 @@ def fixed_inputs(
     for var in globals_:
         for block in _blocks_in(var.type):
             fixed[block.name.upper()] = set()
-    for x, body, function in analysed:
+    for body, function in analysed:
         try:
-            once, touched = hoisted(x, body, lambda m, v, p: v.code, self_written=self_written)
+            once, touched = hoisted(body, lambda m, v, p: v.code, self_written=self_written)
         except STError:  # reported where the statement is translated
             return {}
-        passed_on = _passed_on(x, body)
-        for var in x.scope.vars.values():
+        passed_on = body.passed_on()
+        for var in body.x.scope.vars.values():
             for block in _blocks_in(var.type):
                 inputs = fixed.setdefault(block.name.upper(), set())
                 plain = var.type is block and var.section == "local" and not function
@@ -275,33 +335,20 @@ def fixed_inputs(
     return fixed
 
 
-def _passed_on(x: Expressions, body: Any) -> set[str]:
-    """The codes of the variables a call passes as a value (an instance passed on may be
-    called elsewhere)."""
-    codes = {
-        _code(x, node.value)
-        for node in _nodes(body)
-        if isinstance(node, tf.ParameterAssignment)
-        and isinstance(node.value, tf.SimpleVariable | tf.MultiElementVariable)
-    }
-    return {c for c in codes if c is not None}
-
-
-def own_fixed(x: Expressions, body: Any, name: str, fixed: dict[str, set[str]]) -> frozenset[str]:
+def own_fixed(body: Body, name: str, fixed: dict[str, set[str]]) -> frozenset[str]:
     """The codes of block ``name``'s own fixed inputs that its own statements do not write."""
-    writes = written(x, body)
     codes = {f"self.{m}" for m in fixed.get(name.upper(), set())}
-    return frozenset(codes - writes)
+    return frozenset(codes - body.written())
 
 
-def uncopied(x: Expressions, body: Any) -> set[Slot]:
+def uncopied(body: Body) -> set[Slot]:
     """The array inputs a call may pass without a copy: an own instance's input (a group
     block's ``Position``) that every call of the instance passes and that no statement reads
     as ``inst.Input``. The block reads it only during its call (when every call has just set
     it), so the copy IEC makes at the call is not needed."""
     counts: dict[str, int] = {}
     passed: dict[Slot, int] = {}
-    for var, given in _calls(x, body):
+    for var, given in body.calls():
         counts[var.code] = counts.get(var.code, 0) + 1
         assert isinstance(var.type, BlockType)
         for key, p in given.items():
@@ -310,12 +357,12 @@ def uncopied(x: Expressions, body: Any) -> set[Slot]:
                 slot = (var.code, member.python)
                 passed[slot] = passed.get(slot, 0) + 1
     read: set[str] = set()
-    for node in _nodes(body):
+    for node in body.nodes:
         if isinstance(node, tf.MultiElementVariable):
-            code = _code(x, node)
+            code = body.code(node)
             if code is not None:
                 read.add(code)
-    passed_on = _passed_on(x, body)
+    passed_on = body.passed_on()
     return {
         slot
         for slot, n in passed.items()

@@ -12,7 +12,7 @@ from typing import Any
 import blark.transform as tf
 
 from plc.st.codegen.expressions import Expressions
-from plc.st.codegen.hoist import BIND, fixed_inputs, own_fixed, self_written, uncopied
+from plc.st.codegen.hoist import BIND, Body, fixed_inputs, own_fixed, self_written, uncopied
 from plc.st.codegen.hoist import hoisted as hoisted_inputs
 from plc.st.codegen.statements import Emitter, Statements
 from plc.st.runtime.task import Task, configurations, task_of
@@ -206,10 +206,16 @@ class POU:
             block = BlockType(self.name, "user", self.members, self.python)
             self.unit.types[self.name.upper()] = block
 
-    def body(self, out: Emitter, fixed: dict[str, set[str]], written: dict[str, set[str]]) -> None:
+    def body(
+        self,
+        out: Emitter,
+        fixed: dict[str, set[str]],
+        written: dict[str, set[str]],
+        walked: Body,
+    ) -> None:
         """The Python of the POU into ``out``; ``fixed``: the fixed inputs of every user block
         type (:func:`plc.st.codegen.hoist.fixed_inputs`), ``written``: the members each writes
-        itself."""
+        itself, ``walked``: the POU's statements as :mod:`plc.st.codegen.hoist` walked them."""
         out.st_line = self.unit.line(self.node)
         x = Expressions(self.unit, self.scope)
         if self.function:
@@ -228,9 +234,9 @@ class POU:
             out.depth -= 1
         else:
             block = isinstance(self.node, tf.FunctionBlock)
-            own = own_fixed(x, self.node.body, self.name, fixed) if block else frozenset()
+            own = own_fixed(walked, self.name, fixed) if block else frozenset()
             hoisted, _ = hoisted_inputs(
-                x, self.node.body, lambda m, v, p: x.convert(v, m.type, p), own, written
+                walked, lambda m, v, p: x.convert(v, m.type, p), own, written
             )
             once = [f"{i}.{m} = {c}" for (i, m), c in hoisted.items()]
             bind = [line for line in once if "self." in line.split(" = ", 1)[1]] if block else []
@@ -272,7 +278,7 @@ class POU:
                 out.emit(line)
             statements = Statements(x, out)
             statements.hoisted = hoisted
-            statements.uncopied = uncopied(x, self.node.body)
+            statements.uncopied = uncopied(walked)
             statements.block(self.node.body)
             out.depth -= 2
         out.emit("")
@@ -422,15 +428,16 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     for pou in pous:
         if isinstance(pou.node, tf.Program):
             pou.declare()
-    analysed = [(Expressions(unit, p.scope), p.node.body, p.function) for p in pous]
+    walked = [Body(Expressions(unit, p.scope), p.node.body) for p in pous]
     writes = self_written(
-        (pou.name, x, b)
-        for pou, (x, b, _) in zip(pous, analysed, strict=True)
+        (pou.name, w)
+        for pou, w in zip(pous, walked, strict=True)
         if isinstance(pou.node, tf.FunctionBlock)
     )
+    analysed = [(w, p.function) for p, w in zip(pous, walked, strict=True)]
     fixed = fixed_inputs(analysed, unit.globals.vars.values(), writes)
-    for pou in pous:
-        pou.body(body, fixed, writes)
+    for pou, w in zip(pous, walked, strict=True):
+        pou.body(body, fixed, writes, w)
     out.emit(f"_BOUND = {dict(unit.bound)!r}")
     out.emit("")
     lines = out.lines + body.lines

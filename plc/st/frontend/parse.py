@@ -66,21 +66,37 @@ def parse(source: str, filename: str) -> tf.SourceCode:
     Raises:
         STError: a syntax error, ``filename:line:column: ...; expected ...``.
     """
-    pieces = chunks.chunks(source)
-    names = [tree_cache.key(c.text, filename, _parser_identity()) for c in pieces]
-    trees: list[Any] = [tree_cache.load(name) for name in names]
+    pieces = _pieces(source)
+    work = [
+        (c.text, filename, c.line, c.offset, tree_cache.key(c.text, filename, _parser_identity()))
+        for c in pieces
+    ]
+    trees: list[Any] = [_kept(piece) for piece in work]
     for i, tree in enumerate(trees):  # the fast parser here first: a worker starts slower
         if tree is None:
-            trees[i] = _parse_fast(pieces[i].text, filename, pieces[i].line, names[i])
+            trees[i] = _parse_fast(*work[i])
     missing = [i for i, tree in enumerate(trees) if tree is None]
-    work = [(pieces[i].text, filename, pieces[i].line, names[i]) for i in missing]
-    for i, tree in zip(missing, _parse_all(work), strict=True):
+    for i, tree in zip(missing, _parse_all([work[i] for i in missing]), strict=True):
         trees[i] = tree
     items = []
-    for piece, tree in zip(pieces, trees, strict=True):
-        chunks.shifted(tree, piece.line - 1, piece.offset)
+    for tree in trees:
         items += tree.items
     return tf.SourceCode(items, Path(filename), source, trees[0].line_map, trees[0].meta)
+
+
+def _pieces(source: str) -> list[chunks.Chunk]:
+    """``source`` cut into its items (:func:`~plc.st.frontend.chunks.chunks`), the cut kept in
+    the cache: finding a source's comments and strings takes longer than loading its kept
+    trees."""
+    name = tree_cache.key(source, "", _parser_identity())
+    cut = tree_cache.cached(
+        name, lambda: [(c.line, c.offset) for c in chunks.chunks(source)], "cut"
+    )
+    ends = [offset for _, offset in cut[1:]] + [len(source)]
+    return [
+        chunks.Chunk(source[offset:end], line, offset)
+        for (line, offset), end in zip(cut, ends, strict=True)
+    ]
 
 
 def jobs() -> int:
@@ -139,29 +155,58 @@ def _parse_all(work: list[Piece]) -> list[tf.SourceCode]:
     return [trees[i] if i in trees else parse_kept(*work[i]) for i in range(len(work))]
 
 
-Piece = tuple[str, str, int, str]
-"""A piece to parse: its text, the file name, its first line in the file, its cache name."""
+Piece = tuple[str, str, int, int, str]
+"""A piece to parse: its text, the file name, its first line and its first character in the
+file, its cache name."""
 
 _ROOT = str(Path(__file__).resolve().parents[3])
 """The folder the ``plc`` package is in (a worker imports it from there)."""
 
 
-def parse_kept(text: str, filename: str, line: int, name: str) -> tf.SourceCode:
-    """One piece parsed (its first line ``line`` in the file, for messages) and kept in the
-    cache as ``name``."""
+def parse_kept(text: str, filename: str, line: int, offset: int, name: str) -> tf.SourceCode:
+    """One piece parsed, its positions where it stands in the file (its first line ``line``,
+    its first character ``offset``), and kept in the cache as ``name``."""
     tree: tf.SourceCode = _parse(text, filename, line - 1)
-    tree_cache.store(name, tree)
-    return tree
+    return _placed(tree, line, offset, name)
 
 
-def _parse_fast(text: str, filename: str, line: int, name: str) -> tf.SourceCode | None:
+def _parse_fast(
+    text: str, filename: str, line: int, offset: int, name: str
+) -> tf.SourceCode | None:
     """:func:`parse_kept` by the LALR parser alone: None where it cannot read the piece (an
     error is left to the full parse, which reports the file's first)."""
     try:
         tree: tf.SourceCode | None = _parse(text, filename, line - 1, fast=True)
     except STError:
         return None
-    if tree is not None:
+    return None if tree is None else _placed(tree, line, offset, name)
+
+
+_PLACE = "_st_place"
+"""The attribute of a kept tree that holds where its positions stand: (first line, first
+character) of the piece in its file (not a field of the tree: trees compare without it)."""
+
+
+def _placed(tree: tf.SourceCode, line: int, offset: int, name: str) -> tf.SourceCode:
+    """A piece's tree parsed on its own moved to where it stands in the file (its first line
+    ``line``, its first character ``offset``), kept in the cache as ``name`` with its place."""
+    chunks.shifted(tree, line - 1, offset)
+    vars(tree)[_PLACE] = (line, offset)
+    tree_cache.store(name, tree)
+    return tree
+
+
+def _kept(piece: Piece) -> tf.SourceCode | None:
+    """A piece's tree from the cache, moved to where the piece stands now (kept again where it
+    moved, so that the next load need not move it); None if it is not kept."""
+    _, _, line, offset, name = piece
+    tree = tree_cache.load(name)
+    if not isinstance(tree, tf.SourceCode):
+        return None
+    kept_line, kept_offset = vars(tree).get(_PLACE, (1, 0))
+    if (kept_line, kept_offset) != (line, offset):
+        chunks.shifted(tree, line - kept_line, offset - kept_offset)
+        vars(tree)[_PLACE] = (line, offset)
         tree_cache.store(name, tree)
     return tree
 
@@ -187,9 +232,9 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
                 return None
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
-        line = error.line + lines_before if error.line > 0 else error.line
+        line, column = _place(error, cleaned)
         raise STError.at(
-            f"{filename}:{line}:{error.column}", _found(error, cleaned), _expected(error)
+            f"{filename}:{line + lines_before}:{column}", _found(error, cleaned), _expected(error)
         ) from None
     transformer = grammar.Transformer(comments=comments, fn=filename, source_code=source)
     result: Any = transformer.transform(tree)
@@ -200,6 +245,15 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
         where = f"{filename}:{lines_before + 1}:1"
         raise STError.at(where, "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
+
+
+def _place(error: lark.UnexpectedInput, text: str) -> tuple[int, int]:
+    """The line and column (from 1) of a syntax error in ``text``; an unexpected end of the
+    text (which lark places nowhere) at the end of its last line."""
+    if error.line > 0:
+        return error.line, error.column
+    lines = text.rstrip().splitlines() or [""]
+    return len(lines), len(lines[-1]) + 1
 
 
 def _listed(item: Any) -> list[Any]:

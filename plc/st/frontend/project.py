@@ -110,7 +110,26 @@ def _sources(folder: Path) -> list[Path]:
 
 
 def _read_file(project: Project, file: Path) -> None:
-    """Append one file's declaration and implementation (and the POU's END_...)."""
+    """Append one file's declaration and implementation (and the POU's END_...); what a file
+    holds is kept in the parse cache (:mod:`~plc.st.frontend.tree_cache`) by its content:
+    reading TwinCAT's XML takes longer than loading the kept lines."""
+    from plc.st.frontend import tree_cache
+
+    try:
+        content = file.read_bytes().decode("latin-1")  # any bytes: only a key
+    except OSError:
+        content = None
+    if content is None:
+        lines = _file_lines(file)
+    else:
+        name = tree_cache.key(content, "TwinCAT", Path(__file__).read_bytes())
+        lines = tree_cache.cached(name, lambda: _file_lines(file), "lines")
+    project.add(lines, str(file))
+
+
+def _file_lines(file: Path) -> list[tuple[int, str]]:
+    """One file's declaration and implementation lines (and the POU's END_...): (line in the
+    file, text)."""
     import blark.input
     from blark.util import SourceType
 
@@ -120,6 +139,7 @@ def _read_file(project: Project, file: Path) -> None:
         raise STError.at(
             f"{file}:1:1", f"cannot read it ({type(error).__name__}: {error})", "TwinCAT XML"
         ) from None
+    lines: list[tuple[int, str]] = []
     for item in items:
         parts = getattr(item, "parts", [item])
         for part in parts:
@@ -130,9 +150,10 @@ def _read_file(project: Project, file: Path) -> None:
                     f"a {part.type.name.upper()} ({str(part.identifier).split('/')[0]})",
                     "a PROGRAM, FUNCTION_BLOCK or FUNCTION without methods, actions, properties",
                 )
-            project.add([(line.lineno, line.code) for line in part.lines], str(file))
+            lines += [(line.lineno, line.code) for line in part.lines]
         words = (line.code.split()[:1] for p in parts for line in p.lines)
         keyword = next((w[0].upper() for w in words if w and w[0].upper() in _END), "")
         if keyword:
             last = parts[-1].lines[-1].lineno if parts[-1].lines else 1
-            project.add([(last, _END[keyword])], str(file))
+            lines.append((last, _END[keyword]))
+    return lines

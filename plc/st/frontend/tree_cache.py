@@ -41,26 +41,27 @@ def key(source: str, filename: str, parser: bytes) -> str:
     return digest.hexdigest()
 
 
-def load(name: str) -> Any:
-    """The tree kept as ``name``; None if there is none, or it does not load (truncated,
+def load(name: str, kind: str = "pickle") -> Any:
+    """The tree kept as ``name`` (of ``kind``: a tree, or ``cut`` a source's cut into items,
+    ``lines`` a TwinCAT file's lines); None if there is none, or it does not load (truncated,
     corrupt, from another Python): it is parsed again and replaced."""
     folder = directory()
     if folder is None:
         return None
     try:
-        with (folder / f"{name}.pickle").open("rb") as file:
+        with (folder / f"{name}.{kind}").open("rb") as file:
             return pickle.load(file)
     except Exception:  # missing, truncated, corrupt, or from another Python: parse again
         return None
 
 
-def store(name: str, tree: Any) -> None:
-    """Keep ``tree`` as ``name`` (atomically: a reader sees the old file or the new one; on a
-    read-only or full disk, nothing is kept)."""
+def store(name: str, tree: Any, kind: str = "pickle") -> None:
+    """Keep ``tree`` as ``name`` of ``kind`` (atomically: a reader sees the old file or the
+    new one; on a read-only or full disk, nothing is kept)."""
     folder = directory()
     if folder is not None:
         keep(
-            folder / f"{name}.pickle",
+            folder / f"{name}.{kind}",
             lambda file: pickle.dump(tree, file, protocol=pickle.HIGHEST_PROTOCOL),
         )
 
@@ -86,11 +87,11 @@ def versions() -> bytes:
     return f"{metadata.version('blark')} {metadata.version('lark')}".encode()
 
 
-def cached(name: str, make: Callable[[], Any]) -> Any:
-    """The tree kept as ``name``, or ``make()`` (kept for the next time; an exception of
-    ``make`` passes through and nothing is kept)."""
-    tree = load(name)
+def cached(name: str, make: Callable[[], Any], kind: str = "pickle") -> Any:
+    """The tree kept as ``name`` of ``kind``, or ``make()`` (kept for the next time; an
+    exception of ``make`` passes through and nothing is kept)."""
+    tree = load(name, kind)
     if tree is None:
         tree = make()
-        store(name, tree)
+        store(name, tree, kind)
     return tree

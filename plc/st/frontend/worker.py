@@ -1,7 +1,8 @@
 """A process that parses pieces of a source for :mod:`plc.st.frontend.parse` (run as
 ``python -m plc.st.frontend.worker``): it reads a pickled list of (text, file name, first line,
-cache name) on stdin, parses each and keeps it in the cache, and writes a pickled list of its
-trees on stdout, up to the first syntax error (its message in the tree's place)."""
+first character, cache name) on stdin, parses each and keeps it in the cache, and writes a
+pickled list of its trees on stdout, up to the first syntax error (its message in the tree's
+place)."""
 
 from __future__ import annotations
 

@@ -8,6 +8,7 @@ __all__ = [
     "ANY",
     "builtin_names",
     "builtin_type",
+    "mcl_block",
     "mcl_blocks",
     "mcl_enums",
     "python_name",
@@ -20,6 +21,7 @@ from functools import cache
 
 import mcl
 from mcl import reference
+from mcl.fb import FunctionBlock
 from plc.st.runtime.blocks import STANDARD
 from plc.st.semantics.types import (
     ANY_STRUCT,
@@ -62,23 +64,40 @@ def python_name(name: str) -> str:
 
 
 @cache
+def _mcl_classes() -> dict[str, type[FunctionBlock]]:
+    """mcl's function block classes by upper-case name."""
+    return {cls.__name__.upper(): cls for cls in reference.function_blocks()}
+
+
+@cache
+def _refs() -> frozenset[str]:
+    """The names of every block's references (a compiled block shows them all as
+    attributes)."""
+    return frozenset(ref for cls in _mcl_classes().values() for ref in cls.REFS)
+
+
+@cache
+def mcl_block(upper: str) -> BlockType | None:
+    """mcl's function block of upper-case name ``upper`` with its in-outs, inputs and
+    outputs (made when a program first names it), or None."""
+    cls = _mcl_classes().get(upper)
+    if cls is None:
+        return None
+    members: dict[str, Member] = {}
+    defaults = reference.declared_inputs(cls)
+    for name, kind, _ in reference.inputs(cls):
+        direction = "in_out" if name in cls.REFS else "input"
+        t = _enumeration_of(name, defaults.get(name)) or _PYTHON_TYPES.get(kind, ANY)
+        members[name.upper()] = Member(t, direction, name)
+    for name, kind, _ in reference.outputs(cls):
+        if name.upper() not in members and name not in _refs() and not name.isupper():
+            members[name.upper()] = Member(_PYTHON_TYPES.get(kind, ANY), "output", name)
+    return BlockType(cls.__name__, "mcl", members, cls.__name__)
+
+
 def mcl_blocks() -> dict[str, BlockType]:
     """mcl's function blocks by upper-case name, with their in-outs, inputs and outputs."""
-    blocks: dict[str, BlockType] = {}
-    classes = reference.function_blocks()
-    refs = {ref for cls in classes for ref in cls.REFS}  # a compiled block shows them all
-    for cls in classes:
-        members: dict[str, Member] = {}
-        defaults = reference.declared_inputs(cls)
-        for name, kind, _ in reference.inputs(cls):
-            direction = "in_out" if name in cls.REFS else "input"
-            t = _enumeration_of(name, defaults.get(name)) or _PYTHON_TYPES.get(kind, ANY)
-            members[name.upper()] = Member(t, direction, name)
-        for name, kind, _ in reference.outputs(cls):
-            if name.upper() not in members and name not in refs and not name.isupper():
-                members[name.upper()] = Member(_PYTHON_TYPES.get(kind, ANY), "output", name)
-        blocks[cls.__name__.upper()] = BlockType(cls.__name__, "mcl", members, cls.__name__)
-    return blocks
+    return {upper: block for upper in _mcl_classes() if (block := mcl_block(upper)) is not None}
 
 
 _ENUM_INPUTS = {
@@ -154,7 +173,7 @@ def builtin_type(name: str) -> Type | None:
         return AXIS
     if upper in ("AXES_GROUP_REF", "AXESGROUP_REF"):
         return GROUP
-    return mcl_enums().get(upper) or standard_blocks().get(upper) or mcl_blocks().get(upper)
+    return mcl_enums().get(upper) or standard_blocks().get(upper) or mcl_block(upper)
 
 
 def builtin_names() -> list[str]:
@@ -165,5 +184,5 @@ def builtin_names() -> list[str]:
         "AXES_GROUP_REF",
         *(t.name for t in mcl_enums().values()),
         *(t.name for t in standard_blocks().values()),
-        *(t.name for t in mcl_blocks().values()),
+        *(cls.__name__ for cls in _mcl_classes().values()),
     ]

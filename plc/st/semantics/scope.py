@@ -153,11 +153,12 @@ class Unit:
 
     def enum_value(self, name: str) -> tuple[EnumType, int] | None:
         """An unqualified enumeration value (the file's enums first, then mcl's)."""
+        lower = name.lower()
         for t in [*self.types.values(), *mcl_enums().values()]:
             if isinstance(t, EnumType):
-                for value_name, value in t.values.items():
-                    if value_name.lower() == name.lower():
-                        return t, value
+                value = t.by_lower_name.get(lower)
+                if value is not None:
+                    return t, value
         return None
 
     def enum_names(self) -> list[str]:

@@ -44,6 +44,7 @@ __all__ = [
     "wrap_value",
 ]
 
+import functools
 from dataclasses import dataclass, field
 
 
@@ -189,6 +190,15 @@ class EnumType(Type):
     @property
     def kind(self) -> str:
         return "enum"
+
+    @functools.cached_property
+    def by_lower_name(self) -> dict[str, int]:
+        """The values by lower-case name (IEC names are case-insensitive; the first of
+        two names differing only in case wins)."""
+        found: dict[str, int] = {}
+        for name, value in self.values.items():
+            found.setdefault(name.lower(), value)
+        return found
 
 
 @dataclass(frozen=True)

@@ -183,3 +183,41 @@ def test_items_the_fast_parser_reads_parse_here_without_workers(
     trees = st_parse.parse(TWO, "two.st")
     assert parsed == [1, 2, 8] and len(kept(cache)) == 3
     assert trees.items == st_parse._parse(TWO, "two.st").items
+
+
+def test_a_project_loaded_from_the_cache_translates_as_a_fresh_load(
+    cache: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+):
+    """A TwinCAT project (the load benchmark's, three stations) loaded with an empty cache, then
+    from the cache (its files' lines, the cut into items, the trees at their places): the same
+    Python as with the cache off; an edited file is read again and moved items take their new
+    lines, and a message names the file's own line from the cache as when first read."""
+    import mcl
+    import plc.st
+    from tests.benchmarks.st_twincat import write_project
+
+    folder = tmp_path / "Plant"
+    write_project(folder, count=3)
+    machine = mcl.SimMachine({"X": mcl.SimAxisParams(start=0.2)})
+
+    def source() -> str:
+        return str(plc.st.load(folder, machine).module.source)
+
+    first, cached = source(), source()
+    monkeypatch.setenv("MCL_ST_CACHE", "")
+    assert first == cached == source()
+    monkeypatch.setenv("MCL_ST_CACHE", str(cache))
+    station = folder / "FB_Station1.TcPOU"
+    station.write_text(
+        station.read_text().replace(
+            "Velocity : LREAL := 100.0;", "Velocity : LREAL := 100.0;\n  Extra : INT;"
+        )
+    )
+    edited = source()
+    monkeypatch.setenv("MCL_ST_CACHE", "")
+    assert edited == source() != first and "Extra" in edited
+    monkeypatch.setenv("MCL_ST_CACHE", str(cache))
+    station.write_text(station.read_text().replace("mean := mean / 8.0;", "mean := mean / ;"))
+    for _ in range(2):
+        with pytest.raises(STError, match=rf"^{station}:\d+:\d+: unexpected ';'"):
+            plc.st.load(folder, machine)

@@ -1,0 +1,89 @@
+"""What a user reads for a syntax error: ``file:line:column``, what the parser met and what
+would have been valid there, the closing keyword first (the parse entry tries the LALR
+parser, and the full parser gives the message)."""
+
+from __future__ import annotations
+
+import pytest
+
+import plc.st
+from plc.st.frontend import parse as st_parse
+
+DECLARED = "PROGRAM p\nVAR x : INT; END_VAR\n"
+
+STATEMENTS = "'%', ';', 'CASE', 'CONTINUE', 'EXIT', 'FOR', 'IF'"
+"""The first words of the statements a body may go on with."""
+OPERATORS = "'**', ':=', ';', add_operator, compare_op, equals_op, logical_and, logical_and_then"
+"""What may follow an operand (the first eight)."""
+
+CASES = [
+    (
+        "x := 1;\n",
+        f"3:8: unexpected end of the source; expected 'END_PROGRAM', {STATEMENTS}",
+    ),
+    ("x := 3 ? 4;\nEND_PROGRAM\n", f"3:8: unexpected '?'; expected {OPERATORS}"),
+    ("x := 1\nx := 2;\nEND_PROGRAM\n", f"4:1: unexpected 'x'; expected {OPERATORS}"),
+    (
+        "x := (1 + 2;\nEND_PROGRAM\n",
+        "3:12: unexpected ';'; expected ')', '**', ':=', add_operator, compare_op, equals_op, "
+        "logical_and, logical_and_then",
+    ),
+    (
+        "CASE x OF\n1: x := 2;\nEND_PROGRAM\n",
+        "5:1: unexpected 'END_PROGRAM'; expected an expression",
+    ),
+    (
+        "FOR x := 1 TO 3 DO\nx := x;\nEND_PROGRAM\n",
+        f"5:1: unexpected 'END_PROGRAM'; expected 'END_FOR', {STATEMENTS}",
+    ),
+    (
+        "WHILE x < 3 DO x := x + 1;\nEND_PROGRAM\n",
+        f"4:1: unexpected 'END_PROGRAM'; expected 'END_WHILE', {STATEMENTS}",
+    ),
+]
+
+
+@pytest.mark.parametrize(("body", "message"), CASES)
+def test_a_syntax_error_names_its_place_what_was_met_and_what_was_expected(body, message):
+    with pytest.raises(plc.st.STError) as error:
+        plc.st.from_source(DECLARED + body, filename="bad.st")
+    assert str(error.value) == f"bad.st:{message}"
+
+
+def test_a_declaration_without_its_colon():
+    with pytest.raises(plc.st.STError) as error:
+        plc.st.from_source("PROGRAM p\nVAR x INT; END_VAR\nx := 1;\nEND_PROGRAM\n", filename="d.st")
+    assert str(error.value) == "d.st:2:7: unexpected 'INT'; expected ',', ':', 'AT', '^'"
+
+
+BLOCK = "FUNCTION_BLOCK f\nVAR_INPUT a : INT; END_VAR\na := 1;\nEND_FUNCTION_BLOCK\n"
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        ("x := ;\nEND_PROGRAM\n", "7:6: unexpected ';'; expected an expression"),
+        (
+            "x := 1;\n",
+            f"7:8: unexpected end of the source; expected 'END_PROGRAM', {STATEMENTS}",
+        ),
+    ],
+)
+def test_an_error_in_a_later_item_names_its_line_in_the_file(body, message):
+    """The items parse one by one: an error in the PROGRAM after a FUNCTION_BLOCK names the
+    file's line, an unexpected end the end of the file's last line."""
+    with pytest.raises(plc.st.STError) as error:
+        plc.st.from_source(BLOCK + DECLARED + body, filename="two.st")
+    assert str(error.value) == f"two.st:{message}"
+
+
+@pytest.mark.parametrize(
+    ("setting", "jobs"), [("3", 3), (" 2 ", 2), ("1", 1), ("0", None), ("many", None), ("", None)]
+)
+def test_the_parsing_processes_are_the_setting_else_the_cpus(monkeypatch, setting, jobs):
+    """``MCL_ST_JOBS=n`` sets how many processes parse (a positive whole number; anything else:
+    one per CPU this process may use)."""
+    import os
+
+    monkeypatch.setenv("MCL_ST_JOBS", setting)
+    assert st_parse.jobs() == (jobs or len(os.sched_getaffinity(0)))
