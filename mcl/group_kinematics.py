@@ -23,14 +23,14 @@ bind the path as a member's machine data binds it without a transformation. Piec
 spaces never blend: the path stops between them.
 
 The Cartesian space of a path is the product coordinate system (:attr:`GroupKinematics.frame`,
-:mod:`mcl.coordinate_system`): the MCS until MC_SetCoordinateTransform, MC_TrackConveyorBelt
-or MC_TrackRotaryTable sets one. A moving PCS enters the set points with its velocity and acceleration, and a path that
-ends rests in the PCS. In a moving PCS a piece is also checked along the PCS's positions while
-it runs (:meth:`GroupKinematics.sweep`: its profile from rest to rest started when it is
-accepted, the belt moving on at its velocity then): every point within the workspace and the SW
-limits, every joint's velocity, the belt's share included, within its Vmax (else ETrackTooFast
-26); the belt's share of a joint's velocity lowers the path velocity too,
-v ≤ (Vmax − |q̇_belt|)/|q'|.
+:mod:`mcl.coordinate_system`): the MCS until MC_SetCoordinateTransform, MC_TrackConveyorBelt or
+MC_TrackRotaryTable sets one. A moving PCS enters the set points with its velocity and acceleration,
+and a path that ends rests in the PCS. In a moving PCS a piece is also checked along the PCS's
+positions while it runs (:meth:`GroupKinematics.sweep`: its profile from rest to rest started when
+it is accepted, the belt moving on at its velocity then): every point within the workspace and the
+SW limits, every joint's velocity, the belt's share included, within its Vmax (else ETrackTooFast
+26); the belt's share of a joint's velocity lowers the path velocity too, v ≤ (Vmax −
+|q̇_belt|)/|q'|.
 
 A stop ramp (MC_GroupStop, MC_GroupHalt, a PCS set) is checked when it is planned the same way
 (:meth:`GroupKinematics.sweep`): one that would leave the workspace or a SW limit is refused at

@@ -7,15 +7,15 @@ part's latched position.
 
 Both need a group with a kinematic transformation (:mod:`mcl.kin_fb`) that stands or rests in a
 moving PCS (:attr:`mcl.group.AxesGroup.holding`). They set the group's PCS
-(:class:`mcl.coordinate_system.ProductFrame`), then the path restarts from the members' set
-points expressed in it and ramps to rest there (as MC_GroupHalt, ``Acceleration`` and ``Jerk``;
-0 = the tool point's defaults): starting to track, the tool point speeds up with the belt;
-ending it, slows down to a standstill in the MCS. The block is Done once the path rests in the
-new PCS; from then on Cartesian moves in PCS (MC_MoveLinear*, MC_MoveCircular*) land on the
-moving part (on a table in the PCS that turns with it), each checked along the part's travel while it runs (:mod:`mcl.group_kinematics`),
-and the group keeps following it between them (MC_GroupHalt stops the motion relative to the
-part; MC_GroupStop ends the tracking and brings the tool point to rest in the MCS, as
-MC_GroupDisable does). While a PCS is set a position in MCS is refused (EParam 5);
+(:class:`mcl.coordinate_system.ProductFrame`), then the path restarts from the members' set points
+expressed in it and ramps to rest there (as MC_GroupHalt, ``Acceleration`` and ``Jerk``; 0 = the
+tool point's defaults): starting to track, the tool point speeds up with the belt; ending it, slows
+down to a standstill in the MCS. The block is Done once the path rests in the new PCS; from then on
+Cartesian moves in PCS (MC_MoveLinear*, MC_MoveCircular*) land on the moving part (on a table in the
+PCS that turns with it), each checked along the part's travel while it runs
+(:mod:`mcl.group_kinematics`), and the group keeps following it between them (MC_GroupHalt stops the
+motion relative to the part; MC_GroupStop ends the tracking and brings the tool point to rest in the
+MCS, as MC_GroupDisable does). While a PCS is set a position in MCS is refused (EParam 5);
 MC_GroupReadActualPosition reads in either.
 """
 
