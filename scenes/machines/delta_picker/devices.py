@@ -87,6 +87,15 @@ class PhotoEye:
         mujoco.mj_kinematics(model, data)
         self.belt_y = float(data.xpos[model.body(f"{prefix}belt").id][1])
         self._parts = _box_parts(model, prefix)
+        self._slides = [
+            int(model.joint(f"{prefix}part{k}_x").qposadr[0]) for k in range(len(self._parts))
+        ]
+        self._base = [
+            np.array(data.xpos[body]) - data.qpos[q : q + 3]
+            for (body, _), q in zip(self._parts, self._slides, strict=True)
+        ]
+        """Each part's centre at zero slides [m]: its centre now is this plus its slides' qpos
+        (``xpos`` is that of the step before: a part at 1 m/s lies 0.5 mm further on)."""
         self._data = data
         self.lateral: list[float] = []
         """Each part's lateral position when it cut the beam, in order [mm, MCS y]."""
@@ -98,8 +107,9 @@ class PhotoEye:
         when none) and its centre's y [m]."""
         data = self._data
         best, lead, y = -1, -1.0, 0.0
-        for body, half in self._parts:
-            centre = data.xpos[body]
+        qpos = data.qpos
+        for (body, half), q, base in zip(self._parts, self._slides, self._base, strict=True):
+            centre = base + qpos[q : q + 3]
             if abs(centre[2] - half[2] - self.belt_top) > 0.005:
                 continue  # not on the belt (held by the cup, in the tray)
             if abs(centre[1] - self.belt_y) > 0.09:
