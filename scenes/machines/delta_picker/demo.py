@@ -245,7 +245,8 @@ class Demo(StepSequence):
 
     def _settled(self) -> bool:
         """The cup follows the part: the tool point's following error (set point against
-        actual, in the MCS) is within :data:`SETTLED` across and along the belt."""
+        actual, in the MCS) is within :data:`SETTLED` across and along the belt (the cup's
+        bellows takes up a few tenths of a millimetre in height)."""
         if self.scene.time - self.entered >= SETTLE_TIMEOUT:
             return True
         actual = DELTA.forward([arm.actual for arm in self.arms])
