@@ -50,7 +50,12 @@ PICK = (0.0, BELT_Y, GRIP_Z)
 """The middle of the robot's reach over the belt [mm, MCS]."""
 WAIT = (EYE_X + 100.0, BELT_Y, GRIP_Z + CLEAR)
 """Where the robot waits for the first part [mm, MCS]."""
-BELT_ORIGIN = [EYE_X, BELT_Y, GRIP_Z]
+PRESS = 1.0
+"""How far below its nominal top the cup comes down onto a part on the belt [mm]: where it is
+picked, a part on the running belt lies about 1 mm deep in the belt's soft contact (measured on
+the physics; at the nominal height the cup stays 1.3 mm above it), and the cup's bellows seals
+pressed."""
+BELT_ORIGIN = [EYE_X, BELT_Y, GRIP_Z - PRESS]
 """The belt frame in the MCS (MC_TrackConveyorBelt's ConveyorBeltOrigin): at the photo eye on
 the belt's centre line, at the grip height; x along the belt [mm]."""
 SLOTS = tuple((x, 155.0) for x in (315.0, -315.0, 225.0, -225.0, 135.0, -135.0, 45.0, -45.0))
@@ -63,8 +68,10 @@ TRACK_FROM = -250.0
 better away from its edge)."""
 HORIZON = 0.6
 """A part is tracked only if it stays within reach this long [s] (reach it, grip, stop)."""
-MOVE = {"Velocity": 3000.0, "Acceleration": 40000.0, "Deceleration": 40000.0, "Jerk": 2.0e6}
+MOVE = {"Velocity": 4000.0, "Acceleration": 60000.0, "Deceleration": 60000.0, "Jerk": 2.0e6}
 """Path velocity [mm/s], acceleration [mm/s²], jerk [mm/s³] of the robot's moves."""
+RAMP = 60000.0
+"""The tool point's acceleration as it speeds up with the belt and slows down from it [mm/s²]."""
 CORNER = 10.0
 """How far a blended corner of the cycle may leave the commanded path [mm]."""
 SETTLED = 0.1
@@ -145,9 +152,13 @@ class Demo(StepSequence):
         self.run = mcl.MC_MoveVelocity(Axis=self.belt, Velocity=BELT_SPEED, Acceleration=2000.0)
         self.halt = mcl.MC_Halt(Axis=self.belt, Deceleration=2000.0)
         self.track = mcl.MC_TrackConveyorBelt(
-            AxesGroup=group, ConveyorBelt=self.belt, ConveyorBeltOrigin=BELT_ORIGIN, Horizon=HORIZON
+            AxesGroup=group,
+            ConveyorBelt=self.belt,
+            ConveyorBeltOrigin=BELT_ORIGIN,
+            Horizon=HORIZON,
+            Acceleration=RAMP,
         )
-        self.untrack = mcl.MC_SetCoordinateTransform(AxesGroup=group)
+        self.untrack = mcl.MC_SetCoordinateTransform(AxesGroup=group, Acceleration=RAMP)
         self.queue: list[tuple[float, float]] = []
         """Latched parts not yet handled: belt position [mm] and lateral position [mm, MCS y]."""
         self.latched = 0
