@@ -8,16 +8,18 @@ MC_TrackConveyorBelt makes the product coordinate system (PCS) move with the par
 effector's centre when the cup touches the part's centre); a part that will have left the
 robot's reach within :data:`HORIZON`, or comes too fast, is refused with its ErrorID and the
 next one is taken. Tracking, the robot goes across to 25 mm above the part and down onto it
-(blended, in PCS), grips, then MC_SetCoordinateTransform ends the tracking (the robot slows down
-to a standstill holding the part) and the standard cycle carries it into the tray in the MCS:
-up 25 mm, across, down 25 mm, blended; vacuum off, up 25 mm, and the next part is tracked from
-there.
+(blended, in PCS), waits until the tool point follows the part (its following error settled),
+grips and lifts it 25 mm (still in PCS); then MC_SetCoordinateTransform ends the tracking (the
+robot slows down to a standstill holding the part in the air) and the standard cycle carries it
+into the tray in the MCS: across (off the belt's parts first), down 25 mm, blended; vacuum off,
+up 25 mm, and the next part is tracked from there.
 """
 
 from __future__ import annotations
 
 __all__ = ["BELT_SPEED", "CLEAR", "HORIZON", "MOVE", "PICK", "SLOTS", "Demo"]
 
+import math
 from typing import Any
 
 import mcl
@@ -48,7 +50,12 @@ PICK = (0.0, BELT_Y, GRIP_Z)
 """The middle of the robot's reach over the belt [mm, MCS]."""
 WAIT = (EYE_X + 100.0, BELT_Y, GRIP_Z + CLEAR)
 """Where the robot waits for the first part [mm, MCS]."""
-BELT_ORIGIN = [EYE_X, BELT_Y, GRIP_Z]
+PRESS = 1.0
+"""How far below its nominal top the cup comes down onto a part on the belt [mm]: where it is
+picked, a part on the running belt lies about 1 mm deep in the belt's soft contact (measured on
+the physics; at the nominal height the cup stays 1.3 mm above it), and the cup's bellows seals
+pressed."""
+BELT_ORIGIN = [EYE_X, BELT_Y, GRIP_Z - PRESS]
 """The belt frame in the MCS (MC_TrackConveyorBelt's ConveyorBeltOrigin): at the photo eye on
 the belt's centre line, at the grip height; x along the belt [mm]."""
 SLOTS = tuple((x, 155.0) for x in (315.0, -315.0, 225.0, -225.0, 135.0, -135.0, 45.0, -45.0))
@@ -59,19 +66,36 @@ BELT_SPEED = 250.0
 TRACK_FROM = -250.0
 """A part is tracked once its centre has come this far [mm of MCS x] (the arms' reach is
 better away from its edge)."""
-HORIZON = 0.5
+HORIZON = 0.6
 """A part is tracked only if it stays within reach this long [s] (reach it, grip, stop)."""
-MOVE = {"Velocity": 3000.0, "Acceleration": 40000.0, "Deceleration": 40000.0, "Jerk": 2.0e6}
+MOVE = {"Velocity": 4000.0, "Acceleration": 60000.0, "Deceleration": 60000.0, "Jerk": 2.0e6}
 """Path velocity [mm/s], acceleration [mm/s²], jerk [mm/s³] of the robot's moves."""
+RAMP = 60000.0
+"""The tool point's acceleration as it speeds up with the belt and slows down from it [mm/s²]."""
 CORNER = 10.0
 """How far a blended corner of the cycle may leave the commanded path [mm]."""
+SETTLED = 0.1
+"""The tool point's following error across and along the belt at which the vacuum comes on
+[mm]."""
+SETTLE_TIMEOUT = 0.1
+"""The vacuum comes on at the latest this long after the cup arrived [s]."""
+OFF_BELT = BELT_Y + 100.0
+"""A part carried this far across [mm, MCS y] clears the parts on the belt (their far edge
+lies within 55 mm of its centre line, a carried part's 30 mm from the cup's centre, a blended
+corner within :data:`CORNER`); lifted only :data:`CLEAR`, its 30 mm body would hit them."""
 DWELL = 0.05
 """Vacuum build-up and release time [s]."""
 
 
 def _moves(group: mcl.AxesGroup) -> dict[str, list[mcl.MC_MoveLinearAbsolute]]:
     """The robot's moves, by the step that runs them."""
-    counts = {"over the belt": 1, "down onto it": 2, "carry to the tray": 3, "up from the tray": 1}
+    counts = {
+        "over the belt": 1,
+        "down onto it": 2,
+        "lift it": 1,
+        "carry to the tray": 3,
+        "up from the tray": 1,
+    }
     return {
         step: [mcl.MC_MoveLinearAbsolute(AxesGroup=group, **MOVE) for _ in range(count)]
         for step, count in counts.items()
@@ -94,7 +118,9 @@ class Demo(StepSequence):
         "wait for a part",
         "track it",
         "down onto it",
+        "settle",
         "grip",
+        "lift it",
         "stop tracking",
         "carry to the tray",
         "release",
@@ -126,9 +152,13 @@ class Demo(StepSequence):
         self.run = mcl.MC_MoveVelocity(Axis=self.belt, Velocity=BELT_SPEED, Acceleration=2000.0)
         self.halt = mcl.MC_Halt(Axis=self.belt, Deceleration=2000.0)
         self.track = mcl.MC_TrackConveyorBelt(
-            AxesGroup=group, ConveyorBelt=self.belt, ConveyorBeltOrigin=BELT_ORIGIN, Horizon=HORIZON
+            AxesGroup=group,
+            ConveyorBelt=self.belt,
+            ConveyorBeltOrigin=BELT_ORIGIN,
+            Horizon=HORIZON,
+            Acceleration=RAMP,
         )
-        self.untrack = mcl.MC_SetCoordinateTransform(AxesGroup=group)
+        self.untrack = mcl.MC_SetCoordinateTransform(AxesGroup=group, Acceleration=RAMP)
         self.queue: list[tuple[float, float]] = []
         """Latched parts not yet handled: belt position [mm] and lateral position [mm, MCS y]."""
         self.latched = 0
@@ -136,6 +166,8 @@ class Demo(StepSequence):
         self.moves = _moves(group)
         self._aim(0)
         self.rows: list[dict[str, Any]] = []
+        self._gripped = 0
+        """Grips the rows account for."""
         self.started = 0.0
         grouping: dict[str, Any] = {f"add{i}": add for i, add in enumerate(self.add)}
         grouping |= {"enable": self.enable, "kinematics": self.kinematics}
@@ -155,7 +187,9 @@ class Demo(StepSequence):
             Step("wait for a part", self._waited, {"run": self.run}, then=self._next_part),
             Step("track it", lambda: self.track.Done or self.track.Error, then=self._tracked),
             self._path("down onto it"),
+            Step("settle", self._settled),
             Step("grip", self._dwelt, {"vacuum": self.vacuum}),
+            self._path("lift it"),
             Step(
                 "stop tracking",
                 lambda: self.untrack.Done,
@@ -202,18 +236,33 @@ class Demo(StepSequence):
             move.Position, move.BufferMode = list(target), mode
             move.CoordSystem = MC_COORD_SYSTEM.PCS
             move.TransitionMode, move.TransitionParameter = CORNERING
+        lift = self.moves["lift it"][0]
+        lift.Position, lift.BufferMode = [0.0, 0.0, CLEAR], B.Aborting
+        lift.CoordSystem = MC_COORD_SYSTEM.PCS
         self.carry_from(list(PICK))
         up = self.moves["up from the tray"][0]
         up.Position, up.BufferMode = [x, y, z + CLEAR], B.Aborting
 
-    def carry_from(self, grip: list[float]) -> None:
-        """The standard cycle from where the part was gripped [mm, MCS] to its place."""
+    def carry_from(self, lifted: list[float]) -> None:
+        """The rest of the standard cycle from where the lifted part came to a standstill [mm,
+        MCS]: across the belt (the part off the belt's parts first), to its place, down."""
         x, y = SLOTS[self.picked % len(SLOTS)]
         z = GRIP_Z
-        targets = ((grip[0], grip[1], z + CLEAR), (x, y, z + CLEAR), (x, y, z))
+        off = max(lifted[1], OFF_BELT)
+        targets = ((lifted[0], off, z + CLEAR), (x, y, z + CLEAR), (x, y, z))
         modes = (B.Aborting, B.BlendingLow, B.BlendingLow)
         for move, target, mode in zip(self.moves["carry to the tray"], targets, modes, strict=True):
             move.Position, move.BufferMode = list(target), mode
+
+    def _settled(self) -> bool:
+        """The cup follows the part: the tool point's following error (set point against
+        actual, in the MCS) is within :data:`SETTLED` across and along the belt (the cup's
+        bellows takes up a few tenths of a millimetre in height)."""
+        if self.scene.time - self.entered >= SETTLE_TIMEOUT:
+            return True
+        actual = DELTA.forward([arm.actual for arm in self.arms])
+        target = DELTA.forward([arm.sp_pos for arm in self.arms])
+        return math.hypot(actual[0] - target[0], actual[1] - target[1]) <= SETTLED
 
     def _dwelt(self) -> bool:
         return self.scene.time - self.entered >= DWELL
@@ -253,11 +302,14 @@ class Demo(StepSequence):
         return "wait for a part"
 
     def _record(self, error_id: int = 0) -> None:
-        grip = self.gripper.grips[-1] if self.gripper.grips and not error_id else None
+        """One row: the part refused with ``error_id``, or picked (the cup gripped it)."""
+        grips = self.gripper.grips
+        grip = grips[-1] if len(grips) > self._gripped and not error_id else None
+        self._gripped = len(grips)
         self.rows.append(
             {
                 "part": len(self.rows),
-                "picked": not error_id,
+                "picked": grip is not None,
                 "error id": error_id,
                 "pick error [mm]": grip.error if grip is not None else None,
                 "cycle [s]": self.scene.time - self.started,

@@ -87,6 +87,16 @@ class PhotoEye:
         mujoco.mj_kinematics(model, data)
         self.belt_y = float(data.xpos[model.body(f"{prefix}belt").id][1])
         self._parts = _box_parts(model, prefix)
+        slides = [
+            int(model.joint(f"{prefix}part{k}_x").qposadr[0]) for k in range(len(self._parts))
+        ]
+        self._slides = np.array([[q, q + 1, q + 2] for q in slides], dtype=np.intp)
+        """The qpos addresses of each part's slides x, y, z."""
+        self._base = (
+            np.array([data.xpos[body] for body, _ in self._parts]) - data.qpos[self._slides]
+        )
+        """Each part's centre at zero slides [m]: its centre now is this plus its slides' qpos
+        (``xpos`` is that of the step before: a part at 1 m/s lies 0.5 mm further on)."""
         self._data = data
         self.lateral: list[float] = []
         """Each part's lateral position when it cut the beam, in order [mm, MCS y]."""
@@ -98,19 +108,19 @@ class PhotoEye:
         when none) and its centre's y [m]."""
         data = self._data
         best, lead, y = -1, -1.0, 0.0
-        for body, half in self._parts:
-            centre = data.xpos[body]
+        centres = (self._base + data.qpos[self._slides]).tolist()
+        for (body, half), centre in zip(self._parts, centres, strict=True):
             if abs(centre[2] - half[2] - self.belt_top) > 0.005:
                 continue  # not on the belt (held by the cup, in the tray)
             if abs(centre[1] - self.belt_y) > 0.09:
                 continue
             turn = np.abs(data.xmat[body].reshape(3, 3)[0])
             extent = float(turn @ half)
-            front = float(centre[0]) + extent - self.eye_x
+            front = centre[0] + extent - self.eye_x
             if front - 2.0 * extent > 0.0:
                 continue  # its trailing edge is past the beam
             if best < 0 or front > lead:
-                best, lead, y = body, front, float(centre[1])
+                best, lead, y = body, front, centre[1]
         return best, lead, y
 
     def probe_coordinate(self) -> float:
