@@ -194,7 +194,7 @@ def test_the_photo_eye_latches_where_a_part_cuts_its_beam() -> None:
     assert eye.lateral[0] == pytest.approx(1000.0 * gripper.part_position(0)[1], abs=0.01)
 
 
-@pytest.mark.parametrize("edge", [LINE, MOVE], ids=["2 m/s", "the demo's 3 m/s"])
+@pytest.mark.parametrize("edge", [LINE, MOVE], ids=["2 m/s", "the demo's move"])
 def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance(
     edge: dict[str, float],
 ) -> None:
@@ -204,7 +204,7 @@ def test_a_point_refused_during_a_stop_ramps_the_arms_within_their_stop_distance
     ramps from its last set point to standstill on its own fastest ramp: no step of a set point
     velocity beyond what that ramp changes in a servo cycle, each arm (on the physics) within
     its stop distance, inside its SW limits; the group in GroupErrorStop with EWorkspace until
-    MC_GroupReset. (Refused where the ramp reached the edge, the demo's 3 m/s line left A2 at
+    MC_GroupReset. (Refused where the ramp reached the edge, a 3 m/s line left A2 at
     88.7°, beyond its 86° SW limit.)"""
     scene = scenes.load("delta_picker", trace_every=0)
     program = scenes.demo(scene)
