@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from plc.st.errors import STError
+from plc.st.semantics.gvl import NAME_PRAGMA
 
 SUFFIXES = (".tcpou", ".tcdut", ".tcgvl")
 """The TwinCAT source files read (case-insensitive)."""
@@ -130,7 +131,11 @@ def _read_file(project: Project, file: Path) -> None:
                     f"a {part.type.name.upper()} ({str(part.identifier).split('/')[0]})",
                     "a PROGRAM, FUNCTION_BLOCK or FUNCTION without methods, actions, properties",
                 )
-            project.add([(line.lineno, line.code) for line in part.lines], str(file))
+            lines = [(line.lineno, line.code) for line in part.lines]
+            if part.type == SourceType.var_global and lines:  # a GVL: its name before it
+                name = str(part.identifier).split("/")[0]
+                lines.insert(0, (lines[0][0], NAME_PRAGMA.format(name)))
+            project.add(lines, str(file))
         words = (line.code.split()[:1] for p in parts for line in p.lines)
         keyword = next((w[0].upper() for w in words if w and w[0].upper() in _END), "")
         if keyword:
