@@ -232,7 +232,7 @@ class Expressions:
             first.field, tf.SimpleVariable
         ):
             raise self.error(first, f"{head} is a GVL", f"{head}.<variable>")
-        found: Var = gvl.var(str(first.field.name), self.unit.where(first))
+        found: Var = gvl.var(str(first.field.name), self.unit.where(first.field.name))
         return found
 
     def _value(self, var: Var, node: Any) -> E:
