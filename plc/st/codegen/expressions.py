@@ -12,7 +12,7 @@ from typing import Any
 
 import blark.transform as tf
 
-from plc.st.errors import STError, nearest
+from plc.st.errors import STError, indefinite, nearest
 from plc.st.runtime.functions import f32
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.catalog import mcl_enums
@@ -389,7 +389,7 @@ class Expressions:
     def require(self, node: Any, e: E, kind: str) -> None:
         """``e`` must be of ``kind`` (``bool``, ...)."""
         if e.type.kind != kind:
-            raise self.error(node, f"a {e.type.name} operand", kind.upper())
+            raise self.error(node, f"{indefinite(e.type.name)} operand", kind.upper())
 
     def compare(self, node: Any, op: str, a: E, b: E) -> E:
         """A comparison: numbers with numbers, else equal types."""

@@ -12,7 +12,7 @@ import blark.transform as tf
 
 from plc.st.codegen.access import store
 from plc.st.codegen.expressions import E, Expressions
-from plc.st.errors import STError
+from plc.st.errors import STError, indefinite
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import BlockType
 
@@ -194,7 +194,9 @@ class Statements:
         a value of its enumeration for an enumeration)."""
         integers = t.kind in ("int", "bits") and label.type.kind in ("int", "bits")
         if not integers and label.type != t:
-            raise self.x.error(m, f"a {label.type.name} label", f"a {t.name} value")
+            raise self.x.error(
+                m, f"{indefinite(label.type.name)} label", f"{indefinite(t.name)} value"
+            )
 
     def do_ForStatement(self, s: tf.ForStatement) -> None:
         control = self.target(s.control)

@@ -53,6 +53,8 @@ class Module:
     bound: dict[str, str] = field(default_factory=dict)
     task: Task | None = None
     """The cyclic task the configuration runs the program in (None: none declared)."""
+    places: dict[str, tuple[int, int]] = field(default_factory=dict)
+    """Each PROGRAM's (line, column) in the source, by name as declared."""
 
 
 def _variables(block: Any) -> list[tuple[str, Any, Any, Any, Any]]:
@@ -464,4 +466,10 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     for pou in pous:
         if isinstance(pou.node, tf.Program):
             module.programs[pou.name] = dict(pou.scope.vars)
+            module.places[pou.name] = (unit.line(pou.node), _column(pou.node))
     return module
+
+
+def _column(node: Any) -> int:
+    """The column a node begins at."""
+    return int(getattr(getattr(node, "meta", None), "column", None) or 1)

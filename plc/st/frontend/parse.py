@@ -26,6 +26,7 @@ from blark import util
 
 from plc.st.errors import STError
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
+from plc.st.frontend.unclosed import unclosed
 
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
@@ -187,6 +188,9 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
                 return None
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
+        found = _unclosed(error, cleaned, lines_before)
+        if found is not None:
+            raise STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}") from None
         line = error.line + lines_before if error.line > 0 else error.line
         raise STError.at(
             f"{filename}:{line}:{error.column}", _found(error, cleaned), _expected(error)
@@ -273,6 +277,24 @@ def _is_assignment(node: Any) -> bool:
         and str(node.op) == ":="
         and isinstance(node.left, tf.SimpleVariable)
     )
+
+
+def _unclosed(
+    error: lark.UnexpectedInput, text: str, lines_before: int
+) -> tuple[int, int, str] | None:
+    """The open statement (an IF without END_IF, ...) the error is, or None
+    (:mod:`~plc.st.frontend.unclosed`)."""
+    expected = set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
+    if isinstance(error, lark.UnexpectedToken):
+        token = error.token
+        at_end = token.type == "$END"
+        position = len(text) if at_end else (token.start_pos or 0)
+        word = "" if at_end else str(token)
+    else:
+        position = error.pos_in_stream or 0
+        match = _WORD.match(text, position)
+        word = match.group() if match else ""
+    return unclosed(text, position, word, expected, lines_before)
 
 
 def _found(error: lark.UnexpectedInput, text: str) -> str:

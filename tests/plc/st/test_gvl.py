@@ -53,7 +53,7 @@ def test_an_axis_of_a_qualified_only_gvl_moves_through_its_qualified_name():
     and ``GVL_Axes.speed`` read it and the GVL's LREAL."""
     prog, scene = _moved(lambda s: plc.st.from_source(AXES + MOVE, s, filename="gvl.st"))
     assert prog.done and not prog.error, prog.error
-    assert scene.axes["X"].POS == pytest.approx(100.0, abs=1e-6)
+    assert pytest.approx(100.0, abs=1e-6) == scene.axes["X"].POS
     assert prog.p == pytest.approx(100.0, abs=1e-6)
     assert plc.st.variables(prog)["GVL_Axes.speed"] == 200.0
 
@@ -137,7 +137,8 @@ def test_a_wrong_use_of_a_gvl_names_its_variables(statement, message):
 def test_qualified_only_without_a_name_is_refused():
     """``{attribute 'qualified_only'}`` on a VAR_GLOBAL no name names: refused, naming the
     pragma that names it."""
-    source = "{attribute 'qualified_only'}\nVAR_GLOBAL g : INT; END_VAR\nPROGRAM t\ng := 1;\nEND_PROGRAM\n"
+    source = "{attribute 'qualified_only'}\nVAR_GLOBAL g : INT; END_VAR\n"
+    source += "PROGRAM t\ng := 1;\nEND_PROGRAM\n"
     assert refused(source) == (
         "iec.st:2:1: a qualified_only VAR_GLOBAL without a name; expected its name before it, "
         "{attribute 'gvl' := 'GVL_Name'} (a TwinCAT GVL has its own)"
@@ -164,7 +165,7 @@ def test_a_twincat_gvl_with_qualified_only_binds_its_axes(tmp_path):
     _twincat(tmp_path, "power(Axis := GVL_Axes.X")
     prog, scene = _moved(lambda s: plc.st.load(tmp_path, s))
     assert prog.done and not prog.error, prog.error
-    assert scene.axes["X"].POS == pytest.approx(100.0, abs=1e-6)
+    assert pytest.approx(100.0, abs=1e-6) == scene.axes["X"].POS
     _twincat(tmp_path, "power(Axis := X")
     with pytest.raises(plc.st.STError) as error:
         plc.st.load(tmp_path, scenes.load("gantry"))
@@ -195,7 +196,7 @@ PLCOPEN = """<?xml version="1.0" encoding="utf-8"?>
         <variable name="speed"><type><LREAL/></type>
           <initialValue><simpleValue value="200.0"/></initialValue></variable>
         <addData>
-          <data name="http://www.3s-software.com/plcopenxml/attributes" handleUnknown="implementation">
+          <data name="http://www.3s-software.com/plcopenxml/attributes">
             <Attributes><Attribute Name="qualified_only" Value=""/></Attributes>
           </data>
         </addData>
@@ -216,7 +217,7 @@ def test_a_plcopen_gvl_with_qualified_only_binds_its_axes(tmp_path):
     path.write_text(PLCOPEN.replace("BODY", body))
     prog, scene = _moved(lambda s: plc.st.load(path, s))
     assert prog.done and not prog.error, prog.error
-    assert scene.axes["X"].POS == pytest.approx(100.0, abs=1e-6)
+    assert pytest.approx(100.0, abs=1e-6) == scene.axes["X"].POS
     path.write_text(
         PLCOPEN.replace("BODY", body.replace("power(Axis := GVL_Axes.X", "power(Axis := X"))
     )
@@ -236,4 +237,4 @@ def test_a_mapping_binds_the_qualified_name_of_an_axis():
     prog, scene = _moved(
         lambda s: plc.st.from_source(source, s, {"GVL_Axes.Ax1": "X"}, filename="gvl.st")
     )
-    assert prog.done and scene.axes["X"].POS == pytest.approx(100.0, abs=1e-6)
+    assert prog.done and pytest.approx(100.0, abs=1e-6) == scene.axes["X"].POS

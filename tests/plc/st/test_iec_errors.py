@@ -31,8 +31,8 @@ COMPILE = [
     # lexical elements and literals
     error("2.1.2 (6.1.2) two underscores in a row", "a__b : INT;", "", "3:1", "two underscores"),
     error("2.1.3 (6.1.3) a keyword as a name", "IF : INT;", "", "3:1", "unexpected 'IF'"),
-    error("2.1.3 (6.1.3) END_IF missing", "x : INT;", "IF x > 1 THEN x := 1;", "6:1",
-        "expected 'END_IF'"),
+    error("2.1.3 (6.1.3) END_IF missing", "x : INT;", "IF x > 1 THEN x := 1;", "5:1",
+        "IF at 5:1 has no END_IF; expected END_IF before 'END_PROGRAM' at 6:1"),
     error("3.3.2 (7.3.3.1) a statement without ;", "x : INT;", "x := 1\nx := 2;", "6:1",
         "unexpected 'x'"),
     error("2.2.1 (6.3.2) a digit outside base 16", "x : INT;", "x := 16#FG;", "5:10", "unexpected"),
@@ -65,7 +65,7 @@ COMPILE = [
     error("2.4.3.2 (6.5.1) an unknown field initialised", "p : P := (b := 1);", "", "4:11",
         "P has no field 'b'", TYPES),
     error("2.4.3.2 (6.5.1) an enumeration value of another type", "c : Color := Run;", "", "4:14",
-        "a E_Seq value where Color is expected", TYPES),
+        "an E_Seq value where Color is expected", TYPES),
     error("2.4.3 (6.5.4) a CONSTANT without a constant value", "y : INT;", "y := 1;", "2:32",
         "a value that is not constant",
         "VAR_GLOBAL g : INT; END_VAR\nVAR_GLOBAL CONSTANT K : INT := g; END_VAR"),
@@ -75,7 +75,7 @@ COMPILE = [
         "T is a CONSTANT", "VAR_GLOBAL CONSTANT T : ARRAY[1..2] OF INT := [1, 2]; END_VAR"),
     # expressions and types
     error("2.5.1.4 (6.6.1.6) an INT into a BOOL", "b : BOOL; i : INT;", "b := i;", "5:1",
-        "a INT value where BOOL is expected"),
+        "an INT value where BOOL is expected"),
     error("2.5.1.4 (6.6.1.6) a REAL into an INT", "i : INT; r : REAL;", "i := r;", "5:1",
         "a REAL value where INT is expected"),
     error("2.5.1.4 (6.6.1.6) a BOOL into an INT", "i : INT;", "i := TRUE;", "5:1",
