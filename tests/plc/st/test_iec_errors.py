@@ -119,7 +119,7 @@ COMPILE = [
     error("3rd ed. 6.6.1.3 a bit of a BOOL", "x : BOOL; b : BOOL;", "b := x.0;", "5:7",
         "BOOL has no bit 0"),
     error("3rd ed. 6.4.4.10 a dereference of no reference", "i : INT;", "i := i^;", "5:6",
-        "dereferences a INT"),
+        "dereferences an INT"),
     error("3rd ed. 6.4.4.10 a reference of another type", "r : REF_TO INT; x : REAL;",
         "r := REF(x);", "5:1", "a REF_TO REAL value where REF_TO INT is expected"),
     error("3rd ed. 6.4.4.10 REF of a constant", "r : REF_TO INT;", "r := REF(1);", "5:10",
