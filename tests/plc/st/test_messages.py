@@ -279,3 +279,26 @@ def test_the_cli_chooses_the_program_with_pou(tmp_path, capsys):
 def test_twincat_words_that_iec_does_not_reserve_name_variables(name):
     """A variable may be named as TwinCAT's words that are no IEC keyword."""
     assert getattr(run(program(f"{name} : INT;", f"{name} := 3;")), name) == 3
+
+
+def test_the_viewer_names_the_choice_when_a_file_has_two_programs(tmp_path):
+    """The viewer's Program list shows the message for a .st file and a TwinCAT folder of two
+    PROGRAMs (the folder's naming each .TcPOU), before the program is run."""
+    import scenes
+    from viewer.sim.programs import ProgramCatalog
+
+    (tmp_path / "two.st").write_text(TWO)
+    folder = tmp_path / "tc"
+    folder.mkdir()
+    for name, value in (("Main", 1), ("Test", 2)):
+        (folder / f"{name}.TcPOU").write_text(
+            _pou(name, f"PROGRAM {name}\nVAR a : INT; END_VAR\n", f"a := {value};\n")
+        )
+    catalog = ProgramCatalog([tmp_path])
+    scene = scenes.load("single_axis", trace_every=0)
+    error = catalog.translate(scene, tmp_path / "two.st")
+    assert error.startswith(f"{tmp_path / 'two.st'}:1:1: 2 PROGRAMs (Main at 1:1, Test at 6:1)")
+    error = catalog.translate(scene, folder)
+    assert error.startswith(
+        f"{folder / 'Main.TcPOU'}:4:1: 2 PROGRAMs (Main at 4:1, Test at {folder / 'Test.TcPOU'}:4:1)"
+    )
