@@ -299,6 +299,5 @@ def test_the_viewer_names_the_choice_when_a_file_has_two_programs(tmp_path):
     error = catalog.translate(scene, tmp_path / "two.st")
     assert error.startswith(f"{tmp_path / 'two.st'}:1:1: 2 PROGRAMs (Main at 1:1, Test at 6:1)")
     error = catalog.translate(scene, folder)
-    assert error.startswith(
-        f"{folder / 'Main.TcPOU'}:4:1: 2 PROGRAMs (Main at 4:1, Test at {folder / 'Test.TcPOU'}:4:1)"
-    )
+    main, test = folder / "Main.TcPOU", folder / "Test.TcPOU"
+    assert error.startswith(f"{main}:4:1: 2 PROGRAMs (Main at 4:1, Test at {test}:4:1)")
