@@ -199,11 +199,31 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
     result: Any = transformer.transform(tree)
     if isinstance(result, tf.SourceCode):  # a TYPE block of several types: one item each
         result.items = [i for item in result.items for i in _listed(item)]
+        _configuration_pragmas(result.items, comments)
     _untangle(result)
     if not isinstance(result, tf.SourceCode):
         where = f"{filename}:{lines_before + 1}:1"
         raise STError.at(where, "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
+
+
+def _configuration_pragmas(items: list[Any], comments: list[lark.Token]) -> None:
+    """Give a CONFIGURATION's and its RESOURCEs' VAR_GLOBAL blocks the pragmas on the lines
+    just before them (blark gives them to the items it makes alone), in place."""
+    pragmas = {t.end_line: t for t in comments if t.type == "PRAGMA" and t.end_line}
+    for item in items:
+        if not isinstance(item, lark.Tree):
+            continue
+        for tree in [item, *item.find_data("resource_declaration")]:
+            for block in tree.children:
+                meta = getattr(block, "meta", None)
+                if not isinstance(block, tf.GlobalVariableDeclarations) or meta is None:
+                    continue
+                line, found = meta.line - 1, []
+                while line in pragmas:
+                    found.insert(0, pragmas[line])
+                    line = (pragmas[line].line or line) - 1
+                meta.comments = found
 
 
 def _listed(item: Any) -> list[Any]:

@@ -238,3 +238,22 @@ def test_a_mapping_binds_the_qualified_name_of_an_axis():
         lambda s: plc.st.from_source(source, s, {"GVL_Axes.Ax1": "X"}, filename="gvl.st")
     )
     assert prog.done and pytest.approx(100.0, abs=1e-6) == scene.axes["X"].POS
+
+
+def test_a_named_global_list_of_a_plcopen_configuration_is_a_gvl(tmp_path):
+    """A ``<configuration>``'s ``<globalVars name="GVL_Axes">`` (beside its resource) is the
+    GVL ``GVL_Axes``: ``GVL_Axes.X`` moves X."""
+    body = MOVE.partition("END_VAR\n")[2].replace("END_PROGRAM\n", "")
+    start, _, rest = PLCOPEN.partition("  <instances><configurations/></instances>\n")
+    gvl = rest[rest.index("      <globalVars") : rest.index("\n    </data>") + 1]
+    configuration = (
+        '  <instances><configurations><configuration name="c">\n'
+        f"{gvl}"
+        '    <resource name="r"><pouInstance name="i" typeName="Main"/></resource>\n'
+        "  </configuration></configurations></instances>\n</project>\n"
+    )
+    path = tmp_path / "cell.xml"
+    path.write_text((start + configuration).replace("BODY", body))
+    prog, scene = _moved(lambda s: plc.st.load(path, s))
+    assert prog.done and not prog.error, prog.error
+    assert abs(scene.axes["X"].POS - 100.0) < 1e-6
