@@ -219,7 +219,8 @@ def _configuration_pragmas(items: list[Any], comments: list[lark.Token]) -> None
                 meta = getattr(block, "meta", None)
                 if not isinstance(block, tf.GlobalVariableDeclarations) or meta is None:
                     continue
-                line, found = meta.line - 1, list[lark.Token]()
+                line = meta.line - 1
+                found: list[lark.Token] = []
                 while line in pragmas:
                     found.insert(0, pragmas[line])
                     line = (pragmas[line].line or line) - 1
