@@ -126,6 +126,10 @@ def test_the_conversions_named_are_the_translators():
         ("RS", "an RS"),
         ("TON", "a TON"),
         ("TP", "a TP"),
+        ("CTUD", "a CTUD"),
+        ("I_Sensor", "an I_Sensor"),
+        ("GVL_Axes", "a GVL_Axes"),
+        ("Aa_Point", "an Aa_Point"),
         ("REF_TO INT", "a REF_TO INT"),
         ("Color", "a Color"),
         ("Axis", "an Axis"),
@@ -173,6 +177,31 @@ def test_a_type_takes_a_or_an_as_it_is_said(name, spoken):
             "IF a THEN x := 1; END_IF;\nIF a THEN (* END_IF *) x := 'END_IF';",
             "5:1: IF at 5:1 has no END_IF; expected END_IF before 'END_PROGRAM' at 6:1",
         ),
+        (
+            "FOR x := 1 TO 3 DO\n  IF a THEN s := 1; END_IF;",
+            "4:1: FOR at 4:1 has no END_FOR; expected END_FOR before 'END_PROGRAM' at 6:1",
+        ),
+        (
+            "(* a long comment *) IF a THEN\n  x := 1;",
+            "4:22: IF at 4:22 has no END_IF; expected END_IF before 'END_PROGRAM' at 6:1",
+        ),
+        (
+            "REPEAT\n  IF a THEN x := 1;\nUNTIL x > 3 END_REPEAT;",
+            "5:3: IF at 5:3 has no END_IF; expected END_IF before 'UNTIL' at 6:1",
+        ),
+        (
+            "IF a THEN\n  FOR x := 1 TO 3 DO s := 1;\nELSE\n  s := 2;\nEND_IF;",
+            "5:3: FOR at 5:3 has no END_FOR; expected END_FOR before 'ELSE' at 6:1",
+        ),
+        (
+            "IF a THEN\n  WHILE a DO s := 1;\nELSIF s > 1 THEN\n  s := 2;\nEND_IF;",
+            "5:3: WHILE at 5:3 has no END_WHILE; expected END_WHILE before 'ELSIF' at 6:1",
+        ),
+        (
+            "IF a THEN\n  CASE s OF\n    1: IF a THEN x := 1;\n    2: x := 2;\n"
+            "  END_CASE;\nEND_IF;",
+            "6:8: IF at 6:8 has no END_IF; expected END_IF before '2' at 7:5",
+        ),
     ],
 )
 def test_a_statement_left_open_is_reported_where_it_begins(body, message):
@@ -192,6 +221,7 @@ def test_a_statement_left_open_is_reported_where_it_begins(body, message):
         "IF a THEN x := 1 END_IF;",  # a missing ; before END_IF: not an open IF
         "IF a THEN x := ; END_IF;",
         "IF a THEN 2 := x; END_IF;",
+        "IF a THEN x := 1; 2: x := 3; END_IF;",  # a label-like token outside a CASE
     ],
 )
 def test_other_errors_inside_an_if_keep_their_message(body):
