@@ -33,10 +33,14 @@ from scenes.tools.report import EdgeLog
 
 
 def run(
-    name: str, timeout: float = 300.0, st_program: str | None = None, maps: Sequence[str] = ()
+    name: str,
+    timeout: float = 300.0,
+    st_program: str | None = None,
+    maps: Sequence[str] = (),
+    pou: str | None = None,
 ) -> int:
-    """Run the demo of machine ``name`` (or the ST program ``st_program``) from its demo start
-    and print the report."""
+    """Run the demo of machine ``name`` (or the ST program ``st_program``, its PROGRAM ``pou``
+    where it has several) from its demo start and print the report."""
     definition = scenes.definition(name)
     task = st_task(st_program) if st_program is not None else None
     try:
@@ -57,6 +61,7 @@ def run(
             st_program,
             scene,
             mapping=dict(m.partition("=")[::2] for m in maps),
+            program=pou,
             blocks=machine_blocks(scene),
         )
     )
@@ -216,6 +221,11 @@ def main(argv: list[str] | None = None) -> int:
         ),
     )
     run_parser.add_argument(
+        "--pou",
+        metavar="PROGRAM",
+        help="the PROGRAM to run where the file has several (default: its TASK's, or its only one)",
+    )
+    run_parser.add_argument(
         "--map",
         action="append",
         default=[],
@@ -288,7 +298,7 @@ def _command(args: argparse.Namespace) -> int:
         for name in sorted(scenes.MACHINES):
             print(f"{name:<{width}}  {scenes.MACHINES[name].description}")
         return 0
-    return run(args.name, args.timeout, args.program, args.map)
+    return run(args.name, args.timeout, args.program, args.map, args.pou)
 
 
 def _cam_parser(sub: Any) -> None:

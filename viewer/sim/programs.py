@@ -31,6 +31,7 @@ import scenes
 from plc.st import STProgram
 from plc.st.codegen.translate import Module
 from plc.st.frontend.project import SUFFIXES, read_project
+from plc.st.runtime.task import chosen_program
 from plc.st.runtime.watch import WatchedProgram
 from scenes import DemoProgram
 from scenes.scene import Scene
@@ -137,11 +138,14 @@ class ProgramCatalog:
         axes, mapping, blocks = scene.axes, self.mapping_for(scene), machine_blocks(scene)
         if path.suffix.lower() == ".st":
             source = path.read_text(encoding="utf-8")
-            return plc.st.compile_source(source, str(path), axes, mapping, blocks)
+            module = plc.st.compile_source(source, str(path), axes, mapping, blocks)
+            chosen_program(module.places, module.task, str(path))  # one that runs
+            return module
         project = read_project(path)
         generated = f"{path.name}.st"
         try:
             module = plc.st.compile_source(project.source, generated, axes, mapping, blocks)
+            chosen_program(module.places, module.task, generated)
         except plc.st.STError as error:
             raise project.relocated(error, generated) from None
         self._places[path] = project.where

@@ -16,6 +16,7 @@ __all__ = ["dereference", "partial", "reference", "store", "store_expression"]
 import re
 from typing import TYPE_CHECKING, Any
 
+from plc.st.errors import indefinite
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import Elementary
 
@@ -58,7 +59,9 @@ def dereference(x: Expressions, base: E, node: Any) -> E:
     from plc.st.codegen.expressions import E
 
     if not isinstance(base.type, T.ReferenceType) or base.type is T.NULL:
-        raise x.error(node, f"{node} dereferences a {base.type.name}", "a REF_TO variable")
+        raise x.error(
+            node, f"{node} dereferences {indefinite(base.type.name)}", "a REF_TO variable"
+        )
     return E(f"{base.code}.v", base.type.target)
 
 

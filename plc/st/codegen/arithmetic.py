@@ -12,6 +12,7 @@ __all__ = ["arithmetic", "coerce", "result_type"]
 
 from typing import TYPE_CHECKING, Any
 
+from plc.st.errors import indefinite
 from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import Elementary, Type
@@ -143,7 +144,43 @@ def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
         return f"_f.clone({e.code})"
     elif to.kind in ("int",) and src.kind == "enum":
         return e.code
-    raise x.error(node, f"a {src.name} value where {to.name} is expected", f"a {to.name} value")
+    raise x.error(
+        node, f"{indefinite(src.name)} value where {to.name} is expected: {advice(src, to)}"
+    )
+
+
+def advice(src: Type, to: Type) -> str:
+    """What turns a value of ``src`` into one of ``to``: the standard conversion function
+    (``TO_INT`` for a literal), or that none exists."""
+    if isinstance(src, Elementary) and isinstance(to, Elementary) and _converts(src, to):
+        into = _plain_name(to)
+        name = f"TO_{into}" if src.name.startswith("ANY_") else f"{_plain_name(src)}_TO_{into}"
+        rounds = " (it rounds to the nearest integer)" if src.kind == "real" else ""
+        return f"convert it with {name}(...){rounds if to.integral else ''}"
+    if isinstance(to, T.EnumType):
+        return f"no conversion makes {indefinite(to.name)}: write one of its values, {_values(to)}"
+    return f"no conversion makes {indefinite(to.name)} of it"
+
+
+def _converts(src: Elementary, to: Elementary) -> bool:
+    """``SRC_TO_DST`` exists (:func:`plc.st.codegen.standard.conversion`)."""
+    from plc.st.codegen.dates import conversion as date_conversion
+    from plc.st.codegen.expressions import E
+
+    if {src.kind, to.kind} & {"date", "tod", "dt"}:
+        return date_conversion(None, None, E("v", src), to) is not None  # type: ignore[arg-type]
+    return {src.kind, to.kind} <= {"int", "bits", "real", "bool", "time", "string"}
+
+
+def _plain_name(t: Elementary) -> str:
+    """An elementary type's name without its length (``STRING`` of ``STRING(25)``)."""
+    return t.name.split("(")[0].strip()
+
+
+def _values(t: T.EnumType) -> str:
+    """The first values of an enumeration, qualified."""
+    names = [f"{t.name}.{n}" for n in t.values]
+    return ", ".join(names[:3]) + (", ..." if len(names) > 3 else "")
 
 
 def _elementary(x: Expressions, e: E, src: Elementary, to: Elementary, node: Any) -> str | None:

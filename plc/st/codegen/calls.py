@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import blark.transform as tf
 
-from plc.st.errors import nearest
+from plc.st.errors import indefinite, nearest
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import ELEMENTARY, Elementary, Type
 
@@ -257,7 +257,9 @@ class Calls:
             if arg.type.kind != declared.kind and not (
                 arg.type in (T.ANY_INT, T.ANY_REAL) and declared.numeric
             ):
-                raise self.x.error(node, f"{source}_TO_{to.name} of a {arg.type.name}", source)
+                raise self.x.error(
+                    node, f"{source}_TO_{to.name} of {indefinite(arg.type.name)}", source
+                )
         return conversion(self.x, node, arg, to)
 
 

@@ -12,11 +12,11 @@ from typing import Any
 
 import blark.transform as tf
 
-from plc.st.errors import STError, nearest
+from plc.st.errors import STError, indefinite, nearest
 from plc.st.runtime.functions import f32
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.catalog import mcl_enums
-from plc.st.semantics.scope import Scope, Unit
+from plc.st.semantics.scope import Scope, Unit, Var
 from plc.st.semantics.types import AXIS_FIELDS, Elementary, Type
 
 
@@ -189,6 +189,10 @@ class Expressions:
         if isinstance(node, tf.SimpleVariable):
             return self.name(node)
         head = node.name
+        var = self.in_gvl(node)
+        if var is not None:  # GVL_Axes.X
+            current = self._value(var, node.elements[0])
+            return self._selected(current, node.elements[1:])
         dotted = self._dotted(node)
         if dotted is not None and self.scope.get(str(head.name)) is None:
             axis = self.unit.axis(dotted)
@@ -200,13 +204,42 @@ class Expressions:
                 value = tf.EnumeratedValue(head.name, node.elements[0].field.name, None)
                 value.meta = node.meta
                 return self.enum_literal(value)
-        current = self.name(head)
-        for element in node.elements:
+        return self._selected(self.name(head), node.elements)
+
+    def _selected(self, current: E, elements: list[Any]) -> E:
+        """``current`` then its field selections and subscripts ``elements``."""
+        for element in elements:
             if isinstance(element, tf.FieldSelector):
                 current = self.field(self._deref(current, element), element)
             else:
                 current = self._deref(self.subscript(current, element), element)
         return current
+
+    def in_gvl(self, node: Any) -> Var | None:
+        """The global ``GVL.name`` a variable begins with, where ``GVL`` is a named VAR_GLOBAL
+        block and no variable (None: it does not).
+
+        Raises:
+            STError: the GVL declares no such name.
+        """
+        if not isinstance(node, tf.MultiElementVariable) or not node.elements:
+            return None
+        head, first = str(node.name.name), node.elements[0]
+        gvl = self.unit.gvls.get(head.lower())
+        if gvl is None or self.scope.get(head) is not None:
+            return None
+        if not isinstance(first, tf.FieldSelector) or not isinstance(
+            first.field, tf.SimpleVariable
+        ):
+            raise self.error(first, f"{head} is a GVL", f"{head}.<variable>")
+        found: Var = gvl.var(str(first.field.name), self.unit.where(first.field.name))
+        return found
+
+    def _value(self, var: Var, node: Any) -> E:
+        """The value of variable ``var`` named at ``node`` (a constant's value inlined)."""
+        if var.constant is not None:
+            return E(literal_code(var.constant), var.type, var.constant)
+        return self._deref(E(var.code, var.type), node)
 
     def _deref(self, e: E, element: Any) -> E:
         """``e^`` where ``element`` (a name, ``.field`` or ``[i]``) carries the ``^``."""
@@ -234,9 +267,15 @@ class Expressions:
         name = str(node.name)
         var = self.scope.get(name)
         if var is not None:
-            if var.constant is not None:
-                return E(literal_code(var.constant), var.type, var.constant)
-            return self._deref(E(var.code, var.type), node)
+            return self._value(var, node)
+        qualified = self.unit.qualified_only(name)
+        if qualified:
+            gvls = ", ".join(q.partition(".")[0] for q in qualified)
+            raise self.error(
+                node,
+                f"{name} is declared in {gvls} with {{attribute 'qualified_only'}}: "
+                f"write {' or '.join(qualified)}",
+            )
         found = self.unit.enum_value(name)
         if found is not None:
             return const(found[1], found[0])
@@ -350,7 +389,7 @@ class Expressions:
     def require(self, node: Any, e: E, kind: str) -> None:
         """``e`` must be of ``kind`` (``bool``, ...)."""
         if e.type.kind != kind:
-            raise self.error(node, f"a {e.type.name} operand", kind.upper())
+            raise self.error(node, f"{indefinite(e.type.name)} operand", kind.upper())
 
     def compare(self, node: Any, op: str, a: E, b: E) -> E:
         """A comparison: numbers with numbers, else equal types."""

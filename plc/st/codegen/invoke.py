@@ -18,7 +18,7 @@ import blark.transform as tf
 
 from plc.st.codegen.access import store
 from plc.st.codegen.expressions import E
-from plc.st.errors import nearest
+from plc.st.errors import indefinite, nearest
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import BlockType, Member
 
@@ -38,7 +38,9 @@ def invoke(st: Statements, s: tf.FunctionCallStatement) -> None:
     inst = x.variable(head)
     block = inst.type
     if not isinstance(block, BlockType):
-        raise x.error(s, f"{head} is a {block.name}, not a block instance", "a block instance")
+        raise x.error(
+            s, f"{head} is {indefinite(block.name)}, not a block instance", "a block instance"
+        )
     inputs: list[tuple[Member, str]] = []
     outputs: list[tuple[Member, E]] = []
     in_outs: list[tuple[Member, E]] = []

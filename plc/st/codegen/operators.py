@@ -13,6 +13,7 @@ import itertools
 import re
 from typing import TYPE_CHECKING, Any
 
+from plc.st.errors import indefinite
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import ELEMENTARY, Elementary
 
@@ -63,7 +64,7 @@ def operator_call(x: Expressions, node: Any, upper: str) -> E | None:
         if second:
             _expect(x, node, upper, b, ELEMENTARY[second])
         elif not (isinstance(b.type, Elementary) and b.type.numeric):
-            raise x.error(node, f"{upper} by a {b.type.name}", "a number as IN2")
+            raise x.error(node, f"{upper} by {indefinite(b.type.name)}", "a number as IN2")
         return x.combine(node, op, a, b)
     if upper == "CONCAT_DATE_TOD":
         from plc.st.codegen.expressions import E
@@ -119,7 +120,9 @@ def _typed(x: Expressions, node: Any, function: str, t: Elementary) -> E:
             T.ANY_INT,
             T.ANY_REAL,
         ):
-            raise x.error(node, f"{function}_{t.name} of a {a.type.name}", f"{t.name} inputs")
+            raise x.error(
+                node, f"{function}_{t.name} of {indefinite(a.type.name)}", f"{t.name} inputs"
+            )
         typed.append(_as(x, a, t, node))
     result = _apply(x, node, function, typed)
     if result.type.kind == "bool" or result.type is t:
@@ -145,7 +148,7 @@ def _trunc(x: Expressions, node: Any, source: str | None, to: Elementary) -> E:
 
     (arg,) = x.calls.arguments(node, ("IN",))
     if arg.type.kind != "real" or not to.integral or (source and ELEMENTARY[source].kind != "real"):
-        raise x.error(node, f"TRUNC of a {arg.type.name} to {to.name}", "a REAL or LREAL")
+        raise x.error(node, f"TRUNC of {indefinite(arg.type.name)} to {to.name}", "a REAL or LREAL")
     if arg.const:
         return const(T.wrap_value(F.trunc(arg.value), to), to)
     return E(T.wrap_code(f"_f.trunc({arg.code})", to), to)
@@ -154,4 +157,4 @@ def _trunc(x: Expressions, node: Any, source: str | None, to: Elementary) -> E:
 def _expect(x: Expressions, node: Any, function: str, arg: E, t: Elementary) -> None:
     """An input of a time function must be of type ``t``."""
     if arg.type is not t:
-        raise x.error(node, f"{function} of a {arg.type.name}", f"{t.name}")
+        raise x.error(node, f"{function} of {indefinite(arg.type.name)}", f"{t.name}")

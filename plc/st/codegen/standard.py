@@ -7,6 +7,7 @@ __all__ = ["conversion", "standard"]
 
 from typing import TYPE_CHECKING, Any
 
+from plc.st.errors import indefinite
 from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import Elementary
@@ -59,7 +60,7 @@ def standard(x: Expressions, node: Any, upper: str, args: list[E]) -> E:
 def _kind(x: Expressions, node: Any, arg: E, kind: str, function: str) -> None:
     """The argument of ``function`` must be of ``kind``."""
     if arg.type.kind != kind:
-        raise x.error(node, f"{function} of a {arg.type.name}", kind.upper())
+        raise x.error(node, f"{function} of {indefinite(arg.type.name)}", kind.upper())
 
 
 def conversion(x: Expressions, node: Any, arg: E, to: Elementary) -> E:
@@ -71,14 +72,16 @@ def conversion(x: Expressions, node: Any, arg: E, to: Elementary) -> E:
     if not isinstance(src, Elementary):
         if src.kind == "enum" and to.integral:
             return E(c, to)
-        raise x.error(node, f"a {src.name} converted to {to.name}", "an elementary value")
+        raise x.error(node, f"{indefinite(src.name)} converted to {to.name}", "an elementary value")
     kind = src.kind
     if {kind, to.kind} & {"date", "tod", "dt"}:
         from plc.st.codegen.dates import conversion as date_conversion
 
         found = date_conversion(x, node, arg, to)
         if found is None:
-            raise x.error(node, f"a {src.name} converted to {to.name}", "DT_TO_DATE, DT_TO_TOD")
+            raise x.error(
+                node, f"{indefinite(src.name)} converted to {to.name}", "DT_TO_DATE, DT_TO_TOD"
+            )
         return const(eval(found, {"_f": F}), to) if arg.const else E(found, to)
     if to.integral:
         if kind == "real":
@@ -106,7 +109,7 @@ def conversion(x: Expressions, node: Any, arg: E, to: Elementary) -> E:
             "string": c,
         }.get(kind, f"str({c})")
     else:
-        raise x.error(node, f"a {src.name} converted to {to.name}", "an elementary type")
+        raise x.error(node, f"{indefinite(src.name)} converted to {to.name}", "an elementary type")
     if arg.const:
         return const(eval(code, {"_f": F}), to)
     return E(code, to)

@@ -12,7 +12,7 @@ import blark.transform as tf
 
 from plc.st.codegen.access import store
 from plc.st.codegen.expressions import E, Expressions
-from plc.st.errors import STError
+from plc.st.errors import STError, indefinite
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.types import BlockType
 
@@ -102,7 +102,7 @@ class Statements:
         """A variable written to (not a constant, not a block instance)."""
         head = node.name if isinstance(node, tf.MultiElementVariable) else node
         if isinstance(head, tf.SimpleVariable):
-            var = self.x.scope.get(str(head.name))
+            var = self.x.in_gvl(node) or self.x.scope.get(str(head.name))
             if var is not None and (var.constant is not None or var.read_only):
                 raise self.x.error(node, f"{var.name} is a CONSTANT", "a variable")
         self._not_an_output(node)
@@ -124,6 +124,8 @@ class Statements:
         if not isinstance(last, tf.FieldSelector) or not isinstance(last.field, tf.SimpleVariable):
             return
         inner = node.elements[:-1]
+        if not inner[1:] and self.x.in_gvl(node) is not None:
+            return  # GVL_Main.count: a global, no member
         base = self.x.variable(dataclasses.replace(node, elements=inner) if inner else node.name)
         members = base.type.members if isinstance(base.type, BlockType) else {}
         member = members.get(str(last.field.name).upper())
@@ -192,7 +194,9 @@ class Statements:
         a value of its enumeration for an enumeration)."""
         integers = t.kind in ("int", "bits") and label.type.kind in ("int", "bits")
         if not integers and label.type != t:
-            raise self.x.error(m, f"a {label.type.name} label", f"a {t.name} value")
+            raise self.x.error(
+                m, f"{indefinite(label.type.name)} label", f"{indefinite(t.name)} value"
+            )
 
     def do_ForStatement(self, s: tf.ForStatement) -> None:
         control = self.target(s.control)

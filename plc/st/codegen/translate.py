@@ -18,6 +18,7 @@ from plc.st.codegen.statements import Emitter, Statements
 from plc.st.runtime.task import Task, configurations, task_of
 from plc.st.semantics.catalog import python_name
 from plc.st.semantics.declarations import STErrorAt, declare_type, folded, initial, spec_type
+from plc.st.semantics.gvl import GVL, gvl_of
 from plc.st.semantics.scope import Callable_, Scope, Unit, Var
 from plc.st.semantics.types import BlockType, Member, Type
 
@@ -52,6 +53,8 @@ class Module:
     bound: dict[str, str] = field(default_factory=dict)
     task: Task | None = None
     """The cyclic task the configuration runs the program in (None: none declared)."""
+    places: dict[str, tuple[int, int]] = field(default_factory=dict)
+    """Each PROGRAM's (line, column) in the source, by name as declared."""
 
 
 def _variables(block: Any) -> list[tuple[str, Any, Any, Any, Any]]:
@@ -299,38 +302,39 @@ def _non_input_lines(lines: list[str], passed: list[str]) -> list[str]:
 
 
 def _globals(unit: Unit, blocks: list[tf.GlobalVariableDeclarations], out: Emitter) -> None:
-    """The class of the globals (``_g``): VAR_GLOBAL variables, the bound axes."""
+    """The class of the globals (``_g``): VAR_GLOBAL variables, the bound axes; a named
+    block's (a GVL's) variables are also ``GVL.name``, a qualified_only one's only so."""
     init: list[str] = []
     for block in blocks:
         constant = "CONSTANT" in str(block.attrs or "").upper()
+        gvl = gvl_of(block, unit.where(block))
+        if gvl is not None:
+            gvl = unit.gvls.setdefault(gvl.name.lower(), gvl)
         for item in block.items:
             t = spec_type(unit, item.init)
             value = getattr(item.init, "value", None)
             if isinstance(item.init, tf.InitializedStructure):
                 value = item.init.init
             for name in item.spec.variables:
-                py = python_name(str(name))
+                st_name, py = str(name), python_name(str(name))
+                if gvl is not None and gvl.qualified_only:  # two lists may share a name
+                    st_name, py = f"{gvl.name}.{name}", f"{python_name(gvl.name)}__{name}"
                 where = unit.where(item)
                 fixed = folded(unit, t, value, item.init) if constant else None
+                read_only = constant and fixed is None
+                var = Var(st_name, t, f"_g.{py}", "global", fixed, read_only=read_only)
+                unit.globals.add(var, where)
+                if gvl is not None:
+                    gvl.vars[str(name).lower()] = var
                 if fixed is not None:
-                    unit.globals.add(Var(str(name), t, f"_g.{py}", "global", fixed), where)
                     continue
-                unit.globals.add(Var(str(name), t, f"_g.{py}", "global", read_only=constant), where)
-                _locate_global(unit, str(name), t, item.spec.location, item)
+                _locate_global(unit, var, item.spec.location, item)
                 if t.kind == "axis":
-                    bound = unit.axis(str(name))
-                    if bound is None:
-                        raise STErrorAt(
-                            unit,
-                            item,
-                            f"AXIS_REF {name} is bound to no axis",
-                            f"an axis ({', '.join(unit.axes) or 'none'}) or a mapping",
-                        )
-                    init.append(f"self.{py} = _axes[{unit.bound[bound[3:]]!r}]")
+                    init.append(f"self.{py} = {_global_axis(unit, gvl, str(name), item)}")
                 else:
                     init += [
                         line.replace("_g.", "self.", 1)
-                        for line in initial(unit, f"_g.{py}", t, value, None, item.init)
+                        for line in initial(unit, var.code, t, value, None, item.init)
                     ]
     out.emit("class _Globals:")
     out.emit("    def __init__(self):")
@@ -344,17 +348,38 @@ def _globals(unit: Unit, blocks: list[tf.GlobalVariableDeclarations], out: Emitt
     out.emit("")
 
 
-def _locate_global(unit: Unit, name: str, t: Type, location: Any, at: Any) -> None:
-    """Bind global ``name`` to its I/O point (read and written around every program's scan)."""
-    point = unit.io_point(name, location, unit.where(at))
+def _global_axis(unit: Unit, gvl: GVL | None, name: str, item: Any) -> str:
+    """The Python code of the axis a global AXIS_REF binds to: the mapping's for ``GVL.name``,
+    else for ``name``, else the axis ``name``.
+
+    Raises:
+        STError: none.
+    """
+    bound = unit.axis(f"{gvl.name}.{name}") if gvl is not None else None
+    bound = bound or unit.axis(name)
+    if bound is None:
+        raise STErrorAt(
+            unit,
+            item,
+            f"AXIS_REF {name} is bound to no axis",
+            f"an axis ({', '.join(unit.axes) or 'none'}) or a mapping",
+        )
+    return f"_axes[{unit.bound[bound[3:]]!r}]"
+
+
+def _locate_global(unit: Unit, var: Var, location: Any, at: Any) -> None:
+    """Bind global ``var`` to its I/O point (read and written around every program's scan)."""
+    point = unit.io_point(var.name, location, unit.where(at))
     if point is None:
         return
-    problem = point.check_type(t)
+    problem = point.check_type(var.type)
     if problem:
-        raise STErrorAt(unit, at, f"{name} on {point.kind}{point.number} of {point.axis}", problem)
+        raise STErrorAt(
+            unit, at, f"{var.name} on {point.kind}{point.number} of {point.axis}", problem
+        )
     io = point.code(unit.bind(point.axis))
     (unit.writes if point.output else unit.reads).append(
-        f"{io} = _g.{python_name(name)}" if point.output else f"_g.{python_name(name)} = {io}"
+        f"{io} = {var.code}" if point.output else f"{var.code} = {io}"
     )
 
 
@@ -448,4 +473,10 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
     for pou in pous:
         if isinstance(pou.node, tf.Program):
             module.programs[pou.name] = dict(pou.scope.vars)
+            module.places[pou.name] = (unit.line(pou.node), _column(pou.node))
     return module
+
+
+def _column(node: Any) -> int:
+    """The column a node begins at."""
+    return int(getattr(getattr(node, "meta", None), "column", None) or 1)

@@ -14,7 +14,9 @@ Each extension names the clause of IEC 61131-3 (2nd edition; 3rd edition where m
 - ``&`` for AND (3.3.1, Table 55);
 - typed literals ``STRING#'text'`` (3rd ed. 6.3.3) and ``Color#Green`` in an expression (2.3.3.1);
 - CASE labels that are constant expressions (3rd ed. 7.3.3.4.2);
-- ``REF_TO`` (3rd ed. 6.4.4.10), and ``REFERENCE`` as an ordinary name (it is no IEC keyword);
+- ``REF_TO`` (3rd ed. 6.4.4.10), and ``REFERENCE`` as an ordinary name (it is no IEC keyword),
+  as TwinCAT's other words that IEC does not reserve (AND_THEN, OR_ELSE, FUNCTIONBLOCK, PROPERTY,
+  UNION, VAR_INST, VAR_STAT and their END_ words);
 - partial access ``w.%X3``, ``w.%B1`` (3rd ed. 6.6.1.3; ``w.3`` blark reads already).
 """
 
@@ -97,6 +99,16 @@ _EDITS = [
     ),
     ("indirection_type: REFERENCE_TO", "indirection_type: REF_TO\n                | REFERENCE_TO"),
     ("|READ_WRITE|REFERENCE|REPEAT|", "|READ_WRITE|REPEAT|"),
+    # TwinCAT's words that are no IEC keywords may name a variable too
+    ("(ABSTRACT|ACTION|AND|AND_THEN|", "(ABSTRACT|ACTION|AND|"),
+    ("|END_FUNCTIONBLOCK|", "|"),
+    ("|END_PROPERTY|", "|"),
+    ("|END_UNION|", "|"),
+    ("|FUNCTIONBLOCK|", "|"),
+    ("|OR|OR_ELSE|", "|OR|"),
+    ("|PROPERTY|", "|"),
+    ("|UNION|", "|"),
+    ("|VAR_INST|VAR_IN_OUT|VAR_OUTPUT|VAR_STAT|", "|VAR_IN_OUT|VAR_OUTPUT|"),
     (
         'field_selector: [ DEREFERENCED ] "." ( variable_name | INTEGER )',
         'field_selector: [ DEREFERENCED ] "." ( variable_name | INTEGER | PARTIAL_ACCESS )',

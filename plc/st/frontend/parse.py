@@ -26,6 +26,7 @@ from blark import util
 
 from plc.st.errors import STError
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
+from plc.st.frontend.unclosed import unclosed
 
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
@@ -232,6 +233,9 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
                 return None
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
+        found = _unclosed(error, cleaned, lines_before)
+        if found is not None:
+            raise STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}") from None
         line, column = _place(error, cleaned)
         raise STError.at(
             f"{filename}:{line + lines_before}:{column}", _found(error, cleaned), _expected(error)
@@ -240,6 +244,7 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
     result: Any = transformer.transform(tree)
     if isinstance(result, tf.SourceCode):  # a TYPE block of several types: one item each
         result.items = [i for item in result.items for i in _listed(item)]
+        _configuration_pragmas(result.items, comments)
     _untangle(result)
     if not isinstance(result, tf.SourceCode):
         where = f"{filename}:{lines_before + 1}:1"
@@ -254,6 +259,26 @@ def _place(error: lark.UnexpectedInput, text: str) -> tuple[int, int]:
         return error.line, error.column
     lines = text.rstrip().splitlines() or [""]
     return len(lines), len(lines[-1]) + 1
+
+
+def _configuration_pragmas(items: list[Any], comments: list[lark.Token]) -> None:
+    """Give a CONFIGURATION's and its RESOURCEs' VAR_GLOBAL blocks the pragmas on the lines
+    just before them (blark gives them to the items it makes alone), in place."""
+    pragmas = {t.end_line: t for t in comments if t.type == "PRAGMA" and t.end_line}
+    for item in items:
+        if not isinstance(item, lark.Tree):
+            continue
+        for tree in [item, *item.find_data("resource_declaration")]:
+            for block in tree.children:
+                meta = getattr(block, "meta", None)
+                if not isinstance(block, tf.GlobalVariableDeclarations) or meta is None:
+                    continue
+                line = meta.line - 1
+                found: list[lark.Token] = []
+                while line in pragmas:
+                    found.insert(0, pragmas[line])
+                    line = (pragmas[line].line or line) - 1
+                meta.comments = found
 
 
 def _listed(item: Any) -> list[Any]:
@@ -327,6 +352,24 @@ def _is_assignment(node: Any) -> bool:
         and str(node.op) == ":="
         and isinstance(node.left, tf.SimpleVariable)
     )
+
+
+def _unclosed(
+    error: lark.UnexpectedInput, text: str, lines_before: int
+) -> tuple[int, int, str] | None:
+    """The open statement (an IF without END_IF, ...) the error is, or None
+    (:mod:`~plc.st.frontend.unclosed`)."""
+    expected = set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
+    if isinstance(error, lark.UnexpectedToken):
+        token = error.token
+        at_end = token.type == "$END"
+        position = len(text) if at_end else (token.start_pos or 0)
+        word = "" if at_end else str(token)
+    else:
+        position = error.pos_in_stream or 0
+        match = _WORD.match(text, position)
+        word = match.group() if match else ""
+    return unclosed(text, position, word, expected, lines_before)
 
 
 def _found(error: lark.UnexpectedInput, text: str) -> str:

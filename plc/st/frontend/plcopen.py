@@ -22,6 +22,7 @@ from pathlib import Path
 from plc.st.errors import STError
 from plc.st.frontend.project import Project
 from plc.st.frontend.xmltree import LinedTree, read_xml
+from plc.st.semantics.gvl import NAME_PRAGMA
 
 EXPECTED = "a PLCopen XML (TC6) project"
 
@@ -168,6 +169,11 @@ class _Writer:
     def section(self, block: ET.Element, keyword: str) -> None:
         """A variable section (``<localVars constant="true">``) as ``VAR CONSTANT ... END_VAR``."""
         qualifiers = [q.upper() for q in ("constant", "retain", "persistent") if _true(block, q)]
+        if keyword == "VAR_GLOBAL" and block.get("name", "").strip():  # a GVL
+            attributes = block.iterfind("addData/data/Attributes/Attribute")
+            if any(a.get("Name", "").lower() == "qualified_only" for a in attributes):
+                self.emit("{attribute 'qualified_only'}", block)
+            self.emit(NAME_PRAGMA.format(block.get("name", "").strip()), block)
         self.emit(" ".join([keyword, *qualifiers]), block)
         for variable in block.findall("variable"):
             self.variable(variable)
@@ -313,6 +319,8 @@ def read_plcopen(path: Path) -> Project:
         writer.data_type(data_type)
     for configuration in root.iterfind("instances/configurations/configuration"):
         writer.configuration(configuration)
+    for block in root.iterfind("addData/data/globalVars"):  # CODESYS' export of a GVL
+        writer.section(block, "VAR_GLOBAL")
     pous = root.findall("types/pous/pou")
     if not pous:
         raise writer.error(root, "no POU in the project", "<types><pous><pou pouType=...>")

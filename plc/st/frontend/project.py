@@ -16,7 +16,8 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from plc.st.errors import STError
+from plc.st.errors import STError, indefinite
+from plc.st.semantics.gvl import NAME_PRAGMA
 
 SUFFIXES = (".tcpou", ".tcdut", ".tcgvl")
 """The TwinCAT source files read (case-insensitive)."""
@@ -29,6 +30,9 @@ _END = {
     "FUNCTION_BLOCK": "END_FUNCTION_BLOCK",
     "FUNCTION": "END_FUNCTION",
 }
+
+_CITED = re.compile(r" at (\d+):(\d+)\b")
+"""A second place a message names in the same text (``IF at 5:6 has no END_IF``)."""
 
 _WHERE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<column>\d+): ", re.MULTILINE)
 
@@ -72,7 +76,20 @@ class Project:
             column = int(match["column"]) + self.columns.get(line, 1) - 1
             return f"{self.where(line)}:{column}: "
 
-        return STError(_WHERE.sub(place, str(error)))
+        text = _WHERE.sub(place, str(error))
+        if str(error).startswith(f"{generated}:"):
+            file = text.partition(":")[0]
+            text = _CITED.sub(lambda match: self._cited(match, file), text)
+        return STError(text)
+
+    def _cited(self, match: re.Match[str], file: str) -> str:
+        """`` at line:column`` of :attr:`source` as the project's (its file named where it is
+        not ``file``)."""
+        line = int(match[1])
+        column = int(match[2]) + self.columns.get(line, 1) - 1
+        where_file, _, where_line = self.where(line).rpartition(":")
+        place = where_line if where_file == file else f"{where_file}:{where_line}"
+        return f" at {place}:{column}"
 
 
 def is_project(path: Path) -> bool:
@@ -147,10 +164,14 @@ def _file_lines(file: Path) -> list[tuple[int, str]]:
                 line = part.lines[0].lineno if part.lines else 1
                 raise STError.at(
                     f"{file}:{line}:1",
-                    f"a {part.type.name.upper()} ({str(part.identifier).split('/')[0]})",
+                    f"{indefinite(part.type.name.upper())} ({str(part.identifier).split('/')[0]})",
                     "a PROGRAM, FUNCTION_BLOCK or FUNCTION without methods, actions, properties",
                 )
-            lines += [(line.lineno, line.code) for line in part.lines]
+            own = [(line.lineno, line.code) for line in part.lines]
+            if part.type == SourceType.var_global and own:  # a GVL: its name before it
+                name = str(part.identifier).split("/")[0]
+                own.insert(0, (own[0][0], NAME_PRAGMA.format(name)))
+            lines += own
         words = (line.code.split()[:1] for p in parts for line in p.lines)
         keyword = next((w[0].upper() for w in words if w and w[0].upper() in _END), "")
         if keyword:

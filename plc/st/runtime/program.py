@@ -43,7 +43,7 @@ from plc.st.frontend.project import is_project, read_project
 from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.runtime.external import External
 from plc.st.runtime.io import channels
-from plc.st.runtime.task import WATCHDOG, ticks
+from plc.st.runtime.task import WATCHDOG, chosen_program, ticks
 from plc.st.semantics.scope import Unit, Var
 from plc.st.semantics.types import Elementary, EnumType
 
@@ -136,9 +136,7 @@ class STProgram:
         programs = {n.upper(): n for n in module.programs}
         task = module.task
         if name is None:
-            name = (
-                task.program if task is not None and task.program else next(iter(programs.values()))
-            )
+            name = chosen_program(module.places, task, filename)
         elif name.upper() not in programs:
             raise STError.at(filename, f"no PROGRAM {name!r}", ", ".join(module.programs))
         name = programs[name.upper()]

@@ -13,6 +13,7 @@ from __future__ import annotations
 __all__ = [
     "WATCHDOG",
     "Task",
+    "chosen_program",
     "configurations",
     "declared_task",
     "task_of",
@@ -97,6 +98,35 @@ def task_of(unit: Unit, items: list[Any], programs: list[str]) -> Task | None:
             task.name, task.interval, known[program_type.upper()], task.where, task.watchdog
         )
     return next(iter(tasks.values()))
+
+
+def chosen_program(programs: dict[str, tuple[int, int]], task: Task | None, filename: str) -> str:
+    """The PROGRAM that runs when none is asked for: the TASK's, else the file's only one.
+
+    Args:
+        programs: each PROGRAM's name and its (line, column).
+        task: the file's task (None: none).
+        filename: for the message.
+
+    Raises:
+        STError: several PROGRAMs and no TASK that runs one of them.
+    """
+    from plc.st.errors import STError
+
+    if task is not None and task.program:
+        return task.program
+    names = list(programs)
+    if len(names) == 1:
+        return names[0]
+    line, column = programs[names[0]]
+    listed = ", ".join(f"{n} at {ln}:{col}" for n, (ln, col) in programs.items())
+    first = names[0]
+    raise STError(
+        f"{filename}:{line}:{column}: {len(names)} PROGRAMs ({listed}) and no TASK that runs "
+        f"one of them; choose one: plc.st.load(..., program={first!r}), python -m scenes run "
+        f"... --pou {first}, or a CONFIGURATION whose TASK runs it (PROGRAM main WITH t : "
+        f"{first};)"
+    )
 
 
 def _task(unit: Unit, node: lark.Tree[Any]) -> Task:

@@ -20,7 +20,7 @@ from typing import Any
 import blark.transform as tf
 
 from plc.st.codegen.expressions import E, Expressions
-from plc.st.errors import nearest
+from plc.st.errors import indefinite, nearest
 from plc.st.frontend.grammar import RefTo
 from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.semantics import types as T  # noqa: N812
@@ -310,13 +310,13 @@ def initial(
         return lines
     if isinstance(value, tf.ArrayInitialization | Fill):
         if not isinstance(t, ArrayType):
-            raise STErrorAt(unit, value, "an array initial value", f"a {t.name} value")
+            raise STErrorAt(unit, value, "an array initial value", f"{indefinite(t.name)} value")
         return _array_init(unit, target, t, value, scope, lines)
     if isinstance(value, tf.StructureInitialization) and isinstance(t, BlockType):
         return lines + _block_init(unit, target, t, value, scope)
     if isinstance(value, tf.StructureInitialization):
         if not isinstance(t, StructType):
-            raise STErrorAt(unit, value, "a structure initial value", f"a {t.name} value")
+            raise STErrorAt(unit, value, "a structure initial value", f"{indefinite(t.name)} value")
         for element in value.elements:
             name = next((f for f in t.fields if f.lower() == str(element.name).lower()), None)
             if name is None:

@@ -13,6 +13,7 @@ from typing import Any
 from plc.st.errors import STError, nearest
 from plc.st.runtime.io import Address, Channels, address, location_text
 from plc.st.semantics.catalog import builtin_names, builtin_type, mcl_enums
+from plc.st.semantics.gvl import GVL
 from plc.st.semantics.types import BlockType, EnumType, Type
 
 
@@ -113,6 +114,16 @@ class Unit:
     """Lines that read the located inputs of the globals when a scan begins."""
     writes: list[str] = field(default_factory=list)
     """Lines that write the located outputs of the globals when a scan ends."""
+    gvls: dict[str, GVL] = field(default_factory=dict)
+    """The named VAR_GLOBAL blocks by lower-case name (``GVL_Axes.X``)."""
+
+    def qualified_only(self, name: str) -> list[str]:
+        """``GVL.name`` of each qualified_only GVL that declares ``name``."""
+        return [
+            g.vars[name.lower()].name
+            for g in self.gvls.values()
+            if g.qualified_only and name.lower() in g.vars
+        ]
 
     def where(self, node: Any) -> str:
         """``file:line:column`` of a tree node or token."""

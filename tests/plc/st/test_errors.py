@@ -7,11 +7,11 @@ import plc.st
 
 BAD = [
     ("x : INT", "x := 3 +;", "3:9: unexpected ';'; expected an expression"),
-    ("x : INT", "IF x > 1 THEN x := 1;", "4:1: unexpected 'END_PROGRAM'; expected 'END_IF'"),
+    ("x : INT", "IF x > 1 THEN x := 1;", "3:1: IF at 3:1 has no END_IF; expected END_IF before"),
     ("x : INT", "y := 1;", "3:1: unknown variable 'y'"),
     ("count : INT", "cuont := 1;", "did you mean count"),
-    ("x : INT", "x := 1.5;", "3:1: a ANY_REAL value where INT is expected"),
-    ("x : BOOL", "x := 1;", "a ANY_INT value where BOOL is expected"),
+    ("x : INT", "x := 1.5;", "3:1: an ANY_REAL value where INT is expected"),
+    ("x : BOOL", "x := 1;", "an ANY_INT value where BOOL is expected"),
     ("x : INT; b : BOOL", "x := b;", "a BOOL value where INT is expected"),
     ("t : TONN", "t();", "2:9: unknown type 'TONN' (did you mean TON"),
     ("m : MC_MoveAbsolut", "m();", "unknown type 'MC_MoveAbsolut' (did you mean MC_MoveAbsolute"),
