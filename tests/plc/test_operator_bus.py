@@ -150,6 +150,8 @@ def test_gearing_is_offered_where_the_table_has_its_fields(bus: Bus) -> None:
 def test_a_call_holds_its_execute_until_the_next_command(bus: Bus) -> None:
     table = bus.table
     table.request("X", "move_relative", {"distance": 20.0})
+    bus.run(0.002)  # one scan: a call whose bit is low starts at once
+    assert bus.status("busy") and bus.get("command_count") == 1
     bus.run(1.0)
     assert bus.status("done") and bus.operator.move_relative.Execute
     table.request("X", "move_relative", {"distance": 20.0})  # again: one scan low first
