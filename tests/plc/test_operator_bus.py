@@ -165,6 +165,12 @@ def test_a_call_holds_its_execute_until_the_next_command(bus: Bus) -> None:
     assert not bus.operator.move_relative.Execute
     bus.run(1.0)
     assert carriage_mm(bus.machine) == pytest.approx(50.0, abs=0.05)
+    assert bus.get("command_count") == 3  # the word's command alone
+    table.request("X", "move_relative", {"distance": 20.0})
+    bus.run(1.0)
+    bus.write(position=0.0, control=bits("enable", "move_absolute"))  # another bit: at once
+    bus.run(0.002)  # one scan
+    assert bus.operator.move_absolute.Execute and bus.get("command_count") == 5
 
 
 def test_a_called_stop_ends_one_scan_before_the_next_command(bus: Bus) -> None:
