@@ -11,8 +11,6 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
 
-from mypy_extensions import mypyc_attr
-
 import mcl
 
 
@@ -76,7 +74,6 @@ class Step:
     then: Callable[[], str] | None = None
 
 
-@mypyc_attr(allow_interpreted_subclasses=True)
 class StepSequence:
     """The usual shape of a demo program: a PLC step sequence. ``STEPS`` names the steps in
     order (the last one means finished), ``index`` is the step now, a non-empty ``error`` stops
@@ -89,9 +86,9 @@ class StepSequence:
     """
 
     STEPS: ClassVar[tuple[str, ...]] = ("done",)
-    index: int = 0
-    error: str = ""
-    entered: float = 0.0
+    index = 0
+    error = ""
+    entered = 0.0
     """When the current step began [s] (the ``now`` of :meth:`advance`)."""
     table: tuple[Step, ...] = ()
     """The declared steps, in the order of ``STEPS``."""

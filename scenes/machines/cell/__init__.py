@@ -31,6 +31,3 @@ MACHINE = MachineDef(
 """The cell's definition (registered as ``cell``)."""
 
 __all__ = ["MACHINE", "RAM_UP", "ZONE_X", "Demo"]
-
-COMPILED_MODULES = ("demo", "interlock")
-"""The modules of this package that the compiled build covers (they run every PLC scan)."""

@@ -30,6 +30,3 @@ __all__ = [
     "Demo",
     "build",
 ]
-
-COMPILED_MODULES = ("demo",)
-"""The modules of this package that the compiled build covers (the demo, run every PLC scan)."""
