@@ -113,6 +113,21 @@ def test_an_error_is_held_with_its_id_and_a_command_it_cannot_take_is_eparam(bus
     assert carriage_mm(bus.machine) == pytest.approx(0.0, abs=0.01)
 
 
+def test_a_slow_poller_sees_the_result_of_a_pulse_the_block_answered_at_once(bus: Bus) -> None:
+    """A master that pulses a command bit between two scans and reads the status only after
+    a run of scans (published once at its end, as the bridge's lockstep runs do) still sees
+    the result: a refusal (home without a recipe: Error, EParam) and a reset's Done, each held
+    until the next command; before any command the status names none."""
+    assert bus.get("command") == 0 and bus.get("command_count") == 0
+    for command, status, error_id in (("home", "error", mcl.ErrorID.EParam), ("reset", "done", 0)):
+        bus.write(control=bits("enable", command))
+        bus.write(control=bits("enable"))  # cleared before a scan saw the bit
+        bus.machine.run(bus.words, timeout=0.01)  # five scans, nothing published
+        bus.words.publish()
+        assert bus.status(status) and bus.get("error_id") == error_id, command
+        assert bus.get("command") == 1 + CONTROL_BITS.index(command)
+
+
 def test_the_jog_bits_count_as_commands_and_jog_at_the_velocity(bus: Bus) -> None:
     bus.write(velocity=-50.0, control=bits("enable", "jog_pos"))
     bus.run(0.5)
@@ -135,6 +150,8 @@ def test_gearing_is_offered_where_the_table_has_its_fields(bus: Bus) -> None:
 def test_a_call_holds_its_execute_until_the_next_command(bus: Bus) -> None:
     table = bus.table
     table.request("X", "move_relative", {"distance": 20.0})
+    bus.run(0.002)  # one scan: a call whose bit is low starts at once
+    assert bus.status("busy") and bus.get("command_count") == 1
     bus.run(1.0)
     assert bus.status("done") and bus.operator.move_relative.Execute
     table.request("X", "move_relative", {"distance": 20.0})  # again: one scan low first
@@ -148,6 +165,12 @@ def test_a_call_holds_its_execute_until_the_next_command(bus: Bus) -> None:
     assert not bus.operator.move_relative.Execute
     bus.run(1.0)
     assert carriage_mm(bus.machine) == pytest.approx(50.0, abs=0.05)
+    assert bus.get("command_count") == 3  # the word's command alone
+    table.request("X", "move_relative", {"distance": 20.0})
+    bus.run(1.0)
+    bus.write(position=0.0, control=bits("enable", "move_absolute"))  # another bit: at once
+    bus.run(0.002)  # one scan
+    assert bus.operator.move_absolute.Execute and bus.get("command_count") == 5
 
 
 def test_a_called_stop_ends_one_scan_before_the_next_command(bus: Bus) -> None:
