@@ -69,7 +69,7 @@ def _connect_browser(stack: ExitStack, viewer: Viewer) -> Page | None:
     page = browser.new_page(viewport={"width": 1280, "height": 900})
     page.goto(viewer.url)
     page.get_by_role("button", name="Power", exact=True).wait_for(timeout=60_000)
-    page.get_by_role("button", name="Take control", exact=True).click()
+    page.get_by_role("button", name="Take control", exact=True).click(timeout=120_000)
     deadline = time.monotonic() + 10.0
     while viewer.app.control.owner is None and time.monotonic() < deadline:
         time.sleep(0.01)
