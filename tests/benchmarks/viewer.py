@@ -22,12 +22,15 @@ Prints JSON:
 - ``click_to_motion_ms``: from the click on *Step+* (Playwright's mouse click in the page) to the
   first motion of the X joint in the physics (1 µm), ``hold_to_motion_ms`` for holding *Jog−*,
   and ``request_to_motion_ms`` from the server-side request alone (PLC and servo pipeline);
-  median and max of several tries.
+  median, 90th percentile and max of several tries.
 
 A headless Chromium (Playwright, ``/usr/bin/chromium``) is connected when available; without it
 only the server-side figures are given.
 
-Run: ``python -m tests.benchmarks.viewer [seconds]``.
+Run: ``python -m tests.benchmarks.viewer [seconds]``; ``visible [CLICKS]`` gives the
+click-to-visible figures alone, ``path [CLICKS]`` where a click's time goes
+(:func:`path_breakdown`: each stage's delay after the one before, page and server on this
+machine's wall clock).
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import pytest
 
 from plc.operator.hmi import Move
-from tests.viewer.test_browser import browser, take_control, wait_for
+from tests.viewer.test_browser import browser, wait_for
 from viewer.serving.server import Viewer
 from viewer.view3d.renderer import INPUT_PAUSE_MS, SOFTWARE_FPS
 
@@ -54,7 +54,6 @@ def test_a_software_page_pauses_its_3d_frames_after_a_press_and_paces_them(
         page = context.new_page()
         page.goto(viewer.url)
         page.get_by_role("button", name="Power", exact=True).wait_for(timeout=60_000)
-        take_control(page, viewer)
         page.get_by_text("No GPU (software WebGL)").first.wait_for(timeout=30_000)
         wait_for(
             lambda: page.evaluate(

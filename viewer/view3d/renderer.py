@@ -10,8 +10,9 @@ for the frames before it. Each page asks its browser for the WebGL renderer
 A page that draws in software also paces its own drawing (:data:`PACING`): it draws the 3-D
 view only when the scene changed, at most :data:`SOFTWARE_FPS` times a second and so that
 drawing takes at most :data:`DRAW_SHARE` of its time (a frame that took 100 ms waits 300 ms for
-the next), and not at all for :data:`INPUT_PAUSE_MS` after a press on the panels, so that the
-command, and the state that answers it, go through before the next frame.
+the next), and not at all for :data:`INPUT_PAUSE_MS` after a press on the panels (three frames'
+time where frames are slow, at most :data:`MAX_INPUT_PAUSE_MS`), so that the command, and the
+state that answers it, go through before the next frame.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from __future__ import annotations
 __all__ = [
     "DRAW_SHARE",
     "INPUT_PAUSE_MS",
+    "MAX_INPUT_PAUSE_MS",
     "PACING",
     "PATH",
     "SOFTWARE",
@@ -51,13 +53,17 @@ DRAW_SHARE = 0.25
 """Share of a software-drawing page's time its 3-D frames may take (the rest: input, panels)."""
 
 INPUT_PAUSE_MS = 300.0
-"""3-D frames a software-drawing page skips after a press on its panels [ms]."""
+"""3-D frames a software-drawing page skips after a press on its panels [ms], at least; a page
+whose frames are slow skips three frames' time, at most :data:`MAX_INPUT_PAUSE_MS` (the answer
+to the press is as slow as the frames: they share the CPU)."""
+MAX_INPUT_PAUSE_MS = 1500.0
+"""The longest pause of 3-D frames after a press [ms]."""
 
 PACING = (
-    "(function(period,share,pause){"
+    "(function(period,share,pause,most){"
     "var hold=0,last=-1e9,cost=0,timer=null,tries=0;"
     "function input(e){var t=e.target;if(!(t&&t.tagName==='CANVAS'))"
-    "hold=performance.now()+pause;}"
+    "hold=performance.now()+Math.min(Math.max(pause,3*cost),most);}"
     "addEventListener('pointerdown',input,true);addEventListener('keydown',input,true);"
     "function install(){"
     "var m=window.__viserMutable,s=m&&m.scene,r=s&&s.__r3f&&s.__r3f.root;"
@@ -71,15 +77,15 @@ PACING = (
     "r.getState().invalidate();},wait);return;}"
     "last=now;draw(scene,camera);cost=performance.now()-now;};"
     "gl.__paced=true;}"
-    "install();})(PERIOD,SHARE,PAUSE);"
+    "install();})(PERIOD,SHARE,PAUSE,MOST);"
 )
 """The script a page that draws in software runs: it wraps the 3-D renderer's ``render`` (the
 frame loop of viser's page draws only on demand, so a frame is only asked for when the scene
-changed) so that a frame waits for the period of :data:`SOFTWARE_FPS`, for
-:data:`DRAW_SHARE` of the page's time and for :data:`INPUT_PAUSE_MS` after a press outside
-the 3-D view; a skipped frame is asked for again when it may be drawn (the canvas keeps the
-last one meanwhile). The renderer is reached through ``window.__viserMutable`` (viser's page);
-without it the page draws as before."""
+changed) so that a frame waits for the period of :data:`SOFTWARE_FPS`, for :data:`DRAW_SHARE`
+of the page's time and for the pause after a press outside the 3-D view
+(:data:`INPUT_PAUSE_MS`); a skipped frame is asked for again when it may be drawn (the canvas
+keeps the last one meanwhile). The renderer is reached through ``window.__viserMutable``
+(viser's page); without it the page draws as before."""
 
 _PROBE = (
     "try{{var c=document.createElement('canvas'),g=c.getContext('webgl2')||c.getContext('webgl'),"
@@ -106,6 +112,7 @@ def probe_html(client_id: int) -> str:
         PACING.replace("PERIOD", f"{1000.0 / SOFTWARE_FPS:g}")
         .replace("SHARE", f"{DRAW_SHARE:g}")
         .replace("PAUSE", f"{INPUT_PAUSE_MS:g}")
+        .replace("MOST", f"{MAX_INPUT_PAUSE_MS:g}")
     )
     script = _PROBE.format(
         path=PATH,
