@@ -619,10 +619,10 @@ class ViewerApp:
         model_scene = self._model_scene
         if model_scene is not None:
             fps = self.renderers.fps  # lowered while a page draws in software
-            if now - self._last_pose >= 1.0 / fps - slack:
+            if fps >= self.renderers.requested or now - self._last_pose >= 1.0 / fps - slack:
                 self._last_pose = now
                 self._update_3d(model_scene, snapshot)
-            else:  # sooner than the 3-D rate: the latest pose follows at that rate
+            else:  # a page draws in software: the latest pose follows at its lower rate
                 self._redraw = True
         answering = now < self._answer_until and snapshot is not self._panels_of
         if answering or now - self._last_panel >= self._panel_period - slack:
