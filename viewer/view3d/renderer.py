@@ -64,7 +64,8 @@ PACING = (
     "var hold=0,last=-1e9,cost=0,timer=null,tries=0;"
     "function input(e){var t=e.target;if(!(t&&t.tagName==='CANVAS'))"
     "hold=performance.now()+Math.min(Math.max(pause,3*cost),most);}"
-    "addEventListener('pointerdown',input,true);addEventListener('keydown',input,true);"
+    "window.addEventListener('pointerdown',input,true);"
+    "window.addEventListener('keydown',input,true);"
     "function install(){"
     "var m=window.__viserMutable,s=m&&m.scene,r=s&&s.__r3f&&s.__r3f.root;"
     "if(!r){if(++tries<300)setTimeout(install,200);return;}"
@@ -84,8 +85,9 @@ frame loop of viser's page draws only on demand, so a frame is only asked for wh
 changed) so that a frame waits for the period of :data:`SOFTWARE_FPS`, for :data:`DRAW_SHARE`
 of the page's time and for the pause after a press outside the 3-D view
 (:data:`INPUT_PAUSE_MS`); a skipped frame is asked for again when it may be drawn (the canvas
-keeps the last one meanwhile). The renderer is reached through ``window.__viserMutable``
-(viser's page); without it the page draws as before."""
+keeps the last one meanwhile; the presses are heard on ``window``: a bare name in an image's
+``onerror`` is looked up on the image first). The renderer is reached through
+``window.__viserMutable`` (viser's page); without it the page draws as before."""
 
 _PROBE = (
     "try{{var c=document.createElement('canvas'),g=c.getContext('webgl2')||c.getContext('webgl'),"
