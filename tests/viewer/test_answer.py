@@ -1,14 +1,9 @@
-"""A click is answered at once: the PLC scan after the request takes it, the snapshot after
-that scan is published without waiting for the next publishing time, and the viewer sends the
-panels of the snapshots that follow an accepted input without waiting for the panel rate."""
+"""A click is answered at once: the PLC scan after the request takes it, and the snapshot after
+that scan is published without waiting for the next publishing time."""
 
 from __future__ import annotations
 
-import viser
-
 from plc.operator.hmi import Move
-from tests.helpers import run_coroutine
-from viewer.pages.app import ViewerApp
 from viewer.sim.session import Session, _Paced
 
 
@@ -58,33 +53,3 @@ def test_a_jog_renewal_is_no_request_to_answer() -> None:
     paced.run_cycles(1)
     paced.ran()
     assert session.snapshot is shown
-
-
-def test_the_panels_answer_an_accepted_input_with_the_next_snapshot(
-    server: viser.ViserServer,
-) -> None:
-    session = powered_gantry()
-    app = ViewerApp(session, server, panel_hz=0.01)  # panels every 100 s unless answering
-    app.frame()
-    updates = app.panel_updates
-    session.advance(1)
-    app.frame()
-    assert app.panel_updates == updates  # a new snapshot, but not the panels' time
-
-    app.control.take(3)
-    step = next(h for h in app._scene_inputs if getattr(h, "label", "") == "Step+")
-    message = viser._messages.GuiUpdateMessage(step._impl.uuid, {"value": True})
-    run_coroutine(app.gate._on_update(3, message))  # type: ignore[arg-type]
-    app.frame()
-    assert app.panel_updates == updates  # the same snapshot: nothing new to answer with
-    session.advance(1)
-    app.frame()
-    assert app.panel_updates == updates + 1  # the next snapshot's panels go out at once
-    app.frame()
-    assert app.panel_updates == updates + 1
-
-    app._answer_until = 0.0  # that answer is over
-    run_coroutine(app.gate._on_update(4, message))  # type: ignore[arg-type]  # not in control
-    session.advance(1)
-    app.frame()
-    assert app.panel_updates == updates + 1  # a refused input is not answered

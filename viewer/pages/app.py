@@ -79,12 +79,6 @@ from viewer.view3d.views import OFF, ON, SWITCH_CHOICES, Views
 
 log = logging.getLogger(__name__)
 
-ANSWER_SECONDS = 0.5
-"""How long after a page's input the update loop answers at once [s]: it looks for a new
-snapshot every :data:`ANSWER_POLL` and sends the panels of each (not at the panel rate)."""
-ANSWER_POLL = 0.005
-"""The update loop's look for a new snapshot while it answers an input [s]."""
-
 _Hold = Hold
 """A jog a page holds (:class:`~viewer.serving.control.Hold`)."""
 
@@ -193,8 +187,6 @@ class ViewerApp:
         """The HTML last sent to each panel, by panel name (only changes are sent)."""
         self._pause_label = ""
         self._redraw = False
-        self._answer_until = -math.inf
-        self._panels_of: Snapshot | None = None
         self.operators = Operators(session, server, clock)
         """Who operates and the jogs their pages hold."""
         self.control: Control = self.operators.control
@@ -206,7 +198,6 @@ class ViewerApp:
         harden(server)
         self.gate = GuiGate(server, self.control.holds, self.operators.refused, log=log)
         """Checks every GUI value a page sends."""
-        self.gate.on_accepted = self.answer
         self._gui = SceneGui(self.gate)
         self.pages = Pages(session, self.gate, self._plot)
         """Each page's own panels (overview, scope)."""
@@ -588,19 +579,11 @@ class ViewerApp:
                 failing = True
                 self._last = None
             next_frame += self._frame_period
-            now = time.monotonic()
-            delay = next_frame - now
+            delay = next_frame - time.monotonic()
             if delay < 0.0:  # late: do not try to catch up with a burst of frames
-                next_frame = now
+                next_frame = time.monotonic()
                 delay = 0.0
-            if now < self._answer_until:  # an input waits for its answer: look again soon
-                delay = min(delay, ANSWER_POLL)
             self._stopping.wait(delay)
-
-    def answer(self) -> None:
-        """A page's input was accepted: send the state that answers it as soon as the
-        simulation has published it (for :data:`ANSWER_SECONDS`; any thread)."""
-        self._answer_until = time.monotonic() + ANSWER_SECONDS
 
     def frame(self) -> None:
         """Send what changed since the last frame (called by the update thread)."""
@@ -624,9 +607,8 @@ class ViewerApp:
                 self._update_3d(model_scene, snapshot)
             else:  # a page draws in software: the latest pose follows at its lower rate
                 self._redraw = True
-        answering = now < self._answer_until and snapshot is not self._panels_of
-        if answering or now - self._last_panel >= self._panel_period - slack:
-            self._last_panel, self._panels_of = now, snapshot
+        if now - self._last_panel >= self._panel_period - slack:
+            self._last_panel = now
             self._update_panels(snapshot)
             self.pages.update_panels(snapshot)
         if now - self._last_plot >= self._plot_period - slack:

@@ -669,8 +669,6 @@ class GuiGate:
         self._in_control = in_control
         self._on_refused = on_refused
         self._log = log or BoundedLog()
-        self.on_accepted: Callable[[], None] = lambda: None
-        """Hears of each accepted message before viser acts on it (the viewer answers soon)."""
         gui = server.gui
         websock = server._websock_server
         previous = _gates.get(server)
@@ -741,7 +739,6 @@ class GuiGate:
                 return
             scope = self._scope(client_id, message.uuid)
             if scope is not None:
-                self.on_accepted()
                 await scope._handle_gui_updates(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad GUI update: {_describe(exc)}")
@@ -758,7 +755,6 @@ class GuiGate:
                 return
             scope = self._scope(client_id, message.uuid)
             if scope is not None:
-                self.on_accepted()
                 await scope._handle_command_trigger(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad command message: {_describe(exc)}")
@@ -775,7 +771,6 @@ class GuiGate:
                 return
             scope = self._scope(client_id, message.uuid)
             if scope is not None:
-                self.on_accepted()
                 await scope._handle_gui_button_hold(client_id, message)
         except Exception as exc:
             self._log.warning(f"client {client_id}: bad hold message: {_describe(exc)}")
