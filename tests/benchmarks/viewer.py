@@ -22,12 +22,15 @@ Prints JSON:
 - ``click_to_motion_ms``: from the click on *Step+* (Playwright's mouse click in the page) to the
   first motion of the X joint in the physics (1 µm), ``hold_to_motion_ms`` for holding *Jog−*,
   and ``request_to_motion_ms`` from the server-side request alone (PLC and servo pipeline);
-  median and max of several tries.
+  median, 90th percentile and max of several tries.
 
 A headless Chromium (Playwright, ``/usr/bin/chromium``) is connected when available; without it
 only the server-side figures are given.
 
-Run: ``python -m tests.benchmarks.viewer [seconds]``.
+Run: ``python -m tests.benchmarks.viewer [seconds]``; ``visible [CLICKS]`` gives the
+click-to-visible figures alone, ``path [CLICKS]`` where a click's time goes
+(:func:`path_breakdown`: each stage's delay after the one before, page and server on this
+machine's wall clock).
 """
 
 from __future__ import annotations
@@ -39,7 +42,7 @@ import statistics
 import sys
 import time
 from contextlib import ExitStack
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 from plc.operator.hmi import Move
 from viewer.serving.server import Viewer
@@ -69,7 +72,7 @@ def _connect_browser(stack: ExitStack, viewer: Viewer) -> Page | None:
     page = browser.new_page(viewport={"width": 1280, "height": 900})
     page.goto(viewer.url)
     page.get_by_role("button", name="Power", exact=True).wait_for(timeout=60_000)
-    page.get_by_role("button", name="Take control", exact=True).click()
+    page.get_by_role("button", name="Take control", exact=True).click(timeout=120_000)
     deadline = time.monotonic() + 10.0
     while viewer.app.control.owner is None and time.monotonic() < deadline:
         time.sleep(0.01)
@@ -151,7 +154,9 @@ the page's own clock; the last digit's flicker at standstill is no motion; null:
 within ``timeout``)."""
 
 
-def _visible_latency(page: Page, viewer: Viewer, axis: str = "X") -> dict[str, Any]:
+def _visible_latency(
+    page: Page, viewer: Viewer, axis: str = "X", tries: int = TRIES
+) -> dict[str, Any]:
     """Click (Step+) to visible motion on the page: its Position read-out changes [ms]."""
     session = viewer.session
     session.requests(axis).set_power(True)
@@ -160,7 +165,7 @@ def _visible_latency(page: Page, viewer: Viewer, axis: str = "X") -> dict[str, A
     step = page.get_by_role("button", name="Step+", exact=True).first
     step.scroll_into_view_if_needed()
     delays: list[float] = []
-    for _ in range(TRIES):
+    for _ in range(tries):
         time.sleep(0.5)  # standing still
         box = step.bounding_box()
         assert box is not None
@@ -173,11 +178,163 @@ def _visible_latency(page: Page, viewer: Viewer, axis: str = "X") -> dict[str, A
     return _summary(delays)
 
 
-def visible_latencies(fps: float = 30.0) -> dict[str, Any]:
+PAGE_MARKS = """(timeout) => { window.__marks = new Promise((done) => {
+    const value = () => {
+        const cell = Array.from(document.querySelectorAll('td')).find(
+            (td) => td.textContent.trim() === 'Position' && td.offsetParent !== null);
+        return cell ? cell.nextElementSibling.textContent : '';
+    };
+    const number = () => parseFloat(value().replace('\u2212', '-'));
+    const epoch = () => performance.timeOrigin + performance.now();
+    let down = null; const before = number();
+    const queued = []; const drained = [];  // the viewer's message queue: batches in, out
+    const queue = window.__viserMutable ? window.__viserMutable.messageQueue : null;
+    if (queue) {
+        queue.push = function (...items) {
+            if (down !== null) queued.push(epoch());
+            return Array.prototype.push.apply(this, items);
+        };
+        queue.splice = function (...args) {
+            if (down !== null) drained.push(epoch());
+            return Array.prototype.splice.apply(this, args);
+        };
+    }
+    const observer = new MutationObserver(() => {
+        if (down !== null && Math.abs(number() - before) >= 0.01) {
+            observer.disconnect();
+            if (queue) { delete queue.push; delete queue.splice; }
+            done([down, epoch(), queued, drained]);
+        }
+    });
+    observer.observe(document.body, {subtree: true, childList: true, characterData: true});
+    window.addEventListener('pointerdown', () => { down = epoch(); },
+                            {once: true, capture: true});
+    setTimeout(() => { observer.disconnect(); done(null); }, timeout);
+}); }"""
+"""The page's pointerdown and its Position read-out's first change by 0.01 u, in epoch ms."""
+
+PATH_STAGES = (
+    "callback",
+    "taken",
+    "motion",
+    "published",
+    "panel_sent",
+    "arrived",
+    "applied",
+    "shown",
+)
+"""The marks along a click's path after the page's pointerdown: the server's button callback,
+the PLC scan that took the move, the X joint's first motion (1 µm), the first published
+snapshot whose position moved by 0.01 u, the axis panel's HTML sent with it, the first batch of
+messages in the page's queue after it, the queue drained, the page's read-out changed."""
+
+
+def _path_marks(page: Page, viewer: Viewer, tries: int, axis: str = "X") -> dict[str, Any]:
+    """Where a click's time goes: each stage's delay after the one before [ms] (median, p90,
+    max over ``tries`` Step+ clicks; wall clock of this machine, shared by page and server)."""
+    import threading
+
+    session, app = viewer.session, viewer.app
+    session.requests(axis).set_power(True)
+    while not session.snapshot.axes[axis].powered:
+        time.sleep(0.01)
+    requests = session.requests(axis)
+    panel = app._axes[axis]  # the benchmark watches the panel it clicks
+    marks: dict[str, float] = {}
+    original_move, original_take, original_show = requests.move, requests.take, panel.show
+
+    def move(value: Any) -> None:
+        marks.setdefault("callback", time.time() * 1e3)
+        original_move(value)
+
+    def take() -> Any:
+        taken = original_take()
+        if taken.move is not None:
+            marks.setdefault("taken", time.time() * 1e3)
+        return taken
+
+    def show(view: Any) -> None:
+        original_show(view)
+        start = marks.get("start_position")
+        if start is not None and abs(view.position - start) >= 0.01:
+            marks.setdefault("panel_sent", time.time() * 1e3)
+
+    watched = cast(Any, requests), cast(Any, panel)
+    watched[0].move, watched[0].take, watched[1].show = move, take, show
+    step = page.get_by_role("button", name="Step+", exact=True).first
+    step.scroll_into_view_if_needed()
+    rows: list[dict[str, float]] = []
+    for _ in range(tries):
+        time.sleep(0.5)
+        marks.clear()
+        joint0 = session.scene.joint_position(axis)
+        marks["start_position"] = session.snapshot.axes[axis].position
+        stop = threading.Event()
+
+        def watch(joint0: float = joint0, stop: threading.Event = stop) -> None:
+            while not stop.is_set():
+                moved = abs(session.scene.joint_position(axis) - joint0) > 1e-6
+                if "motion" not in marks and moved:
+                    marks["motion"] = time.time() * 1e3
+                position = session.snapshot.axes[axis].position
+                if "published" not in marks and abs(position - marks["start_position"]) >= 0.01:
+                    marks["published"] = time.time() * 1e3
+                time.sleep(0.0005)
+
+        watcher = threading.Thread(target=watch, daemon=True)
+        watcher.start()
+        box = step.bounding_box()
+        assert box is not None
+        page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        page.evaluate(PAGE_MARKS, 5000)
+        page.mouse.down()
+        page.mouse.up()
+        shown = page.evaluate("() => window.__marks")
+        stop.set()
+        watcher.join()
+        if shown is None:
+            continue
+        marks["down"], marks["shown"] = float(shown[0]), float(shown[1])
+        sent = marks.get("panel_sent")
+        if sent is not None:  # the first message in the page's queue after the panel was sent
+            arrived = [t for t in shown[2] if t >= sent - 1.0]
+            if arrived:
+                marks["arrived"] = arrived[0]
+                applied = [t for t in shown[3] if t >= arrived[0]]
+                if applied:
+                    marks["applied"] = applied[0]
+        rows.append(dict(marks))
+    watched[0].move, watched[0].take, watched[1].show = original_move, original_take, original_show
+    result: dict[str, Any] = {}
+    previous = "down"
+    for stage in PATH_STAGES:
+        delays = [r[stage] - r[previous] for r in rows if stage in r and previous in r]
+        result[f"{previous}->{stage}"] = _summary(delays)
+        previous = stage
+    result["total"] = _summary([r["shown"] - r["down"] for r in rows])
+    return result
+
+
+def path_breakdown(fps: float = 30.0, tries: int = TRIES) -> dict[str, Any]:
+    """:func:`_path_marks` with the 3-D view (the gantry) and without one (``single_axis``)."""
+    result: dict[str, Any] = {"fps_asked": fps, "load": os.getloadavg()[0]}
+    for scene, key in (("gantry", "with_3d"), ("single_axis", "without_3d")):
+        with ExitStack() as stack:
+            viewer = Viewer(scene, port=0, demo=False, fps=fps)
+            stack.callback(viewer.close)
+            page = _connect_browser(stack, viewer)
+            if page is None:
+                return {}
+            time.sleep(2.0)  # the page has reported its renderer
+            result[key] = _path_marks(page, viewer, tries)
+    return result
+
+
+def visible_latencies(fps: float = 30.0, tries: int = TRIES) -> dict[str, Any]:
     """Click-to-visible-motion [ms] in headless Chromium with the 3-D view (the gantry) and
-    without one (``single_axis``), the viewer asked for ``fps``; and the 3-D frame rate it
-    chose for the page (lower where the page draws in software)."""
-    result: dict[str, Any] = {"fps_asked": fps}
+    without one (``single_axis``), the viewer asked for ``fps``, over ``tries`` clicks; and the
+    3-D frame rate it chose for the page (lower where the page draws in software)."""
+    result: dict[str, Any] = {"fps_asked": fps, "load": os.getloadavg()[0]}
     for scene, key in (("gantry", "with_3d"), ("single_axis", "without_3d")):
         with ExitStack() as stack:
             viewer = Viewer(scene, port=0, demo=False, fps=fps)
@@ -187,7 +344,7 @@ def visible_latencies(fps: float = 30.0) -> dict[str, Any]:
                 return {}
             time.sleep(2.0)  # the page has reported its renderer
             result[key] = {
-                "click_to_visible_ms": _visible_latency(page, viewer),
+                "click_to_visible_ms": _visible_latency(page, viewer, tries=tries),
                 "fps_chosen": viewer.app.renderers.fps,
                 "renderer": viewer.app.renderers.renderer(viewer.app.control.owner or 0),
             }
@@ -248,10 +405,11 @@ def _request_to_motion(viewer: Viewer) -> dict[str, Any]:
 
 
 def _summary(delays: list[float]) -> dict[str, Any]:
-    """Median and max [ms] of the tries that moved, and how many did not."""
+    """Median, 90th percentile and max [ms] of the tries that moved, and how many did not."""
     moved = [d for d in delays if math.isfinite(d)]
     return {
         "median": round(statistics.median(moved), 1) if moved else None,
+        "p90": round(_percentile(moved, 0.9), 1) if moved else None,
         "max": round(max(moved), 1) if moved else None,
         "tries": len(delays),
         "no_motion": len(delays) - len(moved),
@@ -370,7 +528,11 @@ def run(seconds: float = 10.0) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["visible"]:  # the click-to-visible figures alone
-        print(json.dumps(visible_latencies(), indent=2))
+    if sys.argv[1:2] == ["visible"]:  # the click-to-visible figures alone: visible [TRIES]
+        tries = int(sys.argv[2]) if len(sys.argv) > 2 else TRIES
+        print(json.dumps(visible_latencies(tries=tries), indent=2))
+    elif sys.argv[1:2] == ["path"]:  # where a click's time goes: path [TRIES]
+        tries = int(sys.argv[2]) if len(sys.argv) > 2 else TRIES
+        print(json.dumps(path_breakdown(tries=tries), indent=2))
     else:
         print(json.dumps(run(float(sys.argv[1]) if len(sys.argv) > 1 else 10.0), indent=2))

@@ -118,3 +118,19 @@ def test_the_measuring_wheel_standing_still_reads_its_mean_velocity() -> None:
     assert (
         np.max(np.abs(shown)) <= 0.025 / velocity.WINDOW + 1e-9
     )  # one count per window: 0.25 mm/s
+
+
+def test_a_refusal_is_said_once_in_the_axis_panel() -> None:
+    session = Session("gantry")
+    session.requests("X").move(Move("relative", 10.0, 100.0, 1000.0))  # not powered
+    session.advance(50)
+    view = x(session)
+    assert view.last_error_kind == "Refused" and view.message == view.last_error
+    panel = axis_panel_html(view)
+    assert panel.count(view.last_error.split(" (")[0]) == 1, panel
+    session.requests("X").set_power(True)
+    session.advance(50)
+    session.requests("X").move(Move("relative", 1.0, 100.0, 1000.0))
+    session.advance(500)
+    assert x(session).message == "Move by: done"  # another outcome is said under the lamps
+    assert "Move by: done" in axis_panel_html(x(session))

@@ -157,7 +157,8 @@ def axis_panel_html(view: AxisView) -> str:
 
     Only what the axis has is shown: the switches of its machine definition, its digital inputs
     (``DI``) and outputs (``DO``, read-only), the command only if it has a drive. The error and
-    a refused command's text go under the values, wrapped.
+    a refused command's text go under the values, wrapped; the last command's outcome under the
+    lamps, unless it is that refusal.
 
     Args:
         view: The axis view of a snapshot.
@@ -175,7 +176,8 @@ def axis_panel_html(view: AxisView) -> str:
     outputs = "".join(_lamp(on, f"DO{i}", "on_output") for i, on in enumerate(view.outputs))
     if outputs:
         outputs = f'<div style="line-height:1.6">Outputs: {outputs}</div>'
-    message = html.escape(view.message) if view.message else "&nbsp;"
+    said = view.message and view.message != view.last_error  # a refusal is said once
+    message = html.escape(view.message) if said else "&nbsp;"
     return _box(
         f"{_table(_axis_rows(view))}{_texts(view)}"
         f'<div style="margin-top:0.4em;line-height:1.6">{lamps}</div>{outputs}'

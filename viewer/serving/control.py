@@ -374,7 +374,7 @@ class Operators:
                 and hold.generation == generation
             )
             if alive:
-                self.session.requests(hold.axis).jog(hold.direction)
+                self.session.requests(hold.axis, answer=False).jog(hold.direction)
             else:
                 self.drop(client_id, hold)
 

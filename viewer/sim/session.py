@@ -146,6 +146,8 @@ class Session:
         self._fault = ""
         self._rate: deque[tuple[float, float]] = deque()
         self._last_publish = -math.inf
+        self._answer = False
+        """An operator's request was asked for: publish after the next run of PLC cycles."""
 
         self._scene_name = scene
         self._definition = scenes.definition(scene)
@@ -316,18 +318,22 @@ class Session:
         """Whether the current scene has a demo program."""
         return self._has_demo
 
-    def requests(self, axis: str) -> AxisRequests:
-        """The operator request flags of an axis of the current scene.
+    def requests(self, axis: str, *, answer: bool = True) -> AxisRequests:
+        """The operator request flags of an axis of the current scene; with ``answer`` the
+        snapshot after the next run of PLC cycles (whose first scan takes a request set now) is
+        published at once, not at the next publishing time (False: a jog's renewal).
 
         Raises:
             KeyError: If the scene has no such axis; the message names its axes.
         """
         try:
-            return self._operator.front_ends[axis].requests
+            requests = self._operator.front_ends[axis].requests
         except KeyError:
             raise KeyError(
                 f"scene {self._scene_name!r} has no axis {axis!r}; axes: {list(self._scene.axes)}"
             ) from None
+        self._answer = self._answer or answer
+        return requests
 
     # ------------------------------------------------------------------------------ commands
 
@@ -776,7 +782,9 @@ class _Paced:
         self.session._run_cycles(cycles)
 
     def ran(self) -> None:
-        self.session._publish()
+        session = self.session
+        answer, session._answer = session._answer, False
+        session._publish(force=answer)
 
     def idle(self, seconds: float) -> None:
         self.session._idle(seconds)

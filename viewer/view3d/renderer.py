@@ -6,11 +6,30 @@ for the frames before it. Each page asks its browser for the WebGL renderer
 (``WEBGL_debug_renderer_info``) once and reports it to the viewer (a same-origin request to
 :data:`PATH`); while a page that draws in software is open, the 3-D view is updated at most
 :data:`SOFTWARE_FPS` times a second, and that page says so in one line.
+
+A page that draws in software also paces its own drawing (:data:`PACING`): it draws the 3-D
+view only when the scene changed, at most :data:`SOFTWARE_FPS` times a second and so that
+drawing takes at most :data:`DRAW_SHARE` of its time (a frame that took 100 ms waits 300 ms for
+the next), and not at all for :data:`INPUT_PAUSE_MS` after a press on the panels (three frames'
+time where frames are slow, at most :data:`MAX_INPUT_PAUSE_MS`), so that the command, and the
+state that answers it, go through before the next frame.
 """
 
 from __future__ import annotations
 
-__all__ = ["PATH", "SOFTWARE", "SOFTWARE_FPS", "Renderers", "is_software", "note", "probe_html"]
+__all__ = [
+    "DRAW_SHARE",
+    "INPUT_PAUSE_MS",
+    "MAX_INPUT_PAUSE_MS",
+    "PACING",
+    "PATH",
+    "SOFTWARE",
+    "SOFTWARE_FPS",
+    "Renderers",
+    "is_software",
+    "note",
+    "probe_html",
+]
 
 import html
 import threading
@@ -30,13 +49,54 @@ SOFTWARE_FPS = 10.0
 MAX_RENDERER = 200
 """Characters of a reported renderer string kept."""
 
+DRAW_SHARE = 0.25
+"""Share of a software-drawing page's time its 3-D frames may take (the rest: input, panels)."""
+
+INPUT_PAUSE_MS = 300.0
+"""3-D frames a software-drawing page skips after a press on its panels [ms], at least; a page
+whose frames are slow skips three frames' time, at most :data:`MAX_INPUT_PAUSE_MS` (the answer
+to the press is as slow as the frames: they share the CPU)."""
+MAX_INPUT_PAUSE_MS = 1500.0
+"""The longest pause of 3-D frames after a press [ms]."""
+
+PACING = (
+    "(function(period,share,pause,most){"
+    "var hold=0,last=-1e9,cost=0,timer=null,tries=0;"
+    "function input(e){var t=e.target;if(!(t&&t.tagName==='CANVAS'))"
+    "hold=performance.now()+Math.min(Math.max(pause,3*cost),most);}"
+    "window.addEventListener('pointerdown',input,true);"
+    "window.addEventListener('keydown',input,true);"
+    "function install(){"
+    "var m=window.__viserMutable,s=m&&m.scene,r=s&&s.__r3f&&s.__r3f.root;"
+    "if(!r){if(++tries<300)setTimeout(install,200);return;}"
+    "var gl=r.getState().gl;if(gl.__paced)return;"
+    "var draw=gl.render.bind(gl);"
+    "gl.render=function(scene,camera){"
+    "if(gl.getRenderTarget()!==null)return draw(scene,camera);"
+    "var now=performance.now(),wait=Math.max(hold,last+Math.max(period,cost/share))-now;"
+    "if(wait>0){if(timer===null)timer=setTimeout(function(){timer=null;"
+    "r.getState().invalidate();},wait);return;}"
+    "last=now;draw(scene,camera);cost=performance.now()-now;};"
+    "gl.__paced=true;}"
+    "install();})(PERIOD,SHARE,PAUSE,MOST);"
+)
+"""The script a page that draws in software runs: it wraps the 3-D renderer's ``render`` (the
+frame loop of viser's page draws only on demand, so a frame is only asked for when the scene
+changed) so that a frame waits for the period of :data:`SOFTWARE_FPS`, for :data:`DRAW_SHARE`
+of the page's time and for the pause after a press outside the 3-D view
+(:data:`INPUT_PAUSE_MS`); a skipped frame is asked for again when it may be drawn (the canvas
+keeps the last one meanwhile; the presses are heard on ``window``: a bare name in an image's
+``onerror`` is looked up on the image first). The renderer is reached through
+``window.__viserMutable`` (viser's page); without it the page draws as before."""
+
 _PROBE = (
     "try{{var c=document.createElement('canvas'),g=c.getContext('webgl2')||c.getContext('webgl'),"
     "r='none';if(g){{var e=g.getExtension('WEBGL_debug_renderer_info');"
     "r=String(e?g.getParameter(e.UNMASKED_RENDERER_WEBGL):g.getParameter(g.RENDERER));"
     "var l=g.getExtension('WEBGL_lose_context');if(l)l.loseContext();}}"
     "fetch('{path}?client={client}&renderer='+encodeURIComponent(r.slice(0,{limit})),"
-    "{{credentials:'same-origin'}});}}catch(x){{}}this.remove();"
+    "{{credentials:'same-origin'}});"
+    "if(/{software}/i.test(r)){{{pacing}}}}}catch(x){{}}this.remove();"
 )
 
 
@@ -47,9 +107,22 @@ def is_software(renderer: str) -> bool:
 
 
 def probe_html(client_id: int) -> str:
-    """An invisible image whose error handler reports the page's WebGL renderer (HTML set as
-    the content of a page's element runs no ``<script>``, an image's ``onerror`` runs)."""
-    script = _PROBE.format(path=PATH, client=client_id, limit=MAX_RENDERER)
+    """An invisible image whose error handler reports the page's WebGL renderer and, where it
+    is a software one, paces the page's 3-D drawing (:data:`PACING`; HTML set as the content of
+    a page's element runs no ``<script>``, an image's ``onerror`` runs)."""
+    pacing = (
+        PACING.replace("PERIOD", f"{1000.0 / SOFTWARE_FPS:g}")
+        .replace("SHARE", f"{DRAW_SHARE:g}")
+        .replace("PAUSE", f"{INPUT_PAUSE_MS:g}")
+        .replace("MOST", f"{MAX_INPUT_PAUSE_MS:g}")
+    )
+    script = _PROBE.format(
+        path=PATH,
+        client=client_id,
+        limit=MAX_RENDERER,
+        software="|".join(SOFTWARE),
+        pacing=pacing,
+    )
     return f'<img alt="" src="data:," style="display:none" onerror="{html.escape(script)}">'
 
 
@@ -57,7 +130,8 @@ def note(fps: float) -> str:
     """The page's line while it draws in software."""
     return (
         '<div style="font-size:0.8em;padding:0.2em 1em;color:#546e7a">'
-        f"No GPU (software WebGL): 3-D view at {fps:g} frames/s</div>"
+        f"No GPU (software WebGL): 3-D view at most {fps:g} frames/s, "
+        "paused for a moment after each click</div>"
     )
 
 
