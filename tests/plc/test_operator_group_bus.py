@@ -282,7 +282,12 @@ def test_the_bridges_group_tracks_a_belt_and_sets_a_fixed_frame() -> None:
         operator(GroupOrders(True, frozenset({"track_belt"}), {"track_belt": params}))
         orders = GroupOrders(True, frozenset({"track_belt"}))
         fb = operator.track_belt
-        machine.run(lambda: (operator(orders), run()), until=lambda: fb.Done or fb.Error, timeout=2)
+
+        def scan() -> None:
+            operator(orders)
+            run()
+
+        machine.run(scan, until=lambda: fb.Done or fb.Error, timeout=2)
         return fb
 
     for number in (4.0, -1.0, 0.0):  # no axis (4 axes: 0 … 3); a member of the group
@@ -301,7 +306,12 @@ def test_the_bridges_group_tracks_a_belt_and_sets_a_fixed_frame() -> None:
     operator(GroupOrders(True, frozenset({"set_frame"}), {"set_frame": fixed.__getitem__}))
     orders = GroupOrders(True, frozenset({"set_frame"}))
     done = lambda: operator.set_frame.Done or operator.set_frame.Error  # noqa: E731
-    machine.run(lambda: (operator(orders), run()), until=done, timeout=2)
+
+    def scan() -> None:
+        operator(orders)
+        run()
+
+    machine.run(scan, until=done, timeout=2)
     frame = operator.group.kin.frame
     assert operator.set_frame.Done and frame is not None and not frame.moving
     assert (frame.origin, frame.angle) == ([20.0, 0.0, -700.0], -30.0)
