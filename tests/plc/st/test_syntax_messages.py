@@ -30,7 +30,7 @@ CASES = [
     ),
     (
         "CASE x OF\n1: x := 2;\nEND_PROGRAM\n",
-        "5:1: unexpected 'END_PROGRAM'; expected an expression",
+        "3:1: CASE at 3:1 has no END_CASE; expected END_CASE before 'END_PROGRAM' at 5:1",
     ),
     (
         "FOR x := 1 TO 3 DO\nx := x;\nEND_PROGRAM\n",
