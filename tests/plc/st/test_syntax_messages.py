@@ -34,11 +34,11 @@ CASES = [
     ),
     (
         "FOR x := 1 TO 3 DO\nx := x;\nEND_PROGRAM\n",
-        f"5:1: unexpected 'END_PROGRAM'; expected 'END_FOR', {STATEMENTS}",
+        "3:1: FOR at 3:1 has no END_FOR; expected END_FOR before 'END_PROGRAM' at 5:1",
     ),
     (
         "WHILE x < 3 DO x := x + 1;\nEND_PROGRAM\n",
-        f"4:1: unexpected 'END_PROGRAM'; expected 'END_WHILE', {STATEMENTS}",
+        "3:1: WHILE at 3:1 has no END_WHILE; expected END_WHILE before 'END_PROGRAM' at 4:1",
     ),
 ]
 
