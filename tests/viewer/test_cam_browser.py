@@ -2,7 +2,8 @@
 table and, after the length change on the fly, the 900 mm one, the page's uPlot chart draws the
 slave's position, velocity and acceleration over one period on finite scales, with the
 operating point, the set point and the actual position as markers on the position trace; the
-line under it shows the actual position beside the set point, both in the table's period."""
+line under it shows the actual position beside the set point, both in the table's period. At
+1280×800 the chart's plotting area takes most of its width."""
 
 from __future__ import annotations
 
@@ -98,3 +99,32 @@ def test_the_cam_view_draws_the_running_table_with_its_markers(page: Page, lengt
     assert found, info
     set_point, actual = float(found[1]), float(found[2])
     assert 0.0 <= set_point <= 360.0 and abs(actual - set_point) < 1.0, info
+
+
+PLOT = """() => Object.values(window.__viserTestpoints?.uplots ?? {}).map((u) => ({
+    labels: u.chart.series.map((s) => s.label),
+    width: u.chart.width,
+    plot: u.chart.bbox.width / devicePixelRatio,
+}))"""
+"""Every uPlot chart of the page: its series' labels, its width and its plotting area's width
+[CSS px]."""
+
+
+def test_the_cam_chart_gives_its_plot_most_of_its_width_at_1280x800(browser: Browser) -> None:
+    with Viewer("rotary_cutter", port=0, demo=True) as viewer:
+        context = browser.new_context(viewport={"width": 1280, "height": 800})
+        page = context.new_page()
+        try:
+            page.goto(viewer.url)
+            found: list[dict[str, Any]] = []
+
+            def cam_chart() -> bool:
+                charts = page.evaluate(PLOT)
+                found[:] = [c for c in charts if "slave [deg]" in c["labels"] and c["width"] > 0]
+                return bool(found)
+
+            wait_for(cam_chart, 120.0, "the cam view's chart")
+            chart = found[0]
+            assert chart["plot"] >= 0.6 * chart["width"], chart
+        finally:
+            context.close()

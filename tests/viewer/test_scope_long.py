@@ -111,7 +111,7 @@ def test_the_scope_shows_ten_minutes_with_the_spike_and_says_the_resolution(
     recorder = SimpleNamespace(
         channels=CHANNELS, ring=fine, samples=extremes.samples, oldest=-math.inf
     )
-    snapshot = SimpleNamespace(channels=CHANNELS, axes={"X": None}, scene="single_axis")
+    snapshot = SimpleNamespace(channels=CHANNELS, axes={"X": None}, scene="single_axis", signals=())
     scope = PageScope(
         server.gui,
         gate,

@@ -83,20 +83,33 @@ def test_channels_of_a_unit_share_one_y_axis_and_the_digital_ones_a_band_below()
     assert ticks == nice_ticks(-40.0, 20.0) and layout.axes[2]["values"][0] == "−40"
 
 
-def test_in_a_narrow_chart_the_axes_that_fit_are_drawn_and_the_plot_keeps_its_width() -> None:
+def test_in_a_narrow_chart_each_unit_gets_a_track_and_the_plot_keeps_its_width() -> None:
     """Eight channels in four analog units in the 261 px chart of the page's 300 px column:
-    the first units' axes that fit in 40 % of the width are drawn, the others hidden (their
-    channels keep their own scale); a wide chart draws all four."""
+    their axes do not fit in 40 % of the width, so each unit gets a track of its own (the
+    channels of a unit on one scale, first unit on top), one axis labelling every track's top
+    in its unit; a wide chart draws the four units' axes."""
     displays = [display_of(c) for c in EIGHT]
     ranges = [(-1.0, 1.0), (0.0, 3.0), (-5.0, 5.0), (-20.0, 20.0), (-2.0, 2.0)]
     ranges += [(-40.0, 10.0), (-2.0, 0.5), (-0.1, 1.1)]
     wide = layout_of(SHARED, displays, ranges, COLORS, 1000.0)
-    assert [a["show"] for a in wide.axes] == [True] * 4
+    assert len(wide.axes) == 4 and len(set(wide.scales)) == 5  # four units and the digital
     narrow = layout_of(SHARED, displays, ranges, COLORS, CHART_WIDTH)
-    shown = [a for a in narrow.axes if a["show"]]
-    assert 1 <= len(shown) < 4 and shown == list(narrow.axes[: len(shown)])  # the first units
-    assert sum(a["size"] + a["labelSize"] for a in shown) <= 0.4 * CHART_WIDTH
-    assert narrow.scales == wide.scales and narrow.ranges == wide.ranges  # the same scales
+    assert len(narrow.axes) == 1 and narrow.axes[0]["size"] <= 0.4 * CHART_WIDTH
+    units = [d.unit for d in displays]
+    for k, j in itertools.combinations(range(len(EIGHT)), 2):  # a scale per unit
+        assert (narrow.scales[k] == narrow.scales[j]) == (units[k] == units[j]), (k, j)
+    tracks = []
+    for key in dict.fromkeys(narrow.scales):  # the units in their first channel's order
+        members = [k for k, s in enumerate(narrow.scales) if s == key]
+        low = min(ranges[k][0] for k in members)
+        high = max(ranges[k][1] for k in members)
+        tracks.append((fraction(low, narrow.ranges[key]), fraction(high, narrow.ranges[key])))
+    assert len(tracks) == 5
+    for (low, high), (below, _) in itertools.pairwise(tracks):  # top down, apart
+        assert 0.0 <= below < high <= 1.0 and below >= 0.0 and high - low >= 0.15
+        assert below < low
+    texts = [t for t in narrow.axes[0]["values"] if t]
+    assert texts == ["3.000 mm", "5.00 mm/s", "20.0 µm", "2.000 V", "1"], texts  # the tops
     assert CHART_WIDTH == COLUMN_WIDTH - 39  # the chart in the left column
 
 
@@ -157,7 +170,7 @@ def test_an_error_recording_is_still_shown_and_kept_30_s_after_the_error(
     channels = (Channel("X position", "mm", False), Channel("X error", "", True))
     ring = Ring(2, round(20.0 / DT))
     session = SimpleNamespace(recorder=OneRing(channels, ring))
-    snapshot = SimpleNamespace(channels=channels, axes={"X": None}, scene="single_axis")
+    snapshot = SimpleNamespace(channels=channels, axes={"X": None}, scene="single_axis", signals=())
     scope = PageScope(
         server.gui, gate, cast(Session, session), cast(Snapshot, snapshot), nullcontext
     )

@@ -132,7 +132,8 @@ def test_a_machine_chosen_on_the_page_runs_its_demo_with_its_own_scope(browser: 
             take_control(page, viewer)
             choose_scene(page, viewer, "press")
             press = scenes.definition("press").scope
-            wanted = [f"{n} [" for n in press.channels]
+            signals = scenes.definition("press").signals  # named by their labels
+            wanted = [f"{getattr(signals.get(n), 'label', '') or n} [" for n in press.channels]
 
             def shown() -> bool:
                 charts: list[list[str]] = page.evaluate(SERIES)

@@ -1,8 +1,9 @@
 """The cam view of a page: the profile of the first cammed axis' table over one period (slave
-position, velocity ds/dm and acceleration d²s/dm², each on its own y axis, as the scope draws
-them) with the operating point, the slave's set point and actual position moving along it, and
-a line of the table's ID, name, laws, InSync, period, offsets and scalings. Hidden while no axis
-is cammed (:attr:`viewer.sim.snapshot.Snapshot.cams`)."""
+position, velocity ds/dm and acceleration d²s/dm², each in its own track of the plot's height,
+as the scope's stacked tracks draw them) with the operating point, the slave's set point and
+actual position moving along it, and a line of the table's ID, name, laws, InSync, period,
+offsets and scalings. Hidden while no axis is cammed
+(:attr:`viewer.sim.snapshot.Snapshot.cams`)."""
 
 from __future__ import annotations
 
@@ -28,12 +29,14 @@ import viser
 import viser.uplot
 
 import mcl
+from viewer.scope.tracks import stacked_layout
+from viewer.scope.units import Display
 from viewer.serving.retire import retire
 from viewer.sim.cam_view import CamView
 from viewer.sim.snapshot import Snapshot
 
 COLORS = ("#1f77b4", "#2ca02c", "#9467bd")
-"""Position, velocity, acceleration (their traces and y axes)."""
+"""Position, velocity, acceleration (their traces)."""
 
 POINT_COLORS = {"operating point": "#d62728", "set point": "#000000", "actual": "#ff7f0e"}
 """The markers on the position trace."""
@@ -97,32 +100,30 @@ def plot_style(
 ) -> tuple[
     tuple[viser.uplot.Series, ...], tuple[viser.uplot.Axis, ...], dict[str, viser.uplot.Scale]
 ]:
-    """Series, axes (one y axis per trace, in its unit and colour) and scales of the plot: fixed
-    ranges from the profile (the master over one period, each trace with a margin), so that
-    the markers' rows, NaN but at the operating point, leave the scales alone."""
+    """Series, axes and scales of the plot: the three traces stacked in tracks of the plot's
+    height (position on top), one y axis labelling each track's top value (its unit in the
+    legend), so that the plot keeps the chart's width
+    (:func:`~viewer.scope.tracks.stacked_layout`); fixed ranges from the profile (the master
+    over one period, each trace with a margin), so that the markers' rows, NaN but at the
+    operating point, leave the scales alone."""
     su, mu = view.slave_unit, view.master_unit
     p = view.profile
-    labels = (f"slave [{su}]", f"ds/dm [{su}/{mu}]", f"d²s/dm² [{su}/{mu}²]")
+    units = (su, f"{su}/{mu}", f"{su}/{mu}²")
+    labels = (f"slave [{su}]", f"ds/dm [{units[1]}]", f"d²s/dm² [{units[2]}]")
     traces = (p.slave, p.velocity, p.acceleration)
+    displays = [Display("-", 1.0, 0.0)] * len(traces)  # the units are in the legend
+    placed = stacked_layout(displays, [value_range(t) for t in traces], COLORS)
     series = [viser.uplot.Series(label=f"master [{mu}] (table)")]
-    axes = [viser.uplot.Axis(label=series[0]["label"])]
+    axis = placed.axes[0]
+    axis["scale"] = "y0"
+    axes = [viser.uplot.Axis(label=series[0]["label"]), axis]
     x_range = (float(p.master[0]), float(p.master[-1]))
     scales: dict[str, viser.uplot.Scale] = {
         "x": viser.uplot.Scale(time=False, auto=False, range=x_range)
     }
-    for k, (label, color, trace) in enumerate(zip(labels, COLORS, traces, strict=True)):
+    for k, (label, color, key) in enumerate(zip(labels, COLORS, placed.scales, strict=True)):
         series.append(viser.uplot.Series(label=label, stroke=color, width=1.5, scale=f"y{k}"))
-        axes.append(
-            viser.uplot.Axis(
-                scale=f"y{k}",
-                label=label,
-                stroke=color,
-                side=3 if k % 2 == 0 else 1,
-                grid={"show": k == 0},
-                size=52.0,
-            )
-        )
-        scales[f"y{k}"] = viser.uplot.Scale(auto=False, range=value_range(trace))
+        scales[f"y{k}"] = viser.uplot.Scale(auto=False, range=placed.ranges[key])
     for label, color in POINT_COLORS.items():
         series.append(
             viser.uplot.Series(

@@ -24,7 +24,7 @@ __all__ = [
 
 import math
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -298,9 +298,12 @@ class Recording:
         what = "triggered" if w.trigger_at is not None else "recorded"
         return f"#{self.number} {what} at {w.origin:.3f} s ({w.end - w.start:.2f} s)"
 
-    def headers(self) -> tuple[str, ...]:
-        """Channel names with their display units."""
-        return tuple(f"{n} [{d.unit}]" for n, d in zip(self.names, self.displays, strict=True))
+    def headers(self, titles: Mapping[str, str] | None = None) -> tuple[str, ...]:
+        """Channel names (or their ``titles``, by name) with their display units."""
+        named = titles or {}
+        return tuple(
+            f"{named.get(n, n)} [{d.unit}]" for n, d in zip(self.names, self.displays, strict=True)
+        )
 
     def at(self, x: float) -> npt.NDArray[np.float64]:
         """Each channel's value at the sample nearest to ``x`` [s from the origin] (NaN when

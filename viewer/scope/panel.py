@@ -31,7 +31,7 @@ __all__ = [
 
 import math
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from contextlib import AbstractContextManager
 from typing import Any
 
@@ -148,6 +148,7 @@ class PageScope:
         self._all = snapshot.channels
         self._index = {c.name: k for k, c in enumerate(self._all)}
         self._displays = {c.name: display_of(c) for c in self._all}
+        self._titles = {s.name: s.label for s in snapshot.signals if s.label}
         defaults = scenes.definition(snapshot.scene).scope
         first = next(iter(snapshot.axes), "")
         wanted = defaults.channels or (
@@ -466,7 +467,7 @@ class PageScope:
             if self.recording.bucket:
                 self.status += f" · {self.recording.resolution}"
             self._show("status", self._status, scope_status_html(self.status))
-            r = readout(self.recording, self.cursors["A"], self.cursors["B"])
+            r = readout(self.recording, self.cursors["A"], self.cursors["B"], self._titles)
             self._show("readout", self._readout, readout_html(r))
             self._send()
 
@@ -544,7 +545,7 @@ class PageScope:
             if style != self._style:
                 self._style = style
                 series, axes, scales = plot_style(
-                    rec, overlay, ranges, self.peak_slot, x_range, self.layout
+                    rec, overlay, ranges, self.peak_slot, x_range, self.layout, self._titles
                 )
                 self.plot.series, self.plot.axes, self.plot.scales = series, axes, scales
                 aspect = aspect_of(self.layout, len(rec.names))
@@ -598,12 +599,14 @@ def plot_style(
     peak_slot: int,
     x_range: tuple[float, float],
     layout: str = SHARED,
+    titles: Mapping[str, str] | None = None,
 ) -> tuple[
     tuple[viser.uplot.Series, ...], tuple[viser.uplot.Axis, ...], dict[str, viser.uplot.Scale]
 ]:
     """Series (live, overlay dashed, cursor markers), axes (the time axis, then the y axes of
-    the ``layout``: one per unit, or one for the stacked tracks) and scales of the plot."""
-    headers = recording.headers()
+    the ``layout``: one per unit, or one for the stacked tracks) and scales of the plot; a
+    channel is named by its title (``titles``: a published signal's label) and its unit."""
+    headers = recording.headers(titles)
     placed = layout_of(layout, recording.displays, ranges, COLORS, CHART_WIDTH)
     origin = "trigger" if recording.window.trigger_at is not None else "start"
     series = [viser.uplot.Series(label=f"t [s] (0: {origin})")]

@@ -17,6 +17,7 @@ import csv
 import html
 import io
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -63,12 +64,15 @@ class Readout:
         return 1.0 / self.dt if self.dt else math.inf
 
 
-def readout(recording: Recording, a: float, b: float) -> Readout:
-    """The values of every channel of ``recording`` at cursors ``a`` and ``b`` [s]."""
+def readout(
+    recording: Recording, a: float, b: float, titles: Mapping[str, str] | None = None
+) -> Readout:
+    """The values of every channel of ``recording`` at cursors ``a`` and ``b`` [s] (channels
+    named by their ``titles``, by name, where given)."""
     values = recording.values
     last = values[:, -1].copy() if values.shape[1] else np.full(values.shape[0], math.nan)
     return Readout(
-        a, b, recording.headers(), recording.displays, last, recording.at(a), recording.at(b)
+        a, b, recording.headers(titles), recording.displays, last, recording.at(a), recording.at(b)
     )
 
 

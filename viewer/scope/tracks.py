@@ -1,5 +1,6 @@
 """How the scope lays its channels out on the plot's y direction: on shared axes (one y axis
-per display unit, the channels of a unit drawn over each other on it) or in stacked tracks
+per display unit, the channels of a unit drawn over each other on it; a track per unit when
+the axes do not fit in the chart's width) or in stacked tracks
 (each channel in its own band of the plot's height, all on one time axis, one y axis that
 labels each band's range in the channel's unit)."""
 
@@ -24,6 +25,7 @@ __all__ = [
     "shared_layout",
     "stacked_layout",
     "unit_groups",
+    "unit_tracks",
 ]
 
 import math
@@ -63,8 +65,8 @@ TRACK_GAP = 0.1
 """Space between stacked tracks, a fraction of a track's band."""
 
 AXES_SHARE = 0.4
-"""At most this fraction of the chart's width goes to the shared layout's y axes: the units
-after those that fit keep their scales without a drawn axis (their values in the readout)."""
+"""At most this fraction of the chart's width goes to the shared layout's y axes: when they
+need more, each unit gets a track of the plot's height instead (:func:`unit_tracks`)."""
 
 NEUTRAL = "#444444"
 """Colour of an axis several channels share."""
@@ -148,8 +150,8 @@ def shared_layout(
 ) -> Layout:
     """One scale and one y axis per unit (alternately left and right, in the channel's colour
     when it is alone on it; the range holds every channel of the unit); the digital channels
-    in a band at the bottom, without an axis. In a chart ``width`` [CSS px] wide the axes take
-    at most :data:`AXES_SHARE` of it: the units beyond keep their scale, their axis hidden."""
+    in a band at the bottom, without an axis. In a chart ``width`` [CSS px] too narrow for
+    the axes in :data:`AXES_SHARE` of it, a track per unit instead (:func:`unit_tracks`)."""
     scales = [""] * len(displays)
     scale_ranges: dict[str, tuple[float, float]] = {}
     axes = []
@@ -174,14 +176,32 @@ def shared_layout(
             scales[k] = "d"
         low, high = ranges[digital[0]]
         scale_ranges["d"] = band_range(low, high, 0.0, DIGITAL_BAND - 0.02)
-    room = AXES_SHARE * width
-    for axis in axes:
-        size = float(axis.get("size", 0.0)) + float(axis.get("labelSize", 0.0))
-        axis["show"] = size <= room
-        room -= size if axis["show"] else room + 1.0  # the units after a hidden one stay hidden
+    if sum(float(a.get("size", 0.0)) + float(a.get("labelSize", 0.0)) for a in axes) > (
+        AXES_SHARE * width
+    ):
+        return unit_tracks(displays, ranges, colors)
     if axes:
         axes[0]["grid"] = {"show": True}
     return Layout(tuple(scales), scale_ranges, tuple(axes))
+
+
+def unit_tracks(
+    displays: Sequence[Display], ranges: Sequence[tuple[float, float]], colors: Sequence[str]
+) -> Layout:
+    """A track of the plot's height per unit (the first unit's on top), the channels of a
+    unit drawn over each other in it on the unit's range, one y axis labelling each track's
+    range in its unit (:func:`stacked_layout` of the units)."""
+    groups = unit_groups(displays)
+    placed = stacked_layout(
+        [displays[g[0]] for g in groups],
+        [(min(ranges[k][0] for k in g), max(ranges[k][1] for k in g)) for g in groups],
+        [colors[g[0]] if len(g) == 1 else NEUTRAL for g in groups],
+    )
+    scales = [""] * len(displays)
+    for g, members in enumerate(groups):
+        for k in members:
+            scales[k] = placed.scales[g]
+    return Layout(tuple(scales), placed.ranges, placed.axes)
 
 
 def _resolution(step: float) -> float:
