@@ -169,6 +169,10 @@ class Demo(StepSequence):
         self._gripped = 0
         """Grips the rows account for."""
         self.started = 0.0
+        self._declare_steps()
+
+    def _declare_steps(self) -> None:
+        """The pick cycle's steps, each with the blocks it runs and watches."""
         grouping: dict[str, Any] = {f"add{i}": add for i, add in enumerate(self.add)}
         grouping |= {"enable": self.enable, "kinematics": self.kinematics}
         self.declare(
