@@ -292,3 +292,21 @@ def test_enable_raised_while_a_call_is_held_keeps_the_call(bus: Bus) -> None:
     assert bus.get("command_count") == 1
     bus.run(0.002)
     assert bus.status("done") and bus.get("command_count") == 2
+
+
+def test_a_result_not_published_while_the_bit_was_set_is_not_acknowledged(bus: Bus) -> None:
+    """A pulse's result is published with its bit low; the bit set again is seen out of control
+    (no edge) and cleared before the next publication: nothing acknowledged it, it is held."""
+    bus.write(distance=20.0, control=bits("enable", "move_relative"))
+    bus.write(control=bits("enable"))  # cleared before a scan saw the bit
+    bus.run(1.0)
+    assert bus.status("done") and bus.get("command_count") == 1
+    bus.write(control=bits("enable", "move_relative"))
+    bus.table.in_control = False
+    bus.machine.run(bus.words, timeout=0.01)  # the edge dropped, nothing published
+    bus.table.in_control = True
+    bus.write(control=bits("enable"))
+    bus.machine.run(bus.words, timeout=0.01)
+    bus.words.publish()
+    assert bus.status("done") and bus.get("command_count") == 1
+    assert carriage_mm(bus.machine) == pytest.approx(20.0, abs=0.05)
