@@ -221,10 +221,12 @@ def test_the_published_inputs_and_switches_are_the_axis(bus: Bus) -> None:
     assert "X.actual_force" not in bus.table.by_name  # no force fields on the gantry
 
 
-def test_the_drive_is_not_powered_before_the_master_sets_enable() -> None:
+def test_before_enable_the_drive_is_off_and_no_result_is_shown() -> None:
+    """A fresh program: no result before the first command, the drive off until enable."""
     bus = Bus()  # the axes powered by a previous program; the control word 0
     bus.run(0.002)  # one scan
     assert not bus.status("power") and bus.get("command_count") == 0
+    assert not any(bus.status(name) for name in ("done", "error", "command_aborted"))
     bus.write(control=bits("enable"))
     bus.run(0.01)
     assert bus.status("power")
