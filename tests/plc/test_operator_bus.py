@@ -219,3 +219,96 @@ def test_the_published_inputs_and_switches_are_the_axis(bus: Bus) -> None:
     assert bus.get("following_error") == pytest.approx(axis.following_error)
     assert bus.get("volts") == pytest.approx(axis.volts, abs=1e-6)
     assert "X.actual_force" not in bus.table.by_name  # no force fields on the gantry
+
+
+def test_before_enable_the_drive_is_off_and_no_result_is_shown() -> None:
+    """A fresh program: no result before the first command, the drive off until enable."""
+    bus = Bus()  # the axes powered by a previous program; the control word 0
+    bus.run(0.002)  # one scan
+    assert not bus.status("power") and bus.get("command_count") == 0
+    assert not any(bus.status(name) for name in ("done", "error", "command_aborted"))
+    bus.write(control=bits("enable"))
+    bus.run(0.01)
+    assert bus.status("power")
+
+
+def test_a_result_reached_between_two_publications_is_kept_past_an_early_clear(bus: Bus) -> None:
+    """Published while the command was busy, the bit's fall is no acknowledgement of the Done
+    that came after that publication: a slow poller clearing the bit still sees it."""
+    bus.write(distance=20.0, control=bits("enable", "move_relative"))
+    bus.run(0.1)
+    assert bus.status("busy") and not bus.status("done")  # published while the bit is set
+    bus.machine.run(bus.words, timeout=1.0)  # the move ends, nothing published
+    bus.write(control=bits("enable"))
+    bus.machine.run(bus.words, timeout=0.01)
+    bus.words.publish()
+    assert bus.status("done") and carriage_mm(bus.machine) == pytest.approx(20.0, abs=0.05)
+    bus.write(control=bits("enable", "reset"))  # the next command releases it
+    bus.write(control=bits("enable"))
+    bus.run(0.01)
+    assert bus.get("command") == 1 + CONTROL_BITS.index("reset")
+
+
+def test_a_bit_cleared_while_out_of_control_acknowledges_nothing(bus: Bus) -> None:
+    """The control word's edges the program sees out of control are dropped, the fall of the
+    command's bit too: the result seen while the bit was set is held until the next command."""
+    bus.write(control=bits("enable", "reset"))
+    bus.run(0.01)
+    assert bus.status("done")  # published while the bit is set
+    bus.write(control=bits("enable"))  # cleared just before the operator of the viewer takes over
+    bus.table.in_control = False
+    bus.run(0.01)
+    bus.table.in_control = True
+    bus.run(0.01)
+    assert bus.status("done") and bus.get("command") == 1 + CONTROL_BITS.index("reset")
+    bus.write(control=bits("enable", "move_relative"), distance=10.0)
+    bus.run(0.004)
+    assert not bus.status("done") and bus.get("command_count") == 2
+
+
+def test_the_masters_reset_after_a_called_reset_starts_after_one_scan_low(bus: Bus) -> None:
+    bus.table.request("X", "reset")
+    bus.run(0.002)  # one scan
+    assert bus.status("done") and bus.get("command_count") == 1
+    bus.write(control=bits("enable", "reset"))  # the call's bit: one scan low first
+    bus.run(0.002)
+    assert bus.get("command_count") == 1
+    bus.run(0.002)
+    assert bus.status("done") and bus.get("command_count") == 2
+
+
+def test_enable_raised_while_a_call_is_held_keeps_the_call(bus: Bus) -> None:
+    """The enable level is no command: raising it leaves a held call's bit set, so the same
+    call again gets its scan low first."""
+    bus.write(control=0)
+    bus.run(0.01)
+    assert not bus.status("power")
+    bus.table.request("X", "reset")
+    bus.run(0.01)
+    assert bus.status("done") and bus.get("command_count") == 1
+    bus.write(control=bits("enable"))
+    bus.run(0.01)
+    assert bus.status("power")
+    bus.table.request("X", "reset")
+    bus.run(0.002)  # one scan: low
+    assert bus.get("command_count") == 1
+    bus.run(0.002)
+    assert bus.status("done") and bus.get("command_count") == 2
+
+
+def test_a_result_not_published_while_the_bit_was_set_is_not_acknowledged(bus: Bus) -> None:
+    """A pulse's result is published with its bit low; the bit set again is seen out of control
+    (no edge) and cleared before the next publication: nothing acknowledged it, it is held."""
+    bus.write(distance=20.0, control=bits("enable", "move_relative"))
+    bus.write(control=bits("enable"))  # cleared before a scan saw the bit
+    bus.run(1.0)
+    assert bus.status("done") and bus.get("command_count") == 1
+    bus.write(control=bits("enable", "move_relative"))
+    bus.table.in_control = False
+    bus.machine.run(bus.words, timeout=0.01)  # the edge dropped, nothing published
+    bus.table.in_control = True
+    bus.write(control=bits("enable"))
+    bus.machine.run(bus.words, timeout=0.01)
+    bus.words.publish()
+    assert bus.status("done") and bus.get("command_count") == 1
+    assert carriage_mm(bus.machine) == pytest.approx(20.0, abs=0.05)
