@@ -58,3 +58,23 @@ def test_the_shown_velocity_of_a_moving_wheel_is_its_speed(speed: float) -> None
         shown.sample(k * 0.002)
     # within a count per window of the speed
     assert shown.velocity("W", axis) == pytest.approx(speed, abs=0.025 / velocity.WINDOW)
+
+
+def test_the_shown_velocity_follows_a_start_of_the_line_with_its_time_constant() -> None:
+    wheel = Wheel(0.0)
+    axis = cast(mcl.Axis, wheel)
+    shown = velocity.ShownVelocity({"W": axis}, 0.002)
+    start, speed = 0.5, 400.0  # the line starts at 0.5 s
+
+    def run(until: float, at: float) -> float:
+        for k in range(round(at / 0.002), round(until / 0.002) + 1):
+            t = k * 0.002
+            wheel.actual = np.floor(max(t - start, 0.0) * speed / 0.025) * 0.025
+            shown.sample(t)
+        return shown.velocity("W", axis)
+
+    assert run(start, 0.0) == 0.0
+    lagging = run(start + velocity.WINDOW + velocity.TIME_CONSTANT, start + 0.002)
+    assert 0.4 * speed < lagging < 0.9 * speed  # first order: about 1 − 1/e behind the window
+    settled = run(start + velocity.WINDOW + 8 * velocity.TIME_CONSTANT, start + 0.302)
+    assert settled == pytest.approx(speed, abs=0.025 / velocity.WINDOW)
