@@ -355,14 +355,14 @@ class Journey:
                 self._into_the_demo()
                 self.shot("demo-running")
                 self.check_charts("the scope while the demo runs")
-            self._wait_demo("Done: ", run, "end", cam=run == 1)
+            self._wait_demo("Done", run, "end", cam=run == 1)
             self.shot(f"demo-{run}-done")
 
     def _wait_demo(self, prefix: str, run: int, what: str, cam: bool = False) -> None:
         """Wait until the demo box reads ``prefix`` (a demo error fails); with ``cam``, look at
         the cam view the first time the demo cams an axis."""
         looked = False
-        demo = self.page.get_by_text(re.compile(r"^(Step|Done|Ended at): |^Not started\.$"))
+        demo = self.page.get_by_text(re.compile(r"^(Step: |Done\b|Ended at: )|^Not started\.$"))
         timeout = STEP_TIMEOUT if what == "start" else DEMO_TIMEOUT
         deadline = time.monotonic() + timeout / 1000.0
         while time.monotonic() < deadline:
@@ -390,7 +390,7 @@ class Journey:
 
     def _into_the_demo(self, steps: int = INTO_THE_DEMO) -> None:
         """Wait until the demo has gone through ``steps`` steps (or ended): the machine moves."""
-        demo = self.page.get_by_text(re.compile(r"^(Step|Done|Ended at): "))
+        demo = self.page.get_by_text(re.compile(r"^(Step: |Done\b|Ended at: )"))
         seen: list[str] = []
         deadline = time.monotonic() + DEMO_TIMEOUT / 1000.0
         while len(seen) < steps and time.monotonic() < deadline:

@@ -1,10 +1,12 @@
 """What the panels say happened: a move stopped by a limit switch is "Aborted", a target beyond
 a software limit is "Refused" with the limit named; Reset clears the red line; the Home position
 field shows what homing gives the axis; the error history is the machine's own; the measuring
-wheel standing still reads (close to) 0 mm/s. Sessions driven synchronously (``advance``)."""
+wheel standing still reads (close to) 0 mm/s; a finished demo says "Done" once. Sessions
+driven synchronously (``advance``)."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator
 
 import numpy as np
@@ -13,9 +15,9 @@ import pytest
 from plc.operator.hmi import HOMING_PROCEDURES, Move
 from viewer.pages import axis_panel
 from viewer.pages.overview import overview_html
-from viewer.pages.panels import axis_panel_html, events_html
+from viewer.pages.panels import axis_panel_html, demo_html, events_html
 from viewer.sim.session import Session
-from viewer.sim.snapshot import AxisView
+from viewer.sim.snapshot import AxisView, DemoView
 
 
 @pytest.fixture
@@ -134,3 +136,21 @@ def test_a_refusal_is_said_once_in_the_axis_panel() -> None:
     session.advance(500)
     assert x(session).message == "Move by: done"  # another outcome is said under the lamps
     assert "Move by: done" in axis_panel_html(x(session))
+
+
+@pytest.mark.parametrize(
+    ("step", "done", "running", "text"),
+    [
+        ("done", True, False, "Done"),
+        ("parked", True, False, "Done: parked"),
+        ("move X", False, True, "Step: move X"),
+        ("move X", False, False, "Ended at: move X"),
+    ],
+)
+def test_the_demo_box_says_done_once(step: str, done: bool, running: bool, text: str) -> None:
+    session = Session("single_axis")
+    snapshot = dataclasses.replace(
+        session.snapshot, demo=DemoView(True, running, done, step, ""), groups=()
+    )
+    session.close()
+    assert demo_html(snapshot).split(">", 1)[1].startswith(f"{text}<")

@@ -167,3 +167,14 @@ def test_a_retired_element_is_hidden_at_once_and_removed_later() -> None:
     assert timer.daemon  # never holds up the viewer's exit
     timer.join(5.0)
     assert all(e.removed for e in elements)
+
+
+def test_a_machine_without_a_3d_view_gets_no_note_about_it() -> None:
+    renderers = Renderers(30.0)
+    client = page(renderers, 3)
+    renderers.report({"client": "3", "renderer": SWIFTSHADER})
+    renderers.refresh(view3d=False)  # single_axis: simulated axes, no 3-D model
+    line = client.gui.lines[0]
+    assert not line.visible and "3-D view" not in line.content
+    renderers.refresh(view3d=True)  # back on a machine with a model: said again
+    assert line.visible and "3-D view at most" in line.content

@@ -321,7 +321,7 @@ class ViewerApp:
         if now - self._last_control >= self._panel_period:
             self._last_control = now
             self.control_pages.refresh()
-            self.renderers.refresh()
+            self.renderers.refresh(self.session.snapshot.model is not None)
 
     def _build_simulation(self) -> None:
         """The status line and the scene chooser on top; the Simulation folder (below the axes):

@@ -26,7 +26,7 @@ import math
 import time
 from collections.abc import Sequence
 
-from viewer.sim.snapshot import AxisView, SignalView, Snapshot
+from viewer.sim.snapshot import AxisView, DemoView, SignalView, Snapshot
 
 SPEEDS: dict[str, float] = {
     "0.1×": 0.1,
@@ -225,13 +225,21 @@ def demo_html(snapshot: Snapshot) -> str:
     elif demo.error:
         text = f'<span style="color:#c62828">{html.escape(demo.error)}</span>'
     elif demo.step:
-        prefix = "Done: " if demo.done else ("Step: " if demo.running else "Ended at: ")
-        text = prefix + html.escape(demo.step)
+        text = _step_text(demo)
     else:
         text = "Not started."
     if snapshot.groups:
         text += "<br>Axes group: " + html.escape(", ".join(snapshot.groups))
     return _box(text)
+
+
+def _step_text(demo: DemoView) -> str:
+    """The demo's step (escaped): "Done" once (or "Done: " and its last step where that is
+    not "done"), "Step: " while it runs, "Ended at: " where it stopped."""
+    step = html.escape(demo.step)
+    if demo.done:
+        return "Done" if demo.step.strip().lower() == "done" else f"Done: {step}"
+    return ("Step: " if demo.running else "Ended at: ") + step
 
 
 def events_html(snapshot: Snapshot, shown: int = EVENTS_SHOWN) -> str:

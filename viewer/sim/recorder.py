@@ -25,8 +25,9 @@ class Recorder:
     """Every scope channel of a scene on one time base, in a ring buffer (thread-safe).
 
     Per axis: position, set point, velocity, following error and command [V] (the last three
-    only with a drive), its switch inputs, index, digital outputs and an error flag (AxErrorID
-    ≠ 0); then the machine's published signals.
+    only with a drive; an encoder-only axis' velocity as shown, and its raw velocity), its
+    switch inputs, index, digital outputs and an error flag (AxErrorID ≠ 0); then the machine's
+    published signals.
 
     Args:
         scene: The scene.
@@ -34,6 +35,9 @@ class Recorder:
         length: Samples kept per channel.
         every: Samples per bucket of the coarse buffer (:class:`Extremes`).
         buckets: Buckets the coarse buffer keeps.
+        velocity: The velocity an axis shows, by name and axis [u/s] (None: its ``VEL``). An
+            encoder-only axis' ``velocity`` channel records it, and its ``raw velocity``
+            channel its ``VEL`` (one servo cycle's count difference).
     """
 
     def __init__(
@@ -43,6 +47,7 @@ class Recorder:
         length: int,
         every: int = 50,
         buckets: int = 6000,
+        velocity: Callable[[str, mcl.Axis], float] | None = None,
     ) -> None:
         channels: list[Channel] = []
         readers: list[Callable[[], float]] = []
@@ -57,7 +62,12 @@ class Recorder:
             add(f"{name} position", unit, False, functools.partial(_attribute, axis, "POS"))
             if axis.has_drive:
                 add(f"{name} set point", unit, False, functools.partial(_set_point, axis))
-            add(f"{name} velocity", f"{unit}/s", False, functools.partial(_attribute, axis, "VEL"))
+            raw = functools.partial(_attribute, axis, "VEL")
+            if axis.has_drive or velocity is None:
+                add(f"{name} velocity", f"{unit}/s", False, raw)
+            else:
+                add(f"{name} velocity", f"{unit}/s", False, functools.partial(velocity, name, axis))
+                add(f"{name} raw velocity", f"{unit}/s", False, raw)
             if axis.has_drive:
                 fe = functools.partial(_attribute, axis, "following_error")
                 add(f"{name} following error", unit, False, fe)

@@ -62,7 +62,7 @@ from viewer.sim.snapshot import (
     copy_array,
     mujoco_of,
 )
-from viewer.sim.velocity import MeanVelocity
+from viewer.sim.velocity import ShownVelocity
 from viewer.view3d.overlays import constraint_forces, contact_forces
 
 log = logging.getLogger(__name__)
@@ -208,16 +208,17 @@ class Session:
         self._record_every = max(1, round(HISTORY_SAMPLE / plc))
         self._scan_count = 0
         sample = plc * self._record_every
+        self._velocities = ShownVelocity(scene.axes, plc)
         self._recorder = Recorder(
             scene,
             self._axis_info,
             round(SCOPE_SECONDS / sample) + 1,
             every=max(1, round(LONG_BUCKET / sample)),
             buckets=round(LONG_SECONDS / LONG_BUCKET),
+            velocity=self._velocities.velocity,
         )
         self._axis_errors = {name: axis.AxErrorID for name, axis in scene.axes.items()}
         self._peaks = PeakHold(scene.axes)
-        self._velocities = MeanVelocity(scene.axes, plc)
         self._profiles = ProfileCache()
         self._generation += 1
         self._fault = ""

@@ -92,8 +92,9 @@ class AxisView:
             (from its machine definition).
         homeable: The machine definition gives the axis a homing recipe.
         position: Actual position ``POS`` [u].
-        velocity: Actual velocity ``VEL`` [u/s]; of an encoder-only axis its mean over
-            :data:`~viewer.sim.velocity.WINDOW` (its ``VEL`` flickers by a count per cycle).
+        velocity: Actual velocity ``VEL`` [u/s]; of an encoder-only axis its position
+            difference over 0.2 s, filtered with 0.1 s (:mod:`~viewer.sim.velocity`; its
+            ``VEL`` flickers by a count per cycle).
         following_error: Set point minus actual position [u].
         volts: Analog command of the last servo cycle [V].
         joint_position: Ground-truth joint coordinate [m or rad] (NaN if the plant has none).
@@ -316,7 +317,7 @@ def axis_view(
         panel: Its operator panel (request flags; its operator: the last command's outcome).
         info: What the machine definition says about it.
         peak: Its peak |following error| since the last reset [u].
-        velocity: Its velocity as shown [u/s] (:class:`~viewer.sim.velocity.MeanVelocity`;
+        velocity: Its velocity as shown [u/s] (:class:`~viewer.sim.velocity.ShownVelocity`;
             None: ``VEL``).
     """
     axis = scene.axes[name]

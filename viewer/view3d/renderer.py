@@ -187,14 +187,15 @@ class Renderers:
             if client_id in self._lines:
                 self._renderers[client_id] = renderer
 
-    def refresh(self) -> None:
-        """Each page's line: the note while it draws in software, hidden otherwise (the
-        update thread calls it)."""
+    def refresh(self, view3d: bool = True) -> None:
+        """Each page's line: the note while it draws in software and the machine has a 3-D
+        view (``view3d``: a model, not simulated axes alone), hidden otherwise (the update
+        thread calls it)."""
         fps = self.fps
         with self._lock:
             pages = [(c, r, self._lines[c]) for c, r in self._renderers.items() if c in self._lines]
             for client_id, renderer, line in pages:
-                content = note(fps) if is_software(renderer) else ""
+                content = note(fps) if view3d and is_software(renderer) else ""
                 if self._shown.get(client_id) != content:
                     self._shown[client_id] = content
                     line.content = content
