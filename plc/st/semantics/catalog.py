@@ -18,10 +18,10 @@ __all__ = [
 import enum
 import keyword
 from functools import cache
+from typing import Any
 
 import mcl
 from mcl import reference
-from mcl.fb import FunctionBlock
 from plc.st.runtime.blocks import STANDARD
 from plc.st.semantics.types import (
     ANY_STRUCT,
@@ -64,8 +64,8 @@ def python_name(name: str) -> str:
 
 
 @cache
-def _mcl_classes() -> dict[str, type[FunctionBlock]]:
-    """mcl's function block classes by upper-case name."""
+def _mcl_classes() -> dict[str, Any]:
+    """mcl's function block classes by upper-case name (:func:`mcl.reference.function_blocks`)."""
     return {cls.__name__.upper(): cls for cls in reference.function_blocks()}
 
 
