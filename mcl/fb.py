@@ -100,6 +100,7 @@ _ANY: Final = 3
 _AXIS: Final = 4
 _GROUP: Final = 5
 _TEXT: Final = 6
+_MASTER_INPUT: Final = 7
 
 
 class InputSpec:
@@ -119,6 +120,8 @@ def _kind(name: str, default: object) -> int:
         return _AXIS
     if name == "AxesGroup":
         return _GROUP
+    if name in ("ConveyorBelt", "RotaryTable"):
+        return _MASTER_INPUT
     if isinstance(default, bool):
         return _BOOL
     if isinstance(default, int):
@@ -191,6 +194,8 @@ class FunctionBlock:
                 value = integer(value)
             elif kind == _TEXT:
                 value = value if isinstance(value, str) else ""  # not a text: none
+            elif kind == _MASTER_INPUT:  # an axis given as an input: not an axis, none
+                value = value if isinstance(value, AxisRef) else None
             elif kind in (_AXIS, _GROUP):
                 if value is None:
                     continue  # an open in-out keeps its previous reference
