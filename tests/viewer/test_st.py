@@ -188,7 +188,7 @@ def test_a_page_runs_the_st_demo_and_watches_its_step(
         try:
             page = context.new_page()
             page.goto(viewer.url)
-            page.get_by_role("button", name="Power", exact=True).wait_for(timeout=30_000)
+            page.get_by_role("button", name="Power", exact=True).wait_for(timeout=60_000)
             take_control(page, viewer)
             page.get_by_role("combobox", name="Program", exact=True).click()
             page.get_by_role("option", name="gantry_demo.st", exact=True).click()
