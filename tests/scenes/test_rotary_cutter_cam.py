@@ -68,8 +68,12 @@ ALTERNATING = tuple(Batch(length, 1) for length in (400.0, 700.0) * 3)
 
 @pytest.mark.parametrize(
     ("batches", "tail"),
-    [(ALTERNATING, [700.0, 400.0, 700.0, 400.0, 700.0]), (CamJob().batches, [900.0] * 4)],
-    ids=["six one-piece batches", "6 x 300 then 4 x 900"],
+    [
+        (ALTERNATING, [700.0, 400.0, 700.0, 400.0, 700.0]),
+        (CamJob().batches, [900.0] * 4),
+        ((Batch(400.0, 2), Batch(700.0, 1), Batch(400.0, 3)), [700.0, 400.0, 400.0, 400.0]),
+    ],
+    ids=["six one-piece batches", "6 x 300 then 4 x 900", "2 x 400, 1 x 700, 3 x 400"],
 )
 def test_each_batch_cuts_exactly_its_pieces(batches: tuple[Batch, ...], tail: list[float]) -> None:
     """Every batch cuts as many pieces as it asks, the next length taking over at its last
