@@ -84,10 +84,11 @@ bench: setup
 	$(PY) -m tests.benchmarks.delta_picker
 
 # mutation testing of the modules a change touched (against the merge base with main, or BASE),
-# or of MODULES (whole, or with BASE their changed lines); the tests that exercise them, or TESTS;
-# JOBS mutants at once (all cores)
+# or of MODULES (whole, or with BASE their changed lines), only inside FUNCTIONS if given; the
+# tests that exercise them, or TESTS; JOBS mutants at once (all cores)
 MUTATE := $(if $(BASE),--base $(BASE)) $(if $(MODULES),--modules $(MODULES)) \
-	$(if $(TESTS),--tests $(TESTS)) $(if $(JOBS),--jobs $(JOBS))
+	$(if $(FUNCTIONS),--functions $(FUNCTIONS)) $(if $(TESTS),--tests $(TESTS)) \
+	$(if $(JOBS),--jobs $(JOBS))
 mutate: $(VENV)/.installed
 	$(PY) -m tests.mutate $(strip $(MUTATE))
 

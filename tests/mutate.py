@@ -4,12 +4,14 @@ It finds the modules of ``mcl``, ``scenes`` and ``viewer`` the change touched an
 lines (``git diff`` of the working tree against the merge base with ``main``, or against
 ``--base``), the test files that exercise each module (:func:`select_tests`) and lets mutmut
 mutate the changed lines (``--modules`` names the modules: whole, or with ``--base`` only their
-changed lines); mutmut runs the chosen tests once to record which tests call which
-function, then each mutant against those that call its function. Browser tests are left out.
+changed lines; ``--functions`` keeps the mutants of the named functions); mutmut runs the chosen
+tests once to record which tests call which function, then each mutant against those that call
+its function. Browser tests are left out.
 The report gives, per module and in total, the killed / survived / no-test / timeout counts,
 the kill rate and every mutant not caught, as ``file:line: before → after``.
 
-    python -m tests.mutate [--base REV] [--modules FILE ...] [--tests FILE ...] [--jobs N]
+    python -m tests.mutate [--base REV] [--modules FILE ...] [--functions NAME ...]
+                           [--tests FILE ...] [--jobs N]
 
 mutmut works in ``.build/mutate`` (a fresh copy each run): ``cd .build/mutate && mutmut show
 NAME`` shows a mutant's diff; the sources are never mutated in place.
@@ -195,9 +197,12 @@ def select_tests(
     return selected
 
 
-def mutations(path: str, lines: set[int] | None) -> list[Mutation]:
+def mutations(
+    path: str, lines: set[int] | None, functions: Sequence[str] | None = None
+) -> list[Mutation]:
     """mutmut's mutants of the module at ``path`` (relative to the current directory, which
-    holds the mutmut configuration), only those on ``lines`` unless None."""
+    holds the mutmut configuration), only those on ``lines`` unless None, and only those inside
+    ``functions`` unless None (:func:`in_functions`)."""
     from mutmut.mutation.file_mutation import mutate_file_contents
     from mutmut.utils.format_utils import get_mutant_name
 
@@ -209,6 +214,8 @@ def mutations(path: str, lines: set[int] | None) -> list[Mutation]:
     found = []
     for name in mutated.mutant_names:
         function = name.partition("__mutmut_")[0]
+        if functions is not None and not in_functions(function, functions):
+            continue
         orig, mutant = (spans[function + "__mutmut_orig"], spans[name])
         old = [
             text.replace(f"{function}__mutmut_orig", function)
@@ -223,6 +230,15 @@ def mutations(path: str, lines: set[int] | None) -> list[Mutation]:
             before, after = (" ".join(s.strip() for s in part) for part in (old[i1:i2], new[j1:j2]))
             found.append(Mutation(get_mutant_name(Path(path), name), path, line, before, after))
     return found
+
+
+def in_functions(function: str, names: Sequence[str]) -> bool:
+    """Whether mutmut's function ``function`` (``x_name``, ``xǁClassǁmethod``) is one of
+    ``names``: a function's or a method's name, or ``Class.method``."""
+    if function.startswith("x_"):
+        return function[2:] in names
+    _, cls, method = function.split("ǁ")
+    return method in names or f"{cls}.{method}" in names
 
 
 def function_def_lines(source: str) -> dict[str, int]:
@@ -346,7 +362,9 @@ def main(argv: Sequence[str] | None = None, root: Path | None = None) -> int:
     scratch = root / SCRATCH
     prepare(root, scratch, packages, list(lines), tests)
     start = time.monotonic()
-    found = in_directory(scratch, lambda: {m: mutations(m, lines[m]) for m in lines})
+    found = in_directory(
+        scratch, lambda: {m: mutations(m, lines[m], args.functions) for m in lines}
+    )
     names = [m.name for ms in found.values() for m in ms]
     print(f"{len(names)} mutants, {len(tests)} test file(s): mutmut at work in {SCRATCH}")
     if names:
@@ -394,6 +412,11 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--base", help="compare with this commit (default: merge base with main)")
     parser.add_argument(
         "--modules", nargs="+", help="mutate these modules (whole; with --base their changes)"
+    )
+    parser.add_argument(
+        "--functions",
+        nargs="+",
+        help="only the mutants inside these functions or methods (name or Class.method)",
     )
     parser.add_argument("--tests", nargs="+", help="run these test files instead of the found")
     parser.add_argument("--jobs", type=int, help="mutants run at once (default: all cores)")

@@ -165,3 +165,20 @@ def test_make_mutate_reports_the_kill_rate_and_each_survivor_of_the_changed_line
     assert "[survived: pkg.calc.x_clamp__mutmut_" in listed[0]
     assert (project / ".build/mutate/mutants/pkg/calc.py").is_file()
     assert (project / "pkg/calc.py").read_text() == changed  # never mutated in place
+
+
+def test_functions_named_keep_only_their_mutants(project):
+    scratch = project / mutate.SCRATCH
+    mutate.prepare(project, scratch, ["pkg"], ["pkg/calc.py"], ["tests/test_calc.py"])
+    everything = mutate.in_directory(scratch, lambda: mutate.mutations("pkg/calc.py", None))
+    doubled = mutate.in_directory(
+        scratch, lambda: mutate.mutations("pkg/calc.py", None, ["double"])
+    )
+
+    assert {m.line for m in everything} == {3, 5, 11}  # clamp's two comparisons, double
+    assert doubled and {m.line for m in doubled} == {11}
+    assert doubled == [m for m in everything if m.line == 11]
+    assert mutate.in_functions("xǁCutterǁ_boundary", ["_boundary"])
+    assert mutate.in_functions("xǁCutterǁ_boundary", ["Cutter._boundary"])
+    assert not mutate.in_functions("xǁCutterǁ_boundary", ["Other._boundary", "boundary"])
+    assert not mutate.in_functions("x_double", ["clamp"])

@@ -27,11 +27,11 @@ from typing import Any, Protocol
 
 import mcl
 
-RESULTS = ("done", "error", "command_aborted")
-"""The status bits of a command's result, held until the master acknowledges it."""
+_OUTPUTS = {"done": "Done", "error": "Error", "command_aborted": "CommandAborted"}
+"""The status bits of a command's result, each with the block output it holds."""
 
-_OUTPUTS = ("Done", "Error", "CommandAborted")
-"""The block outputs of :data:`RESULTS`."""
+RESULTS = tuple(_OUTPUTS)
+"""The status bits of a command's result, held until the master acknowledges it."""
 
 
 class Registers(Protocol):
@@ -73,7 +73,7 @@ class Handshake:
 
     Args:
         registers: The block's registers.
-        bits: Its control bits, bit 0 (the ``enable`` level) first.
+        bits: Its control bits, bit 0 (the ``enable`` level) first, one of them ``stop``.
     """
 
     def __init__(self, registers: Registers, bits: Sequence[str]) -> None:
@@ -90,20 +90,26 @@ class Handshake:
         """This scan's control word (the client's with a method call's bit)."""
         self.rising = 0
         """Its bits that rose in this scan."""
-        self._stop = self.bits.index("stop") if "stop" in self.bits else -1
-        self._client = 0
+        self._stop = 1 << self.bits.index("stop")
+        """The stop bit."""
         self._last_client = 0
+        """The client's control word of the last scan."""
         self._serial = -1
-        self._requested = -1
-        self._deferred = -1
+        """The serial number of the last method call taken (-1: none yet)."""
+        self._requested = 0
+        """The bit the method call holds (0: none)."""
+        self._deferred = 0
+        """The bit of a method call that first gets one scan low (0: none)."""
         self._pending = 0
-        self._held: dict[str, bool] = dict.fromkeys(RESULTS, False)
-        """The current command's result bits held until acknowledged."""
-        self._held_error = 0
-        """The ErrorID held with the error bit."""
-        self._armed = False
-        """The held result was published while the master's command bit was set: the bit's
-        fall acknowledges it."""
+        """Rising bits of the client's word that wait one scan (after a call it ends)."""
+        self._held: set[str]
+        """The current command's result bits held until acknowledged (:data:`RESULTS`)."""
+        self._held_error: int
+        """The ErrorID held with the error bit (0: none held)."""
+        self._armed: bool
+        """The held result was last published while the master's command bit was set: the
+        bit's fall acknowledges it."""
+        self._release()  # nothing held yet
 
     def _words(self) -> tuple[int, int]:
         """This scan's control word of the client and the whole control word: the client's
@@ -112,37 +118,39 @@ class Handshake:
         client = self.registers.take_control() | self._pending
         self._pending = 0
         bit, serial = self.registers.requested()
-        stop = 1 << self._stop if self._stop >= 0 else 0
         if serial != self._serial:
             self._serial = serial
-            self._requested = -1
-            if self.word & (1 << bit | stop):  # its bit, or a stop, falls first
-                self._deferred = bit
+            self._requested = 0
+            call = 1 << bit
+            if self.word & (call | self._stop):  # its bit, or a stop, falls first
+                self._deferred = call
             else:
-                self._requested, self._deferred = bit, -1
-        elif self._deferred >= 0:
-            self._requested, self._deferred = self._deferred, -1
-        elif self._requested >= 0 and client & ~self._last_client & ~1:
-            # the control word starts a command: the call's ends; the call's bit rising in the
-            # word, or after a held stop every rising bit, waits one scan
-            rising = client & ~self._last_client & ~1
-            waiting = rising if self._requested == self._stop else rising & 1 << self._requested
+                self._requested, self._deferred = call, 0
+        elif self._deferred:
+            self._requested, self._deferred = self._deferred, 0
+        elif rising := client & ~self._last_client & ~1:
+            # the control word starts a command: a call held ends; the call's bit rising in
+            # the word, or after a held stop every rising bit, waits one scan
+            waiting = rising if self._requested == self._stop else rising & self._requested
             client &= ~waiting
-            self._pending = waiting
-            self._requested = -1
-        requested = 1 << self._requested if self._requested >= 0 else 0
-        return client, client | requested
+            self._pending, self._requested = waiting, 0
+        return client, client | self._requested
 
     def take(self) -> int:
-        """Start a scan: this scan's control word (:attr:`word`, :attr:`rising`)."""
-        self._client, word = self._words()
+        """Start a scan: this scan's control word (:attr:`word`, :attr:`rising`); a held result
+        is released if the master acknowledged it (its command's bit fell)."""
+        client, word = self._words()
+        if self._armed and self._last_client & ~client & self._bit():
+            self._release()
+        self._last_client = client
         self.rising = word & ~self.word
         self.word = word
         return word
 
     def observe(self) -> None:
         """A scan while the master is not in control: the block's commands are not given; the
-        control word's edges and requests are taken so that none fires later."""
+        control word's edges and requests are taken so that none fires later (nor does a bit's
+        fall acknowledge a result)."""
         self._last_client, self.word = self._words()
         self.rising = 0
 
@@ -152,44 +160,43 @@ class Handshake:
         the status shows Error with EParam); the current command's result is held. The
         commands refused."""
         refused = []
-        rising = self.rising
         for i, name in enumerate(self.bits):
-            if i and rising >> i & 1:
+            if i and self.rising >> i & 1:
                 self.command = i + 1
                 self.count = (self.count + 1) & 0xFFFF
                 self._release()
                 self.current = block_of(name)
                 if self.current is None:
-                    self._held["error"], self._held_error = True, mcl.ErrorID.EParam
+                    self._held.add("error")
+                    self._held_error = mcl.ErrorID.EParam
                     refused.append(name)
         self._hold()
         return refused
 
+    def _bit(self) -> int:
+        """The current command's control bit (a command started)."""
+        return 1 << self.command - 1
+
     def _hold(self) -> None:
-        """Hold the current command's result; release it when the master's bit falls after
-        the result was published while the bit was set (the acknowledgement)."""
-        client = self._client
-        bit = 1 << (self.command - 1) if self.command else 0
-        if self._armed and self._last_client & bit and not client & bit:
-            self._release()
-        self._last_client = client
+        """Hold the current command's result: its outputs of :data:`RESULTS` that are set."""
         current = self.current
-        for name, output in zip(RESULTS, _OUTPUTS, strict=True):
+        if current is None:
+            return
+        for name, output in _OUTPUTS.items():
             if getattr(current, output, False):
-                self._held[name] = True
-        if getattr(current, "Error", False):
-            self._held_error = int(getattr(current, "ErrorID", 0))
+                self._held.add(name)
+        if current.Error:
+            self._held_error = int(current.ErrorID)
 
     def _release(self) -> None:
         """Forget the held result (acknowledged, or another command started)."""
-        self._held = dict.fromkeys(RESULTS, False)
+        self._held = set()
         self._held_error = 0
         self._armed = False
 
     def result(self) -> tuple[dict[str, bool], int]:
         """The held result to publish: its bits (:data:`RESULTS`) and the ErrorID (0: no
         error). Published while the master's command bit is set, its fall acknowledges it."""
-        held = dict(self._held)
-        if any(held.values()) and self.command:
-            self._armed |= bool(self._last_client >> (self.command - 1) & 1)
-        return held, self._held_error if held["error"] else 0
+        if self._held:
+            self._armed = bool(self._last_client & self._bit())
+        return {name: name in self._held for name in RESULTS}, self._held_error

@@ -51,6 +51,17 @@ class Bus:
     def run(self, seconds: float) -> None:
         self.machine.run(self.scan, timeout=seconds)
 
+    def powered(self, seconds: float) -> list[bool]:
+        """Scans for ``seconds`` (:meth:`run`): the power bit each published."""
+        seen: list[bool] = []
+
+        def scan() -> None:
+            self.scan()
+            seen.append(self.status("power"))
+
+        self.machine.run(scan, timeout=seconds)
+        return seen
+
     def write(self, **values: float) -> None:
         for name, value in values.items():
             self.table.put(f"{self.BLOCK}.{name}", value)
@@ -222,11 +233,15 @@ def test_the_published_inputs_and_switches_are_the_axis(bus: Bus) -> None:
 
 
 def test_before_enable_the_drive_is_off_and_no_result_is_shown() -> None:
-    """A fresh program: no result before the first command, the drive off until enable."""
+    """A fresh program: no result before the first command (no current command, ErrorID 0),
+    the drive off until enable (not even for a scan)."""
     bus = Bus()  # the axes powered by a previous program; the control word 0
     bus.run(0.002)  # one scan
     assert not bus.status("power") and bus.get("command_count") == 0
     assert not any(bus.status(name) for name in ("done", "error", "command_aborted"))
+    assert bus.words.current is None and bus.get("error_id") == 0 and bus.get("command") == 0
+    powered = bus.powered(0.05)
+    assert powered and not any(powered) and bus.get("command_count") == 0
     bus.write(control=bits("enable"))
     bus.run(0.01)
     assert bus.status("power")
@@ -312,3 +327,30 @@ def test_a_result_not_published_while_the_bit_was_set_is_not_acknowledged(bus: B
     bus.words.publish()
     assert bus.status("done") and bus.get("command_count") == 1
     assert carriage_mm(bus.machine) == pytest.approx(20.0, abs=0.05)
+
+
+def test_a_result_shows_only_the_outputs_its_command_has(bus: Bus) -> None:
+    """MC_Reset has no CommandAborted and the jog no Done: the status shows neither for them."""
+    bus.write(control=bits("enable", "reset"))
+    bus.run(0.01)
+    assert bus.status("done") and not bus.status("command_aborted")
+    bus.write(velocity=50.0, control=bits("enable", "jog_pos"))
+    bus.run(0.2)
+    assert bus.words.current is bus.operator.jog and carriage_mm(bus.machine) > 2.0
+    assert not any(bus.status(name) for name in ("done", "error", "command_aborted"))
+
+
+def test_with_enable_clear_no_call_nor_command_of_the_master_powers_the_drive(bus: Bus) -> None:
+    """The drive off (enable clear): a reset called, called again (one scan low first), then the
+    master's own reset (it ends the call, after a scan low) each start a reset, and not one scan
+    has the drive powered."""
+    bus.write(control=0)
+    bus.run(0.01)
+    bus.table.request("X", "reset")
+    powered = bus.powered(0.01)
+    bus.table.request("X", "reset")  # its bit is held: one scan low first
+    powered += bus.powered(0.01)
+    bus.write(control=bits("reset"))  # the call's bit from the master: one scan low first
+    powered += bus.powered(0.05)
+    assert bus.get("command_count") == 3 and bus.status("done")
+    assert powered and not any(powered)

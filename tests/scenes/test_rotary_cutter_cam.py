@@ -68,15 +68,40 @@ ALTERNATING = tuple(Batch(length, 1) for length in (400.0, 700.0) * 3)
 
 @pytest.mark.parametrize(
     ("batches", "tail"),
-    [(ALTERNATING, [700.0, 400.0, 700.0, 400.0, 700.0]), (CamJob().batches, [900.0] * 4)],
-    ids=["six one-piece batches", "6 x 300 then 4 x 900"],
+    [
+        (ALTERNATING, [700.0, 400.0, 700.0, 400.0, 700.0]),
+        (CamJob().batches, [900.0] * 4),
+        ((Batch(400.0, 2), Batch(700.0, 1), Batch(400.0, 3)), [700.0, 400.0, 400.0, 400.0]),
+    ],
+    ids=["six one-piece batches", "6 x 300 then 4 x 900", "2 x 400, 1 x 700, 3 x 400"],
 )
 def test_each_batch_cuts_exactly_its_pieces(batches: tuple[Batch, ...], tail: list[float]) -> None:
     """Every batch cuts as many pieces as it asks, the next length taking over at its last
     cut: from the physics, the pieces from the first of the second length on are exactly the
     batches' (within 0.5 mm), and the web stands before another cut; the demo books each batch's
-    count."""
-    demo = run(CamJob(batches=batches))
+    count. Each next batch's MC_CamIn is issued half a piece after the cut before its last one,
+    and the web stands half a piece after the last cut (within 10 mm: the blades clear of it);
+    a demo made anew on the scene books none of these pieces."""
+    scene = scenes.load("rotary_cutter", trace_every=0)
+    demo = CamDemo(scene, CamJob(batches=batches))
+    web, drum = scene.joint("rotary_cutter/M"), demo.drum
+    issued: dict[int, float] = {}  # per cam, its Execute's rise: the web past the last cut [mm]
+
+    def past_the_last_cut() -> float:
+        return 1000.0 * (drum.web_offset + web.position) - drum.cuts[-1].position
+
+    def program() -> None:
+        demo()
+        for k, cam in enumerate(demo.cams[2:], start=2):
+            if cam.Execute and k not in issued:
+                issued[k] = past_the_last_cut()
+
+    scene.run(program, until=functools.partial(finished, demo), timeout=60.0)
+    assert demo.done, demo.step
+    assert sorted(issued) == list(range(2, len(demo.cams)))
+    for k, travel in issued.items():
+        assert travel == pytest.approx(0.5 * demo.lengths[k - 1], abs=10.0), (k, travel)
+    assert past_the_last_cut() == pytest.approx(0.5 * batches[-1].length, abs=10.0)
     lengths = [c.length for c in demo.drum.cuts if c.length is not None]
     second = batches[1].length
     first = next(k for k, x in enumerate(lengths) if abs(x - second) < 1.0)
@@ -87,6 +112,7 @@ def test_each_batch_cuts_exactly_its_pieces(batches: tuple[Batch, ...], tail: li
     for length in dict.fromkeys(b.length for b in batches):
         asked = sum(b.cuts for b in batches if b.length == length)
         assert booked.count(length) == asked, (length, booked)
+    assert CamDemo(scene, CamJob(batches=batches)).pieces() == []
 
 
 def test_registration_to_the_print_marks_with_slip() -> None:
