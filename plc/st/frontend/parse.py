@@ -26,6 +26,7 @@ from blark import util
 
 from plc.st.errors import STError
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
+from plc.st.frontend.reserved import reserved_name
 from plc.st.frontend.unclosed import unclosed
 
 _STARTS = ["iec_source"]
@@ -233,7 +234,7 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
                 return None
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
-        found = _unclosed(error, cleaned, lines_before)
+        found = _special(error, cleaned, lines_before)
         if found is not None:
             raise STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}") from None
         line, column = _place(error, cleaned)
@@ -354,11 +355,11 @@ def _is_assignment(node: Any) -> bool:
     )
 
 
-def _unclosed(
+def _special(
     error: lark.UnexpectedInput, text: str, lines_before: int
 ) -> tuple[int, int, str] | None:
-    """The open statement (an IF without END_IF, ...) the error is, or None
-    (:mod:`~plc.st.frontend.unclosed`)."""
+    """The open statement (an IF without END_IF, ...) or the keyword used as a name the error
+    is, or None (:mod:`~plc.st.frontend.unclosed`, :mod:`~plc.st.frontend.reserved`)."""
     expected = set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
     if isinstance(error, lark.UnexpectedToken):
         token = error.token
@@ -369,7 +370,9 @@ def _unclosed(
         position = error.pos_in_stream or 0
         match = _WORD.match(text, position)
         word = match.group() if match else ""
-    return unclosed(text, position, word, expected, lines_before)
+    return unclosed(text, position, word, expected, lines_before) or reserved_name(
+        text, position, word, expected, lines_before
+    )
 
 
 def _found(error: lark.UnexpectedInput, text: str) -> str:
