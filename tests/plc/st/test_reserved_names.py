@@ -92,7 +92,7 @@ def test_a_keyword_as_a_name_is_named_at_its_line_and_column(source, message):
         ),
         (  # a name's address forgotten after its AT
             "PROGRAM p\nVAR\n    limit AT : BOOL;\nEND_VAR\nEND_PROGRAM\n",
-            "3:14: unexpected ':'; expected '%', '_ANON_9'",
+            "3:14: unexpected ':'; expected '%'",
         ),
         (  # an END_IF without its IF
             "PROGRAM p\nVAR\n    n : INT;\nEND_VAR\nn := 1;\nEND_IF;\nEND_PROGRAM\n",
