@@ -371,11 +371,11 @@ def _met(error: lark.UnexpectedInput, text: str) -> tuple[int, str, set[str]]:
 
 
 def _expected(names: set[str]) -> str:
-    """What would have been valid there, in words."""
-    if {"IDENTIFIER", "INTEGER"} <= names or {"IDENTIFIER", "SIGNED_INTEGER"} <= names:
+    """What would have been valid there (the terminals ``names``), in words: the first eight."""
+    if "IDENTIFIER" in names and "INTEGER" in names:
         return "an expression"
     words = sorted({_READABLE.get(n) or _pattern(n) for n in names} - {""}, key=_closing_first)
-    return ", ".join(words[:8]) if words else "a valid statement"
+    return ", ".join(words[:8])
 
 
 def _closing_first(word: str) -> tuple[bool, str]:
