@@ -24,7 +24,7 @@ import blark.transform as tf
 import lark
 from blark import util
 
-from plc.st.errors import STError
+from plc.st.errors import STError, place
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
 from plc.st.frontend.reserved import reserved_name
 from plc.st.frontend.unclosed import unclosed
@@ -352,10 +352,9 @@ def _syntax_error(
     )
     if found is not None:
         return STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}")
-    line = text.count("\n", 0, position) + 1 + lines_before
-    column = position - text.rfind("\n", 0, position)
+    line, column = place(text, position)
     met = f"unexpected {word!r}" if word else "unexpected end of the source"
-    return STError.at(f"{filename}:{line}:{column}", met, _expected(expected))
+    return STError.at(f"{filename}:{line + lines_before}:{column}", met, _expected(expected))
 
 
 def _met(error: lark.UnexpectedInput, text: str) -> tuple[int, str, set[str]]:

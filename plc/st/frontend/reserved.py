@@ -14,12 +14,13 @@ import importlib.resources
 import re
 from functools import cache
 
+from plc.st.errors import place
 from plc.st.frontend import grammar
 
 _AFTER_NAME = re.compile(r"\s*[:,)]")
 """What follows a name where one is declared or assigned: ``:``, ``:=``, ``,``, ``)``."""
 
-_WORD_BEFORE = re.compile(r"(\w+)[ \t]*\Z")
+_WORD_BEFORE = re.compile(r"(\w*)[ \t]*\Z")
 
 _NAMED = {"PROGRAM": "a PROGRAM", "FUNCTION_BLOCK": "a FUNCTION_BLOCK", "FUNCTION": "a FUNCTION"}
 """The keywords a name follows, and what the name names (else a variable)."""
@@ -49,24 +50,25 @@ def reserved_name(
     """
     before = _word_before(text, position)
     start = position
-    if before is not None and before[1].upper() == "AT" and "PERCENT" in expected:
+    if before[1].upper() == "AT" and "PERCENT" in expected:
         start, word = before.start(1), before[1]  # "at : INT": the AT of a located variable
         before = _word_before(text, start)
-        if before is not None and not before[1].upper().startswith("VAR"):
+        if before[1] and not before[1].upper().startswith("VAR"):
             return None  # "x AT : BOOL": the address is missing
     elif "IDENTIFIER" not in expected:
         return None
-    named = _NAMED.get(before[1].upper(), "") if before is not None else ""
+    named = _NAMED.get(before[1].upper())
     if word.upper() not in keywords() or not (named or _AFTER_NAME.match(text, start + len(word))):
         return None
-    line = text.count("\n", 0, start) + 1 + lines_before
-    column = start - (text.rfind("\n", 0, start) + 1) + 1
+    line, column = place(text, start)
     other = f"{word}_VALUE" if word.isupper() else f"{word}Value"
-    what = named or "a variable"
-    problem = f"{word.upper()} is a reserved keyword of IEC 61131-3 and cannot name {what}"
-    return line, column, f"{problem}; expected another name, such as {other}"
+    problem = f"{word.upper()} is a reserved keyword of IEC 61131-3 and cannot name"
+    message = f"{problem} {named or 'a variable'}; expected another name, such as {other}"
+    return line + lines_before, column, message
 
 
-def _word_before(text: str, end: int) -> re.Match[str] | None:
-    """The word before ``end`` on its line (group 1), or None."""
-    return _WORD_BEFORE.search(text, text.rfind("\n", 0, end) + 1, end)
+def _word_before(text: str, end: int) -> re.Match[str]:
+    """The word before ``end`` on its line (group 1; empty if there is none)."""
+    found = _WORD_BEFORE.search(text[:end])
+    assert found is not None
+    return found
