@@ -22,6 +22,9 @@ _AFTER_NAME = re.compile(r"\s*[:,)]")
 
 _WORD_BEFORE = re.compile(r"(\w*)[ \t]*\Z")
 
+_DECLARATION_WORDS = frozenset({"AT", "PERSISTENT"})
+"""Keywords that may begin a declaration: a name that is one is read as that keyword."""
+
 _NAMED = {"PROGRAM": "a PROGRAM", "FUNCTION_BLOCK": "a FUNCTION_BLOCK", "FUNCTION": "a FUNCTION"}
 """The keywords a name follows, and what the name names (else a variable)."""
 
@@ -45,13 +48,13 @@ def reserved_name(
         text: the parsed text.
         position: where the unexpected ``word`` begins.
         word: the text the parser did not expect there.
-        expected: the terminals it expected there (blark's names: ``IDENTIFIER``, ``PERCENT``).
+        expected: the terminals it expected there (blark's names: ``IDENTIFIER``).
         lines_before: the lines before ``text`` in its file (for the line named).
     """
     before = _word_before(text, position)
     start = position
-    if before[1].upper() == "AT" and "PERCENT" in expected:
-        start, word = before.start(1), before[1]  # "at : INT": the AT of a located variable
+    if before[1].upper() in _DECLARATION_WORDS and word == ":":
+        start, word = before.start(1), before[1]  # "at : INT": read as the AT of an address
         before = _word_before(text, start)
         if before[1] and not before[1].upper().startswith("VAR"):
             return None  # "x AT : BOOL": the address is missing

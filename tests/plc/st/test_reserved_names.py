@@ -49,6 +49,11 @@ def test_a_keyword_declared_as_a_variable_is_refused_as_a_keyword(name):
             "4:5: AT is a reserved keyword of IEC 61131-3 and cannot name a variable; "
             "expected another name, such as AtValue",
         ),
+        (  # read as the attribute of the VAR block before it
+            "PROGRAM Feeder\nVAR\n    Persistent : BOOL;\nEND_VAR\nEND_PROGRAM\n",
+            "3:5: PERSISTENT is a reserved keyword of IEC 61131-3 and cannot name a variable; "
+            "expected another name, such as PersistentValue",
+        ),
         (  # the variable of a FOR loop
             "PROGRAM Feeder\nVAR\n    n : INT;\nEND_VAR\nFOR do := 1 TO 3 DO\n    n := n + 1;\n"
             "END_FOR\nEND_PROGRAM\n",
