@@ -99,6 +99,12 @@ def test_a_keyword_as_a_name_is_named_at_its_line_and_column(source, message):
             "PROGRAM p\nVAR\n    limit AT : BOOL;\nEND_VAR\nEND_PROGRAM\n",
             "3:14: unexpected ':'; expected '%'",
         ),
+        (  # a colon after ELSE, as after a CASE label
+            "PROGRAM p\nVAR\n    n : INT;\nEND_VAR\nCASE n OF\n1: n := 2;\nELSE:\n    n := 3;\n"
+            "END_CASE\nEND_PROGRAM\n",
+            "7:5: unexpected ':'; expected 'END_CASE', '%', ';', 'CASE', 'CONTINUE', 'EXIT', "
+            "'FOR', 'IF'",
+        ),
         (  # an END_IF without its IF
             "PROGRAM p\nVAR\n    n : INT;\nEND_VAR\nn := 1;\nEND_IF;\nEND_PROGRAM\n",
             "6:1: unexpected 'END_IF'; expected 'END_PROGRAM', '%', ';', 'CASE', 'CONTINUE', "

@@ -87,6 +87,10 @@ BLOCK = "FUNCTION_BLOCK f\nVAR_INPUT a : INT; END_VAR\na := 1;\nEND_FUNCTION_BLO
             "x := 1;\n",
             f"7:8: unexpected end of the source; expected 'END_PROGRAM', {STATEMENTS}",
         ),
+        (
+            "IF x > 0 THEN\nx := 1;\nEND_PROGRAM\n",
+            "7:1: IF at 7:1 has no END_IF; expected END_IF before 'END_PROGRAM' at 9:1",
+        ),
     ],
 )
 def test_an_error_in_a_later_item_names_its_line_in_the_file(body, message):
