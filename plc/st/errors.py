@@ -3,7 +3,7 @@ wrong; expected ...``) and a run-time fault that stops the program (:class:`PLCF
 
 from __future__ import annotations
 
-__all__ = ["PLCFault", "STError", "indefinite", "nearest"]
+__all__ = ["PLCFault", "STError", "indefinite", "nearest", "place"]
 
 import difflib
 import re
@@ -29,6 +29,12 @@ class STError(ValueError):
 class PLCFault(RuntimeError):
     """A run-time error stopped the program (division by zero, array index out of range); the
     message names the ST file and line."""
+
+
+def place(text: str, position: int) -> tuple[int, int]:
+    """The line and the column (from 1) of the character at ``position`` of ``text``."""
+    before = text[:position]
+    return before.count("\n") + 1, len(before) - before.rfind("\n")
 
 
 def nearest(name: str, choices: Iterable[str], n: int = 3) -> list[str]:

@@ -24,8 +24,9 @@ import blark.transform as tf
 import lark
 from blark import util
 
-from plc.st.errors import STError
+from plc.st.errors import STError, place
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
+from plc.st.frontend.reserved import reserved_name
 from plc.st.frontend.unclosed import unclosed
 
 _STARTS = ["iec_source"]
@@ -233,13 +234,7 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
                 return None
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
-        found = _unclosed(error, cleaned, lines_before)
-        if found is not None:
-            raise STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}") from None
-        line, column = _place(error, cleaned)
-        raise STError.at(
-            f"{filename}:{line + lines_before}:{column}", _found(error, cleaned), _expected(error)
-        ) from None
+        raise _syntax_error(error, cleaned, filename, lines_before) from None
     transformer = grammar.Transformer(comments=comments, fn=filename, source_code=source)
     result: Any = transformer.transform(tree)
     if isinstance(result, tf.SourceCode):  # a TYPE block of several types: one item each
@@ -250,15 +245,6 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
         where = f"{filename}:{lines_before + 1}:1"
         raise STError.at(where, "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
-
-
-def _place(error: lark.UnexpectedInput, text: str) -> tuple[int, int]:
-    """The line and column (from 1) of a syntax error in ``text``; an unexpected end of the
-    text (which lark places nowhere) at the end of its last line."""
-    if error.line > 0:
-        return error.line, error.column
-    lines = text.rstrip().splitlines() or [""]
-    return len(lines), len(lines[-1]) + 1
 
 
 def _configuration_pragmas(items: list[Any], comments: list[lark.Token]) -> None:
@@ -354,44 +340,41 @@ def _is_assignment(node: Any) -> bool:
     )
 
 
-def _unclosed(
-    error: lark.UnexpectedInput, text: str, lines_before: int
-) -> tuple[int, int, str] | None:
-    """The open statement (an IF without END_IF, ...) the error is, or None
-    (:mod:`~plc.st.frontend.unclosed`)."""
-    expected = set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
-    if isinstance(error, lark.UnexpectedToken):
-        token = error.token
-        at_end = token.type == "$END"
-        position = len(text) if at_end else (token.start_pos or 0)
-        word = "" if at_end else str(token)
-    else:
+def _syntax_error(
+    error: lark.UnexpectedInput, text: str, filename: str, lines_before: int
+) -> STError:
+    """The message of a syntax error in ``text``: a statement left open
+    (:mod:`~plc.st.frontend.unclosed`), a keyword used as a name
+    (:mod:`~plc.st.frontend.reserved`), else what the parser met and what it expected."""
+    position, word, expected = _met(error, text)
+    found = unclosed(text, position, word, expected, lines_before) or reserved_name(
+        text, position, word, expected, lines_before
+    )
+    if found is not None:
+        return STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}")
+    line, column = place(text, position)
+    met = f"unexpected {word!r}" if word else "unexpected end of the source"
+    return STError.at(f"{filename}:{line + lines_before}:{column}", met, _expected(expected))
+
+
+def _met(error: lark.UnexpectedInput, text: str) -> tuple[int, str, set[str]]:
+    """Where in ``text`` the Earley parser met what it did not expect, that word (``""`` at the
+    end of the text, placed at the end of its last line), and the terminals it expected."""
+    if isinstance(error, lark.UnexpectedCharacters):
         position = error.pos_in_stream or 0
         match = _WORD.match(text, position)
-        word = match.group() if match else ""
-    return unclosed(text, position, word, expected, lines_before)
+        assert match is not None
+        return position, match[0], set(error.allowed)
+    assert isinstance(error, lark.UnexpectedEOF)
+    return len(text.rstrip()), "", set(error.expected)
 
 
-def _found(error: lark.UnexpectedInput, text: str) -> str:
-    """What the parser met."""
-    if isinstance(error, lark.UnexpectedToken):
-        token = error.token
-        return (
-            "unexpected end of the source" if token.type == "$END" else f"unexpected {str(token)!r}"
-        )
-    if isinstance(error, lark.UnexpectedCharacters):
-        word = _WORD.match(text, error.pos_in_stream or 0)
-        return f"unexpected {word.group() if word else error.char!r}"
-    return "unexpected end of the source"
-
-
-def _expected(error: lark.UnexpectedInput) -> str:
-    """What would have been valid there, in words."""
-    names: set[str] = set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
-    if {"IDENTIFIER", "INTEGER"} <= names or {"IDENTIFIER", "SIGNED_INTEGER"} <= names:
+def _expected(names: set[str]) -> str:
+    """What would have been valid there (the terminals ``names``), in words: the first eight."""
+    if "IDENTIFIER" in names and "INTEGER" in names:
         return "an expression"
     words = sorted({_READABLE.get(n) or _pattern(n) for n in names} - {""}, key=_closing_first)
-    return ", ".join(words[:8]) if words else "a valid statement"
+    return ", ".join(words[:8])
 
 
 def _closing_first(word: str) -> tuple[bool, str]:
@@ -400,14 +383,12 @@ def _closing_first(word: str) -> tuple[bool, str]:
 
 
 def _pattern(terminal: str) -> str:
-    """A terminal as its literal text (``'END_IF'``), or its name in lower case."""
-    try:
-        pattern = parser().get_terminal(terminal).pattern
-    except KeyError:
-        return terminal.lower()
-    if terminal.startswith("_"):
-        return repr(terminal[1:].upper())
+    """A terminal in words: a literal as its text (``'('``), a keyword as its word
+    (``'END_IF'``), a pattern as its name in lower case (``add_operator``); an unnamed pattern
+    (``%I*``) as ``""``, left out."""
+    pattern = parser().get_terminal(terminal).pattern
     if isinstance(pattern, lark.lexer.PatternStr):
         return repr(pattern.value)
-    text = pattern.value
-    return repr(text.split("|")[0].strip("()?:i")) if text.isupper() else terminal.lower()
+    if terminal.startswith("__"):
+        return ""
+    return repr(terminal[1:]) if terminal.startswith("_") else terminal.lower()

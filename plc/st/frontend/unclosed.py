@@ -9,6 +9,8 @@ __all__ = ["unclosed"]
 
 import re
 
+from plc.st.errors import place
+
 _CLOSERS = {
     "IF": "END_IF",
     "CASE": "END_CASE",
@@ -65,10 +67,9 @@ def unclosed(
     )
     if not (word == "" or word.startswith("END_") or word in ("UNTIL", "ELSE", "ELSIF") or label):
         return None
-    line = text.count("\n", 0, top.start()) + 1 + lines_before
-    column = top.start() - (text.rfind("\n", 0, top.start()) + 1) + 1
-    at_line = text.count("\n", 0, position) + 1 + lines_before
-    at_column = position - (text.rfind("\n", 0, position) + 1) + 1
+    line, column = place(text, top.start())
+    at_line, at_column = place(text, position)
+    line, at_line = line + lines_before, at_line + lines_before
     needed = "UNTIL ... END_REPEAT" if opener == "REPEAT" else closer
     met = f"'{token}'" if token else "the end"
     before = f"before {met} at {at_line}:{at_column}"

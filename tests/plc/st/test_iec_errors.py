@@ -30,7 +30,8 @@ def error(clause: str, decls: str, body: str, where: str, text: str, before: str
 COMPILE = [
     # lexical elements and literals
     error("2.1.2 (6.1.2) two underscores in a row", "a__b : INT;", "", "3:1", "two underscores"),
-    error("2.1.3 (6.1.3) a keyword as a name", "IF : INT;", "", "3:1", "unexpected 'IF'"),
+    error("2.1.3 (6.1.3) a keyword as a name", "IF : INT;", "", "3:1",
+        "IF is a reserved keyword of IEC 61131-3 and cannot name a variable"),
     error("2.1.3 (6.1.3) END_IF missing", "x : INT;", "IF x > 1 THEN x := 1;", "5:1",
         "IF at 5:1 has no END_IF; expected END_IF before 'END_PROGRAM' at 6:1"),
     error("3.3.2 (7.3.3.1) a statement without ;", "x : INT;", "x := 1\nx := 2;", "6:1",

@@ -56,6 +56,26 @@ def test_a_declaration_without_its_colon():
     assert str(error.value) == "d.st:2:7: unexpected 'INT'; expected ',', ':', 'AT', '^'"
 
 
+@pytest.mark.parametrize(
+    ("source", "message"),
+    [
+        (  # a C habit on the first line: the file's very first character
+            '#include "axes.h"\nPROGRAM Main\nVAR x : INT; END_VAR\nx := 1;\nEND_PROGRAM\n',
+            "1:1: unexpected '#'; expected ';', 'ACTION', 'CONFIGURATION', 'FUNCTION', "
+            "'INTERFACE', 'METHOD', 'PROGRAM', 'PROPERTY'",
+        ),
+        (  # the file ends inside an IF: named where the IF begins
+            "(* Conveyor *)\nPROGRAM Main\nVAR x : INT; END_VAR\nIF x > 0 THEN\n    x := 0;\n",
+            "4:1: IF at 4:1 has no END_IF; expected END_IF before the end at 5:12",
+        ),
+    ],
+)
+def test_a_file_that_breaks_off_or_begins_wrong_names_its_place(source, message):
+    with pytest.raises(plc.st.STError) as error:
+        plc.st.from_source(source, filename="main.st")
+    assert str(error.value) == f"main.st:{message}"
+
+
 BLOCK = "FUNCTION_BLOCK f\nVAR_INPUT a : INT; END_VAR\na := 1;\nEND_FUNCTION_BLOCK\n"
 
 
@@ -66,6 +86,10 @@ BLOCK = "FUNCTION_BLOCK f\nVAR_INPUT a : INT; END_VAR\na := 1;\nEND_FUNCTION_BLO
         (
             "x := 1;\n",
             f"7:8: unexpected end of the source; expected 'END_PROGRAM', {STATEMENTS}",
+        ),
+        (
+            "IF x > 0 THEN\nx := 1;\nEND_PROGRAM\n",
+            "7:1: IF at 7:1 has no END_IF; expected END_IF before 'END_PROGRAM' at 9:1",
         ),
     ],
 )
