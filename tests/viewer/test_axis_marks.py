@@ -9,6 +9,7 @@ fake wall clock (:func:`tests.viewer.test_session.run`).
 
 from __future__ import annotations
 
+import itertools
 import time
 from typing import TYPE_CHECKING
 
@@ -27,8 +28,17 @@ from tests.viewer.test_session import FakeClock, run, view
 from viewer.pages.app import ViewerApp
 from viewer.serving.server import Viewer
 from viewer.sim.session import Session
-from viewer.view3d.axis_marks import MARK_COLOR, MARK_ERROR_COLOR, AxisMarks, axis_joints
+from viewer.view3d import axis_marks, views
+from viewer.view3d.axis_marks import (
+    LABEL_CHAR,
+    MARK_COLOR,
+    MARK_ERROR_COLOR,
+    AxisMarks,
+    axis_joints,
+    mark_length,
+)
 from viewer.view3d.legend import legend_html, legend_rows
+from viewer.view3d.views import VIEWS
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser
@@ -85,6 +95,76 @@ def test_gantry_marks_sit_at_the_joints_and_point_along_them(server: viser.Viser
         assert marks.label(axis) == f"{axis} + ({part})"
     # the bridge's mark travels with it: X 0.4 m from home puts it 0.4 m along +x
     np.testing.assert_allclose(marks.anchor("X") - model.body("gantry/bridge").pos, [0.4, 0, 0])
+
+
+def shear_like_marks(
+    server: viser.ViserServer, name: str, lift: bool
+) -> tuple[AxisMarks, list[tuple[np.ndarray, np.ndarray]]]:
+    """The marks of machine ``name`` at its start, given the camera presets as a page's
+    Views does (``lift``: labels may be lifted), and the presets' cameras (eye, target)."""
+    scene = scenes.load(name, trace_every=0)
+    model, data = scene.model, scene.data
+    mujoco.mj_kinematics(model, data)
+    bounds = views._machine_bounds(model, data)
+    assert bounds is not None
+    center, radius = bounds
+    cameras = [(views._camera_position(center, radius, d), center) for d in VIEWS.values()]
+    joints = [(axis, model.joint(scene.io(axis).joint).name) for axis in scene.axes]
+    marks = AxisMarks(
+        server,
+        model,
+        axis_joints(model, joints),
+        mark_length(radius),
+        step=views.label_step(radius) if lift else 0.0,
+        cameras=cameras,
+        focal=views.FOCAL_PX,
+    )
+    marks.update(data.xpos, data.xquat, {})
+    return marks, cameras
+
+
+def overlaps(marks: AxisMarks, eye: np.ndarray, target: np.ndarray) -> list[tuple[str, str]]:
+    """The pairs of labels that overlap as a camera at ``eye`` looking at ``target`` draws
+    them."""
+    axes = [a.axis for a in marks.axes]
+    drawn = axis_marks.screen_points(
+        [marks.label_position(a) for a in axes], eye, target, views.FOCAL_PX
+    )
+    found = []
+    for j, k in itertools.combinations(range(len(axes)), 2):
+        widths = (LABEL_CHAR * len(marks.label(axes[j])), LABEL_CHAR * len(marks.label(axes[k])))
+        if axis_marks.labels_overlap(drawn[j], drawn[k], widths):
+            found.append((axes[j], axes[k]))
+    return found
+
+
+def test_labels_that_would_overlap_are_lifted_apart_with_a_line_to_their_arrow(
+    server: viser.ViserServer,
+) -> None:
+    """The flying shear's L, W and S point along its line: seen from the side (the camera
+    preset) their labels at the arrows' tips overlap. Lifted as a page's Views lifts them, no
+    two labels overlap in any preset, on the shear and on the gantry; a lifted label has a
+    line leading from its arrow's tip, one at its tip none."""
+    unlifted, cameras = shear_like_marks(server, "flying_shear", lift=False)
+    side = list(VIEWS).index("Side")
+    assert overlaps(unlifted, *cameras[side])  # the problem
+    assert all(unlifted.leader(a.axis) is None for a in unlifted.axes)
+    unlifted.remove()
+    for name in ("flying_shear", "gantry"):
+        marks, cameras = shear_like_marks(server, name, lift=True)
+        for eye, target in cameras:
+            assert not overlaps(marks, eye, target), (name, eye)
+        for mark in marks.axes:
+            line = marks.leader(mark.axis)
+            tip = marks.arrow(mark.axis)[1]  # the arrow's head; the label just beyond it
+            if line is None:
+                assert np.linalg.norm(marks.label_position(mark.axis) - tip) < 0.1 * marks.length
+            else:
+                assert np.linalg.norm(line[0] - tip) < 0.1 * marks.length
+                np.testing.assert_allclose(line[1], marks.label_position(mark.axis))
+                assert np.linalg.norm(line[1] - line[0]) > 0.1 * marks.length
+        assert name != "flying_shear" or any(marks.leader(a.axis) is not None for a in marks.axes)
+        marks.remove()
 
 
 @pytest.mark.parametrize("axis", ["L", "W"])
