@@ -59,7 +59,7 @@ def label_boxes(page: Page, mine: ViewerPage, viewer: Viewer) -> dict[str, tuple
     rotation = tf.SO3(np.asarray(camera.wxyz)).as_matrix()  # OpenCV camera: x right, y down
     width, height = page.evaluate(CANVAS)
     focal = 0.5 * height / np.tan(0.5 * camera.fov)
-    boxes = {}
+    boxes: dict[str, tuple[float, ...]] = {}
     for mark in marks.axes:
         local = (marks.label_position(mark.axis) - np.asarray(camera.position)) @ rotation
         assert local[2] > 0.0, mark.axis  # in front of the camera
