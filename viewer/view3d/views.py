@@ -32,6 +32,7 @@ import viser
 from viewer.pages.widgets import SceneGui
 from viewer.sim.snapshot import Snapshot
 from viewer.view3d.axis_marks import LABEL_LINE, AxisMarks, axis_joints, mark_length
+from viewer.view3d.frame_marks import FrameMarks
 from viewer.view3d.legend import ERROR_TINT, LegendRow, body_row, legend_html, legend_rows
 from viewer.view3d.model_scene import ModelScene
 from viewer.view3d.overlays import (
@@ -116,6 +117,8 @@ class Views:
         self._failing: frozenset[str] = frozenset()
         self.path = PathView(server)
         """The group's commanded and actual path (the View folder's Path choice)."""
+        self.frames = FrameMarks(server)
+        """The robot groups' product coordinate systems (tracked: moving with the belt)."""
 
     def clear(self) -> None:
         """Drop the overlays, the followed body and the framing of the scene that goes."""
@@ -129,6 +132,7 @@ class Views:
                 overlay.remove()
         self.ghost = self.contacts = self.marks = None
         self.path.clear()
+        self.frames.remove()
         self._scene = None
         self._moved = {}
         self._failing = frozenset()
@@ -271,8 +275,8 @@ class Views:
             self._redraw()
 
     def update(self, snapshot: Snapshot) -> None:
-        """Set-point ghost, forces, axis marks, error tints and the follow cameras, as the View
-        folder says."""
+        """Set-point ghost, forces, axis marks, error tints, the groups' product coordinate
+        systems and the follow cameras, as the View folder says."""
         model = snapshot.model
         if model is None:
             return
@@ -294,6 +298,7 @@ class Views:
             if snapshot.contacts is not None:
                 contacts.update(snapshot.contacts, snapshot.constraints)
         self.path.update(snapshot)
+        self.frames.update(snapshot)
         self._follow_cameras(snapshot)
 
     def _show_errors(self, snapshot: Snapshot) -> None:
