@@ -13,7 +13,7 @@ import viser
 from viewer.sim.product_frames import FrameView
 from viewer.sim.snapshot import Snapshot
 
-TRIAD_LENGTH = 0.06
+TRIAD_LENGTH = 0.15
 """Length of the triad's arms [m]."""
 
 
@@ -66,7 +66,7 @@ class FrameMarks:
 
     def _add(self, group: str) -> viser.FrameHandle:
         scene, node = self._server.scene, f"{self._prefix}/{group}"
-        frame = scene.add_frame(node, axes_length=TRIAD_LENGTH, axes_radius=0.06 * TRIAD_LENGTH)
+        frame = scene.add_frame(node, axes_length=TRIAD_LENGTH, axes_radius=0.04 * TRIAD_LENGTH)
         self._labels[group] = scene.add_label(
             f"{node}/label",
             f"PCS {group}",
