@@ -28,9 +28,10 @@ from tests.viewer.test_session import FakeClock, run, view
 from viewer.pages.app import ViewerApp
 from viewer.serving.server import Viewer
 from viewer.sim.session import Session
-from viewer.view3d import axis_marks, views
+from viewer.view3d import views
 from viewer.view3d.axis_marks import (
     LABEL_CHAR,
+    LABEL_LINE,
     MARK_COLOR,
     MARK_ERROR_COLOR,
     AxisMarks,
@@ -124,18 +125,26 @@ def shear_like_marks(
 
 
 def overlaps(marks: AxisMarks, eye: np.ndarray, target: np.ndarray) -> list[tuple[str, str]]:
-    """The pairs of labels that overlap as a camera at ``eye`` looking at ``target`` draws
-    them."""
-    axes = [a.axis for a in marks.axes]
-    drawn = axis_marks.screen_points(
-        [marks.label_position(a) for a in axes], eye, target, views.FOCAL_PX
-    )
-    found = []
-    for j, k in itertools.combinations(range(len(axes)), 2):
-        widths = (LABEL_CHAR * len(marks.label(axes[j])), LABEL_CHAR * len(marks.label(axes[k])))
-        if axis_marks.labels_overlap(drawn[j], drawn[k], widths):
-            found.append((axes[j], axes[k]))
-    return found
+    """The pairs of labels whose boxes (:data:`LABEL_LINE` high, :data:`LABEL_CHAR` a character
+    wide, the lower left corner at the label's point) overlap as a pinhole camera at ``eye``
+    looking at ``target`` (z up, focal length ``views.FOCAL_PX``) draws them."""
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    if np.linalg.norm(right) < 0.2:  # looking down: +y is up on the screen
+        right = np.cross([0.0, 1.0, 0.0], forward)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    boxes = {}
+    for mark in marks.axes:
+        d = marks.label_position(mark.axis) - eye
+        x = views.FOCAL_PX * float(d @ right) / float(d @ forward)
+        y = views.FOCAL_PX * float(d @ up) / float(d @ forward)
+        boxes[mark.axis] = (x, y, x + LABEL_CHAR * len(marks.label(mark.axis)), y + LABEL_LINE)
+    return [
+        (a, b)
+        for (a, p), (b, q) in itertools.combinations(boxes.items(), 2)
+        if p[0] < q[2] and q[0] < p[2] and p[1] < q[3] and q[1] < p[3]
+    ]
 
 
 def test_labels_that_would_overlap_are_lifted_apart_with_a_line_to_their_arrow(
