@@ -9,6 +9,7 @@ fake wall clock (:func:`tests.viewer.test_session.run`).
 
 from __future__ import annotations
 
+import itertools
 import time
 from typing import TYPE_CHECKING
 
@@ -27,8 +28,18 @@ from tests.viewer.test_session import FakeClock, run, view
 from viewer.pages.app import ViewerApp
 from viewer.serving.server import Viewer
 from viewer.sim.session import Session
-from viewer.view3d.axis_marks import MARK_COLOR, MARK_ERROR_COLOR, AxisMarks, axis_joints
+from viewer.view3d import views
+from viewer.view3d.axis_marks import (
+    LABEL_CHAR,
+    LABEL_LINE,
+    MARK_COLOR,
+    MARK_ERROR_COLOR,
+    AxisMarks,
+    axis_joints,
+    mark_length,
+)
 from viewer.view3d.legend import legend_html, legend_rows
+from viewer.view3d.views import VIEWS
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser
@@ -85,6 +96,84 @@ def test_gantry_marks_sit_at_the_joints_and_point_along_them(server: viser.Viser
         assert marks.label(axis) == f"{axis} + ({part})"
     # the bridge's mark travels with it: X 0.4 m from home puts it 0.4 m along +x
     np.testing.assert_allclose(marks.anchor("X") - model.body("gantry/bridge").pos, [0.4, 0, 0])
+
+
+def shear_like_marks(
+    server: viser.ViserServer, name: str, lift: bool
+) -> tuple[AxisMarks, list[tuple[np.ndarray, np.ndarray]]]:
+    """The marks of machine ``name`` at its start, given the camera presets as a page's
+    Views does (``lift``: labels may be lifted), and the presets' cameras (eye, target)."""
+    scene = scenes.load(name, trace_every=0)
+    model, data = scene.model, scene.data
+    mujoco.mj_kinematics(model, data)
+    bounds = views._machine_bounds(model, data)
+    assert bounds is not None
+    center, radius = bounds
+    cameras = [(views._camera_position(center, radius, d), center) for d in VIEWS.values()]
+    joints = [(axis, model.joint(scene.io(axis).joint).name) for axis in scene.axes]
+    marks = AxisMarks(
+        server,
+        model,
+        axis_joints(model, joints),
+        mark_length(radius),
+        step=views.label_step(radius) if lift else 0.0,
+        cameras=cameras,
+        focal=views.FOCAL_PX,
+    )
+    marks.update(data.xpos, data.xquat, {})
+    return marks, cameras
+
+
+def overlaps(marks: AxisMarks, eye: np.ndarray, target: np.ndarray) -> list[tuple[str, str]]:
+    """The pairs of labels whose boxes (:data:`LABEL_LINE` high, :data:`LABEL_CHAR` a character
+    wide, the lower left corner at the label's point) overlap as a pinhole camera at ``eye``
+    looking at ``target`` (z up, focal length ``views.FOCAL_PX``) draws them."""
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    if np.linalg.norm(right) < 0.2:  # looking down: +y is up on the screen
+        right = np.cross([0.0, 1.0, 0.0], forward)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    boxes = {}
+    for mark in marks.axes:
+        d = marks.label_position(mark.axis) - eye
+        x = views.FOCAL_PX * float(d @ right) / float(d @ forward)
+        y = views.FOCAL_PX * float(d @ up) / float(d @ forward)
+        boxes[mark.axis] = (x, y, x + LABEL_CHAR * len(marks.label(mark.axis)), y + LABEL_LINE)
+    return [
+        (a, b)
+        for (a, p), (b, q) in itertools.combinations(boxes.items(), 2)
+        if p[0] < q[2] and q[0] < p[2] and p[1] < q[3] and q[1] < p[3]
+    ]
+
+
+def test_labels_that_would_overlap_are_lifted_apart_with_a_line_to_their_arrow(
+    server: viser.ViserServer,
+) -> None:
+    """The flying shear's L, W and S point along its line: seen from the side (the camera
+    preset) their labels at the arrows' tips overlap. Lifted as a page's Views lifts them, no
+    two labels overlap in any preset, on the shear and on the gantry; a lifted label has a
+    line leading from its arrow's tip, one at its tip none."""
+    unlifted, cameras = shear_like_marks(server, "flying_shear", lift=False)
+    side = list(VIEWS).index("Side")
+    assert overlaps(unlifted, *cameras[side])  # the problem
+    assert all(unlifted.leader(a.axis) is None for a in unlifted.axes)
+    unlifted.remove()
+    for name in ("flying_shear", "gantry"):
+        marks, cameras = shear_like_marks(server, name, lift=True)
+        for eye, target in cameras:
+            assert not overlaps(marks, eye, target), (name, eye)
+        for mark in marks.axes:
+            line = marks.leader(mark.axis)
+            tip = marks.arrow(mark.axis)[1]  # the arrow's head; the label just beyond it
+            if line is None:
+                assert np.linalg.norm(marks.label_position(mark.axis) - tip) < 0.1 * marks.length
+            else:
+                assert np.linalg.norm(line[0] - tip) < 0.1 * marks.length
+                np.testing.assert_allclose(line[1], marks.label_position(mark.axis))
+                assert np.linalg.norm(line[1] - line[0]) > 0.1 * marks.length
+        assert name != "flying_shear" or any(marks.leader(a.axis) is not None for a in marks.axes)
+        marks.remove()
 
 
 @pytest.mark.parametrize("axis", ["L", "W"])

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Iterator
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -121,6 +122,47 @@ def test_the_cell_s_labels_are_whole(browser: Browser, cell: Viewer) -> None:
     assert all(tabs.get(a) for a in axes), tabs
 
 
+OVERVIEW = """() => {
+    const table = document.querySelector('table[data-overview]');
+    const frame = table.parentElement, box = frame.getBoundingClientRect();
+    const fields = [...table.querySelectorAll('[data-field]')].map((e) => {
+        const r = e.getBoundingClientRect();
+        return {field: e.dataset.field, text: e.textContent.trim(),
+                whole: e.scrollWidth <= e.clientWidth + 1,
+                inside: r.left >= box.left - 0.5 && r.right <= box.right + 0.5};
+    });
+    return {scrolls: frame.scrollWidth > frame.clientWidth + 1, width: box.width,
+            fields: fields};
+}"""
+"""The overview's frame: whether it scrolls sideways, and each value, name and lamp of the table:
+its text, shown whole and inside the frame."""
+
+
+def fits(overview: dict[str, Any], axes: int) -> None:
+    """Every value of the ``axes`` axes' overview readable without scrolling sideways."""
+    assert not overview["scrolls"], overview["width"]
+    fields = overview["fields"]
+    values = [f for f in fields if f["field"] in ("position", "set_velocity", "output")]
+    assert len(values) == 3 * axes
+    bad = [f for f in fields if not (f["whole"] and f["inside"])]
+    assert not bad, bad
+
+
+@pytest.mark.parametrize(("width", "height"), SIZES)
+def test_the_overview_fits_its_column(
+    browser: Browser, cell: Viewer, width: int, height: int, tmp_path: Path
+) -> None:
+    """The cell's four axes (the longest names, ``gantry/X``) in the page's left column: no
+    sideways scrolling, every value, name, unit and lamp whole."""
+    page = open_page(browser, cell, width, height)
+    try:
+        overview: dict[str, Any] = page.evaluate(OVERVIEW)
+        page.screenshot(path=tmp_path / "overview.png")
+    finally:
+        page.context.close()
+    fits(overview, 4)
+
+
 def test_a_following_error_in_mdeg_is_whole(browser: Browser) -> None:
     """The rotary cutter's overview in a page of the test's own, its drum D (deg) showing a
     following error and a peak at its limit (MaxPositionLag 5 deg): each cell shows its text
@@ -130,7 +172,7 @@ def test_a_following_error_in_mdeg_is_whole(browser: Browser) -> None:
     context = browser.new_context(viewport={"width": 1280, "height": 800})
     try:
         left = server.gui.add_panel()
-        with left.add_tab("Overview"):
+        with left.add_tab("Overview"), server.gui.add_folder("All axes"):  # as on the page
             overview = Overview(server.gui)
         left.dock_left()
         left.set_width(COLUMN_WIDTH)
@@ -143,6 +185,7 @@ def test_a_following_error_in_mdeg_is_whole(browser: Browser) -> None:
         page.goto(f"http://127.0.0.1:{server.get_port()}")
         page.locator('td[data-field="name"]').first.wait_for(timeout=30_000)
         labels: dict[str, Any] = page.evaluate(LABELS)
+        fits(page.evaluate(OVERVIEW), len(snapshot.axes))  # the FE's unit with each value
     finally:
         context.close()
         server.stop()

@@ -21,10 +21,11 @@ LAMP_OFF = "#cfd8dc"
 def row(session: Session, axis: str) -> dict[str, str]:
     """The cells of ``axis``' row in the overview as plain texts; lamps as "on" or "off"."""
     page = overview_html(session.snapshot)
-    match = re.search(rf'<tr data-axis="{axis}" data-line="values">(.*?)</tr>', page)
-    assert match is not None, f"no row of {axis}"
+    lines = re.findall(rf'<tr data-axis="{axis}" data-line="(?:values|set|lamps)">(.*?)</tr>', page)
+    assert len(lines) == 3, f"no values, set points and lamps of {axis}"
     cells: dict[str, str] = {}
-    for field, content in re.findall(r'<td data-field="(\w+)"[^>]*>(.*?)</td>', match[1]):
+    found = re.findall(r'<(td|div) data-field="(\w+)"[^>]*>(.*?)</\1>', "".join(lines))
+    for _, field, content in found:
         colour = re.search(r"background:(#\w+)", content)
         if colour is not None:
             cells[field] = "off" if colour[1] == LAMP_OFF else "on"
@@ -44,10 +45,9 @@ def lit(cells: dict[str, str]) -> set[str]:
 
 
 def micrometres(text: str) -> float:
-    """A following-error cell (``"1.7 µm"``) as a number [µm]."""
-    number, unit = text.split()
-    assert unit == "µm"
-    return float(number)
+    """A following-error cell of an axis in mm (``"1.7"``, the header says µm) as a number [µm]."""
+    assert "µm" not in text and text.strip() == text  # the unit is the header's
+    return float(text)
 
 
 def powered(session: Session, axis: str = "X") -> None:
@@ -208,30 +208,27 @@ def test_a_signal_that_rounds_to_zero_reads_0_not_minus_0() -> None:
 
 
 def headers(session: Session) -> list[str]:
-    """The value columns' headers of the overview (plain text)."""
+    """The value columns' headers of the overview (plain text, without what their lines are)."""
     page = overview_html(session.snapshot)
-    found = re.findall(r'<th title="[^"]*" style="text-align:right[^"]*">(.*?)</th>', page)
-    return [str(h) for h in found]
+    found = re.findall(r'<th title="[^"]*" style="text-align:right[^"]*">(.*?)<div', page)
+    return [str(h).strip() for h in found]
 
 
 def test_the_headers_carry_the_unit_the_axes_share() -> None:
-    assert headers(Session("gantry"))[:4] == [
-        "Set pos [mm]",
-        "Act pos [mm]",
-        "Set vel [mm/s]",
-        "Act vel [mm/s]",
-    ]
+    assert headers(Session("gantry")) == ["Pos [mm]", "Vel [mm/s]", "FE [µm]", "Out [%]"]
     mixed = headers(Session("rotary_cutter"))  # mm and deg: each row names its unit
-    assert mixed[:4] == ["Set pos", "Act pos", "Set vel", "Act vel"]
-    assert not any("[u" in h for h in mixed)
+    assert mixed == ["Pos", "Vel", "FE", "Out [%]"]
+    cells = row(Session("rotary_cutter"), "D")  # each following error then carries its own
+    assert cells["following_error"].endswith(" mdeg")
+    assert row(Session("gantry"), "X")["following_error"] == "0.0"  # the header's µm
 
 
 def test_the_name_column_is_as_wide_as_the_longest_name_with_its_unit() -> None:
     from viewer.pages import overview
 
     cell = list(Session("cell").snapshot.axes.values())
-    width = overview.name_width(cell)  # "gantry/X mm": 11 characters
-    assert width == pytest.approx(overview.CHAR_WIDTH * 11 + 0.8)
+    width = overview.name_width(cell)  # "gantry/X" over "mm": 8 characters
+    assert width == pytest.approx(overview.CHAR_WIDTH * 8 + 0.4)
     assert f'<col style="width:{width:.2f}em">' in overview_html(Session("cell").snapshot)
     gantry = list(Session("gantry").snapshot.axes.values())
     assert overview.name_width(gantry) == overview.NAME_WIDTH  # "X mm": the narrowest column

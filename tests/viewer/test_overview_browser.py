@@ -34,7 +34,7 @@ __all__ = ["browser"]  # the Chromium fixture, shared with the viewer's browser 
 OVERVIEW_WIDTH = 640
 """Width of the test's overview panel [px]."""
 
-ROW = 'tr[data-axis="X"][data-line="values"] td'
+ROW = 'tr[data-axis="X"]:not([data-line="error"]) [data-field]'
 PANEL = "td[data-value]"
 BOXES = """els => els.map(e => {
     const r = e.getBoundingClientRect();

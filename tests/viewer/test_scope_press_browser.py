@@ -2,7 +2,8 @@
 published signals by their labels with their units (``pressure A [bar]``, not ``pressure_A``),
 and over a recording of a press cycle every channel's drawn trace spans a readable part of the
 plot's height, each unit on a y axis of its own or in a track of its own labelled by one y
-axis (read from the page's uPlot chart)."""
+axis, each track at least :data:`~viewer.scope.tracks.MIN_TRACK` high (read from the page's
+uPlot chart)."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ import pytest
 import scenes
 from tests.viewer.test_browser import browser, wait_for
 from tests.viewer.test_scope_browser import new_page
+from viewer.scope.tracks import MIN_TRACK
 from viewer.serving.server import Viewer
 
 if TYPE_CHECKING:
@@ -101,3 +103,8 @@ def test_every_press_channel_spans_a_readable_part_of_the_plot(
     for trace in traces:
         assert trace["span"] >= 0.2 * drawn["height"], (trace, drawn["height"])
         assert one_axis or trace["scale"] in drawn["axes"], (trace, drawn["axes"])
+    tracks = {trace["scale"] for trace in traces}  # kN, bar, mm: a track each at 1280×800
+    assert drawn["height"] >= len(tracks) * MIN_TRACK - 0.5, (len(tracks), drawn["height"])
+    for scale in tracks:  # each track's traces fill most of its height, not a 17 px strip
+        tallest = max(t["span"] for t in traces if t["scale"] == scale)
+        assert tallest >= 0.75 * MIN_TRACK, (scale, traces)

@@ -20,9 +20,13 @@ from viewer.pages.layout import COLUMN_WIDTH
 from viewer.scope.capture import ON_ERROR, History, Recording, Window
 from viewer.scope.panel import CHART_WIDTH, RECORDING_LENGTHS, RUN, PageScope, length_of
 from viewer.scope.tracks import (
+    ASPECT,
+    CHART_FRAME,
     DIGITAL_BAND,
+    MIN_TRACK,
     SHARED,
     STACKED,
+    aspect_of,
     layout_of,
     nice_ticks,
     unit_groups,
@@ -127,6 +131,21 @@ def test_stacked_tracks_each_have_a_band_of_their_own_first_on_top() -> None:
         assert high - low == pytest.approx(next_high - next_low)
     assert bands[0][1] <= 1.0 and bands[-1][0] >= 0.0
     assert layout.axes[0]["values"][1] == "1.000 mm"  # the top of the first track, with its unit
+
+
+def test_the_chart_grows_so_that_each_track_keeps_its_least_height() -> None:
+    """On shared axes the chart keeps its aspect; each track it is cut into needs
+    :data:`MIN_TRACK`, the chart grows taller (the page's column then scrolls)."""
+    assert aspect_of(1, CHART_WIDTH) == ASPECT  # 137 px: one plot of 57 px
+    for tracks in (3, 5, 8):
+        height = CHART_WIDTH / aspect_of(tracks, CHART_WIDTH)
+        assert height - CHART_FRAME == pytest.approx(tracks * MIN_TRACK)
+    assert aspect_of(3, 1000.0) == ASPECT  # a wide chart is tall enough for three
+    displays = [display_of(c) for c in EIGHT]
+    ranges = [(-1.0, 1.0)] * 7 + [(-0.1, 1.1)]
+    assert layout_of(STACKED, displays, ranges, COLORS).tracks == 8
+    assert layout_of(SHARED, displays, ranges, COLORS, 1000.0).tracks == 1
+    assert layout_of(SHARED, displays, ranges, COLORS, CHART_WIDTH).tracks == 5
 
 
 @pytest.mark.parametrize(

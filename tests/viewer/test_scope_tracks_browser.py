@@ -16,7 +16,7 @@ import scenes
 from tests.viewer.test_browser import browser, choose_scene, take_control, wait_for
 from tests.viewer.test_scope_browser import choose, new_page
 from viewer.scope.panel import PageScope
-from viewer.scope.tracks import SHARED, STACKED
+from viewer.scope.tracks import MIN_TRACK, SHARED, STACKED
 from viewer.serving.server import Viewer
 
 if TYPE_CHECKING:
@@ -43,6 +43,7 @@ DRAWN = """() => Object.values(window.__viserTestpoints?.uplots ?? {}).map((u) =
     return {
         width: c.width,
         plot: plot,
+        height: c.bbox.height / devicePixelRatio,
         series: c.series.slice(1).map((s, i) => {
             const ys = c.data[i + 1], sc = c.scales[s.scale];
             let first = null, last = null, inside = 0, finite = 0;
@@ -60,7 +61,8 @@ DRAWN = """() => Object.values(window.__viserTestpoints?.uplots ?? {}).map((u) =
     };
 })"""
 """Per series of the page's chart: the width [CSS px] its points span and how many of its
-points lie inside its scale's range; the chart's width and its plotting area's width."""
+points lie inside its scale's range; the chart's width and its plotting area's width and
+height."""
 
 
 @pytest.fixture(scope="module")
@@ -110,6 +112,8 @@ def test_eight_channels_are_each_drawn_over_most_of_the_plot_at_1280x800(
             )
         traces = [s for s in chart["series"] if s["label"].split(" [")[0] in EIGHT]
         assert len(traces) == len(EIGHT)
+        tracks = len(EIGHT) if layout == STACKED else 5  # four units' tracks, the digital's
+        assert chart["height"] >= tracks * MIN_TRACK - 0.5, chart["height"]  # the plot grew
         for trace in traces:
             assert trace["span"] >= 0.6 * chart["width"], (trace, chart["width"])
             assert trace["inside"] >= 0.95 * trace["finite"] > 0, trace

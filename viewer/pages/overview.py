@@ -1,23 +1,26 @@
-"""The all-axes overview: one row per axis of the current scene, as an engineer's online view.
+"""The all-axes overview: a block of lines per axis, as an engineer's online view, narrow
+enough for the page's left column (300 px at 1280×800) without scrolling sideways.
 
-Each row: set and actual position [u], set and actual velocity [u/s], the following error and
-its peak since the last reset (µm for axes in mm or m), the command in percent of ±10 V, a status
-word of lamps, and under the row a line of its own for the error text. The table has fixed
-column widths (``table-layout: fixed``): a value never moves, whatever the error text's length
-(it wraps into two lines at most, then ends in an ellipsis; the full text is its tooltip).
-Encoder-only axes show "—" where they have no set point and no output.
+Four value columns, each with two lines: position and velocity [u] (actual above, set point
+below in grey), the following error and its peak since the last reset (µm for axes in mm or m,
+mdeg for deg), and the command in percent of ±10 V; the axis name with its unit under it on the
+left. Under the values a line of the status word: nine labelled lamps (Rdy, En, Hom, …) at fixed
+places, then a line of its own for the error text. The table has fixed column widths
+(``table-layout: fixed``): a value never moves, whatever the error text's length (it wraps into
+two lines at most, then ends in an ellipsis; the full text is its tooltip). Encoder-only axes
+show "—" where they have no set point and no output.
 
 Interface used by the per-page layout (:mod:`viewer.pages.layout`): ``Overview(gui)`` adds its
-element
-to the current container of ``gui`` (a page's ``client.gui``); :meth:`Overview.update` sends the
-table when it changed. The peaks are reset by :meth:`viewer.sim.session.Session.reset_peaks` (the
-layout binds it to a button).
+element to the current container of ``gui`` (a page's ``client.gui``); :meth:`Overview.update`
+sends the table when it changed. The peaks are reset by
+:meth:`viewer.sim.session.Session.reset_peaks` (the layout binds it to a button).
 """
 
 from __future__ import annotations
 
 __all__ = [
     "CHAR_WIDTH",
+    "COLUMNS",
     "ERROR_LINES",
     "FE_UNITS",
     "FULL_SCALE_VOLTS",
@@ -53,43 +56,58 @@ FE_UNITS: dict[str, tuple[float, str]] = {"mm": (1e3, "µm"), "m": (1e6, "µm"),
 """Following error shown per axis unit: (factor from the axis unit, shown unit); other units
 are shown as they are, with four decimals."""
 
-VALUE_COLUMNS: tuple[tuple[str, str, float, str], ...] = (
-    ("set_position", "Set pos [u]", 5.8, "set point (model position) [u]"),
-    ("position", "Act pos [u]", 5.8, "actual position POS [u]"),
-    ("set_velocity", "Set vel [u/s]", 5.4, "set velocity [u/s]"),
-    ("velocity", "Act vel [u/s]", 5.4, "actual velocity VEL [u/s]"),
-    ("following_error", "FE", 7.0, "following error: set point − actual position"),
-    ("peak_following_error", "FE peak", 7.0, "largest |following error| since Reset peaks"),
-    ("output", "Out [%]", 3.8, "analog command in % of ±10 V"),
+COLUMNS: tuple[tuple[str, str, str, float], ...] = (
+    ("Pos", "[u]", "act/set", 5.7),
+    ("Vel", "[u/s]", "act/set", 5.1),
+    ("FE", "", "now/peak", 4.6),
+    ("Out", "[%]", "of ±10 V", 4.0),
 )
-"""The value columns: (data-field, header, width [em], tooltip); ``u`` in a header is the axes'
-unit (left out when the axes differ: each row names its own)."""
+"""The value columns: (header, unit, what its two lines are, width [em]); ``u`` is the axes'
+unit (left out when the axes differ: each axis names its own under its name). The following
+error's unit is the header's when every axis has the same (:func:`fe_scale`), else each value's."""
+
+VALUE_COLUMNS: tuple[tuple[str, int, int, str], ...] = (
+    ("position", 0, 0, "actual position POS [u]"),
+    ("set_position", 0, 1, "set point (model position) [u]"),
+    ("velocity", 1, 0, "actual velocity VEL [u/s]"),
+    ("set_velocity", 1, 1, "set velocity [u/s]"),
+    ("following_error", 2, 0, "following error: set point − actual position"),
+    ("peak_following_error", 2, 1, "largest |following error| since Reset peaks"),
+    ("output", 3, 0, "analog command in % of ±10 V"),
+)
+"""The values: (data-field, column of :data:`COLUMNS`, line (0 above, 1 below), tooltip)."""
 
 LAMPS: tuple[tuple[str, str, str], ...] = (
-    ("ready", "Ready", "ready: powered, no error, standstill"),
-    ("enabled", "Enabled", "enabled: drive enable on"),
-    ("homed", "Homed", "homed: the axis has its reference"),
-    ("in_position", "In pos", "in position: standstill, |FE| within the in-position window"),
-    ("moving", "Moving", "moving: the set point is in motion"),
-    ("lim_neg", "LIM−", "LIM− switch"),
-    ("lim_pos", "LIM+", "LIM+ switch"),
-    ("sw_limit", "SW lim", "software limit reached (LimNeg or LimPos)"),
-    ("error", "Error", "axis error"),
+    ("ready", "Rdy", "ready: powered, no error, standstill"),
+    ("enabled", "En", "enabled: drive enable on"),
+    ("homed", "Hom", "homed: the axis has its reference"),
+    ("in_position", "InP", "in position: standstill, |FE| within the in-position window"),
+    ("moving", "Mov", "moving: the set point is in motion"),
+    ("lim_neg", "L−", "LIM− switch"),
+    ("lim_pos", "L+", "LIM+ switch"),
+    ("sw_limit", "SW", "software limit reached (LimNeg or LimPos)"),
+    ("error", "Err", "axis error"),
 )
-"""The status word: (data-field, header (written upwards), tooltip), left to right."""
+"""The status word: (data-field, label, tooltip), left to right, each lamp at a fixed place of
+the line under the axis' values."""
 
-NAME_WIDTH, LAMP_WIDTH = 3.6, 1.2
-"""Narrowest width of the axis name column (the name with its unit) and width of each lamp
-column [em of the table's font]."""
+NAME_WIDTH = 2.6
+"""Narrowest width of the axis name column (the name, its unit under it) [em of the table's
+font]."""
 
-CHAR_WIDTH = 0.62
+CHAR_WIDTH = 0.56
 """Width of a character of a bold axis name [em of the table's font], generous."""
+
+LAMP_WIDTH = 2.5
+"""Narrowest place of a lamp with its label [em of the table's font]."""
 
 ERROR_LINES = 2
 """Lines the error text may wrap into before it is cut off (always reserved)."""
 
-_CELL = "padding:0.1em 0.2em;white-space:nowrap;overflow:hidden"
+_CELL = "padding:0 0.15em;white-space:nowrap;overflow:hidden"
 _NUMBER = f"{_CELL};text-align:right;font-family:monospace"
+_GREY = "color:#78909c"
+_RULE = "border-bottom:1px solid #eceff1"
 
 
 def fe_scale(unit: str) -> tuple[float, str, int]:
@@ -106,12 +124,15 @@ def _number(value: float, decimals: int) -> str:
     return f"{value if round(value, decimals) else 0.0:.{decimals}f}"
 
 
-def _values(view: AxisView) -> dict[str, str]:
-    """The text of each value cell of ``view``'s row (escaped)."""
+def _values(view: AxisView, fe_suffix: bool) -> dict[str, str]:
+    """The text of each value cell of ``view``'s row (escaped); the following errors with their
+    unit when ``fe_suffix``."""
     factor, fe_unit, decimals = fe_scale(view.unit)
     suffix = (
-        '<span style="color:#78909c;font-family:sans-serif;font-size:0.8em">'
+        f'<span style="{_GREY};font-family:sans-serif;font-size:0.8em">'
         f" {html.escape(fe_unit)}</span>"
+        if fe_suffix
+        else ""
     )
     drive = view.has_drive
     return {
@@ -163,36 +184,66 @@ def _error_text(view: AxisView) -> str:
     return " · ".join(parts)
 
 
-def _row(view: AxisView) -> str:
-    """The value row and the error line of one axis."""
-    name = html.escape(view.name)
-    values = _values(view)
-    cells = "".join(
-        f'<td data-field="{field}" style="{_NUMBER}">{values[field]}</td>'
-        for field, _, _, _ in VALUE_COLUMNS
-    )
+def _value_line(name: str, line: int, values: dict[str, str], first: str) -> str:
+    """One line of an axis' values (``line`` 0: actual, 1: set points and peak), led by
+    ``first`` (the name cell on the first line, nothing on the second)."""
+    cells = []
+    for column in range(len(COLUMNS)):
+        found = [f for f, c, k, _ in VALUE_COLUMNS if c == column and k == line]
+        style = _NUMBER if line == 0 else f"{_NUMBER};{_GREY}"
+        if found:
+            field = found[0]
+            tip = next(t for f, _, _, t in VALUE_COLUMNS if f == field)
+            cells.append(
+                f'<td data-field="{field}" title="{tip}" style="{style}">{values[field]}</td>'
+            )
+        else:
+            cells.append(f'<td style="{style}"></td>')
+    kind = "values" if line == 0 else "set"
+    return f'<tr data-axis="{name}" data-line="{kind}">{first}{"".join(cells)}</tr>'
+
+
+def _lamp_line(name: str, view: AxisView) -> str:
+    """The status word under the values: each lamp with its label at a fixed place."""
     word, note = status_word(view), _window_note(view)
     lamps = "".join(
-        f'<td data-field="{field}" style="{_CELL};padding:0.1em 0;text-align:center" title="{tip}'
-        f'{note if field == "in_position" else ""}">'
-        f"{lamp_dot(word[field], LAMP_KINDS.get(field, 'on_info'))}</td>"
-        for field, _, tip in LAMPS
+        f'<div data-field="{field}" title="{tip}{note if field == "in_position" else ""}"'
+        f' style="white-space:nowrap;overflow:hidden">'
+        f"{lamp_dot(word[field], LAMP_KINDS.get(field, 'on_info'))}"
+        f'<span style="{_GREY};font-size:0.85em;margin-left:0.1em">{label}</span></div>'
+        for field, label, tip in LAMPS
+    )
+    return (
+        f'<tr data-axis="{name}" data-line="lamps"><td colspan="{1 + len(COLUMNS)}"'
+        f' style="padding:0.1em 0.2em 0 0.2em"><div style="display:grid;'
+        f'grid-template-columns:repeat({len(LAMPS)},1fr)">{lamps}</div></td></tr>'
+    )
+
+
+def _row(view: AxisView, fe_suffix: bool) -> str:
+    """The lines of one axis: values, set points, status word and error text."""
+    name = html.escape(view.name)
+    values = _values(view, fe_suffix)
+    first = (
+        f'<td data-field="name" rowspan="2" style="{_CELL};vertical-align:top"><b>{name}</b>'
+        f' <span data-field="unit" style="{_GREY};display:block">'
+        f"{html.escape(view.unit)}</span></td>"
     )
     text = _error_text(view)
     line = ERROR_LINES * 1.3
-    span = 1 + len(VALUE_COLUMNS) + len(LAMPS)
     error = (
-        f'<tr data-axis="{name}" data-line="error"><td colspan="{span}"'
-        f' style="padding:0 0.3em 0.2em 0.3em;border-bottom:1px solid #eceff1">'
+        f'<tr data-axis="{name}" data-line="error"><td colspan="{1 + len(COLUMNS)}"'
+        f' style="padding:0 0.3em 0.2em 0.3em;{_RULE}">'
         f'<div data-field="error_text" title="{html.escape(text)}" style="height:{line}em;'
         f"line-height:1.3em;overflow:hidden;overflow-wrap:anywhere;display:-webkit-box;"
         f"-webkit-box-orient:vertical;-webkit-line-clamp:{ERROR_LINES};color:#c62828;"
         f'font-size:0.95em">{html.escape(text)}</div></td></tr>'
     )
     return (
-        f'<tr data-axis="{name}" data-line="values"><td data-field="name" style="{_CELL}">'
-        f'<b>{name}</b> <span data-field="unit" style="color:#78909c">'
-        f"{html.escape(view.unit)}</span></td>{cells}{lamps}</tr>{error}"
+        _value_line(name, 0, values, first)
+        + _value_line(name, 1, values, "")
+        + _lamp_line(name, view)
+        + error
     )
 
 
@@ -203,48 +254,61 @@ def _window_note(view: AxisView) -> str:
 
 
 def name_width(views: list[AxisView]) -> float:
-    """The width of the axis name column [em]: the longest name with its unit, whole."""
-    longest = max((len(v.name) + 1 + len(v.unit) for v in views), default=0)
-    return max(NAME_WIDTH, CHAR_WIDTH * longest + 0.8)
+    """The width of the axis name column [em]: the longest name or unit (under the name),
+    whole."""
+    longest = max((max(len(v.name), len(v.unit)) for v in views), default=0)
+    return max(NAME_WIDTH, CHAR_WIDTH * longest + 0.4)
 
 
-def _header(label: str, units: set[str]) -> str:
-    """A value column's header: ``u`` replaced by the axes' one unit (left out for several)."""
+def _header(label: str, unit: str, units: set[str]) -> str:
+    """A value column's unit: ``u`` replaced by the axes' one unit (empty for several)."""
+    if "u" not in unit:
+        return unit
     if len(units) == 1:
-        return label.replace("[u", f"[{html.escape(next(iter(units)))}")
-    return label.split(" [")[0]
+        return unit.replace("[u", f"[{html.escape(next(iter(units)))}")
+    return ""
+
+
+def _fe_units(views: list[AxisView]) -> set[str]:
+    """The units the axes' following errors are shown in."""
+    return {fe_scale(v.unit)[1] for v in views}
 
 
 def _head(views: list[AxisView]) -> tuple[str, float]:
     """The column widths and the header row; the table's width [em]."""
-    widths = [name_width(views), *(w for _, _, w, _ in VALUE_COLUMNS)]
-    widths += [LAMP_WIDTH] * len(LAMPS)
+    fe_units = _fe_units(views)
+    suffix_width = 0.0 if len(fe_units) == 1 else 0.45 * max(len(u) for u in fe_units) + 0.3
+    widths = [name_width(views), *(w for _, _, _, w in COLUMNS)]
+    widths[3] += suffix_width
     units = {v.unit for v in views}
     columns = "".join(f'<col style="width:{w:.2f}em">' for w in widths)
     header = '<th style="text-align:left" title="axis and its unit u">Axis</th>'
-    header += "".join(
-        f'<th title="{tip}" style="text-align:right;padding:0 0.3em">{_header(label, units)}</th>'
-        for _, label, _, tip in VALUE_COLUMNS
+    for label, unit, lines, _ in COLUMNS:
+        shown = _header(label, unit, units)
+        if label == "FE" and len(fe_units) == 1:
+            shown = f"[{html.escape(next(iter(fe_units)))}]"
+        header += (
+            f'<th title="{label} {lines}" style="text-align:right;padding:0 0.2em">'
+            f'{label} {shown}<div style="font-weight:normal;white-space:nowrap;{_GREY}">'
+            f"{lines}</div></th>"
+        )
+    return f"<colgroup>{columns}</colgroup><tr>{header}</tr>", max(
+        sum(widths), LAMP_WIDTH * len(LAMPS)
     )
-    header += "".join(
-        f'<th title="{tip}" style="writing-mode:vertical-rl;transform:rotate(180deg);'
-        f'text-align:left;white-space:nowrap;font-weight:normal;padding:0.2em 0">{label}</th>'
-        for _, label, tip in LAMPS
-    )
-    return f"<colgroup>{columns}</colgroup><tr>{header}</tr>", sum(widths)
 
 
 def overview_html(snapshot: Snapshot) -> str:
     """The overview table of every axis of ``snapshot`` (texts escaped)."""
     views = list(snapshot.axes.values())
     head, width = _head(views)
-    rows = "".join(_row(view) for view in views)
+    fe_suffix = len(_fe_units(views)) > 1
+    rows = "".join(_row(view, fe_suffix) for view in views)
     return (
         '<div style="overflow-x:auto;padding:0 0.5em">'
-        f'<table data-overview="axes" style="table-layout:fixed;width:{width:.1f}em;'
-        f'border-collapse:collapse;font-size:0.75em">'
-        f'<thead style="font-size:0.85em;color:#455a64;vertical-align:bottom">{head}</thead>'
-        f"<tbody>{rows}</tbody></table></div>"
+        f'<table data-overview="axes" style="table-layout:fixed;width:100%;min-width:{width:.1f}em;'
+        f'border-collapse:collapse;font-size:0.72em">'
+        f'<thead style="font-size:0.9em;color:#455a64;vertical-align:bottom;{_RULE}">'
+        f"{head}</thead><tbody>{rows}</tbody></table></div>"
     )
 
 

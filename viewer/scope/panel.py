@@ -58,7 +58,7 @@ from viewer.scope.capture import (
     threshold_trigger,
 )
 from viewer.scope.readout import aligned, decimate, readout, readout_html, recording_csv
-from viewer.scope.tracks import LAYOUTS, SHARED, aspect_of, layout_of
+from viewer.scope.tracks import ASPECT, LAYOUTS, SHARED, aspect_of, layout_of
 from viewer.scope.units import auto_range, display_of, settled_range
 from viewer.serving.retire import retire
 from viewer.serving.security import GuiGate, choice_of, number_in
@@ -198,7 +198,7 @@ class PageScope:
             series=(viser.uplot.Series(label="t [s]"), viser.uplot.Series(label="")),
             scales={"x": viser.uplot.Scale(time=False, auto=True)},
             legend={"live": False},
-            aspect=1.9,
+            aspect=ASPECT,
         )
         self._readout = gui.add_html("")
         self._acquire = gui.add_button_group("Acquisition", (RUN, SINGLE, FREEZE))
@@ -544,11 +544,11 @@ class PageScope:
         with self._atomic():
             if style != self._style:
                 self._style = style
-                series, axes, scales = plot_style(
+                series, axes, scales, tracks = plot_style(
                     rec, overlay, ranges, self.peak_slot, x_range, self.layout, self._titles
                 )
                 self.plot.series, self.plot.axes, self.plot.scales = series, axes, scales
-                aspect = aspect_of(self.layout, len(rec.names))
+                aspect = aspect_of(tracks, CHART_WIDTH)
                 if self.plot.aspect != aspect:
                     self.plot.aspect = aspect
             self.plot.data = (x, *rows)
@@ -601,11 +601,15 @@ def plot_style(
     layout: str = SHARED,
     titles: Mapping[str, str] | None = None,
 ) -> tuple[
-    tuple[viser.uplot.Series, ...], tuple[viser.uplot.Axis, ...], dict[str, viser.uplot.Scale]
+    tuple[viser.uplot.Series, ...],
+    tuple[viser.uplot.Axis, ...],
+    dict[str, viser.uplot.Scale],
+    int,
 ]:
     """Series (live, overlay dashed, cursor markers), axes (the time axis, then the y axes of
-    the ``layout``: one per unit, or one for the stacked tracks) and scales of the plot; a
-    channel is named by its title (``titles``: a published signal's label) and its unit."""
+    the ``layout``: one per unit, or one for the stacked tracks), scales and tracks (bands of
+    the height) of the plot; a channel is named by its title (``titles``: a published signal's
+    label) and its unit."""
     headers = recording.headers(titles)
     placed = layout_of(layout, recording.displays, ranges, COLORS, CHART_WIDTH)
     origin = "trigger" if recording.window.trigger_at is not None else "start"
@@ -633,7 +637,7 @@ def plot_style(
     }
     for key, (low, high) in placed.ranges.items():
         scales[key] = viser.uplot.Scale(auto=False, range=(low, high))
-    return tuple(series), axes, scales
+    return tuple(series), axes, scales, placed.tracks
 
 
 def _trace(label: str, color: str, scale: str, dashed: bool = False) -> viser.uplot.Series:

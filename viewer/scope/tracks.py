@@ -7,11 +7,14 @@ labels each band's range in the channel's unit)."""
 from __future__ import annotations
 
 __all__ = [
+    "ASPECT",
     "AXIS_FONT",
+    "CHART_FRAME",
     "CHAR_WIDTH",
     "DIGITAL_BAND",
     "LABEL_SIZE",
     "LAYOUTS",
+    "MIN_TRACK",
     "NEUTRAL",
     "SHARED",
     "STACKED",
@@ -68,6 +71,16 @@ AXES_SHARE = 0.4
 """At most this fraction of the chart's width goes to the shared layout's y axes: when they
 need more, each unit gets a track of the plot's height instead (:func:`unit_tracks`)."""
 
+ASPECT = 1.9
+"""Width / height of the chart while its tracks are high enough."""
+
+MIN_TRACK = 48.0
+"""Least height of a track of the plot [CSS px]: a trace in it reads like one on its own."""
+
+CHART_FRAME = 80.0
+"""Height of the chart beyond its plotting area [CSS px]: the time axis with its values and
+label, and the padding."""
+
 NEUTRAL = "#444444"
 """Colour of an axis several channels share."""
 
@@ -80,11 +93,13 @@ class Layout:
         scales: The scale key of each channel (its series and its overlay use it).
         ranges: The range of each scale [display unit of its channels].
         axes: The y axes.
+        tracks: Bands the plot's height is shared out in (1: every channel over all of it).
     """
 
     scales: tuple[str, ...]
     ranges: dict[str, tuple[float, float]]
     axes: tuple[viser.uplot.Axis, ...]
+    tracks: int = 1
 
 
 def unit_groups(displays: Sequence[Display]) -> list[list[int]]:
@@ -201,7 +216,7 @@ def unit_tracks(
     for g, members in enumerate(groups):
         for k in members:
             scales[k] = placed.scales[g]
-    return Layout(tuple(scales), placed.ranges, placed.axes)
+    return Layout(tuple(scales), placed.ranges, placed.axes, len(groups))
 
 
 def _resolution(step: float) -> float:
@@ -234,14 +249,13 @@ def stacked_layout(
                 texts.append(shown)
     axis = _axis(scales[0] if n else "y", "", NEUTRAL, 3, ticks, texts)
     axis["grid"] = {"show": True}
-    return Layout(scales, scale_ranges, (axis,))
+    return Layout(scales, scale_ranges, (axis,), n)
 
 
-def aspect_of(kind: str, channels: int) -> float:
-    """Width / height of the plot: wide on shared axes, taller for many stacked tracks."""
-    if kind == STACKED and channels > 3:
-        return max(1.1, 1.9 - 0.15 * (channels - 3))
-    return 1.9
+def aspect_of(tracks: int, width: float) -> float:
+    """Width / height of a chart ``width`` [CSS px] wide: :data:`ASPECT`, or taller, so that
+    each of its ``tracks`` is at least :data:`MIN_TRACK` high (the panel then scrolls)."""
+    return min(ASPECT, width / (CHART_FRAME + max(tracks, 1) * MIN_TRACK))
 
 
 def layout_of(

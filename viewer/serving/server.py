@@ -14,9 +14,12 @@ import socket
 from collections.abc import Iterable
 
 from viewer.pages.app import ViewerApp
+from viewer.serving import loop_safe
 from viewer.serving.security import AccessPolicy, BoundedLog, is_loopback, make_token, secure_server
 from viewer.sim.session import Session
 from viewer.view3d import renderer
+
+loop_safe.install()  # before any viser server: its buffers' events woken safely from threads
 
 DEFAULT_HOST = "127.0.0.1"
 """Interface the viewer binds unless told otherwise: this machine only."""

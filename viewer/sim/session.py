@@ -51,6 +51,7 @@ from scenes.scene import Scene
 from viewer.sim.cam_view import ProfileCache, cam_views
 from viewer.sim.demo_run import DemoRun
 from viewer.sim.peaks import PeakHold
+from viewer.sim.product_frames import ProductFrames
 from viewer.sim.programs import ProgramCatalog, ProgramSelection
 from viewer.sim.recorder import Recorder
 from viewer.sim.snapshot import (
@@ -220,6 +221,7 @@ class Session:
         self._axis_errors = {name: axis.AxErrorID for name, axis in scene.axes.items()}
         self._peaks = PeakHold(scene.axes)
         self._profiles = ProfileCache()
+        self._frames = ProductFrames()
         self._generation += 1
         self._fault = ""
         self._restart_pacing()
@@ -752,6 +754,7 @@ class Session:
             contacts=None if model is None or data is None else contact_forces(model, data),
             constraints=None if model is None or data is None else constraint_forces(model, data),
             cams=cam_views(scene.axes, self._profiles),
+            frames=self._frames(self._operator.groups(), model, data),
         )
 
     def _signal_view(self, name: str) -> SignalView:

@@ -36,6 +36,7 @@ from scenes import DemoProgram, MachineDef
 from scenes.plant.mujoco import MujocoAxisIO
 from scenes.scene import Scene
 from viewer.sim.cam_view import CamView
+from viewer.sim.product_frames import FrameView
 
 log = logging.getLogger(__name__)
 
@@ -263,6 +264,8 @@ class Snapshot:
             model.
         cams: The cammed axes with their table's profile and operating point
             (:class:`~viewer.sim.cam_view.CamView`); empty when no axis is cammed.
+        frames: The product coordinate system of each robot group that has one, in the
+            world (:class:`~viewer.sim.product_frames.FrameView`; tracking: it moves on).
     """
 
     generation: int
@@ -288,6 +291,7 @@ class Snapshot:
     contacts: npt.NDArray[np.float64] | None = None
     constraints: npt.NDArray[np.float64] | None = None
     cams: tuple[CamView, ...] = ()
+    frames: tuple[FrameView, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

@@ -12,6 +12,11 @@ at the arrow's head names the axis and its part (``"X + (bridge)"``). The marks 
 part because that is where an engineer looks for "which part is X": a mark fixed on the parent
 would stay behind while the part travels away from it.
 
+Labels whose places would overlap as a camera preset sees them (the flying shear's L, W and S
+all point along its line: seen from the side their tips fall together) are lifted apart, each
+by its own number of steps up (world +y +z, seen apart from the front, the side and the top), a
+thin line leading from the arrow's tip to the lifted label.
+
 While an axis has an error (``AxisView.error_id`` ≠ 0) its arrow turns red and its label reads
 the error number; viser 1.1.1 draws labels in one colour, so the text carries the warning.
 """
@@ -23,6 +28,9 @@ __all__ = [
     "ARC_TURN",
     "ARROW_SHARE",
     "HINGE",
+    "LABEL_CHAR",
+    "LABEL_LIFT",
+    "LABEL_LINE",
     "MARK_COLOR",
     "MARK_ERROR_COLOR",
     "MAX_ARROW",
@@ -31,10 +39,13 @@ __all__ = [
     "AxisJoint",
     "AxisMarks",
     "axis_joints",
+    "label_slots",
     "label_text",
+    "labels_overlap",
     "mark_length",
     "quat_z_to",
     "rotate",
+    "screen_points",
 ]
 
 from collections.abc import Mapping, Sequence
@@ -62,6 +73,12 @@ ARC_TURN = 1.5 * np.pi
 
 ARC_SEGMENTS = 24
 """Line segments of a hinge's curved arrow."""
+
+LABEL_LIFT = np.array([0.0, 1.0, 1.0])
+"""Direction a label is lifted in when it would overlap another, per step (world)."""
+
+LABEL_LINE, LABEL_CHAR = 18.0, 7.5
+"""Height of a label's line and width of its character [CSS px] (its box, to find overlaps)."""
 
 HINGE = int(mujoco.mjtJoint.mjJNT_HINGE)
 SLIDE = int(mujoco.mjtJoint.mjJNT_SLIDE)
@@ -165,6 +182,71 @@ def label_text(mark: AxisJoint, error_id: int) -> str:
     return f"{mark.axis} + ({mark.part})"
 
 
+def screen_points(
+    points: Sequence[npt.NDArray[np.float64]],
+    eye: npt.NDArray[np.float64],
+    target: npt.NDArray[np.float64],
+    focal: float,
+) -> list[tuple[float, float]]:
+    """Where a camera at ``eye`` looking at ``target`` (z up) draws ``points`` [m]: right and
+    up [CSS px] from the canvas' centre, for a ``focal`` length [px]."""
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    up = np.array([0.0, 0.0, 1.0]) - forward[2] * forward
+    if np.linalg.norm(up) < 0.2:  # looking straight down: the screen's up is +y
+        up = np.array([0.0, 1.0, 0.0]) - forward[1] * forward
+    up /= np.linalg.norm(up)
+    right = np.cross(forward, up)
+    result = []
+    for p in points:
+        d = p - eye
+        depth = max(float(d @ forward), 1e-9)
+        result.append((focal * float(d @ right) / depth, focal * float(d @ up) / depth))
+    return result
+
+
+def labels_overlap(
+    a: tuple[float, float], b: tuple[float, float], widths: tuple[float, float]
+) -> bool:
+    """Whether labels whose lower left corners are drawn at ``a`` and ``b`` [px], ``widths``
+    [px] wide and :data:`LABEL_LINE` high, overlap (with a margin)."""
+    across, height = b[0] - a[0], b[1] - a[1]
+    width = widths[0] if across >= 0.0 else widths[1]
+    return abs(height) < 1.3 * LABEL_LINE and abs(across) < width + 0.3 * LABEL_LINE
+
+
+def label_slots(
+    tips: Sequence[npt.NDArray[np.float64]],
+    texts: Sequence[str],
+    step: float,
+    cameras: Sequence[tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]],
+    focal: float,
+) -> list[int]:
+    """Steps of ``step`` [m] (along :data:`LABEL_LIFT`) each label is lifted by so that no two
+    overlap as any of the ``cameras`` ((eye, target) [m], ``focal`` length [px]) draws them;
+    the first label stays at its tip, a later one gets the fewest steps that clear the labels
+    before it."""
+    if step <= 0.0 or not cameras:
+        return [0] * len(tips)
+    widths = [LABEL_CHAR * len(t) for t in texts]
+    slots: list[int] = []
+    for k, tip in enumerate(tips):
+        slot = 0
+        while slot < 4 * len(tips):
+            places = [tips[j] + slots[j] * step * LABEL_LIFT for j in range(k)]
+            places.append(tip + slot * step * LABEL_LIFT)
+            clash = False
+            for eye, target in cameras:
+                drawn = screen_points(places, eye, target, focal)
+                clash = clash or any(
+                    labels_overlap(drawn[j], drawn[k], (widths[j], widths[k])) for j in range(k)
+                )
+            if not clash:
+                break
+            slot += 1
+        slots.append(slot)
+    return slots
+
+
 def _slide_arrow(mark: AxisJoint, length: float) -> npt.NDArray[np.float64]:
     """Start and end [m] of a slide's arrow in the mark frame (local z = joint axis)."""
     start = mark.reach + 0.1 * length
@@ -192,6 +274,11 @@ class AxisMarks:
         axes: The axes to mark (:func:`axis_joints`).
         length: Arrow length [m] (:func:`mark_length`).
         prefix: Node path of the marks' root frame.
+        step: How far [m] a label is lifted per step (0: never; about a line of it as the
+            camera presets show the machine).
+        cameras: The camera presets, (eye, target) [m], in which labels must not overlap.
+        focal: Their focal length [CSS px] (half the canvas' height over the tangent of half
+            its field of view).
     """
 
     def __init__(
@@ -201,8 +288,15 @@ class AxisMarks:
         axes: Sequence[AxisJoint],
         length: float,
         prefix: str = "/axis_marks",
+        step: float = 0.0,
+        cameras: Sequence[tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]] = (),
+        focal: float = 1.0,
     ) -> None:
         self._model = model
+        self._step, self._cameras, self._focal = step, tuple(cameras), focal
+        self._slots: list[int] | None = None
+        self._tips: list[npt.NDArray[np.float64]] = []
+        self._leaders: list[viser.LineSegmentsHandle] = []
         self._server = server
         self._axes = tuple(axes)
         self.length = length
@@ -215,11 +309,11 @@ class AxisMarks:
         with server.atomic():
             self._root = server.scene.add_frame(prefix, show_axes=False)
             for k, mark in enumerate(self._axes):
-                self._add(f"{prefix}/{k}", mark)
+                self._add(f"{prefix}/{k}", f"{prefix}/labels/{k}", mark)
 
-    def _add(self, node: str, mark: AxisJoint) -> None:
+    def _add(self, node: str, label_node: str, mark: AxisJoint) -> None:
         """The frame, arrow and label of one axis (at the model's reference pose until the
-        first :meth:`update`)."""
+        first :meth:`update`; the label, in world coordinates, at its arrow's tip then)."""
         scene, length = self._server.scene, self.length
         frame = scene.add_frame(node, show_axes=False)
         arc: viser.LineSegmentsHandle | None = None
@@ -250,13 +344,24 @@ class AxisMarks:
             head_radius=0.13 * length,
             head_length=0.2 * length,
         )
+        tip = tip + np.array([0.0, 0.0, 0.05 * length])  # just beyond the head
         label = scene.add_label(
-            f"{node}/label",
+            f"{label_node}/label",
             label_text(mark, 0),
-            position=tip + np.array([0.0, 0.0, 0.05 * length]),
+            position=tip,
             depth_test=False,
             anchor="bottom-left",
         )
+        leader = scene.add_line_segments(
+            f"{label_node}/leader",
+            np.zeros((1, 2, 3)),
+            colors=MARK_COLOR,
+            thickness=1.0,
+            thickness_units="screen",
+            visible=False,
+        )
+        self._tips.append(tip)
+        self._leaders.append(leader)
         self._frames.append(frame)
         self._arrows.append(arrow)
         self._labels.append(label)
@@ -292,6 +397,16 @@ class AxisMarks:
         """The text of the axis' label."""
         return self._labels[self._index(axis)].text
 
+    def leader(self, axis: str) -> npt.NDArray[np.float64] | None:
+        """World start and end [m] of the line leading from the arrow's tip to the lifted
+        label, shape (2, 3); None while the label sits at the tip."""
+        line = self._leaders[self._index(axis)]
+        return np.array(line.points, dtype=np.float64)[0] if line.visible else None
+
+    def label_position(self, axis: str) -> npt.NDArray[np.float64]:
+        """World position [m] of the axis' label (its lower left corner) as last drawn."""
+        return np.array(self._labels[self._index(axis)].position, dtype=np.float64)
+
     def arrow_color(self, axis: str) -> tuple[int, int, int]:
         """The colour of the axis' arrow (RGB in [0, 255])."""
         colors = np.asarray(self._arrows[self._index(axis)].colors).reshape(-1, 3)
@@ -323,6 +438,7 @@ class AxisMarks:
             errors: ``AxisView.error_id`` by axis name (a missing axis: no error).
         """
         model = self._model
+        tips = []
         with self._server.atomic():
             for k, mark in enumerate(self._axes):
                 quat = xquat[mark.body]
@@ -333,6 +449,7 @@ class AxisMarks:
                     frame.position = anchor
                 if not np.array_equal(frame.wxyz, wxyz):
                     frame.wxyz = wxyz
+                tips.append(anchor + rotate(wxyz, self._tips[k]))
                 error = int(errors.get(mark.axis, 0))
                 if error != self._errors[mark.axis]:
                     self._errors[mark.axis] = error
@@ -342,6 +459,24 @@ class AxisMarks:
                     arc = self._arcs[k]
                     if arc is not None:
                         arc.colors = color
+                    self._leaders[k].colors = color
+            self._place_labels(tips)
+
+    def _place_labels(self, tips: list[npt.NDArray[np.float64]]) -> None:
+        """Each label at its arrow's tip, lifted by its slot (found at the first pose drawn);
+        a lifted one with its leader line from the tip."""
+        if self._slots is None:
+            texts = [label_text(mark, 0) for mark in self._axes]
+            self._slots = label_slots(tips, texts, self._step, self._cameras, self._focal)
+        for k, tip in enumerate(tips):
+            lift = self._slots[k] * self._step * LABEL_LIFT
+            position = tip + lift
+            label = self._labels[k]
+            if not np.array_equal(label.position, position):
+                label.position = position
+                if self._slots[k]:
+                    self._leaders[k].points = np.array([[tip, position]])
+                    self._leaders[k].visible = True
 
     def remove(self) -> None:
         """Remove the marks' nodes from the scene."""
@@ -350,3 +485,4 @@ class AxisMarks:
         self._arrows.clear()
         self._labels.clear()
         self._arcs.clear()
+        self._leaders.clear()

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 __all__ = [
     "CAMERA_FOV",
+    "FOCAL_PX",
     "FOLLOW_OFF",
     "FOLLOW_STEP",
     "FRAME_ASPECT",
@@ -16,6 +17,7 @@ __all__ = [
     "SWITCH_CHOICES",
     "VIEWS",
     "Views",
+    "label_step",
 ]
 
 import math
@@ -29,7 +31,8 @@ import viser
 
 from viewer.pages.widgets import SceneGui
 from viewer.sim.snapshot import Snapshot
-from viewer.view3d.axis_marks import AxisMarks, axis_joints, mark_length
+from viewer.view3d.axis_marks import LABEL_LINE, AxisMarks, axis_joints, mark_length
+from viewer.view3d.frame_marks import FrameMarks
 from viewer.view3d.legend import ERROR_TINT, LegendRow, body_row, legend_html, legend_rows
 from viewer.view3d.model_scene import ModelScene
 from viewer.view3d.overlays import (
@@ -57,6 +60,9 @@ FRAME_OUTLIER = 50.0
 
 CAMERA_FOV = math.radians(75.0)
 """Vertical field of view of a page's camera [rad] (viser's initial camera)."""
+
+FOCAL_PX = 400.0 / math.tan(0.5 * CAMERA_FOV)
+"""Focal length [CSS px] of a page's camera in the 800 px high canvas of a 1280×800 page."""
 
 FRAME_ASPECT = 0.8
 """Narrowest canvas (width / height) the framing fits the machine into: half of a 1280×800 page."""
@@ -111,6 +117,8 @@ class Views:
         self._failing: frozenset[str] = frozenset()
         self.path = PathView(server)
         """The group's commanded and actual path (the View folder's Path choice)."""
+        self.frames = FrameMarks(server)
+        """The robot groups' product coordinate systems (tracked: moving with the belt)."""
 
     def clear(self) -> None:
         """Drop the overlays, the followed body and the framing of the scene that goes."""
@@ -124,6 +132,7 @@ class Views:
                 overlay.remove()
         self.ghost = self.contacts = self.marks = None
         self.path.clear()
+        self.frames.remove()
         self._scene = None
         self._moved = {}
         self._failing = frozenset()
@@ -156,7 +165,17 @@ class Views:
         joints = [(name, view.joint) for name, view in snapshot.axes.items() if view.joint]
         radius = 1.0 if self._bounds is None else self._bounds[1]
         axes = axis_joints(model, joints)
-        self.marks = AxisMarks(self.server, model, axes, mark_length(radius))
+        self.marks = AxisMarks(
+            self.server,
+            model,
+            axes,
+            mark_length(radius),
+            step=label_step(radius),
+            cameras=[(_camera_position(*self._bounds, d), self._bounds[0]) for d in VIEWS.values()]
+            if self._bounds is not None
+            else (),
+            focal=FOCAL_PX,
+        )
         self._scene = scene
         self._moved = {a.axis: moved_bodies(model, [int(model.jnt_qposadr[a.joint])]) for a in axes}
         self.legend = legend_rows(model, {joint: name for name, joint in joints})
@@ -256,8 +275,8 @@ class Views:
             self._redraw()
 
     def update(self, snapshot: Snapshot) -> None:
-        """Set-point ghost, forces, axis marks, error tints and the follow cameras, as the View
-        folder says."""
+        """Set-point ghost, forces, axis marks, error tints, the groups' product coordinate
+        systems and the follow cameras, as the View folder says."""
         model = snapshot.model
         if model is None:
             return
@@ -279,6 +298,7 @@ class Views:
             if snapshot.contacts is not None:
                 contacts.update(snapshot.contacts, snapshot.constraints)
         self.path.update(snapshot)
+        self.frames.update(snapshot)
         self._follow_cameras(snapshot)
 
     def _show_errors(self, snapshot: Snapshot) -> None:
@@ -334,6 +354,13 @@ def _machine_bounds(
     xpos = np.asarray(data.geom_xpos)[solid]
     low, high = (xpos - rbound).min(axis=0), (xpos + rbound).max(axis=0)
     return 0.5 * (low + high), 0.5 * float(np.linalg.norm(high - low))
+
+
+def label_step(radius: float) -> float:
+    """Height [m] of a label's line (:data:`~viewer.view3d.axis_marks.LABEL_LINE`) at the
+    machine's centre as a camera preset framing a machine of ``radius`` [m] shows it."""
+    distance = radius / math.sin(math.atan(math.tan(0.5 * CAMERA_FOV) * FRAME_ASPECT))
+    return LABEL_LINE * distance / FOCAL_PX
 
 
 def _camera_position(
