@@ -48,10 +48,13 @@ def test_a_velocity_below_1_percent_of_vmax_is_refused_with_its_reason(
     assert "| 40 … 4000 mm/s (below 1 % of Vmax: ErrorID 5;" in capsys.readouterr().out
 
 
-def test_a_refused_power_on_shows_mc_powers_error() -> None:
+def test_a_refused_power_on_shows_mc_powers_error(caplog: pytest.LogCaptureFixture) -> None:
     plc = InProcess("flying_shear")
-    plc.write("W.control", bits("enable"))  # W: an encoder, no drive
-    plc.run(0.1)
+    with caplog.at_level(logging.WARNING, "scenes.bridge.program"):
+        plc.write("W.control", bits("enable"))  # W: an encoder, no drive
+        plc.run(0.1)
+    text = f"W: Power: error 14 ({mcl.error_text(14)})"
+    assert [r.getMessage() for r in caplog.records] == [text]  # once, though Enable stays set
     assert plc.read("W.state") == mcl.AxisState.Disabled
     assert plc.status("W", "error") and not plc.status("W", "power")
     assert plc.read("W.error_id") == mcl.ErrorID.ENoDrive
