@@ -32,19 +32,43 @@ def motion_limits(
 
     Velocity must be > 0 and at least 1 % of Vmax; Acceleration, Deceleration, Jerk >= 0
     (0 = axis default); values above the axis maxima are clamped; an acceleration or
-    deceleration too small to reach or leave the velocity within 100 s is refused.
+    deceleration too small to reach or leave the velocity within 100 s is refused
+    (:func:`motion_refusal` says which).
     """
+    checked = _checked_limits(axis, velocity, acceleration, deceleration, jerk)
+    return ErrorID.EParam if isinstance(checked, str) else checked
+
+
+def motion_refusal(
+    axis: Axis, velocity: Any, acceleration: Any, deceleration: Any, jerk: Any
+) -> str:
+    """Why :func:`motion_limits` refuses these inputs with ``EParam`` (empty: it does not),
+    e.g. ``"Velocity 20 mm/s below 1 % of Vmax (40 mm/s)"``."""
+    checked = _checked_limits(axis, velocity, acceleration, deceleration, jerk)
+    return checked if isinstance(checked, str) else ""
+
+
+def _checked_limits(
+    axis: Axis, velocity: Any, acceleration: Any, deceleration: Any, jerk: Any
+) -> Limits | str:
+    """The limits of :func:`motion_limits`, or why they are refused."""
     v, a, d, j = number(velocity), number(acceleration), number(deceleration), number(jerk)
-    if not positive(v) or axis.velocity_too_low(v):
-        return ErrorID.EParam
-    if not (non_negative(a) and non_negative(d) and non_negative(j)):
-        return ErrorID.EParam
+    unit = axis.config.unit
+    if not positive(v):
+        return f"Velocity {v:g} {unit}/s is not > 0"
+    if axis.velocity_too_low(v):
+        least = 0.01 * axis.constants.Vmax if axis.constants is not None else 0.0
+        return f"Velocity {v:g} {unit}/s below 1 % of Vmax ({least:g} {unit}/s)"
+    for name, value in (("Acceleration", a), ("Deceleration", d), ("Jerk", j)):
+        if not non_negative(value):
+            return f"{name} {value:g} is not >= 0"
     limits = axis.limits(v, a, d, j)
-    if (
-        limits.acceleration * 100.0 < limits.velocity
-        or limits.deceleration * 100.0 < limits.velocity
+    for name, ramp in (
+        ("Acceleration", limits.acceleration),
+        ("Deceleration", limits.deceleration),
     ):
-        return ErrorID.EParam
+        if ramp * 100.0 < limits.velocity:
+            return f"{name} {ramp:g} {unit}/s² takes over 100 s to {limits.velocity:g} {unit}/s"
     return limits
 
 
@@ -566,4 +590,5 @@ __all__ = [
     "MC_MoveRelative",
     "MC_MoveVelocity",
     "MC_Stop",
+    "motion_refusal",
 ]

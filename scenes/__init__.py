@@ -17,6 +17,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from scenes import shadowing
+
+shadowing.check()  # before the first import of another package of the testbench
+
 from mcl import native
 from mcl.extras import require
 

@@ -11,6 +11,8 @@ jog levels, the digital outputs, servo constants to write and the commissioning 
 power           ``MC_Power`` Enable (a level; None: the block is not called, so that another
                 program keeps the drive in its hands)
 reset           ``MC_Reset``
+home_direct     ``MC_StepDirect`` (position: the axis is homed where it stands, without motion, as
+                ``MC_SetPosition`` with Ref; a bus master's direct homing)
 home            the homing procedure chosen (:meth:`AxisOperator.select_homing`): the machine's
                 recipe (``plc.procedures.HomeAxis``; the default), ``MC_StepRefPulse`` on the
                 next index pulse, ``MC_StepDirect`` (set the position without moving)
@@ -71,6 +73,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import mcl
+from mcl.motion import motion_refusal
 from plc.commissioning.axis import AxisCommissioning, CommissioningRequests
 from plc.commissioning.step_test import StepListener
 from plc.procedures import HomeAxis, HomingRecipe, Recipe
@@ -92,6 +95,7 @@ Active, CommandAborted."""
 LABELS = {
     "reset": "Reset",
     "home": "Home",
+    "home_direct": "Home direct",
     "move_absolute": "Move to",
     "move_relative": "Move by",
     "move_additive": "Move additive",
@@ -125,7 +129,7 @@ MC_StepDirect."""
 INDEX_FRACTION = 0.02
 """Index-search velocity of the index-pulse procedures without a recipe, as a fraction of Vmax."""
 
-_FIRST = ("reset", "home")
+_FIRST = ("reset", "home", "home_direct")
 _MOTION = (
     "move_absolute",
     "move_relative",
@@ -214,6 +218,7 @@ class AxisOperator:
         self.set_position = mcl.MC_StepDirect(Axis=axis)
         self.home: HomeAxis | mcl.MC_StepRefPulse | mcl.MC_StepDirect | None = self.recipe
         """The homing procedure ``home`` runs (None: none)."""
+        self.home_direct = mcl.MC_StepDirect()
         self.move_absolute = mcl.MC_MoveAbsolute()
         self.move_relative = mcl.MC_MoveRelative()
         self.move_additive = mcl.MC_MoveAdditive()
@@ -305,8 +310,9 @@ class AxisOperator:
         """One PLC scan: the orders to the blocks, in the order of the module docstring."""
         axis = self.axis
         if orders.power is not None:
+            refused = self.power.Error
             self.power(Axis=axis, Enable=orders.power)
-            if self.power.Error:
+            if self.power.Error and not refused:
                 self._report("Power", self.power.ErrorID)
         self._execute(_FIRST, orders)
         if orders.commissioning is not None:
@@ -373,7 +379,8 @@ class AxisOperator:
         """GT_Jog while a jog level is set (and once more when it drops)."""
         jog_pos, jog_neg = orders.jog_pos, orders.jog_neg
         if jog_pos or jog_neg or self.jog.Enable:
-            jogging = bool(self.jog.Enable and not self.jog.Error)
+            refused = self.jog.Error
+            jogging = bool(self.jog.Enable and not refused)
             self.jog(
                 Axis=self.axis,
                 Enable=jog_pos or jog_neg,
@@ -381,8 +388,13 @@ class AxisOperator:
                 JogNeg=jog_neg,
                 JogVelo=orders.jog_velocity,
             )
-            if self.jog.Error:
-                self._report("Jog+" if jog_pos else "Jog−", self.jog.ErrorID, aborted=jogging)
+            if self.jog.Error and not refused:
+                jog = self.jog
+                ramp = (jog.JogVelo, jog.JogAcc, jog.JogDec, jog.JogJerk)
+                eparam = jog.ErrorID == mcl.ErrorID.EParam
+                detail = motion_refusal(self.axis, *ramp) if eparam else ""
+                label = "Jog+" if jog_pos else "Jog−"
+                self._report(label, jog.ErrorID, aborted=jogging, detail=detail)
 
     def _write_constants(self, constants: mcl.ServoConstants) -> None:
         """GT_SetConstant with ``constants`` (it checks them), Execute dropped at once."""
@@ -417,7 +429,7 @@ class AxisOperator:
         self.finished.add(name)
         label = LABELS[name]
         if block.Error:
-            detail = self._beyond_limit(name, block) if block.ErrorID == mcl.ErrorID.Ecil else ""
+            detail = self._why(name, block)
             self._report(label, block.ErrorID, aborted=not started, detail=detail)
         elif block.Done:
             self.message = f"{label}: done"
@@ -425,6 +437,16 @@ class AxisOperator:
                 self.last_error = ""
         else:
             self.message = f"{label}: aborted"
+
+    def _why(self, name: str, block: Block) -> str:
+        """Why command ``name``'s block failed, where the ErrorID alone does not say: the
+        software limit a target lies beyond (Ecil), the ramp input a move refuses (EParam)."""
+        if block.ErrorID == mcl.ErrorID.Ecil:
+            return self._beyond_limit(name, block)
+        if block.ErrorID == mcl.ErrorID.EParam and name in MOVES:
+            ramp = (block.Velocity, block.Acceleration, block.Deceleration, block.Jerk)
+            return motion_refusal(self.axis, *ramp)
+        return ""
 
     def _beyond_limit(self, name: str, block: Block) -> str:
         """Which software limit a move's target lies beyond, and where (empty: not known)."""
@@ -509,5 +531,7 @@ _INPUTS = {
         "stop": ("Deceleration", "Jerk"),
     }.items()
 }
+_INPUTS["home_direct"] = (("SetPosition", "position", False),)
 """Each Execute command's block inputs from its parameters: (input, parameter, an INT) — the
-parameter is the input's name in snake case (``buffer_mode``); home has Execute only."""
+parameter is the input's name in snake case (``buffer_mode``; home_direct's SetPosition:
+``position``); home has Execute only."""

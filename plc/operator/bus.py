@@ -54,6 +54,7 @@ CONTROL_BITS = (
     "gear_in_pos",
     "gear_out",
     "force_control",
+    "home_direct",
 )
 """Bits of an axis' control word, bit 0 first. ``enable`` and the jogs are levels; the others
 are Execute inputs (a rising edge starts the command; keep the bit set until Done). A bit set and
@@ -151,7 +152,7 @@ class CommandWords:
         params: Parameters = self.registers.get
         operator(
             Orders(
-                power=bool(word & 1) if operator.axis.has_drive else None,
+                power=bool(word & 1),
                 execute=frozenset(c for c in self.commands if word & _MASK[c]),
                 start={c: params for c in self.commands if rising & _MASK[c]},
                 jog_pos=bool(word & _MASK["jog_pos"]),
@@ -174,6 +175,9 @@ class CommandWords:
         axis, current = self.operator.axis, self.current
         io = axis.io
         held, error_id = self.handshake.result()
+        power = self.operator.power
+        if power.Error and not held["error"]:  # MC_Power's, while its Enable is set
+            held["error"], error_id = True, int(power.ErrorID)
         flags = {
             "done": held["done"],
             "busy": bool(getattr(current, "Busy", False)),

@@ -66,8 +66,12 @@ mask write, read/write (a write is read back after it is done)."""
 
 MBAP = 7
 """Bytes of a Modbus TCP frame's header: transaction id, protocol id 0, length, unit id."""
-MAX_LENGTH = 254
-"""Largest length field of a frame (unit id and a PDU of at most 253 bytes)."""
+MAX_PDU = 253
+"""Largest PDU of the Modbus specification (123 registers of a function 16)."""
+MAX_LENGTH = 266
+"""Largest length field of a frame taken: the unit id and a PDU whose byte count (one byte)
+says up to 255 data bytes (a function 23 of 127 registers); a PDU beyond :data:`MAX_PDU` is
+answered with ILLEGAL_VALUE, a longer frame closes the connection."""
 MAX_PENDING = 64
 """Requests of one connection waiting for their answer; a client that sends more is closed."""
 
@@ -185,7 +189,7 @@ class _Connection(ServerRequestHandler):
 
     def _decode(self, pdu: bytes, tid: int, unit: int) -> ModbusPDU:
         """The request of a frame, or the exception that answers one that is none."""
-        request = self.server.decoder.decode(pdu)
+        request = self.server.decoder.decode(pdu) if len(pdu) <= MAX_PDU else None
         if request is None:
             code = pdu[0] & 0x7F  # a served function malformed, or another function
             known = code in REGISTER_CODES

@@ -203,6 +203,12 @@ METHODS = (
         "MC_MoveVelocity",
     ),
     Method("MC_Home", "home", (), "the machine's homing recipe"),
+    Method(
+        "MC_StepDirect",
+        "home_direct",
+        (_arg("SetPosition", "f32", "position", "the position the axis gets where it stands [u]"),),
+        "MC_StepDirect: homed where it stands, without motion",
+    ),
     Method("MC_Stop", "stop", (DECELERATION, JERK), "MC_Stop"),
     Method("MC_Halt", "halt", (DECELERATION, JERK), "MC_Halt"),
     Method(

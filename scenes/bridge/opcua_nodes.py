@@ -340,6 +340,8 @@ class BridgeNodes:
                 part = prefix[:-1]
                 parent = await machine.add_object(self.node(part), f"{self.index}:{part}")
             await self._table(k, table, parent, prefix)
+        if self.bridge.definition.parts:  # a cell's own signals, once (every table has them)
+            await self._signals(self.tables[0], machine, "", own=False)
         await self._simulation(machine)
         self.mirror = Mirror(server, list(self.variables.values()), self._bits)
         await self.mirror.refresh()
@@ -370,10 +372,20 @@ class BridgeNodes:
                     await self._variable(group, table, f, f.name[len(table.group) + 1 :], unit)
             for group_method in GROUP_METHODS:
                 await self._method(group, table, table.group, group_method)
+        await self._signals(table, parent, prefix)
+
+    async def _signals(
+        self, table: SignalTable, parent: Node, prefix: str, own: bool = True
+    ) -> None:
+        """The Signals folder: the table's published signals (a part's: those of ``prefix``),
+        or (``own`` False) a cell's own, which every part's table has after the part's."""
         signals = await parent.add_folder(self.node(f"{prefix}Signals"), f"{self.index}:Signals")
         for f in table.fields:
-            if f.name.startswith("signal."):
-                await self._variable(signals, table, f, f.name[len("signal.") + len(prefix) :])
+            name = f.name.removeprefix("signal.")
+            if name == f.name:
+                continue
+            if name.startswith(prefix) if own else "/" not in name:
+                await self._variable(signals, table, f, name.removeprefix(prefix))
 
     async def _simulation(self, machine: Node) -> None:
         """The Simulation object: the sim fields of the first table, and Advance."""

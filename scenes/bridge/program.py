@@ -13,6 +13,7 @@ from __future__ import annotations
 
 __all__ = ["BridgeProgram"]
 
+import logging
 from collections.abc import Sequence
 
 from plc.operator.axis import AxisOperator
@@ -23,6 +24,14 @@ from plc.operator.program import OperatorProgram
 from plc.procedures import Recipe
 from scenes.bridge.table import AxisRegisters, SignalTable
 from scenes.scene import Scene
+
+log = logging.getLogger(__name__)
+
+
+def _log_refusal(axis: str, text: str) -> None:
+    """Log a command an axis refused or an error ended, with its reason (``S: Move velocity:
+    error 5 (…: Velocity 20 mm/s below 1 % of Vmax (40 mm/s))``)."""
+    log.warning("%s: %s", axis, text)
 
 
 class BridgeProgram(OperatorProgram[CommandWords]):
@@ -52,7 +61,7 @@ class BridgeProgram(OperatorProgram[CommandWords]):
             masters = [scene.axes[a] for a in table.axes]  # gearing's master numbers
             for axis in masters:
                 operator = AxisOperator(
-                    axis, homing.get(axis.name), masters, sim_time=lambda: scene.time
+                    axis, homing.get(axis.name), masters, _log_refusal, sim_time=lambda: scene.time
                 )
                 front_ends.append(CommandWords(operator, AxisRegisters(table, axis.name)))
         self.group_words = [

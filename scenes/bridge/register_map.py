@@ -24,14 +24,20 @@ NEGATIVE = (mcl.MC_Direction.MC_Negative, mcl.MC_Direction.MC_SwitchNegative)
 
 def markdown(table: SignalTable) -> str:
     """The register map of ``table`` as Markdown."""
+    others = [str(u) for u in table.units if u != table.unit_id]
+    served = (
+        f"Unit id {' and '.join(others)} serves the cell's other part; any other"
+        if others
+        else "Every other unit id"
+    )
     lines = [
         f"# Register map of {table.machine}",
         "",
         f"Modbus TCP holding registers of unit id {table.unit_id} (function codes 3 and 4 read, "
-        "6, 16, 22 and 23 write; any other: exception 1, ILLEGAL_FUNCTION). Every other unit id "
-        "is refused with exception 10 (GATEWAY_PATH_UNAVAILABLE), also 0 and 255, which some "
-        "masters send by default. PDU addresses from 0; u32 and f32 in two registers, high "
-        "word first; u: the axis' user unit (mm on a slide, deg on a hinge).",
+        "6, 16, 22 and 23 write; any other: exception 1, ILLEGAL_FUNCTION). "
+        f"{served} is refused with exception 10 (GATEWAY_PATH_UNAVAILABLE), also 0 and 255, "
+        "which some masters send by default. PDU addresses from 0; u32 and f32 in two "
+        "registers, high word first; u: the axis' user unit (mm on a slide, deg on a hinge).",
         "",
         f"Every axis has a block of {AXIS_BLOCK} registers of the same shape, from its base "
         "address: the registers of a block that are no field of its axis are reserved — they "
@@ -40,8 +46,8 @@ def markdown(table: SignalTable) -> str:
         "",
         "## Axes",
         "",
-        "| axis | block | unit | travel | switches | homing (the home bit, MC_Home) |",
-        "|---|---|---|---|---|---|",
+        "| axis | block | unit | travel | switches | velocity | homing (the home bit, MC_Home) |",
+        "|---|---|---|---|---|---|---|",
     ]
     axes = zip(table.axes, table.definition.axes.values(), _units(table.definition), strict=True)
     for i, (name, axis, unit) in enumerate(axes):
@@ -49,7 +55,7 @@ def markdown(table: SignalTable) -> str:
         switches = ", ".join(SWITCHES[s] for s in axis.switches if s in SWITCHES) or "none"
         lines.append(
             f"| {name} | {base} … {base + AXIS_BLOCK - 1} | {unit} | {_travel(axis, unit)} "
-            f"| {switches} | {_homing(axis.homing, name, unit)} |"
+            f"| {switches} | {_velocity(axis, unit)} | {_homing(axis.homing, name, unit)} |"
         )
     lines += [
         "",
@@ -109,6 +115,19 @@ def _travel(axis: AxisDef, unit: str) -> str:
     if constants is None or not constants.LimPos > constants.LimNeg:
         return "no software limits"
     return f"{_number(constants.LimNeg)} … {_number(constants.LimPos)} {unit} (software limits)"
+
+
+def _velocity(axis: AxisDef, unit: str) -> str:
+    """The velocities the moves and jogs of an axis take: from 1 % of Vmax (below: ErrorID 5)
+    up to Vmax (beyond: clamped)."""
+    constants = axis.constants
+    if axis.drive == "encoder" or constants is None:
+        return "—"
+    vmax = constants.Vmax
+    return (
+        f"{_number(0.01 * vmax)} … {_number(vmax)} {unit}/s (below 1 % of Vmax: ErrorID 5; "
+        "beyond Vmax: Vmax)"
+    )
 
 
 def _homing(recipe: Recipe | None, axis: str, unit: str) -> str:

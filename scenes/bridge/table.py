@@ -69,6 +69,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
+from mcl import AxisState, GroupState
 from plc.operator.bus import CONTROL_BITS, LEVELS, STATUS_BITS
 from plc.operator.group_bus import GROUP_CONTROL_BITS, GROUP_STATUS_BITS
 from scenes.definition import AxisDef, MachineDef, Signal
@@ -80,6 +81,10 @@ AXIS_BASE = 100
 """Address of the first axis' control word."""
 AXIS_STRIDE = 100
 """Registers between two axes."""
+AXIS_STATES = ", ".join(f"{int(s)} {s.name}" for s in AxisState)
+"""The numbers of the ``state`` register of an axis (mcl.AxisState)."""
+GROUP_STATES = ", ".join(f"{int(s)} {s.name}" for s in GroupState)
+"""The numbers of the ``state`` register of a group (mcl.GroupState)."""
 SIGNAL_BASE = 1000
 """Address of the first published signal."""
 GROUP_BASE = 900
@@ -108,7 +113,7 @@ AXIS_FIELDS = (
     FieldSpec("jerk", 12, "f32", "rw", "u/s³", "Jerk (0: trapezoidal)"),
     FieldSpec("buffer_mode", 14, "u16", "rw", "", "BufferMode of moves (mcl.MC_BufferMode)"),
     FieldSpec("status", 20, "u16", "r", "bits", "status word: " + ", ".join(STATUS_BITS)),
-    FieldSpec("state", 21, "u16", "r", "", "PLCopen state number (mcl.AxisState)"),
+    FieldSpec("state", 21, "u16", "r", "", f"PLCopen state (mcl.AxisState): {AXIS_STATES}"),
     FieldSpec("error_id", 22, "u16", "r", "", "ErrorID of the current command"),
     FieldSpec("axis_error_id", 23, "u16", "r", "", "ErrorID of the axis (AxErrorID)"),
     FieldSpec("actual_position", 24, "f32", "r", "u", "actual position"),
@@ -175,7 +180,7 @@ def group_specs(members: int) -> list[FieldSpec]:
         ("turns", 27, "rw", "", "Turns: more full turns of a CENTER arc"),
         ("coord_system", 28, "rw", "", "CoordSystem of moves (mcl.MC_COORD_SYSTEM: 0 ACS … 2 PCS)"),
         ("status", 30, "r", "bits", "status word: " + ", ".join(GROUP_STATUS_BITS)),
-        ("state", 31, "r", "", "group state number (mcl.GroupState)"),
+        ("state", 31, "r", "", f"group state (mcl.GroupState): {GROUP_STATES}"),
         ("error_id", 32, "r", "", "ErrorID of the current command"),
         ("group_error_id", 33, "r", "", "the group's error (MC_GroupReadError GroupErrorID)"),
         ("command", 34, "r", "", "current command: its control bit + 1 (0: none)"),
@@ -307,9 +312,12 @@ def published_signals(machine: MachineDef) -> dict[str, Signal]:
     return signals
 
 
-def machine_fields(machine: MachineDef, prefix: str = "") -> list[Field]:
+def machine_fields(
+    machine: MachineDef, prefix: str = "", shared: Mapping[str, Signal] | None = None
+) -> list[Field]:
     """The fields of a machine, in address order; ``prefix`` before its axes' and signals'
-    names (a part of a cell: ``press/``)."""
+    names (a part of a cell: ``press/``); ``shared``: signals after the machine's own, under
+    their own names (a cell's own, such as its interlock's, in every part's table)."""
     fields = [
         Field("sim.time", 0, "f32", "r", "s", "simulated time"),
         Field("sim.cycle", 2, "u32", "r", "", "PLC cycles run"),
@@ -337,11 +345,11 @@ def machine_fields(machine: MachineDef, prefix: str = "") -> list[Field]:
             )
             for f in group_specs(len(machine.group))
         ]
-    for k, (name, signal) in enumerate(published_signals(machine).items()):
+    signals = {prefix + n: s for n, s in published_signals(machine).items()}
+    signals.update(shared or {})
+    for k, (name, signal) in enumerate(signals.items()):
         text = signal.label or name
-        fields.append(
-            Field(f"signal.{prefix}{name}", SIGNAL_BASE + 2 * k, "f32", "r", signal.unit, text)
-        )
+        fields.append(Field(f"signal.{name}", SIGNAL_BASE + 2 * k, "f32", "r", signal.unit, text))
     return fields
 
 
@@ -375,19 +383,33 @@ class SignalTable:
         machine: its definition; gives the axes and the published signals.
         prefix: before the axes' and signals' names (a part of a cell: ``press/``).
         unit_id: the machine's Modbus unit id.
+        shared: signals published after the machine's own (a part of a cell: the cell's own).
+        units: the unit ids served beside this one (a cell's parts'), for the map.
     """
 
-    def __init__(self, machine: MachineDef, prefix: str = "", unit_id: int = 1) -> None:
+    def __init__(
+        self,
+        machine: MachineDef,
+        prefix: str = "",
+        unit_id: int = 1,
+        shared: Mapping[str, Signal] | None = None,
+        units: Sequence[int] = (1,),
+    ) -> None:
         self.machine = machine.name
         self.definition = machine
         self.unit_id = unit_id
-        self.fields = machine_fields(machine, prefix)
+        self.units = tuple(units)
+        """Every unit id the server serves (this one among them)."""
+        self.fields = machine_fields(machine, prefix, shared)
         self.axes = [prefix + a for a in machine.scene_axes]
         self.group = f"{prefix}group" if machine.group else ""
         """The group block's name (``group``; empty: the machine has none)."""
         self.members = [prefix + a for a in machine.group]
         """The group's axes, in member order."""
-        self.signals = [prefix + s for s in published_signals(machine)]
+        self.signals = [
+            f.name[len("signal.") :] for f in self.fields if f.name.startswith("signal.")
+        ]
+        """The published signals' names as the scene knows them (``press/force``)."""
         self.by_name = {f.name: f for f in self.fields}
         self._owner = {a: f for f in self.fields for a in range(f.address, f.address + f.width)}
         blocks = [(AXIS_BASE + AXIS_STRIDE * i, AXIS_BLOCK) for i in range(len(self.axes))]
@@ -670,10 +692,11 @@ class AxisRegisters:
 def tables_of(machine: MachineDef) -> list[SignalTable]:
     """The signal tables of a scene of ``machine``: one, or a cell's one per part (unit ids
     1, 2, … in the cell's order; each with the simulation fields, the lockstep target being
-    the largest any of them was given)."""
+    the largest any of them was given, and the cell's own signals after the part's)."""
     if not machine.parts:
         return [SignalTable(machine)]
+    units = range(1, len(machine.parts) + 1)
     return [
-        SignalTable(part.machine, f"{part.machine.name}/", unit)
-        for unit, part in enumerate(machine.parts, start=1)
+        SignalTable(part.machine, f"{part.machine.name}/", unit, machine.signals, units)
+        for unit, part in zip(units, machine.parts, strict=True)
     ]

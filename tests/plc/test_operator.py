@@ -77,7 +77,7 @@ def test_a_move_runs_until_done_and_says_so(rig: Rig) -> None:
 def test_a_refused_command_is_reported_once_and_leaves_the_axis_alone(rig: Rig) -> None:
     machine, op, heard, drive = rig
     drive.run(0.2, ("move_relative",), {"move_relative": given(distance=10.0)})  # velocity 0
-    text = f"Move by: error 5 ({mcl.error_text(5)})"
+    text = f"Move by: error 5 ({mcl.error_text(5)}: Velocity 0 mm/s is not > 0)"  # and why
     assert op.message == op.last_error == text
     assert heard == [("X", text)]  # once, though its Execute stays set
     assert carriage_mm(machine) == pytest.approx(0.0, abs=0.01)

@@ -19,6 +19,7 @@ from scenes.bridge.table import (
     GEAR_FIELDS,
     OUTPUTS,
     STATUS_BITS,
+    WriteRefused,
     tables_of,
 )
 from scenes.tools import cli
@@ -139,3 +140,45 @@ def test_the_map_tells_an_integrator_limits_homing_error_ids_and_unit_ids(
     assert "to the mechanical block (negative), backs off: R = 0.05 mm there" in text
     assert cli.main(["bridge", "map", "rotary_cutter"]) == 0
     assert "| D | 300 … 367 | deg |" in capsys.readouterr().out  # a hinge: degrees
+
+
+def test_the_docs_group_blocks_fit_the_served_group_block() -> None:
+    table = tables_of(scenes.definition("gantry"))[0]
+    rows = re.findall(r"^\| group \((?:commands|overrides, frames)\) \|(.*)$", DOCS, re.M)
+    assert len(rows) == 2  # one OpenPLC device entry each
+    blocks = [[int(n) for n in re.findall(r"(\d+), size (\d+)", row)[-1]] for row in rows]
+    read_start, read_size = (int(n) for n in re.findall(r"(\d+), size (\d+)", rows[0])[0])
+    table.read(read_start, read_size)  # every register of the read block is served
+    writable = set()
+    for start, size in blocks:
+        table.write(start, [0] * size)  # taken whole
+        writable |= set(range(start, start + size))
+        with pytest.raises(WriteRefused):  # a register more runs into the read-only status
+            table.write(start - 1 if start > 900 else start, [0] * (size + 1))
+    group = {
+        a
+        for f in table.fields
+        if f.name.startswith("group.")
+        for a in range(f.address, f.address + f.width)
+    }
+    rw = {
+        a
+        for f in table.fields
+        if f.name.startswith("group.") and f.access == "rw"
+        for a in range(f.address, f.address + f.width)
+    }
+    assert rw <= writable and not writable & (group - rw)
+    assert "one device entry per axis" in " ".join(DOCS.split())
+
+
+def test_the_maps_name_the_units_served_and_the_state_numbers(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert cli.main(["bridge", "map", "cell"]) == 0
+    text = capsys.readouterr().out
+    assert "Unit id 2 serves the cell's other part; any other is refused" in text
+    assert "Unit id 1 serves the cell's other part; any other is refused" in text
+    assert "PLCopen state (mcl.AxisState): 0 Disabled, 1 StandStill, 2 Homing," in text
+    assert "group state (mcl.GroupState): 0 GroupDisabled, 1 GroupStandby," in text
+    tree = DOCS[DOCS.index("```\nObjects") :]
+    assert "├─ Group                       s=group" in tree[: tree.index("```", 4)]

@@ -5,6 +5,8 @@ server and the machine stay up."""
 
 from __future__ import annotations
 
+import ast
+import importlib.util
 import os
 import random
 import socket
@@ -141,6 +143,37 @@ def test_the_example_client_homes_and_moves_the_gantry(client: ModbusTcpClient, 
     result = subprocess.run(command, capture_output=True, text=True, timeout=60)
     assert result.returncode == 0, result.stderr
     assert abs(float(result.stdout.split()[2]) - 300.0) < 0.02  # "X at 300.001 mm"
+
+
+def test_the_example_client_needs_pymodbus_only_and_the_maps_addresses() -> None:
+    example = ROOT / "examples" / "bridge_modbus_client.py"
+    tree = ast.parse(example.read_text())
+    imported = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    imported |= {n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+    assert {m.split(".")[0] for m in imported} <= {"__future__", "argparse", "struct", "time"} | {
+        "collections",
+        "pymodbus",
+    }
+    spec = importlib.util.spec_from_file_location("bridge_modbus_client", example)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    for name, field in (
+        ("CONTROL", "X.control"),
+        ("STATUS", "X.status"),
+        ("ACTUAL_POSITION", "X.actual_position"),
+        ("COMMAND", "X.command"),
+        ("COMMAND_COUNT", "X.command_count"),
+    ):
+        assert getattr(module, name) == address(field), name
+    assert address("X.position") == module.CONTROL + 2  # the block's ramp follows the outputs
+    calls = [
+        getattr(n.func, "attr", getattr(n.func, "id", ""))
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Call)
+    ]
+    calls = [c for c in calls if c.startswith("write_")]
+    assert set(calls) == {"write_registers", "write_block"}  # FC 16 of the block only
 
 
 def test_refused_requests_leave_the_server_up(client: ModbusTcpClient) -> None:

@@ -315,3 +315,16 @@ def test_a_write_while_the_viewers_operator_commands_is_device_busy() -> None:
     finally:
         client.close()
         plc.close()
+
+
+def test_a_write_of_more_than_123_registers_is_illegal_value_and_the_connection_stays(
+    lockstep: ModbusLockstep,
+) -> None:
+    port = lockstep.client.comm_params.port
+    too_many = struct.pack(">BHHB", 16, at("X.control"), 124, 248) + bytes(248)
+    with socket.create_connection(("127.0.0.1", int(port)), timeout=5) as raw:
+        raw.sendall(frame(1, too_many))
+        tid, pdu = receive(raw)
+        assert (tid, pdu[0], pdu[1]) == (1, 0x90, ExcCodes.ILLEGAL_VALUE)
+        raw.sendall(frame(2, struct.pack(">BHH", 3, at("X.control"), 1)))  # the same connection
+        assert receive(raw) == (2, bytes([3, 2, 0, 0]))  # nothing was written
