@@ -39,7 +39,7 @@ DELTA = mcl.DeltaKinematics(
     forearm=800.0,
     theta_min=-30.0,
     theta_max=85.0,
-    tcp=mcl.TcpLimits(velocity=4000.0, acceleration=20000.0, max_acceleration=60000.0),
+    tcp=mcl.TcpLimits(velocity=4000.0, acceleration=20000.0, max_acceleration=100000.0, jerk=3.0e7),
 )
 """The robot's kinematics: MCS origin at the centre of the base plane (1.6 m above the floor),
 z up; the tool point is the effector's centre; the arms' range is their working travel."""
@@ -80,8 +80,8 @@ def _arm(outputs: int = 0) -> AxisDef:
             acceleration=5000.0,
             deceleration=5000.0,
             jerk=200000.0,
-            max_acceleration=20000.0,
-            max_deceleration=20000.0,
+            max_acceleration=40000.0,
+            max_deceleration=40000.0,
             unit="deg",
         ),
         constants=mcl.ServoConstants(
