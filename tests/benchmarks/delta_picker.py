@@ -19,8 +19,14 @@ Prints JSON:
   over the picks after the first, and the same torque and cup figures; then one summary per
   belt speed as text.
 
+- ``cycle``: the standard cycle (:mod:`scenes.machines.delta_picker.cycle`: up 25 mm, across
+  305 mm, down 25 mm and back, blended, a 0.1 kg part picked and placed at each end),
+  ``--cycles N`` times (default 20): cycles/min, the legs' time, parts gripped and dropped, the
+  cup's slowest speed between lift-off and set-down [mm/s] (0 if it stopped at a corner) and
+  the same torque and cup figures.
+
 Run: ``python -m tests.benchmarks.delta_picker [--parts N] [--speeds 200,500,1000]
-[--tracking-only]``.
+[--tracking-only] [--cycles N] [--cycle-only]``.
 """
 
 from __future__ import annotations
@@ -116,7 +122,10 @@ def standard_cycle(cycles: int = 20) -> dict[str, Any]:
     t = np.array(record.times)
     z = np.array(record.tips)[:, 2] * 1000.0
     speed = np.linalg.norm(np.diff(np.array(record.tips), axis=0), axis=1) / np.diff(t) * 1000.0
-    high = z[1:] > z.min() + 5.0  # the cup more than 5 mm above the places: under way
+    in_leg = np.zeros(len(speed), dtype=bool)
+    for a, b in legs:
+        in_leg |= (t[1:] >= a) & (t[1:] <= b)
+    high = in_leg & (z[1:] > z.min() + 5.0)  # the cup more than 5 mm above the places: under way
     return {
         "error": program.error,
         "real_time_factor": scene.time / wall,
@@ -219,12 +228,22 @@ def main() -> None:
     parser.add_argument("--parts", type=int, default=40)
     parser.add_argument("--speeds", default="200,500,1000")
     parser.add_argument("--tracking-only", action="store_true", help="only the belt speeds")
+    parser.add_argument("--cycles", type=int, default=20)
+    parser.add_argument("--cycle-only", action="store_true", help="only the standard cycle")
     args = parser.parse_args()
+    if args.cycle_only:
+        print(json.dumps({"cycle": standard_cycle(args.cycles)}, indent=2))
+        return
     speeds = [float(v) for v in args.speeds.split(",")]
     tracking = [demo(speed, args.parts) for speed in speeds]
     out: dict[str, Any] = {"tracking": tracking}
     if not args.tracking_only:
-        out = {"kinematics": kinematics(), "demo": demo(), **out}
+        out = {
+            "kinematics": kinematics(),
+            "cycle": standard_cycle(args.cycles),
+            "demo": demo(),
+            **out,
+        }
     print(json.dumps(out, indent=2))
     for run in tracking:
         print(summary(run))

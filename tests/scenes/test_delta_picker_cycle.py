@@ -38,7 +38,7 @@ def run() -> tuple[scenes.Scene, StandardCycle, list[tuple[float, np.ndarray, np
     return scene, program, samples
 
 
-def test_every_pick_grips_the_part_and_every_place_leaves_it_there(run) -> None:  # type: ignore[no-untyped-def]
+def test_every_pick_grips_the_part_and_every_place_leaves_it_there(run) -> None:
     scene, program, samples = run
     gripper = scene.device("vacuum", VacuumGripper)
     assert [g.part for g in gripper.grips] == [0] * (2 * CYCLES)
@@ -56,7 +56,7 @@ def test_every_pick_grips_the_part_and_every_place_leaves_it_there(run) -> None:
         assert math.hypot(part[0] - x, part[1] - y) < 2.0, (k, part)
 
 
-def test_the_cup_never_stops_between_lift_off_and_set_down(run) -> None:  # type: ignore[no-untyped-def]
+def test_the_cup_never_stops_between_lift_off_and_set_down(run) -> None:
     """The corners blended: from 5 mm above the place it left until 5 mm above the place it
     comes down on, the cup (the model's site) keeps moving faster than 0.2 m/s (stopping at
     a corner, it came to rest there)."""

@@ -18,7 +18,7 @@ from typing import Any
 
 import mcl
 from scenes.machines.delta_picker.axes import BELT_Y
-from scenes.machines.delta_picker.demo import CLEAR, GRIP_Z, PRESS, Demo
+from scenes.machines.delta_picker.demo import CLEAR, GRIP_Z, PRESS, VACUUM_OFF, VACUUM_ON, Demo
 from scenes.scene import Scene
 
 B = mcl.MC_BufferMode
@@ -34,10 +34,6 @@ robot's TCP limits (``DELTA.tcp``); the jerk leaves the TCP's largest jerk the r
 turns take."""
 CORNER = 10.0
 """How far a blended corner may leave the commanded path [mm]."""
-VACUUM_ON = 0.025
-"""From the valve's opening until the cup holds the part [s] (models/README.md, vacuum cup)."""
-VACUUM_OFF = 0.015
-"""From the valve's closing (blow-off) until the part is free [s]."""
 
 
 def prepare(scene: Scene) -> mcl.AxesGroup:
