@@ -35,12 +35,9 @@ what the corner into the next one allows.
 
 **Corner blends** (:mod:`mcl.path` for the shape): the blending velocity ``v_b`` starts at the
 BufferMode's velocity (capped by both elements' caps and the second's look-ahead speed); the
-reach is the largest of ``0.9375·v_b²·max_i(|Δu_i| / A_i)`` (the turn of direction ``Δu``: its
+reach is the larger of ``0.9375·v_b²·max_i(|Δu_i| / A_i)`` (the turn of direction ``Δu``: its
 acceleration within ``A_i``, the smaller path acceleration/deceleration of the two elements, at
-most the member's max_acceleration), the reach ``r`` at which the turn's jerk
-``|Δu_i|·(1.443·v_b³ / r² + 2.8125·v_b·A / r)`` (turning at the blending velocity while the path
-accelerates with ``A``) stays within what the path jerk leaves of the member's max_jerk
-``J_i``, and ``2.8125·v_b³·|ΔK| / J`` (the step ``ΔK`` of the
+most the member's max_acceleration) and ``2.8125·v_b³·|ΔK| / J`` (the step ``ΔK`` of the
 curvature vector between the elements, e.g. a line into a tangent arc: the jerk of spreading it
 over the blend within the path jerk ``J``); it is lengthened
 if a member would exceed its max_acceleration (or max_jerk). ``v_b`` is lowered until the
@@ -90,10 +87,6 @@ contour error in the curve, so that the tool itself stays within the tolerance."
 _BEND_JERK: Final = 2.8125
 """The blend's jerk at its middle is ``2.8125·v³·|ΔK| / D`` (3·σ'(½)/2, the curvature term and
 the two residual terms of :class:`mcl.path.Blend`): the reach that keeps it within ``J``."""
-_TURN_JERK: Final = 10.0 / math.sqrt(3.0) / 4.0
-"""σ''_max / 4: the jerk of turning the direction at constant velocity over a window of 2·reach."""
-_TURN_ACCELERATION_JERK: Final = 3.0 * 1.875 / 2.0
-"""3·σ'_max / 2: the jerk of turning the direction while the path accelerates."""
 _TANGENT: Final = 1e-9
 """Elements whose unit tangents [1] and curvature vectors [1/mm] differ less than this meet
 without a corner."""
@@ -378,26 +371,20 @@ class PathPlanner:
             v_b = _BLEND_SHRINK * speed
         return trajectory.move_to(s0, v0, a0, element.length, limits), None
 
-    def _corner(self, element: Element, nxt: Element) -> tuple[float, float, float, float]:
-        """At the corner into ``nxt``: the turn of direction over the acceleration (``max_i
-        |Δu_i| / A_i``, [s²/mm]), the step of the curvature vector over the path jerk (``|ΔK| /
-        J``, [s³/mm²]), the turn of direction over what the path jerk leaves of each member's
-        max_jerk (``max_i |Δu_i| / (J_i − J)``, [s³/mm]) and the path acceleration ``A``
-        [mm/s²] of the two elements."""
+    def _corner(self, element: Element, nxt: Element) -> tuple[float, float]:
+        """The turn of direction (``max_i |Δu_i| / A_i``, [s²/mm]) and the step of the curvature
+        vector over the path jerk (``|ΔK| / J``, [s³/mm²]) at the corner into ``nxt``."""
         g1, g2 = element.geometry, nxt.geometry
         _, u1, k1 = g1.frame(g1.length)
         _, u2, k2 = g2.frame(0.0)
         a, b = element.limits, nxt.limits
         budget = min(a.acceleration, a.deceleration, b.acceleration, b.deceleration)
-        jerk = min(element.jerk, nxt.jerk)
-        turn = sway = 0.0
+        turn = 0.0
         for c, x, y in zip(self.configs, u1, u2, strict=True):
             turn = max(turn, abs(y - x) / min(budget, c.max_acceleration))
-            if c.max_jerk > 0.0:  # what the path's own jerk leaves of the member's
-                left = c.max_jerk - jerk if c.max_jerk > jerk else c.max_jerk
-                sway = max(sway, abs(y - x) / left)
+        jerk = min(element.jerk, nxt.jerk)
         bend = norm(sub(k2, k1)) / jerk if math.isfinite(jerk) else 0.0
-        return turn, bend, sway, budget
+        return turn, bend
 
     def _fit(
         self,
@@ -413,12 +400,8 @@ class PathPlanner:
     ) -> Blend | None:
         """The blend at ``speed`` with the shortest reach (from the estimate, lengthened while a
         member is pushed too hard) that fits, or None."""
-        turn, bend, sway, acceleration = self._corner(element, nxt)
-        estimate = max(
-            0.9375 * speed * speed * turn,
-            _BEND_JERK * speed**3 * bend,
-            _turn_reach(speed, acceleration, sway),
-        )
+        turn, bend = self._corner(element, nxt)
+        estimate = max(0.9375 * speed * speed * turn, _BEND_JERK * speed**3 * bend)
         for stretch in _BLEND_STRETCH:
             reach = min(estimate * stretch, longest)
             blend = _blend(element, nxt, profile, t0, speed, t_c, reach)
@@ -484,18 +467,6 @@ class PathPlanner:
                 too_hard = True
             last = (t, acc)
         return _TOO_HARD if too_hard else _FITS
-
-
-def _turn_reach(speed: float, acceleration: float, sway: float) -> float:
-    """The shortest reach [mm] whose turn of direction keeps a member within its jerk: through a
-    window ``W = 2·reach`` at the path velocity ``v`` and acceleration ``A`` the member's jerk
-    takes ``|Δu_i|·(σ''·v³ / W² + 3·σ'·v·A / W)`` (σ' ≤ 1.875, σ'' ≤ 10/√3 of the quintic step),
-    at most ``J_i``; ``sway`` = ``max_i |Δu_i| / J_i`` [s³/mm]."""
-    if sway <= 0.0:
-        return 0.0
-    linear = _TURN_ACCELERATION_JERK * speed * acceleration * sway
-    cubic = _TURN_JERK * speed**3 * sway
-    return 0.5 * (linear + math.sqrt(linear * linear + 4.0 * cubic))
 
 
 def _smooth_corner(g1: Geometry, g2: Geometry) -> bool:
