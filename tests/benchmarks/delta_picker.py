@@ -42,7 +42,8 @@ import numpy as np
 import scenes
 from scenes.machines.delta_picker import DELTA, VacuumGripper
 from scenes.machines.delta_picker.axes import ARMS
-from scenes.machines.delta_picker.cycle import VACUUM_OFF, VACUUM_ON, StandardCycle, prepare
+from scenes.machines.delta_picker.cycle import StandardCycle, prepare
+from scenes.machines.delta_picker.demo import VACUUM_OFF, VACUUM_ON
 
 RATIO, EFFICIENCY = 20.0, 0.9
 """The arms' gearbox (models/README.md, delta_picker)."""

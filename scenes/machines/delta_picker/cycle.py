@@ -12,7 +12,7 @@ leg. A cycle is two legs (there and back), each a pick and a place.
 
 from __future__ import annotations
 
-__all__ = ["CORNER", "CYCLE_MOVE", "PLACES", "VACUUM_OFF", "VACUUM_ON", "StandardCycle", "prepare"]
+__all__ = ["CORNER", "CYCLE_MOVE", "PLACES", "StandardCycle", "prepare"]
 
 from typing import Any
 
@@ -27,8 +27,12 @@ PLACES = ((0.0, BELT_Y), (0.0, BELT_Y + 305.0))
 across."""
 Z = GRIP_Z - PRESS
 """The effector's centre when the cup, pressed, sits on the part [mm]."""
-CYCLE_MOVE = {"Velocity": 4000.0, "Acceleration": 100000.0, "Deceleration": 100000.0}
-CYCLE_MOVE |= {"Jerk": 6.0e6}
+CYCLE_MOVE = {
+    "Velocity": 4000.0,
+    "Acceleration": 100000.0,
+    "Deceleration": 100000.0,
+    "Jerk": 6.0e6,
+}
 """Path velocity [mm/s], acceleration [mm/s²] and jerk [mm/s³] of the cycle's moves: the
 robot's TCP limits (``DELTA.tcp``); the jerk leaves the TCP's largest jerk the room the corners'
 turns take."""
