@@ -19,8 +19,14 @@ Prints JSON:
   over the picks after the first, and the same torque and cup figures; then one summary per
   belt speed as text.
 
+- ``cycle``: the standard cycle (:mod:`scenes.machines.delta_picker.cycle`: up 25 mm, across
+  305 mm, down 25 mm and back, blended, a 0.1 kg part picked and placed at each end),
+  ``--cycles N`` times (default 20): cycles/min, the legs' time, parts gripped and dropped, the
+  cup's slowest speed between lift-off and set-down [mm/s] (0 if it stopped at a corner) and
+  the same torque and cup figures.
+
 Run: ``python -m tests.benchmarks.delta_picker [--parts N] [--speeds 200,500,1000]
-[--tracking-only]``.
+[--tracking-only] [--cycles N] [--cycle-only]``.
 """
 
 from __future__ import annotations
@@ -36,6 +42,8 @@ import numpy as np
 import scenes
 from scenes.machines.delta_picker import DELTA, VacuumGripper
 from scenes.machines.delta_picker.axes import ARMS
+from scenes.machines.delta_picker.cycle import StandardCycle, prepare
+from scenes.machines.delta_picker.demo import VACUUM_OFF, VACUUM_ON
 
 RATIO, EFFICIENCY = 20.0, 0.9
 """The arms' gearbox (models/README.md, delta_picker)."""
@@ -56,6 +64,81 @@ def kinematics() -> dict[str, Any]:
                 back = DELTA.forward(q)
                 worst = max(worst, max(abs(x - y) for x, y in zip(back, p, strict=True)))
     return {"fk_ik_worst_mm": worst, "arm_range_deg": [min(angles), max(angles)]}
+
+
+class Recorder:
+    """The arms' amplifier torques and the cup's position (the model's site) every scan."""
+
+    def __init__(self, scene: scenes.Scene) -> None:
+        model = scene.model
+        self.data = scene.data
+        self.tool = model.site(scene.model_name("tool")).id
+        self.amps = [model.actuator(scene.model_name(f"{a}_amp")).id for a in ARMS]
+        self.torques: list[list[float]] = []
+        self.tips: list[np.ndarray] = []
+        self.times: list[float] = []
+
+    def __call__(self, t: float) -> None:
+        self.times.append(t)
+        self.torques.append([float(self.data.actuator_force[a]) for a in self.amps])
+        self.tips.append(np.array(self.data.site_xpos[self.tool]))
+
+    def figures(self) -> dict[str, Any]:
+        """Peak and rms torques at the arm and the motor, the cup's peak speed and
+        acceleration."""
+        tau = np.abs(np.array(self.torques))
+        motor = tau / (RATIO * EFFICIENCY)
+        x, t = np.array(self.tips), np.array(self.times)
+        dt = np.diff(t)
+        speed = np.linalg.norm(np.diff(x, axis=0), axis=1) / dt
+        velocity = np.diff(x, axis=0) / dt[:, None]
+        acc = np.linalg.norm(np.diff(velocity, axis=0), axis=1) / dt[1:]
+        return {
+            "arm_torque_peak_Nm": tau.max(axis=0).tolist(),
+            "arm_torque_rms_Nm": np.sqrt((tau**2).mean(axis=0)).tolist(),
+            "motor_torque_peak_Nm": motor.max(axis=0).tolist(),
+            "motor_torque_rms_Nm": np.sqrt((motor**2).mean(axis=0)).tolist(),
+            "catalogue_peak_rated_Nm": [PEAK, RATED],
+            "cup_peak_speed_m_s": float(speed.max()),
+            "cup_peak_acceleration_m_s2": float(acc.max()),
+        }
+
+
+def standard_cycle(cycles: int = 20) -> dict[str, Any]:
+    """The standard cycle (:mod:`scenes.machines.delta_picker.cycle`) ``cycles`` times: cycles
+    per minute (there and back, the part picked and placed at each end), the legs' time, parts
+    gripped and dropped, the cup's slowest speed between lift-off and set-down (blended corners:
+    above 0), torques and the cup's peak acceleration."""
+    scene = scenes.load("delta_picker", trace_every=0)
+    group = prepare(scene)
+    program = StandardCycle(scene, group, cycles)
+    record = Recorder(scene)
+    scene.runtime.observers.append(record)
+    start = time.perf_counter()
+    scene.run(program, until=lambda: program.done or bool(program.error), timeout=120.0)
+    wall = time.perf_counter() - start
+    gripper = scene.device("vacuum", VacuumGripper)
+    legs = program.legs
+    span = legs[-1][1] - legs[0][0]
+    t = np.array(record.times)
+    z = np.array(record.tips)[:, 2] * 1000.0
+    speed = np.linalg.norm(np.diff(np.array(record.tips), axis=0), axis=1) / np.diff(t) * 1000.0
+    in_leg = np.zeros(len(speed), dtype=bool)
+    for a, b in legs:
+        in_leg |= (t[1:] >= a) & (t[1:] <= b)
+    high = in_leg & (z[1:] > z.min() + 5.0)  # the cup more than 5 mm above the places: under way
+    return {
+        "error": program.error,
+        "real_time_factor": scene.time / wall,
+        "cycles": len(legs) // 2,
+        "cycles_per_min": 60.0 * (len(legs) / 2.0) / span,
+        "leg_s": float(np.mean([b - a for a, b in legs])),
+        "vacuum_on_off_s": [VACUUM_ON, VACUUM_OFF],
+        "parts_gripped": len(gripper.grips),
+        "parts_dropped": gripper.lost,
+        "cup_slowest_under_way_mm_s": float(speed[high].min()),
+        **record.figures(),
+    }
 
 
 def demo(belt_speed: float | None = None, parts: int | None = None) -> dict[str, Any]:
@@ -146,12 +229,22 @@ def main() -> None:
     parser.add_argument("--parts", type=int, default=40)
     parser.add_argument("--speeds", default="200,500,1000")
     parser.add_argument("--tracking-only", action="store_true", help="only the belt speeds")
+    parser.add_argument("--cycles", type=int, default=20)
+    parser.add_argument("--cycle-only", action="store_true", help="only the standard cycle")
     args = parser.parse_args()
+    if args.cycle_only:
+        print(json.dumps({"cycle": standard_cycle(args.cycles)}, indent=2))
+        return
     speeds = [float(v) for v in args.speeds.split(",")]
     tracking = [demo(speed, args.parts) for speed in speeds]
     out: dict[str, Any] = {"tracking": tracking}
     if not args.tracking_only:
-        out = {"kinematics": kinematics(), "demo": demo(), **out}
+        out = {
+            "kinematics": kinematics(),
+            "cycle": standard_cycle(args.cycles),
+            "demo": demo(),
+            **out,
+        }
     print(json.dumps(out, indent=2))
     for run in tracking:
         print(summary(run))

@@ -17,7 +17,17 @@ up 25 mm, and the next part is tracked from there.
 
 from __future__ import annotations
 
-__all__ = ["BELT_SPEED", "CLEAR", "HORIZON", "MOVE", "PICK", "SLOTS", "Demo"]
+__all__ = [
+    "BELT_SPEED",
+    "CLEAR",
+    "HORIZON",
+    "MOVE",
+    "PICK",
+    "SLOTS",
+    "VACUUM_OFF",
+    "VACUUM_ON",
+    "Demo",
+]
 
 import math
 from typing import Any
@@ -77,14 +87,20 @@ CORNER = 10.0
 SETTLED = 0.1
 """The tool point's following error across and along the belt at which the vacuum comes on
 [mm]."""
+PLACED = 0.3
+"""The tool point's following error at which the vacuum goes off over the tray [mm] (a part is
+placed within a millimetre; stopping from the carry, the tool point lags up to 1 mm)."""
 SETTLE_TIMEOUT = 0.1
 """The vacuum comes on at the latest this long after the cup arrived [s]."""
 OFF_BELT = BELT_Y + 100.0
 """A part carried this far across [mm, MCS y] clears the parts on the belt (their far edge
 lies within 55 mm of its centre line, a carried part's 30 mm from the cup's centre, a blended
 corner within :data:`CORNER`); lifted only :data:`CLEAR`, its 30 mm body would hit them."""
-DWELL = 0.05
-"""Vacuum build-up and release time [s]."""
+VACUUM_ON = 0.025
+"""From the valve's opening until the cup holds the part [s]: a compact ejector at the cup (its
+valve switching in 5–10 ms) evacuates a Ø40 mm bellows cup in 10–20 ms (models/README.md)."""
+VACUUM_OFF = 0.015
+"""From the valve's closing until the part is free [s] (a blow-off pulse vents the cup)."""
 
 
 def _moves(group: mcl.AxesGroup) -> dict[str, list[mcl.MC_MoveLinearAbsolute]]:
@@ -123,6 +139,7 @@ class Demo(StepSequence):
         "lift it",
         "stop tracking",
         "carry to the tray",
+        "settle over the tray",
         "release",
         "up from the tray",
         REST,
@@ -201,6 +218,7 @@ class Demo(StepSequence):
                 then=self._stopped,
             ),
             self._path("carry to the tray"),
+            Step("settle over the tray", lambda: self._settled(PLACED)),
             Step("release", self._dwelt, {"vacuum": self.vacuum}),
             Step(
                 "up from the tray",
@@ -258,18 +276,20 @@ class Demo(StepSequence):
         for move, target, mode in zip(self.moves["carry to the tray"], targets, modes, strict=True):
             move.Position, move.BufferMode = list(target), mode
 
-    def _settled(self) -> bool:
-        """The cup follows the part: the tool point's following error (set point against
-        actual, in the MCS) is within :data:`SETTLED` across and along the belt (the cup's
-        bellows takes up a few tenths of a millimetre in height)."""
+    def _settled(self, within: float = SETTLED) -> bool:
+        """The cup follows the part (or stands over its place): the tool point's following
+        error (set point against actual, in the MCS) is ``within`` [mm] across and along the
+        belt (the cup's bellows takes up a few tenths of a millimetre in height)."""
         if self.scene.time - self.entered >= SETTLE_TIMEOUT:
             return True
         actual = DELTA.forward([arm.actual for arm in self.arms])
         target = DELTA.forward([arm.sp_pos for arm in self.arms])
-        return math.hypot(actual[0] - target[0], actual[1] - target[1]) <= SETTLED
+        return math.hypot(actual[0] - target[0], actual[1] - target[1]) <= within
 
     def _dwelt(self) -> bool:
-        return self.scene.time - self.entered >= DWELL
+        """The vacuum has built up (grip) or vented (release)."""
+        dwell = VACUUM_ON if self.STEPS[self.index] == "grip" else VACUUM_OFF
+        return self.scene.time - self.entered >= dwell - 1e-9
 
     def _waited(self) -> bool:
         """A latched part has come to :data:`TRACK_FROM`, or every part was latched."""

@@ -101,7 +101,7 @@ class PhotoEye:
         self.lateral: list[float] = []
         """Each part's lateral position when it cut the beam, in order [mm, MCS y]."""
         self._seen = -1
-        """The body that cut the beam last."""
+        """The body that cuts the beam (-1: the beam is free)."""
 
     def _cut(self) -> tuple[int, float, float]:
         """The part nearest the beam not yet past it: body, leading edge past the beam [m] (-1
@@ -128,9 +128,12 @@ class PhotoEye:
         return self._cut()[1]
 
     def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-        """Measure a part's lateral position when it cuts the beam."""
+        """Measure a part's lateral position when it cuts the beam (once per pass: a part the
+        feeder lays on the belt again is measured again when it comes back)."""
         body, lead, y = self._cut()
-        if body >= 0 and lead >= 0.0 and body != self._seen:
+        if body < 0 or lead < 0.0:
+            self._seen = -1  # the beam is free
+        elif body != self._seen:
             self._seen = body
             self.lateral.append(1000.0 * y)
 

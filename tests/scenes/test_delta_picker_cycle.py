@@ -1,0 +1,76 @@
+"""The delta picker's standard cycle on the physics (up 25 mm, across 305 mm, down 25 mm and
+back, a 0.1 kg part picked and placed at each end): every pick grips the part, none is dropped,
+each place leaves it where it belongs, and the corners are blended (the cup never stops on its
+way; the rate is the benchmark's, tests/benchmarks/delta_picker.py)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import scenes
+from scenes.machines.delta_picker import VacuumGripper
+from scenes.machines.delta_picker.cycle import PLACES, StandardCycle, prepare
+
+CYCLES = 3
+
+
+@pytest.fixture(scope="module")
+def run() -> tuple[scenes.Scene, StandardCycle, list[tuple[float, np.ndarray, np.ndarray]]]:
+    """The cycle run ``CYCLES`` times; every scan's time, cup (the model's site) and part 0's
+    centre [mm, world]."""
+    scene = scenes.load("delta_picker", trace_every=0)
+    group = prepare(scene)
+    program = StandardCycle(scene, group, CYCLES)
+    tool = scene.model.site(scene.model_name("tool")).id
+    gripper = scene.device("vacuum", VacuumGripper)
+    samples: list[tuple[float, np.ndarray, np.ndarray]] = []
+    scene.runtime.observers.append(
+        lambda t: samples.append(
+            (t, 1000.0 * scene.data.site_xpos[tool], 1000.0 * gripper.part_position(0))
+        )
+    )
+    scene.run(program, until=lambda: program.done or bool(program.error), timeout=30.0)
+    assert program.done, (program.phase, program.error)
+    scene.run(lambda: None, timeout=0.1)  # the part comes to rest at its place
+    return scene, program, samples
+
+
+def test_every_pick_grips_the_part_and_every_place_leaves_it_there(run) -> None:
+    scene, program, samples = run
+    gripper = scene.device("vacuum", VacuumGripper)
+    assert [g.part for g in gripper.grips] == [0] * (2 * CYCLES)
+    assert gripper.lost == 0
+    # the cup on the part's top face, within 2 mm of its centre, at every grip
+    assert all(g.error < 2.0 and abs(g.height) < 2.0 for g in gripper.grips)
+    times = np.array([t for t, _, _ in samples])
+    for k in range(len(program.legs)):
+        # the part released at the other place: there at the next grip, or at rest at the end
+        if k + 1 < len(gripper.grips):
+            part = samples[int(np.searchsorted(times, gripper.grips[k + 1].time))][2]
+        else:
+            part = samples[-1][2]
+        x, y = PLACES[(k + 1) % 2]
+        assert math.hypot(part[0] - x, part[1] - y) < 2.0, (k, part)
+
+
+def test_the_cup_never_stops_between_lift_off_and_set_down(run) -> None:
+    """The corners blended: from 5 mm above the place it left until 5 mm above the place it
+    comes down on, the cup (the model's site) keeps moving faster than 0.2 m/s (stopping at
+    a corner, it came to rest there)."""
+    _, program, samples = run
+    times = np.array([t for t, _, _ in samples])
+    cup = np.array([c for _, c, _ in samples])
+    low = float(cup[:, 2].min())
+    for start, end in program.legs:
+        window = (times >= start) & (times <= end)
+        z, t = cup[window, 2], times[window]
+        up = np.nonzero(z > low + 5.0)[0]
+        assert len(up), (start, end)
+        first, last = up[0], up[-1]
+        path = cup[window][first : last + 1]
+        speed = np.linalg.norm(np.diff(path, axis=0), axis=1) / np.diff(t[first : last + 1])
+        print(f"leg {start:.3f}: slowest {speed.min():.0f} mm/s")
+        assert speed.min() > 200.0
