@@ -27,6 +27,7 @@ from blark import util
 from plc.st.errors import STError
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
 from plc.st.frontend.unclosed import unclosed
+from plc.st.frontend.wording import missing_semicolon, terminal_words
 
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
@@ -233,7 +234,9 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
                 return None
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
-        found = _unclosed(error, cleaned, lines_before)
+        found = _unclosed(error, cleaned, lines_before) or _missing_semicolon(
+            error, cleaned, lines_before
+        )
         if found is not None:
             raise STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}") from None
         line, column = _place(error, cleaned)
@@ -359,17 +362,34 @@ def _unclosed(
 ) -> tuple[int, int, str] | None:
     """The open statement (an IF without END_IF, ...) the error is, or None
     (:mod:`~plc.st.frontend.unclosed`)."""
-    expected = set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
+    position, word = _met(error, text)
+    return unclosed(text, position, word, _expected_names(error), lines_before)
+
+
+def _missing_semicolon(
+    error: lark.UnexpectedInput, text: str, lines_before: int
+) -> tuple[int, int, str] | None:
+    """The ``;`` missing at the end of a line the error is, or None
+    (:func:`~plc.st.frontend.wording.missing_semicolon`)."""
+    position = _met(error, text)[0]
+    return missing_semicolon(text, position, _expected_names(error), lines_before)
+
+
+def _met(error: lark.UnexpectedInput, text: str) -> tuple[int, str]:
+    """Where in ``text`` the word the parser did not expect begins (``len(text)`` at its end),
+    and the word ("" at the end)."""
     if isinstance(error, lark.UnexpectedToken):
         token = error.token
         at_end = token.type == "$END"
-        position = len(text) if at_end else (token.start_pos or 0)
-        word = "" if at_end else str(token)
-    else:
-        position = error.pos_in_stream or 0
-        match = _WORD.match(text, position)
-        word = match.group() if match else ""
-    return unclosed(text, position, word, expected, lines_before)
+        return (len(text), "") if at_end else (token.start_pos or 0, str(token))
+    position = error.pos_in_stream or 0
+    match = _WORD.match(text, position)
+    return position, match.group() if match else ""
+
+
+def _expected_names(error: lark.UnexpectedInput) -> set[str]:
+    """The grammar's terminals the parser expected where it met the error."""
+    return set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
 
 
 def _found(error: lark.UnexpectedInput, text: str) -> str:
@@ -387,10 +407,10 @@ def _found(error: lark.UnexpectedInput, text: str) -> str:
 
 def _expected(error: lark.UnexpectedInput) -> str:
     """What would have been valid there, in words."""
-    names: set[str] = set(getattr(error, "expected", None) or getattr(error, "allowed", ()) or ())
+    names = _expected_names(error)
     if {"IDENTIFIER", "INTEGER"} <= names or {"IDENTIFIER", "SIGNED_INTEGER"} <= names:
         return "an expression"
-    words = sorted({_READABLE.get(n) or _pattern(n) for n in names} - {""}, key=_closing_first)
+    words = sorted({_READABLE.get(n) or _word(n) for n in names} - {""}, key=_closing_first)
     return ", ".join(words[:8]) if words else "a valid statement"
 
 
@@ -399,15 +419,20 @@ def _closing_first(word: str) -> tuple[bool, str]:
     return not word.startswith("'END_"), word
 
 
+def _word(terminal: str) -> str:
+    """A terminal as a message says it (:func:`~plc.st.frontend.wording.terminal_words`)."""
+    return terminal_words(terminal, _pattern(terminal))
+
+
 def _pattern(terminal: str) -> str:
-    """A terminal as its literal text (``'END_IF'``), or its name in lower case."""
+    """A terminal as its literal text (``'END_IF'``), or "" (it has none)."""
     try:
         pattern = parser().get_terminal(terminal).pattern
     except KeyError:
-        return terminal.lower()
+        return ""
     if terminal.startswith("_"):
         return repr(terminal[1:].upper())
     if isinstance(pattern, lark.lexer.PatternStr):
         return repr(pattern.value)
     text = pattern.value
-    return repr(text.split("|")[0].strip("()?:i")) if text.isupper() else terminal.lower()
+    return repr(text.split("|")[0].strip("()?:i")) if text.isupper() else ""
