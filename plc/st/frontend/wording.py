@@ -67,8 +67,8 @@ _WORDS = {
 }
 """The grammar's terminals whose pattern is no one word, as a message says them ("" none)."""
 
-_OPERATORS = frozenset(["'**'", "'+'", "'-'", "'*'", "'/'", "'<'", "'>'", "'='", "'<>'"])
-"""Operators written as themselves: listed with the others, as ``an operator``."""
+_OPERATORS = frozenset(["'**'"])
+"""Operators the grammar writes as themselves: listed with the others, as ``an operator``."""
 
 
 def terminal_words(terminal: str, literal: str) -> str:
