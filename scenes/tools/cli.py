@@ -67,14 +67,19 @@ def run(
     )
     log = EdgeLog(scene)
     log.watch(**getattr(program, "blocks", {}))
-    steps = [program.step]
-    log.title(program.step)
+    steps: list[str | None] = [program.step]
+    log.step(scene.time, program.step)
 
     def scan() -> None:
         program()
-        if program.step != steps[-1]:
+        if program.error:  # a stop, not a step (the step reads the error then)
+            if steps[-1] is not None:
+                steps.append(None)
+                fault = st_program is not None and plc.st.stopped(program)
+                log.stopped(scene.time, "fault" if fault else "error", program.error)
+        elif program.step != steps[-1]:
             steps.append(program.step)
-            log.title(f"t={scene.time:6.3f} s  {program.step}")
+            log.step(scene.time, program.step)
 
     timed_out = False
     if st_program is not None and "done" not in plc.st.variables(program):

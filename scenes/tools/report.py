@@ -32,9 +32,16 @@ class EdgeLog:
         """Add FB instances to watch, by name."""
         self.blocks.update(blocks)
 
-    def title(self, text: str) -> None:
-        """Start a new section."""
-        self.out(f"\n== {text}")
+    def step(self, t: float, name: str) -> None:
+        """The program entered the step ``name`` at ``t`` [s]: a new section (an empty step
+        names none: no line)."""
+        if name:
+            self.out(f"\n== t={t:6.3f} s  {name}")
+
+    def stopped(self, t: float, kind: str, message: str) -> None:
+        """The program stopped at ``t`` [s]: a line of its own, ``kind`` (``fault``: a
+        run-time fault; ``error``: the program's error) and the message."""
+        self.out(f"\nt={t:7.3f} s  {kind}: {message}")
 
     def _axes(self) -> str:
         return "  ".join(

@@ -101,3 +101,65 @@ def test_a_run_time_fault_is_reported_once_the_axes_are_at_rest(tmp_path, fault,
     assert f"{path}:15: {message}; the program stopped" in done.stderr
     assert "; the axes ramped down and were at rest at t=" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+SEQUENCE = """TYPE E_Step : (Init, Run); END_TYPE
+PROGRAM Sequence
+VAR
+  step : E_Step;
+  note : STRING;
+  a : ARRAY[1..3] OF INT;
+  i : INT := 1;
+  n : INT;
+END_VAR
+CASE step OF
+  Init: step := Run;
+  Run:
+    n := n + 1;
+    IF n > 10 THEN
+      i := i + 1;
+      a[i] := n;
+    END_IF
+END_CASE
+END_PROGRAM
+"""
+"""A sequence that starts in Init, runs, and stops on an array index out of range (line 16)
+in its 14th scan (t = 0.026 s on the single axis's 2 ms)."""
+
+
+def _report(tmp_path, capsys, source: str) -> tuple[int, list[str], str]:
+    """``python -m scenes run single_axis --program`` of ``source`` (in this process): the
+    exit status, the report's lines, standard error."""
+    from scenes.tools.cli import main
+
+    path = tmp_path / "sequence.st"
+    path.write_text(source)
+    status = main(["run", "single_axis", "--program", str(path), "--timeout", "0.2"])
+    out, err = capsys.readouterr()
+    return status, out.splitlines(), err
+
+
+def test_every_step_line_has_its_time_and_a_fault_a_line_of_its_own(tmp_path, capsys):
+    """The first step (before the first scan) is timed as every other; the fault that stops
+    the program is its own line (``fault: file:line: ...``), not a step."""
+    status, lines, err = _report(tmp_path, capsys, SEQUENCE)
+    path = tmp_path / "sequence.st"
+    fault = f"{path}:16: array index 4 outside 1..3; the program stopped"
+    assert status == 1 and fault in err
+    steps = [line for line in lines if line.startswith("== ") and line != "== summary"]
+    assert steps == ["== t= 0.000 s  Init", "== t= 0.000 s  Run"]
+    assert f"t=  0.026 s  fault: {fault}" in lines
+
+
+def test_an_empty_step_prints_no_step_line(tmp_path, capsys):
+    """A STRING ``step`` still empty (before the program writes one) is no step: no line
+    ``== `` alone; the step it writes is a timed line."""
+    source = SEQUENCE.replace("step : E_Step;", "step : STRING; s : E_Step;")
+    source = source.replace("CASE step OF", "CASE s OF").replace(
+        "Init: step := Run;", "Init: s := Run;"
+    )
+    source = source.replace("n := n + 1;", "n := n + 1; step := 'counting';")
+    status, lines, _ = _report(tmp_path, capsys, source)
+    steps = [line for line in lines if line.startswith("==") and line != "== summary"]
+    assert status == 1
+    assert steps == ["== t= 0.002 s  counting"]

@@ -8,7 +8,7 @@ operation rounds its result to 32 bits, so REAL arithmetic is IEEE single precis
 
 from __future__ import annotations
 
-__all__ = ["arithmetic", "coerce", "result_type"]
+__all__ = ["arithmetic", "coerce", "duration_advice", "result_type"]
 
 from typing import TYPE_CHECKING, Any
 
@@ -65,7 +65,44 @@ def result_type(x: Expressions, node: Any, op: str, a: E, b: E) -> Elementary:
         if ta.kind == "real" or tb.kind == "real":
             return T.real_of(ta, tb)
         return T.wider(ta, tb)
+    mixed = time_and_integer(op, a, b)
+    if mixed:
+        raise x.error(node, mixed)
     raise x.error(node, f"{ta.name} {op} {tb.name}", "numeric operands")
+
+
+def time_and_integer(op: str, a: E, b: E) -> str:
+    """The message of ``a op b`` where one is a TIME and the other an integer literal
+    (``TIME > the integer 500: write a duration literal: T#500MS``), else ""."""
+    for e, other, problem in (
+        (a, b, f"the integer {a.value} {op} {b.type.name}"),
+        (b, a, f"{a.type.name} {op} the integer {b.value}"),
+    ):
+        advice = duration_advice(e, T.plain(other.type))
+        if advice:
+            return f"{problem}: {advice}"
+    return ""
+
+
+def duration_advice(e: E, to: Type) -> str:
+    """What to write for ``e`` where a TIME or LTIME (``to``) is expected, if ``e`` is an
+    integer literal (IEC converts no integer to a TIME implicitly: ``T#20S`` for ``20000``,
+    the integer read as ms); else ""."""
+    if to.kind != "time" or e.type is not T.ANY_INT or not e.const:
+        return ""
+    return "write a duration literal: " + _duration(int(e.value), to)
+
+
+def _duration(value: int, to: Type) -> str:
+    """The duration literal of ``value`` ms in seconds (and in ms), ``T#1.5S (or T#1500MS)``;
+    under a second in ms."""
+    prefix = "T#" if to is T.TIME else f"{to.name}#"
+    in_ms = f"{prefix}{value}MS"
+    if abs(value) < 1000:
+        return in_ms
+    whole, part = divmod(abs(value), 1000)
+    seconds = f"{'-' * (value < 0)}{whole}" + (f".{part:03d}".rstrip("0") if part else "")
+    return f"{prefix}{seconds}S (or {in_ms})"
 
 
 def arithmetic(x: Expressions, node: Any, op: str, a: E, b: E) -> E:
@@ -144,6 +181,9 @@ def coerce(x: Expressions, e: E, to: Type, node: Any) -> str:
         return f"_f.clone({e.code})"
     elif to.kind in ("int",) and src.kind == "enum":
         return e.code
+    literal = duration_advice(e, to)
+    if literal:
+        raise x.error(node, f"the integer {e.value} where {to.name} is expected: {literal}")
     raise x.error(
         node, f"{indefinite(src.name)} value where {to.name} is expected: {advice(src, to)}"
     )
@@ -208,8 +248,6 @@ def _elementary(x: Expressions, e: E, src: Elementary, to: Elementary, node: Any
         if e.const:
             return repr(e.value[: to.bits])
         return e.code if src.bits <= to.bits else f"{e.code}[:{to.bits}]"
-    if to.kind == "time" and src.integral and e.const:
-        return repr(e.value)
     return None
 
 

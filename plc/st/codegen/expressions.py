@@ -397,6 +397,11 @@ class Expressions:
         numeric = all(isinstance(t, Elementary) and t.numeric for t in (ta, tb))
         same = ta.kind == tb.kind and (ta.kind not in ("enum", "struct", "array") or ta == tb)
         if not (numeric or same) or ta.kind in ("block", "array", "struct"):
+            from plc.st.codegen.arithmetic import time_and_integer
+
+            mixed = time_and_integer(op, a, b)
+            if mixed:
+                raise self.error(node, mixed)
             raise self.error(node, f"{ta.name} {op} {tb.name}", "operands of one type")
         if ta.kind == "ref" and (op not in ("=", "<>") or (T.NULL not in (ta, tb) and ta != tb)):
             raise self.error(node, f"{ta.name} {op} {tb.name}", "= or <> of references alike")

@@ -18,7 +18,7 @@ from plc.st.codegen.statements import Emitter, Statements
 from plc.st.runtime.task import Task, configurations, task_of
 from plc.st.semantics.catalog import python_name
 from plc.st.semantics.declarations import STErrorAt, declare_type, folded, initial, spec_type
-from plc.st.semantics.gvl import GVL, gvl_of
+from plc.st.semantics.gvl import GVL, gvl_of, sections
 from plc.st.semantics.scope import Callable_, Scope, Unit, Var
 from plc.st.semantics.types import BlockType, Member, Type
 
@@ -301,13 +301,13 @@ def _non_input_lines(lines: list[str], passed: list[str]) -> list[str]:
     return [line for line in lines if line.split(" = ", 1)[0].split("[")[0] not in names]
 
 
-def _globals(unit: Unit, blocks: list[tf.GlobalVariableDeclarations], out: Emitter) -> None:
+def _globals(unit: Unit, blocks: list[tuple[Any, GVL | None]], out: Emitter) -> None:
     """The class of the globals (``_g``): VAR_GLOBAL variables, the bound axes; a named
-    block's (a GVL's) variables are also ``GVL.name``, a qualified_only one's only so."""
+    block's (a GVL's, :func:`~plc.st.semantics.gvl.sections`) variables are also
+    ``GVL.name``, a qualified_only one's only so."""
     init: list[str] = []
-    for block in blocks:
+    for block, gvl in blocks:
         constant = "CONSTANT" in str(block.attrs or "").upper()
-        gvl = gvl_of(block, unit.where(block))
         if gvl is not None:
             gvl = unit.gvls.setdefault(gvl.name.lower(), gvl)
         for item in block.items:
@@ -432,11 +432,13 @@ def translate(tree: tf.SourceCode, unit: Unit) -> Module:
             for line in declare_type(unit, item):
                 out.emit(line)
     configs = configurations(items)
-    global_blocks = [i for i in items if isinstance(i, tf.GlobalVariableDeclarations)]
+    global_blocks = sections(items, unit.where)
     for config in configs:  # a configuration's and its resources' VAR_GLOBAL
         for tree in [config, *config.find_data("resource_declaration")]:
             global_blocks += [
-                c for c in tree.children if isinstance(c, tf.GlobalVariableDeclarations)
+                (c, gvl_of(c, unit.where(c)))
+                for c in tree.children
+                if isinstance(c, tf.GlobalVariableDeclarations)
             ]
     pous = [
         POU(unit, i) for i in items if isinstance(i, tf.Program | tf.FunctionBlock | tf.Function)

@@ -28,6 +28,7 @@ from plc.st.errors import STError, place
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
 from plc.st.frontend.reserved import reserved_name
 from plc.st.frontend.unclosed import unclosed
+from plc.st.frontend.wording import missing_semicolon, terminal_words
 
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
@@ -345,10 +346,14 @@ def _syntax_error(
 ) -> STError:
     """The message of a syntax error in ``text``: a statement left open
     (:mod:`~plc.st.frontend.unclosed`), a keyword used as a name
-    (:mod:`~plc.st.frontend.reserved`), else what the parser met and what it expected."""
+    (:mod:`~plc.st.frontend.reserved`), a ``;`` missing at the end of a line
+    (:func:`~plc.st.frontend.wording.missing_semicolon`), else what the parser met and what it
+    expected."""
     position, word, expected = _met(error, text)
-    found = unclosed(text, position, word, expected, lines_before) or reserved_name(
-        text, position, word, expected, lines_before
+    found = (
+        unclosed(text, position, word, expected, lines_before)
+        or reserved_name(text, position, word, expected, lines_before)
+        or missing_semicolon(text, position, expected, lines_before)
     )
     if found is not None:
         return STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}")
@@ -373,7 +378,7 @@ def _expected(names: set[str]) -> str:
     """What would have been valid there (the terminals ``names``), in words: the first eight."""
     if "IDENTIFIER" in names and "INTEGER" in names:
         return "an expression"
-    words = sorted({_READABLE.get(n) or _pattern(n) for n in names} - {""}, key=_closing_first)
+    words = sorted({_READABLE.get(n) or _word(n) for n in names} - {""}, key=_closing_first)
     return ", ".join(words[:8])
 
 
@@ -382,13 +387,21 @@ def _closing_first(word: str) -> tuple[bool, str]:
     return not word.startswith("'END_"), word
 
 
+def _word(terminal: str) -> str:
+    """A terminal as a message says it (:func:`~plc.st.frontend.wording.terminal_words`); an
+    unnamed pattern (``%I*``) as "", left out."""
+    return "" if terminal.startswith("__") else terminal_words(terminal, _pattern(terminal))
+
+
 def _pattern(terminal: str) -> str:
-    """A terminal in words: a literal as its text (``'('``), a keyword as its word
-    (``'END_IF'``), a pattern as its name in lower case (``add_operator``); an unnamed pattern
-    (``%I*``) as ``""``, left out."""
+    """A terminal as its literal text: a literal as it is written (``'('``), a keyword as its
+    word (``'END_IF'``); "" for a pattern without one (a name, a number, ``%I*``)."""
     pattern = parser().get_terminal(terminal).pattern
     if isinstance(pattern, lark.lexer.PatternStr):
         return repr(pattern.value)
     if terminal.startswith("__"):
         return ""
-    return repr(terminal[1:]) if terminal.startswith("_") else terminal.lower()
+    if terminal.startswith("_"):
+        return repr(terminal[1:].upper())
+    text = pattern.value
+    return repr(text.split("|")[0].strip("()?:i")) if text.isupper() else ""

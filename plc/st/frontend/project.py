@@ -1,7 +1,8 @@
 """A TwinCAT project's source files (or a PLCopen XML file, :mod:`plc.st.frontend.plcopen`)
 as one ST source: ``.TcPOU`` (a PROGRAM, FUNCTION_BLOCK or
 FUNCTION: its declaration and its implementation), ``.TcDUT`` (a TYPE) and ``.TcGVL`` (a
-VAR_GLOBAL), read with blark's TwinCAT reader; a folder gives every such file under it. The
+VAR_GLOBAL), read with blark's TwinCAT reader, and ``.TcTTO`` (a task: its cycle time, the
+programs it calls; :mod:`plc.st.frontend.tctask`); a folder gives every such file under it. The
 text keeps each line as written; :class:`Project` maps its lines back to the files, so that a
 message names ``GantryDemo.TcPOU:12:5``.
 
@@ -17,6 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from plc.st.errors import STError, indefinite
+from plc.st.frontend import tctask
 from plc.st.semantics.gvl import NAME_PRAGMA
 
 SUFFIXES = (".tcpou", ".tcdut", ".tcgvl")
@@ -33,6 +35,9 @@ _END = {
 
 _CITED = re.compile(r" at (\d+):(\d+)\b")
 """A second place a message names in the same text (``IF at 5:6 has no END_IF``)."""
+
+_CITED_LINE = re.compile(r" line (\d+)\b")
+"""A line a message names in the same text (``missing ';' at the end of line 11``)."""
 
 _WHERE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<column>\d+): ", re.MULTILINE)
 
@@ -80,6 +85,9 @@ class Project:
         if str(error).startswith(f"{generated}:"):
             file = text.partition(":")[0]
             text = _CITED.sub(lambda match: self._cited(match, file), text)
+            text = _CITED_LINE.sub(
+                lambda m: f" line {self.where(int(m[1])).rpartition(':')[2]}", text
+            )
         return STError(text)
 
     def _cited(self, match: re.Match[str], file: str) -> str:
@@ -116,14 +124,16 @@ def read_project(path: Path) -> Project:
     project = Project(str(path))
     for file in sorted(files, key=lambda f: (_ORDER[f.suffix.lower()], f.name.lower())):
         _read_file(project, file)
+    for name, line, text in tctask.configuration(_sources(path, (tctask.SUFFIX,))):
+        project.add([(line, text)], name)
     return project
 
 
-def _sources(folder: Path) -> list[Path]:
-    """The TwinCAT source files under ``folder``."""
+def _sources(folder: Path, suffixes: tuple[str, ...] = SUFFIXES) -> list[Path]:
+    """The files under ``folder`` of ``suffixes`` (the TwinCAT source files)."""
     if not folder.is_dir():
         return []
-    return [f for f in folder.rglob("*") if f.is_file() and f.suffix.lower() in SUFFIXES]
+    return sorted(f for f in folder.rglob("*") if f.is_file() and f.suffix.lower() in suffixes)
 
 
 def _read_file(project: Project, file: Path) -> None:

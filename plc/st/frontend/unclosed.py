@@ -5,7 +5,7 @@ begins, ``IF at 5:6 has no END_IF``."""
 
 from __future__ import annotations
 
-__all__ = ["unclosed"]
+__all__ = ["code_only", "unclosed"]
 
 import re
 
@@ -34,6 +34,11 @@ _LABEL = re.compile(r"\s*(?:\.\.\s*[\w#.+-]+\s*)?(?:,[^:;]*)?:(?!=)")
 """What follows a CASE label's first value: ``..high``, more values, then ``:``."""
 
 
+def code_only(text: str) -> str:
+    """``text`` with its strings, comments and pragmas blanked (each character a space)."""
+    return _OPAQUE.sub(lambda m: " " * len(m[0]), text)
+
+
 def unclosed(
     text: str, position: int, token: str, expected: set[str], lines_before: int = 0
 ) -> tuple[int, int, str] | None:
@@ -48,7 +53,7 @@ def unclosed(
         lines_before: the lines before ``text`` in its file (for the lines named).
     """
     openers: list[re.Match[str]] = []
-    for match in _KEYWORD.finditer(_OPAQUE.sub(lambda m: " " * len(m[0]), text[:position])):
+    for match in _KEYWORD.finditer(code_only(text[:position])):
         word = match[0].upper()
         if word in _CLOSERS:
             openers.append(match)

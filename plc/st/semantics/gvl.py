@@ -4,16 +4,21 @@ has a name, so that a program may write ``GVL_Axes.X`` as well as ``X``; a GVL w
 
 A block's name and attributes are pragmas before its VAR_GLOBAL: ``{attribute 'gvl' :=
 'GVL_Axes'}`` names it (the TwinCAT and PLCopen readers write it from the GVL's name),
-``{attribute 'qualified_only'}`` asks for the qualified name.
+``{attribute 'qualified_only'}`` asks for the qualified name. A GVL may have several sections
+(``VAR_GLOBAL CONSTANT ... END_VAR VAR_GLOBAL ... END_VAR``, as a ``.TcGVL`` holds them): a
+VAR_GLOBAL without a name of its own belongs to the GVL before it, up to the next POU.
 """
 
 from __future__ import annotations
 
-__all__ = ["GVL", "NAME_PRAGMA", "attributes", "gvl_of", "pragmas"]
+__all__ = ["GVL", "NAME_PRAGMA", "attributes", "gvl_of", "pragmas", "sections"]
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
+
+import blark.transform as tf
 
 from plc.st.errors import STError, nearest
 
@@ -73,8 +78,23 @@ def pragmas(node: Any) -> list[str]:
     return [str(c) for c in comments if getattr(c, "type", "") == "PRAGMA"]
 
 
-def gvl_of(block: Any, where: str) -> GVL | None:
-    """The GVL a VAR_GLOBAL block is, or None (it has no name).
+def sections(items: list[Any], where: Callable[[Any], str]) -> list[tuple[Any, GVL | None]]:
+    """The VAR_GLOBAL blocks among a file's ``items``, each with the GVL it is a section of
+    (None: an unnamed global block); a POU or a CONFIGURATION ends a GVL."""
+    found: list[tuple[Any, GVL | None]] = []
+    current: GVL | None = None
+    for item in items:
+        if isinstance(item, tf.GlobalVariableDeclarations):
+            current = gvl_of(item, where(item), current)
+            found.append((item, current))
+        elif not isinstance(item, tf.DataTypeDeclaration):
+            current = None
+    return found
+
+
+def gvl_of(block: Any, where: str, before: GVL | None = None) -> GVL | None:
+    """The GVL a VAR_GLOBAL block is: the one its pragma names, else ``before`` (the GVL whose
+    section it follows), else None (an unnamed global block).
 
     Raises:
         STError: ``qualified_only`` on a block without a name.
@@ -82,6 +102,8 @@ def gvl_of(block: Any, where: str) -> GVL | None:
     found = attributes(pragmas(block))
     name = found.get("gvl", "").strip()
     qualified = "qualified_only" in found
+    if not name and before is not None:
+        return before
     if not name and qualified:
         raise STError.at(
             where,

@@ -257,3 +257,102 @@ def test_a_named_global_list_of_a_plcopen_configuration_is_a_gvl(tmp_path):
     prog, scene = _moved(lambda s: plc.st.load(path, s))
     assert prog.done and not prog.error, prog.error
     assert abs(scene.axes["X"].POS - 100.0) < 1e-6
+
+
+SECTIONS = """{attribute 'qualified_only'}
+VAR_GLOBAL CONSTANT
+    cNumTargets : INT := 3;
+END_VAR
+VAR_GLOBAL
+    fVelocity : LREAL := 50.0;
+    nCount : INT;
+END_VAR
+"""
+"""A GVL of two sections as TwinCAT writes it: its constants, then its variables."""
+
+USES = """PROGRAM MAIN
+VAR
+    fV : LREAL;
+    n : INT;
+END_VAR
+GVL_Param.nCount := GVL_Param.nCount + GVL_Param.cNumTargets;
+fV := GVL_Param.fVelocity;
+n := GVL_Param.nCount;
+END_PROGRAM
+"""
+"""A PROGRAM that reads and writes both sections of GVL_Param by their qualified names."""
+
+
+def _gvl_file(folder, declaration: str) -> None:
+    """A TwinCAT folder: GVL_Param.TcGVL of ``declaration`` and MAIN.TcPOU of :data:`USES`."""
+    (folder / "GVL_Param.TcGVL").write_text(
+        OBJECT.format(
+            '  <GVL Name="GVL_Param" Id="{65034cb3-54d5-47fb-8101-955f16845057}">\n'
+            f"    <Declaration><![CDATA[{declaration}]]></Declaration>\n  </GVL>\n"
+        )
+    )
+    declared, _, body = USES.partition("END_VAR\n")
+    (folder / "MAIN.TcPOU").write_text(
+        _pou("MAIN", declared + "END_VAR\n", body.replace("END_PROGRAM\n", ""))
+    )
+
+
+@pytest.mark.parametrize("swapped", [False, True])
+def test_every_section_of_a_twincat_gvl_is_the_gvl(tmp_path, swapped):
+    """A .TcGVL of ``VAR_GLOBAL CONSTANT ... END_VAR`` then ``VAR_GLOBAL ... END_VAR`` (or the
+    other way round): both sections are GVL_Param's, read and written qualified."""
+    constants, _, variables = SECTIONS.partition("END_VAR\n")
+    head, _, constants = constants.partition("\n")
+    _gvl_file(tmp_path, f"{head}\n{variables}{constants}END_VAR\n" if swapped else SECTIONS)
+    prog = plc.st.load(tmp_path, period=0.01)
+    prog()
+    prog()
+    assert not prog.fault, prog.fault
+    assert (prog.fV, prog.n) == (50.0, 6)
+    assert plc.st.variables(prog)["GVL_Param.nCount"] == 6
+
+
+def test_the_bare_name_of_a_second_section_of_a_qualified_only_gvl_is_refused(tmp_path):
+    """``{attribute 'qualified_only'}`` at the top of a .TcGVL holds for its second section
+    too: the bare ``fVelocity`` is refused at its line in MAIN.TcPOU, saying what to write."""
+    _gvl_file(tmp_path, SECTIONS)
+    pou = tmp_path / "MAIN.TcPOU"
+    pou.write_text(pou.read_text().replace("fV := GVL_Param.fVelocity", "fV := fVelocity"))
+    with pytest.raises(plc.st.STError) as error:
+        plc.st.load(tmp_path, period=0.01)
+    assert str(error.value) == (
+        f"{pou}:12:7: fVelocity is declared in GVL_Param with {{attribute 'qualified_only'}}: "
+        "write GVL_Param.fVelocity"
+    )
+
+
+def test_every_section_after_a_gvl_pragma_is_the_gvl_up_to_the_next_pou():
+    """In a .st file, the VAR_GLOBAL sections after ``{attribute 'gvl' := 'GVL'}`` up to the
+    next POU are the GVL (``GVL.nCount``); one after a POU is a global of no list."""
+    source = """{attribute 'gvl' := 'GVL'}
+VAR_GLOBAL CONSTANT
+    cStep : INT := 2;
+END_VAR
+VAR_GLOBAL
+    nCount : INT;
+END_VAR
+FUNCTION Twice : INT
+VAR_INPUT x : INT; END_VAR
+Twice := 2 * x;
+END_FUNCTION
+VAR_GLOBAL
+    nOther : INT;
+END_VAR
+PROGRAM MAIN
+VAR n : INT; END_VAR
+GVL.nCount := GVL.nCount + GVL.cStep;
+nCount := nCount + 1;
+nOther := Twice(GVL.nCount);
+n := nOther;
+END_PROGRAM
+"""
+    assert run(source, scans=2).n == 12
+    assert refused(source.replace("n := nOther", "n := GVL.nOther")) == (
+        "iec.st:20:10: the GVL GVL has no variable 'nOther' (did you mean nCount?); "
+        "expected GVL.cStep, GVL.nCount"
+    )
