@@ -13,7 +13,7 @@ internals, except the watch table of a running program (:mod:`plc.st.runtime.wat
 
 from mcl import native
 
-COMPILED_MODULES = ("procedures",)
+COMPILED_MODULES = ("procedures", "sequence")
 """This package's modules that the compiled build covers (run every PLC scan); its subpackages
 declare their own (see :mod:`mcl.native`)."""
 COMPILED = native.activate("plc", __path__)

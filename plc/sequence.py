@@ -11,6 +11,8 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol
 
+from mypy_extensions import mypyc_attr
+
 import mcl
 
 
@@ -74,6 +76,7 @@ class Step:
     then: Callable[[], str] | None = None
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)
 class StepSequence:
     """The usual shape of a demo program: a PLC step sequence. ``STEPS`` names the steps in
     order (the last one means finished), ``index`` is the step now, a non-empty ``error`` stops
@@ -147,6 +150,11 @@ class StepSequence:
     def failure(self, step: str, block: str, error_id: int) -> str:
         """The ``error`` text when ``block`` fails in ``step``."""
         return f"{step}: {block} error {error_id}"
+
+    def __call__(self) -> None:
+        """One PLC scan: a subclass runs its blocks, then :meth:`advance` (declared here so that
+        the compiled build gives every sequence the same layout)."""
+        raise NotImplementedError(f"{type(self).__name__} defines no PLC scan (__call__)")
 
 
 class DemoProgram(Protocol):

@@ -15,6 +15,9 @@ import scenes
 from scenes.definition import MachineDef, Part, Signal
 from scenes.machines.cell.demo import RAM_UP, ZONE_X, Demo, gantry_in_zone, ram_up
 
+COMPILED_MODULES = ("demo", "interlock")
+"""The modules of the cell the compiled build covers (its program, run every PLC scan)."""
+
 MACHINE = MachineDef(
     name="cell",
     description="a cell: the gantry and the press in one world, a zone interlock between them",

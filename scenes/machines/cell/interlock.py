@@ -14,31 +14,27 @@ from __future__ import annotations
 __all__ = ["ZoneInterlock", "ZoneUser"]
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
 from plc.sequence import DemoProgram
 
 
-@dataclass
 class ZoneUser:
     """A demo that uses the shared zone from step ``enter`` until ``left()`` is true again after
     step ``leave`` began.
 
-    Attributes:
+    Args:
         demo: the machine's demo program.
         enter: the step that goes into the zone (held until the zone is granted).
         leave: the step from which on the machine leaves the zone.
         left: reads whether the machine is out of the zone (from the physics).
     """
 
-    demo: DemoProgram
-    enter: str
-    leave: str
-    left: Callable[[], bool]
-    holding: bool = field(default=False, init=False)
-    """The zone is granted to this demo."""
-    waited: float = field(default=0.0, init=False)
-    """How long it has waited for the zone so far [s]."""
+    def __init__(self, demo: DemoProgram, enter: str, leave: str, left: Callable[[], bool]) -> None:
+        self.demo, self.enter, self.leave, self.left = demo, enter, leave, left
+        self.holding = False
+        """The zone is granted to this demo."""
+        self.waited = 0.0
+        """How long it has waited for the zone so far [s]."""
 
     def release_if_done(self) -> None:
         """Give the zone back once the demo is past ``leave`` and out of the zone."""

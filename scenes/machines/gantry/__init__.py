@@ -14,6 +14,9 @@ from scenes.machines.gantry.demo import (
     Demo,
 )
 
+COMPILED_MODULES = ("demo",)
+"""The module of this package the compiled build covers (the demo, run every PLC scan)."""
+
 __all__ = [
     "AXES",
     "DWELL",

@@ -40,9 +40,9 @@ from scenes.machines.press.demo import (
 )
 from scenes.machines.press.devices import cylinder_data, make_cylinder
 
-COMPILED_MODULES = ("hydraulics", "devices", "hydraulic_axis")
+COMPILED_MODULES = ("hydraulics", "devices", "hydraulic_axis", "demo")
 """The modules of this package that the compiled build covers (the valve and the cylinder, their
-device and the simulated axis, run every physics step)."""
+device and the simulated axis, run every physics step; the demo, every PLC scan)."""
 
 __all__ = [
     "AXES",
