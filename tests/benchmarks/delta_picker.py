@@ -149,19 +149,11 @@ def demo(belt_speed: float | None = None, parts: int | None = None) -> dict[str,
         program.run.Velocity = belt_speed  # type: ignore[attr-defined]
     if parts is not None:
         program.parts = parts  # type: ignore[attr-defined]
-    model, data = scene.model, scene.data
-    tool = model.site("delta_picker/tool").id
-    amps = [model.actuator(f"delta_picker/{a}_amp").id for a in ARMS]
-    torques: list[list[float]] = []
-    tips: list[np.ndarray] = []
-
-    def observe(t: float) -> None:
-        torques.append([float(data.actuator_force[a]) for a in amps])
-        tips.append(np.array(data.site_xpos[tool]))
+    record = Recorder(scene)
 
     def scan() -> None:
         program()
-        observe(scene.time)
+        record(scene.time)
 
     start = time.perf_counter()
     scene.run(scan, until=lambda: program.done or bool(program.error), timeout=3600.0)
@@ -176,11 +168,6 @@ def demo(belt_speed: float | None = None, parts: int | None = None) -> dict[str,
             refused[str(row["error id"])] = refused.get(str(row["error id"]), 0) + 1
     grip_times = [g.time for g in gripper.grips]
     cycles = list(np.diff(grip_times)) if len(grip_times) > 1 else [math.nan]
-    tau = np.abs(np.array(torques))
-    x = np.array(tips)
-    speed = np.linalg.norm(np.diff(x, axis=0), axis=1) / 0.002
-    acc = np.linalg.norm(np.diff(x, 2, axis=0), axis=1) / 0.002**2
-    motor = tau / (RATIO * EFFICIENCY)
     return {
         "error": program.error,
         "real_time_factor": scene.time / wall,
@@ -193,13 +180,7 @@ def demo(belt_speed: float | None = None, parts: int | None = None) -> dict[str,
         "pick_error_mm": {"mean": float(np.mean(errors)), "worst": float(np.max(errors))},
         "cycle_s": float(np.mean(cycles)),
         "rate_per_min": 60.0 / float(np.mean(cycles)),
-        "arm_torque_peak_Nm": tau.max(axis=0).tolist(),
-        "arm_torque_rms_Nm": np.sqrt((tau**2).mean(axis=0)).tolist(),
-        "motor_torque_peak_Nm": motor.max(axis=0).tolist(),
-        "motor_torque_rms_Nm": np.sqrt((motor**2).mean(axis=0)).tolist(),
-        "catalogue_peak_rated_Nm": [PEAK, RATED],
-        "cup_peak_speed_m_s": float(speed.max()),
-        "cup_peak_acceleration_m_s2": float(acc.max()),
+        **record.figures(),
     }
 
 
