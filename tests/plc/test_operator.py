@@ -13,7 +13,14 @@ import pytest
 
 import mcl
 from plc.commissioning.axis import CommissioningRequests
-from plc.operator.axis import INDEX_FRACTION, AxisOperator, Orders, Parameters, no_parameters
+from plc.operator.axis import (
+    INDEX_FRACTION,
+    REFUSED,
+    AxisOperator,
+    Orders,
+    Parameters,
+    no_parameters,
+)
 from plc.operator.program import GroupRelease, OperatorProgram
 from plc.procedures import HomingRecipe
 from tests.helpers import CONSTANTS, carriage_mm, make_machine
@@ -157,6 +164,36 @@ def test_the_jog_runs_while_its_level_is_set_and_a_refusal_names_it(rig: Rig) ->
     drive.run(0.02, power=False)
     drive.run(0.02, jog_neg=True, jog_velocity=50.0)
     assert op.message == f"Jog−: error 10 ({mcl.error_text(10)})" and heard[-1][0] == "X"
+
+
+def test_a_jog_too_slow_is_refused_and_says_why(rig: Rig) -> None:
+    machine, op, heard, drive = rig
+    drive.run(0.1, jog_pos=True, jog_velocity=2.0)  # Vmax 500 mm/s: at least 5 mm/s
+    why = "Velocity 2 mm/s below 1 % of Vmax (5 mm/s)"
+    assert op.message == f"Jog+: error 5 ({mcl.error_text(5)}: {why})"
+    assert op.last_error_kind == REFUSED and heard == [("X", op.message)]
+    assert machine.axes["X"].VEL == 0.0
+
+
+def test_a_move_beyond_a_software_limit_names_it_and_another_error_says_no_more(
+    rig: Rig,
+) -> None:
+    machine, op, heard, drive = rig
+    limit = mcl.GT_SWLim(Axis=machine.axes["X"], LimPos=30.0, LimNeg=-40.0)
+    machine.run(lambda: limit(Execute=True), timeout=0.01)
+    drive.run(0.05, ("move_absolute",), {"move_absolute": given(position=35.0, **MOVE)})
+    why = "target 35.000 mm beyond the positive SW limit 30.000 mm"
+    assert op.message == f"Move to: error 8 ({mcl.error_text(8)}: {why})"
+    drive.run(0.05)
+    drive.run(0.05, ("move_relative",), {"move_relative": given(distance=-45.0, **MOVE)})
+    why = "target -45.000 mm beyond the negative SW limit -40.000 mm"
+    assert op.message == f"Move by: error 8 ({mcl.error_text(8)}: {why})"
+    drive.run(0.05)
+    drive.run(0.02, power=False)
+    drive.run(0.05, ("move_absolute",), {"move_absolute": given(position=10.0, **MOVE)})
+    assert op.message == f"Move to: error 10 ({mcl.error_text(10)})"
+    assert heard[-1] == ("X", op.message) and len(heard) == 3
+    assert carriage_mm(machine) == pytest.approx(0.0, abs=0.05)
 
 
 def test_the_outputs_follow_their_bits() -> None:
