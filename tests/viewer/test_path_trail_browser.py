@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from tests.viewer.test_browser import browser, wait_for
-from tests.viewer.test_path_trail import CircleDemo
+from tests.viewer.test_path_trail import OUT_OF_THE_CORNER, CircleDemo
 from tests.viewer.test_scope_browser import choose
 from viewer.serving.server import Viewer
 from viewer.sim.session import Session
@@ -49,10 +49,20 @@ def test_the_page_draws_the_circle_with_its_magnified_deviation(
         page.get_by_text("View", exact=True).first.click(timeout=60_000)  # open the folder
         choose(page, "Path (actual deviation)", "×100")
         wait_for(lambda: viewer.app.views.path.choice == "×100", 10.0, "the Path choice")
-        viewer.session.start_demo()
-        wait_for(lambda: viewer.session.snapshot.demo.done, 60.0, "the circle")
+        # the trail begins with the first frame drawn after the choice (one point per frame):
+        # the circle starts once it has
+        wait_for(lambda: viewer.app.views.path.trail is not None, 30.0, "the trail's start")
         trail = viewer.app.views.path.trail
         assert trail is not None
+        start = trail.commanded[-1].copy()
+        viewer.session.start_demo()
+        wait_for(lambda: viewer.session.snapshot.demo.done, 60.0, "the circle")
+        end = start + np.array(OUT_OF_THE_CORNER) / 1e3  # where the circle closes
+
+        def closed() -> bool:  # a frame drawn after the circle's end
+            return bool(np.linalg.norm(trail.commanded[-1] - end) < 1e-3)
+
+        wait_for(closed, 30.0, "the trail's last point at the circle's end")
         commanded = trail.commanded
         xy = commanded[:, :2]
         span = xy.max(axis=0) - xy.min(axis=0)
