@@ -304,11 +304,15 @@ class Journey:
 
     def open(self, url: str) -> None:
         """Load the page until its panels are there; where it draws in software, wait for its
-        line saying so and close viser's own notice about it, as a user would."""
+        line saying so (shown where the machine has a 3-D model) and close viser's own notice
+        about it, as a user would."""
         self.page.goto(url)
-        self.page.get_by_role("combobox", name="Scene", exact=True).wait_for(timeout=LOAD_TIMEOUT)
+        chooser = self.page.get_by_role("combobox", name="Scene", exact=True)
+        chooser.wait_for(timeout=LOAD_TIMEOUT)
         if is_software(self.page.evaluate(RENDERER)):
-            self.page.get_by_text("No GPU (software WebGL)").first.wait_for(timeout=LOAD_TIMEOUT)
+            if scenes.definition(chooser.input_value()).model:
+                line = self.page.get_by_text("No GPU (software WebGL)").first
+                line.wait_for(timeout=LOAD_TIMEOUT)
             notice = self.page.locator(".mantine-Notification-root", has_text="Software WebGL")
             notice.first.wait_for(timeout=LOAD_TIMEOUT)
             notice.first.locator("button").first.click()
