@@ -21,6 +21,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from functools import partial
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -478,6 +479,39 @@ def test_the_scope_recorder_holds_the_last_seconds_of_every_channel(
 def rgb(color: tuple[float, float, float]) -> tuple[int, int, int]:
     r, g, b = (round(c * 255.0) for c in color)
     return (r, g, b)
+
+
+def test_panels_answer_a_state_change_within_a_frame_then_keep_their_rate(
+    server: viser.ViserServer, session: Session, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A click's move shows on the axis panel a frame (33 ms) after its state changed, not a
+    panel period later; a machine whose states stay as they are refreshes at the panel rate."""
+    wall = FakeClock()
+    monkeypatch.setattr(app_module, "time", SimpleNamespace(monotonic=wall, perf_counter=wall))
+    app = ViewerApp(session, server, fps=30.0, panel_hz=12.0)
+
+    def frames(seconds: float) -> list[float]:
+        """Frames at 30 Hz, each with a new snapshot; the wall times of panel refreshes."""
+        refreshed = []
+        for _ in range(round(seconds * 30)):
+            before = app.panel_updates
+            session.advance(5)
+            app.frame()
+            if app.panel_updates > before:
+                refreshed.append(wall.now)
+            wall.now += 1 / 30
+        return refreshed
+
+    frames(1.0)  # settled: standstill, no state changes
+    steady = frames(1.0)
+    assert 9 <= len(steady) <= 13  # the panel rate (12 Hz, on frames of 30 Hz: every third)
+    session.requests("X").set_power(True)
+    answered = frames(0.3)
+    assert view(session).powered
+    assert len(answered) >= 7  # every frame of the 0.25 s after the change
+    assert max(b - a for a, b in zip(answered[:7], answered[1:7])) < 0.04
+    later = frames(1.0)
+    assert len(later) <= 13
 
 
 def test_switch_geoms_light_up_from_the_plant_inputs(server: viser.ViserServer) -> None:

@@ -79,6 +79,9 @@ from viewer.view3d.views import OFF, ON, SWITCH_CHOICES, Views
 
 log = logging.getLogger(__name__)
 
+PROMPT_S = 0.25
+"""How long [s] the panels refresh every frame after an axis changed state, ErrorID or power."""
+
 _Hold = Hold
 """A jog a page holds (:class:`~viewer.serving.control.Hold`)."""
 
@@ -175,6 +178,10 @@ class ViewerApp:
         self._generation = 0
         self._last: Snapshot | None = None
         self._last_panel = self._last_plot = self._last_control = self._last_pose = -math.inf
+        self._axis_states: tuple[tuple[str, int, bool], ...] = ()
+        """Each axis' state, ErrorID and power as the panels last saw them."""
+        self._prompt_until = -math.inf
+        """Until then [s, monotonic] the panels refresh every frame (after a state change)."""
         self._axes: dict[str, AxisPanel] = {}
         self._commissioning: dict[str, CommissioningPanel] = {}
         """The Commissioning folders of the driven axes."""
@@ -607,7 +614,7 @@ class ViewerApp:
                 self._update_3d(model_scene, snapshot)
             else:  # a page draws in software: the latest pose follows at its lower rate
                 self._redraw = True
-        if now - self._last_panel >= self._panel_period - slack:
+        if self._panel_due(snapshot, now, slack):
             self._last_panel = now
             self._update_panels(snapshot)
             self.pages.update_panels(snapshot)
@@ -617,6 +624,16 @@ class ViewerApp:
         self._last = snapshot
         self.frames += 1
         self.frame_costs.append(time.perf_counter() - start)
+
+    def _panel_due(self, snapshot: Snapshot, now: float, slack: float) -> bool:
+        """The panels refresh at the panel rate, and every frame for :data:`PROMPT_S` after an
+        axis changed state, ErrorID or power (a click's move shows its first motion a frame
+        after it, not a panel period)."""
+        states = tuple((a.state, a.error_id, a.powered) for a in snapshot.axes.values())
+        if states != self._axis_states:
+            self._axis_states = states
+            self._prompt_until = now + PROMPT_S
+        return now < self._prompt_until or now - self._last_panel >= self._panel_period - slack
 
     def _update_3d(self, model_scene: ModelScene, snapshot: Snapshot) -> None:
         """Body poses, switch lamps, overlays and follow cameras of ``snapshot``."""
