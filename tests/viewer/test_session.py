@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import dataclasses
 import errno
-import itertools
 import http.client
+import itertools
 import logging
 import math
 import os
