@@ -84,12 +84,13 @@ BELT_SPEED = 250.0
 TRACK_FROM = -250.0
 """A part is tracked once its centre has come this far [mm of MCS x] (the arms' reach is
 better away from its edge)."""
-HORIZON = 0.6
-"""A part is tracked only if it stays within reach this long [s] (reach it, grip, stop)."""
+HORIZON = 0.4
+"""A part is tracked only if it stays within reach this long [s]: reach it, settle, grip, lift
+and stop take at most 0.33 s."""
 MOVE = {"Velocity": 4000.0, "Acceleration": 100000.0, "Deceleration": 100000.0, "Jerk": 6.0e6}
 """Path velocity [mm/s], acceleration [mm/s²], jerk [mm/s³] of the robot's moves: those of the
 standard cycle, the robot's TCP limits (``DELTA.tcp``)."""
-AHEAD = 0.15
+AHEAD = 0.2
 """Going back to the belt, the robot heads for where the next part will be this much later [s]
 (about as long as it takes to get there)."""
 RAMP = 60000.0
