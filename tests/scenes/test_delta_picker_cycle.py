@@ -43,8 +43,9 @@ def test_every_pick_grips_the_part_and_every_place_leaves_it_there(run) -> None:
     gripper = scene.device("vacuum", VacuumGripper)
     assert [g.part for g in gripper.grips] == [0] * (2 * CYCLES)
     assert gripper.lost == 0
-    # the cup on the part's top face, within 2 mm of its centre, at every grip
-    assert all(g.error < 2.0 and abs(g.height) < 2.0 for g in gripper.grips)
+    # the cup on the part's top face, within 0.5 mm of its centre (the part laid at the first
+    # place, then where the cycle put it), at every grip
+    assert all(g.error < 0.5 and abs(g.height) < 2.0 for g in gripper.grips), gripper.grips
     times = np.array([t for t, _, _ in samples])
     for k in range(len(program.legs)):
         # the part released at the other place: there at the next grip, or at rest at the end
