@@ -116,7 +116,7 @@ RATE_FLOOR = 80.0
 
 
 def test_at_half_a_metre_per_second_every_part_is_picked_at_over_80_a_minute() -> None:
-    """At 0.5 m/s (a part every 0.64 s on average) the robot picks every latched part, none
+    """At 0.5 m/s (a part about every 0.6 s) the robot picks every latched part, none
     refused, none dropped, the cup within 0.5 mm of the part's centre (from the physics), at
     over :data:`RATE_FLOOR` picks a minute: the grips' count over the simulated time from the
     first grip to the last. Each part is placed in a free place of the tray: at its release no
