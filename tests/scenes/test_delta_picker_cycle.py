@@ -34,7 +34,10 @@ def run() -> tuple[scenes.Scene, StandardCycle, list[tuple[float, np.ndarray, np
         )
     )
     scene.run(program, until=lambda: program.done or bool(program.error), timeout=30.0)
-    assert program.done and program.error == "", (program.phase, program.error)
+    assert program.done and program.phase == "done" and program.error == "", (
+        program.phase,
+        program.error,
+    )
     scene.run(lambda: None, timeout=0.1)  # the part comes to rest at its place
     return scene, program, samples
 
