@@ -12,7 +12,8 @@ next one is taken. Tracking, the robot goes across to 25 mm above the part and d
 grips and lifts it 25 mm (still in PCS); then MC_SetCoordinateTransform ends the tracking (the
 robot slows down to a standstill holding the part in the air) and the standard cycle carries it
 into the tray in the MCS: across (off the belt's parts first), down 25 mm, blended; vacuum off,
-up 25 mm, and the next part is tracked from there.
+up 25 mm and on, blended, over the belt to where the next latched part will be :data:`AHEAD`
+later, where the robot waits to track it. Every move runs at the robot's TCP limits.
 """
 
 from __future__ import annotations
@@ -68,18 +69,30 @@ pressed."""
 BELT_ORIGIN = [EYE_X, BELT_Y, GRIP_Z - PRESS]
 """The belt frame in the MCS (MC_TrackConveyorBelt's ConveyorBeltOrigin): at the photo eye on
 the belt's centre line, at the grip height; x along the belt [mm]."""
-SLOTS = tuple((x, 155.0) for x in (315.0, -315.0, 225.0, -225.0, 135.0, -135.0, 45.0, -45.0))
-"""The tray's places (x, y) [mm], 305 mm across the belt's centre line, filled from the
-outside in (a part carried 25 mm high never passes over one placed)."""
+SLOTS = tuple((x, 155.0) for x in (-315.0, -225.0, -135.0, -45.0, 45.0, 135.0, 225.0, 315.0))
+"""The tray's places (x, y) [mm], 305 mm across the belt's centre line; a part goes to the free
+one nearest to where it was picked."""
+FRONT = 80.0
+"""A carried part comes straight across into its place from this far in front of it [mm of
+MCS y]: its far edge (30 mm from the cup's centre, a blended corner within 2 mm) stays 10 mm
+short of the parts placed beside it, which it would hit, lifted only :data:`CLEAR`."""
+CLEARED = 1.5
+"""A place is free again this long after a part was placed there [s]: the outfeed takes a part
+away once it has rested in the tray for 1 s."""
 BELT_SPEED = 250.0
 """Conveyor speed [mm/s]."""
 TRACK_FROM = -250.0
 """A part is tracked once its centre has come this far [mm of MCS x] (the arms' reach is
 better away from its edge)."""
-HORIZON = 0.6
-"""A part is tracked only if it stays within reach this long [s] (reach it, grip, stop)."""
-MOVE = {"Velocity": 4000.0, "Acceleration": 60000.0, "Deceleration": 60000.0, "Jerk": 2.0e6}
-"""Path velocity [mm/s], acceleration [mm/s²], jerk [mm/s³] of the robot's moves."""
+HORIZON = 0.4
+"""A part is tracked only if it stays within reach this long [s]: reach it, settle, grip, lift
+and stop take at most 0.33 s."""
+MOVE = {"Velocity": 4000.0, "Acceleration": 100000.0, "Deceleration": 100000.0, "Jerk": 6.0e6}
+"""Path velocity [mm/s], acceleration [mm/s²], jerk [mm/s³] of the robot's moves: those of the
+standard cycle, the robot's TCP limits (``DELTA.tcp``)."""
+AHEAD = 0.2
+"""Going back to the belt, the robot heads for where the next part will be this much later [s]
+(about as long as it takes to get there)."""
 RAMP = 60000.0
 """The tool point's acceleration as it speeds up with the belt and slows down from it [mm/s²]."""
 CORNER = 10.0
@@ -109,8 +122,8 @@ def _moves(group: mcl.AxesGroup) -> dict[str, list[mcl.MC_MoveLinearAbsolute]]:
         "over the belt": 1,
         "down onto it": 2,
         "lift it": 1,
-        "carry to the tray": 3,
-        "up from the tray": 1,
+        "carry to the tray": 4,
+        "up from the tray": 2,
     }
     return {
         step: [mcl.MC_MoveLinearAbsolute(AxesGroup=group, **MOVE) for _ in range(count)]
@@ -180,8 +193,12 @@ class Demo(StepSequence):
         """Latched parts not yet handled: belt position [mm] and lateral position [mm, MCS y]."""
         self.latched = 0
         self.picked = 0
+        self.slot = 0
+        """The tray's place the part held goes to (index in :data:`SLOTS`)."""
+        self.placed_at = [-math.inf] * len(SLOTS)
+        """When a part was placed in each of the tray's places last [s]."""
         self.moves = _moves(group)
-        self._aim(0)
+        self._aim()
         self.rows: list[dict[str, Any]] = []
         self._gripped = 0
         """Grips the rows account for."""
@@ -219,7 +236,7 @@ class Demo(StepSequence):
             ),
             self._path("carry to the tray"),
             Step("settle over the tray", lambda: self._settled(PLACED)),
-            Step("release", self._dwelt, {"vacuum": self.vacuum}),
+            Step("release", self._dwelt, {"vacuum": self.vacuum}, then=self._released),
             Step(
                 "up from the tray",
                 lambda: self.moves["up from the tray"][-1].Done,
@@ -246,10 +263,8 @@ class Demo(StepSequence):
         moves = self.moves[step]
         return Step(step, lambda: moves[-1].Done, self._watch(step))
 
-    def _aim(self, k: int) -> None:
-        """Set the moves' positions for the ``k``-th part picked (its place in the tray)."""
-        x, y = SLOTS[k % len(SLOTS)]
-        z = GRIP_Z
+    def _aim(self) -> None:
+        """Set the moves' positions of the pick cycle."""
         self.moves["over the belt"][0].Position = list(WAIT)
         down = self.moves["down onto it"]
         for move, target, mode in zip(
@@ -262,19 +277,33 @@ class Demo(StepSequence):
         lift.Position, lift.BufferMode = [0.0, 0.0, CLEAR], B.Aborting
         lift.CoordSystem = MC_COORD_SYSTEM.PCS
         self.carry_from(list(PICK))
-        up = self.moves["up from the tray"][0]
-        up.Position, up.BufferMode = [x, y, z + CLEAR], B.Aborting
+        over = self.moves["up from the tray"][1]
+        over.Position, over.BufferMode = list(WAIT), B.BlendingLow
+        over.TransitionMode, over.TransitionParameter = CORNERING
+
+    def _free_slot(self, x: float) -> int:
+        """The free place in the tray nearest to ``x`` [mm, MCS]; the one filled longest ago if
+        none is free."""
+        now = self.scene.time
+        free = [k for k, t in enumerate(self.placed_at) if now - t >= CLEARED]
+        if not free:
+            return min(range(len(SLOTS)), key=lambda k: self.placed_at[k])
+        return min(free, key=lambda k: abs(SLOTS[k][0] - x))
 
     def carry_from(self, lifted: list[float]) -> None:
         """The rest of the standard cycle from where the lifted part came to a standstill [mm,
-        MCS]: across the belt (the part off the belt's parts first), to its place, down."""
-        x, y = SLOTS[self.picked % len(SLOTS)]
-        z = GRIP_Z
+        MCS]: across the belt (the part off the belt's parts first), in front of the nearest
+        free place, straight into it, down; then up from it."""
+        self.slot = self._free_slot(lifted[0])
+        x, y = SLOTS[self.slot]
+        z = GRIP_Z + CLEAR
         off = max(lifted[1], OFF_BELT)
-        targets = ((lifted[0], off, z + CLEAR), (x, y, z + CLEAR), (x, y, z))
-        modes = (B.Aborting, B.BlendingLow, B.BlendingLow)
+        targets = ((lifted[0], off, z), (x, y - FRONT, z), (x, y, z), (x, y, GRIP_Z))
+        modes = (B.Aborting, B.BlendingLow, B.BlendingLow, B.BlendingLow)
         for move, target, mode in zip(self.moves["carry to the tray"], targets, modes, strict=True):
             move.Position, move.BufferMode = list(target), mode
+        up = self.moves["up from the tray"][0]
+        up.Position, up.BufferMode = [x, y, z], B.Aborting
 
     def _settled(self, within: float = SETTLED) -> bool:
         """The cup follows the part (or stands over its place): the tool point's following
@@ -291,12 +320,30 @@ class Demo(StepSequence):
         dwell = VACUUM_ON if self.STEPS[self.index] == "grip" else VACUUM_OFF
         return self.scene.time - self.entered >= dwell - 1e-9
 
+    def _part_x(self, latch: float, later: float = 0.0) -> float:
+        """The centre of the part latched at belt position ``latch`` [mm, MCS x], ``later`` [s]
+        from now."""
+        travel = self.belt.sp_pos - latch + self.run.Velocity * later
+        return EYE_X - 500.0 * PART_LENGTH + travel
+
+    def _released(self) -> str:
+        """Up from the tray and over the belt, where the next part will be (or the first
+        part's waiting place)."""
+        self.placed_at[self.slot] = self.scene.time
+        over = self.moves["up from the tray"][1]
+        if self.queue:
+            latch, lateral = self.queue[0]
+            x = min(max(TRACK_FROM, self._part_x(latch, AHEAD)), -TRACK_FROM)
+            over.Position = [x, lateral, GRIP_Z + CLEAR]
+        else:
+            over.Position = list(WAIT)
+        return "up from the tray"
+
     def _waited(self) -> bool:
         """A latched part has come to :data:`TRACK_FROM`, or every part was latched."""
         if not self.queue:
             return self.latched >= self.parts
-        travel = self.belt.sp_pos - self.queue[0][0]
-        return EYE_X - 500.0 * PART_LENGTH + travel >= TRACK_FROM
+        return self._part_x(self.queue[0][0]) >= TRACK_FROM
 
     def _next_part(self) -> str:
         """Track the next latched part, or end once every part was handled."""
@@ -322,7 +369,6 @@ class Demo(StepSequence):
     def _placed(self) -> str:
         self._record()
         self.picked += 1
-        self._aim(self.picked)
         return "wait for a part"
 
     def _record(self, error_id: int = 0) -> None:
@@ -336,6 +382,7 @@ class Demo(StepSequence):
                 "picked": grip is not None,
                 "error id": error_id,
                 "pick error [mm]": grip.error if grip is not None else None,
+                "place": self.slot if grip is not None else None,
                 "cycle [s]": self.scene.time - self.started,
             }
         )
