@@ -7,7 +7,7 @@ CONFIGURATION, several types per TYPE block, REF_TO, ...) by :mod:`plc.st.fronte
 
 from __future__ import annotations
 
-__all__ = ["jobs", "parse", "parse_kept", "parser"]
+__all__ = ["jobs", "parse", "parse_each", "parse_kept", "parser"]
 
 import dataclasses
 import importlib.resources
@@ -85,6 +85,21 @@ def parse(source: str, filename: str) -> tf.SourceCode:
     for tree in trees:
         items += tree.items
     return tf.SourceCode(items, Path(filename), source, trees[0].line_map, trees[0].meta)
+
+
+def parse_each(source: str, filename: str) -> list[tuple[chunks.Chunk, tf.SourceCode | STError]]:
+    """Each item of ``source`` (:func:`_pieces`) parsed on its own, in this process: its tree,
+    or its syntax error (a mistake in one item hides none in another)."""
+    parsed: list[tuple[chunks.Chunk, tf.SourceCode | STError]] = []
+    for c in _pieces(source):
+        piece = (c.text, filename, c.line, c.offset, tree_cache.key(c.text, filename, _parser_identity()))
+        try:
+            tree = _kept(piece) or _parse_fast(*piece) or parse_kept(*piece)
+        except STError as error:
+            parsed.append((c, error))
+            continue
+        parsed.append((c, tree))
+    return parsed
 
 
 def _pieces(source: str) -> list[chunks.Chunk]:
