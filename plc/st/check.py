@@ -78,7 +78,9 @@ def check(
             try:
                 source = file.read_text(encoding="utf-8")
             except (OSError, UnicodeDecodeError) as error:
-                raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
+                raise STError.at(
+                    str(file), f"cannot read it ({error})", "a UTF-8 ST file"
+                ) from None
             return check_source(source, str(file), axes, mapping, blocks)
         project = read_project(file)
     except STError as error:

@@ -26,6 +26,7 @@ from blark import util
 
 from plc.st.errors import STError, place
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
+from plc.st.frontend.missing import missing_part
 from plc.st.frontend.reserved import reserved_name
 from plc.st.frontend.unclosed import unclosed
 from plc.st.frontend.wording import missing_semicolon, terminal_words
@@ -92,7 +93,13 @@ def parse_each(source: str, filename: str) -> list[tuple[chunks.Chunk, tf.Source
     or its syntax error (a mistake in one item hides none in another)."""
     parsed: list[tuple[chunks.Chunk, tf.SourceCode | STError]] = []
     for c in _pieces(source):
-        piece = (c.text, filename, c.line, c.offset, tree_cache.key(c.text, filename, _parser_identity()))
+        piece = (
+            c.text,
+            filename,
+            c.line,
+            c.offset,
+            tree_cache.key(c.text, filename, _parser_identity()),
+        )
         try:
             tree = _kept(piece) or _parse_fast(*piece) or parse_kept(*piece)
         except STError as error:
@@ -251,6 +258,7 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
         raise _syntax_error(error, cleaned, filename, lines_before) from None
+    _no_empty_input(tree, filename, lines_before)
     transformer = grammar.Transformer(comments=comments, fn=filename, source_code=source)
     result: Any = transformer.transform(tree)
     if isinstance(result, tf.SourceCode):  # a TYPE block of several types: one item each
@@ -261,6 +269,29 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
         where = f"{filename}:{lines_before + 1}:1"
         raise STError.at(where, "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
+
+
+def _no_empty_input(tree: lark.Tree[Any], filename: str, lines_before: int) -> None:
+    """Raises STError at a call's input given no value (``TON(IN := , PT := T#1s)``): the
+    grammar takes it, no translation could."""
+    for node in tree.iter_subtrees():
+        if node.data in _INPUTS and len(node.children) == 2 and node.children[1] is None:
+            name = node.children[0]
+            where = f"{filename}:{name.meta.line + lines_before}:{name.meta.column}"
+            raise STError.at(
+                where,
+                f"the input {_name(name)} has no value",
+                f"{_name(name)} := value, or no {_name(name)} := at all",
+            )
+
+
+_INPUTS = frozenset({"param_assignment", "input_param_assignment"})
+"""The grammar's rules of a call's input (``IN := value``; its value may be left out)."""
+
+
+def _name(node: Any) -> str:
+    """The text of a name's tree (``variable_name``)."""
+    return "".join(str(t) for t in node.scan_values(lambda v: isinstance(v, lark.Token)))
 
 
 def _configuration_pragmas(items: list[Any], comments: list[lark.Token]) -> None:
@@ -359,14 +390,15 @@ def _is_assignment(node: Any) -> bool:
 def _syntax_error(
     error: lark.UnexpectedInput, text: str, filename: str, lines_before: int
 ) -> STError:
-    """The message of a syntax error in ``text``: a statement left open
-    (:mod:`~plc.st.frontend.unclosed`), a keyword used as a name
+    """The message of a syntax error in ``text``: a part of a statement left out
+    (:mod:`~plc.st.frontend.missing`), a keyword used as a name
     (:mod:`~plc.st.frontend.reserved`), a ``;`` missing at the end of a line
     (:func:`~plc.st.frontend.wording.missing_semicolon`), else what the parser met and what it
     expected."""
     position, word, expected = _met(error, text)
     found = (
-        unclosed(text, position, word, expected, lines_before)
+        missing_part(text, position, word, lines_before)
+        or unclosed(text, position, word, expected, lines_before)
         or reserved_name(text, position, word, expected, lines_before)
         or missing_semicolon(text, position, expected, lines_before)
     )
