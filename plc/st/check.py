@@ -14,9 +14,9 @@ from __future__ import annotations
 __all__ = ["Report", "check", "check_source"]
 
 import re
-from functools import cache
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cache
 from pathlib import Path
 from typing import Any
 
