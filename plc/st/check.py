@@ -3,10 +3,11 @@ find, one ``file:line:column: ...`` line each, and a summary (``2 errors in 2 of
 
 A source is cut into its items (each PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL and
 CONFIGURATION, :mod:`plc.st.frontend.chunks`), and each item is parsed on its own: a syntax
-error in one hides none in another. The items that parse are translated together; an item
-with an error is set aside and the rest translated again, so that each item with an error
-gives one, and an error that only follows from an item set aside (``unknown type
-'HomeAxis'`` when HomeAxis has an error) is left out.
+error in one hides none in another. The items that parse are translated together; at an
+error in a POU's body the POU's declarations alone go on (the POUs that call it still
+translate), an item with an error in its declarations is set aside, and the rest are
+translated again: each item with an error gives one, and an error that only follows from an
+item set aside (``unknown type 'HomeAxis'``) is left out.
 """
 
 from __future__ import annotations
@@ -24,8 +25,9 @@ import blark.transform as tf
 
 from plc.st.errors import STError
 from plc.st.frontend.chunks import Chunk
-from plc.st.frontend.parse import parse, parse_each
+from plc.st.frontend.parse import parse, parse_each, parse_piece
 from plc.st.frontend.project import is_project, read_project
+from plc.st.frontend.unclosed import code_only
 from plc.st.runtime.external import External
 from plc.st.runtime.program import check_mapping, translated
 
@@ -100,39 +102,77 @@ def check_source(
 ) -> Report:
     """Check the ST text ``source`` (named ``filename`` in messages), as :func:`check`."""
     parsed = parse_each(source, filename)
-    report = Report(items=len(parsed))
     trees: dict[int, tf.SourceCode] = {}
+    failed: set[int] = set()
+    errors: list[str] = []
     set_aside: set[str] = set()
+    cut: set[int] = set()  # the items whose declarations alone go on
     for index, (chunk, tree) in enumerate(parsed):
         if isinstance(tree, STError):
-            report.errors += tree.lines
-            report.failed += 1
-            set_aside |= _names(chunk)
+            errors += tree.lines
+            failed.add(index)
+            interface = _interface(chunk, filename, tree)
+            if interface is None:
+                set_aside |= _names(chunk)
+            else:
+                trees[index] = interface
+                cut.add(index)
         else:
             trees[index] = tree
     while trees:
-        first = next(iter(trees.values()))
-        items = [item for tree in trees.values() for item in tree.items]
-        if set_aside and not any(isinstance(item, tf.Program) for item in items):
-            items += _stand_in().items  # the blocks and functions left are checked still
-        whole = tf.SourceCode(items, Path(filename), source, first.line_map, first.meta)
         try:
-            translated(whole, filename, axes, mapping, blocks)
+            translated(_whole(trees, source, filename, set_aside), filename, axes, mapping, blocks)
         except STError as error:
-            index = _item_of(error, filename, parsed)
-            if index not in trees:  # an error of the whole source: the last
-                if not _follows(error, set_aside):
-                    report.errors += error.lines
-                    report.failed += 1
-                break
+            failing = _item_of(error, filename, parsed)
             if not _follows(error, set_aside):
-                report.errors += error.lines
-                report.failed += 1
-            set_aside |= {str(getattr(item, "name", "")).lower() for item in trees[index].items}
-            del trees[index]
+                errors += error.lines
+                failed.add(-1 if failing is None else failing)
+            if failing is None or failing not in trees:
+                break  # an error of the whole source: the last
+            interface = None if failing in cut else _interface(parsed[failing][0], filename, error)
+            if interface is None:
+                set_aside |= {str(getattr(i, "name", "")).lower() for i in trees[failing].items}
+                del trees[failing]
+            else:
+                trees[failing] = interface  # its declarations go on: the others use them
+                cut.add(failing)
             continue
         break
-    return report
+    return Report(errors, len(parsed), len(failed))
+
+
+def _whole(
+    trees: dict[int, tf.SourceCode], source: str, filename: str, set_aside: set[str]
+) -> tf.SourceCode:
+    """The items of ``trees`` as one source (an empty PROGRAM in place of those set aside)."""
+    first = next(iter(trees.values()))
+    items = [item for tree in trees.values() for item in tree.items]
+    if set_aside and not any(isinstance(item, tf.Program) for item in items):
+        items += _stand_in().items  # the blocks and functions left are checked still
+    return tf.SourceCode(items, Path(filename), source, first.line_map, first.meta)
+
+
+_POU = re.compile(r"\s*(PROGRAM|FUNCTION_BLOCK|FUNCTION)\b", re.I)
+_END_VAR = re.compile(r"\bEND_VAR\b", re.I)
+
+
+def _interface(chunk: Chunk, filename: str, error: STError) -> tf.SourceCode | None:
+    """A POU's declarations alone (its body left out), where ``error`` is in its body: what
+    the other POUs see of it; None where there is no such part, or it has an error."""
+    code = code_only(chunk.text)
+    pou = _POU.match(code)
+    ends = list(_END_VAR.finditer(code))
+    where = _WHERE.match(str(error))
+    if pou is None or not ends or where is None:
+        return None
+    cut = ends[-1].end()
+    if int(where["line"]) < chunk.line + code[:cut].count("\n"):
+        return None  # an error in the declarations
+    text = f"{chunk.text[:cut]}\nEND_{pou[1].upper()}\n"
+    try:
+        return parse_piece(Chunk(text, chunk.line, chunk.offset), filename)
+    except STError:
+        return None
 
 
 _WHERE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):\d+: ")

@@ -7,7 +7,7 @@ CONFIGURATION, several types per TYPE block, REF_TO, ...) by :mod:`plc.st.fronte
 
 from __future__ import annotations
 
-__all__ = ["jobs", "parse", "parse_each", "parse_kept", "parser"]
+__all__ = ["jobs", "parse", "parse_each", "parse_kept", "parse_piece", "parser"]
 
 import dataclasses
 import importlib.resources
@@ -93,20 +93,23 @@ def parse_each(source: str, filename: str) -> list[tuple[chunks.Chunk, tf.Source
     or its syntax error (a mistake in one item hides none in another)."""
     parsed: list[tuple[chunks.Chunk, tf.SourceCode | STError]] = []
     for c in _pieces(source):
-        piece = (
-            c.text,
-            filename,
-            c.line,
-            c.offset,
-            tree_cache.key(c.text, filename, _parser_identity()),
-        )
         try:
-            tree = _kept(piece) or _parse_fast(*piece) or parse_kept(*piece)
+            parsed.append((c, parse_piece(c, filename)))
         except STError as error:
             parsed.append((c, error))
-            continue
-        parsed.append((c, tree))
     return parsed
+
+
+def parse_piece(piece: chunks.Chunk, filename: str) -> tf.SourceCode:
+    """One piece of a source parsed (from the cache, else by the LALR parser, else by the
+    Earley parser), its positions where it stands in the file.
+
+    Raises:
+        STError: a syntax error in it.
+    """
+    name = tree_cache.key(piece.text, filename, _parser_identity())
+    work = (piece.text, filename, piece.line, piece.offset, name)
+    return _kept(work) or _parse_fast(*work) or parse_kept(*work)
 
 
 def _pieces(source: str) -> list[chunks.Chunk]:
