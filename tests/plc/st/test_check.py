@@ -1,0 +1,125 @@
+"""Checking a program without running it (``python -m scenes check``, :mod:`plc.st.check`):
+every item's error, one ``file:line:column`` line each, a syntax error in one POU hiding none
+in another, and a summary; the exit status says whether there were errors."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from plc.st.check import check, check_source
+from scenes.tools import cli
+
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "st"
+
+SOURCE = """FUNCTION_BLOCK FB_A
+VAR_INPUT x : INT; END_VAR
+VAR y : INT; END_VAR
+y := x +;
+END_FUNCTION_BLOCK
+
+FUNCTION_BLOCK FB_B
+VAR y : INT; END_VAR
+y := undefined_thing;
+END_FUNCTION_BLOCK
+
+FUNCTION_BLOCK FB_C
+VAR y : BOOL; END_VAR
+y := 3.5;
+END_FUNCTION_BLOCK
+
+FUNCTION F_ok : INT
+F_ok := 1;
+END_FUNCTION
+
+PROGRAM Main
+VAR a : FB_A; b : FB_B; c : INT; END_VAR
+a(x := 1);
+c := F_ok();
+c := nope;
+END_PROGRAM
+"""
+"""Five items: a syntax error in FB_A, a type error in FB_B, in FB_C and in Main (which uses
+FB_A and FB_B), none in F_ok."""
+
+ERRORS = [
+    "m.st:4:9: unexpected ';'; expected an expression",
+    "m.st:9:6: unknown variable 'undefined_thing'; expected a declared variable",
+    "m.st:14:1: an ANY_REAL value where BOOL is expected: convert it with TO_BOOL(...)",
+    "m.st:25:6: unknown variable 'nope' (did you mean TMNone, done?); expected a declared variable",
+]
+
+
+def test_every_item_gives_its_error():
+    """The syntax error of FB_A hides neither the type errors of FB_B and FB_C nor Main's,
+    which uses both: their declarations go on without their bodies."""
+    report = check_source(SOURCE.replace("c : INT;", "c : INT; done : BOOL;"), "m.st")
+    assert report.errors == ERRORS
+    assert report.summary() == "4 errors in 4 of 5 items"
+
+
+def test_an_item_set_aside_leaves_no_errors_of_its_own_making():
+    """FB_A's declarations have the error: FB_A is set aside, and Main's use of it is no
+    second error (``unknown type 'FB_A'``): Main, which declares an FB_A, is set aside too."""
+    source = SOURCE.replace("VAR_INPUT x : INT; END_VAR", "VAR_INPUT x : NoType; END_VAR")
+    report = check_source(source.replace("y := x +;", "y := 1;"), "m.st")
+    assert [e.split(":")[1] for e in report.errors] == ["2", "9", "14"]
+    assert not any("FB_A" in e for e in report.errors)
+
+
+def test_a_program_without_errors():
+    report = check_source("PROGRAM Main\nVAR n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\n", "m.st")
+    assert (report.errors, report.summary()) == ([], "no errors in 1 item")
+
+
+def test_a_twincat_project_names_its_files(tmp_path):
+    """A syntax error in HomeAxis.TcPOU and a type error in GantryDemo.TcPOU (which uses
+    HomeAxis): both, at their files' lines."""
+    folder = tmp_path / "gantry_twincat"
+    shutil.copytree(EXAMPLES / "gantry_twincat", folder)
+    home, demo = folder / "HomeAxis.TcPOU", folder / "GantryDemo.TcPOU"
+    home.write_text(home.read_text().replace("IF approach.Error THEN", "IF THEN"))
+    demo.write_text(demo.read_text().replace("SPEED : LREAL := 200.0;", "SPEED : LREAL := 'x';"))
+    report = check(folder, {"X": None, "Y": None, "Z": None})
+    assert [e.split(": ")[0] for e in report.errors] == [f"{home}:30:4", f"{demo}:6:20"]
+    assert report.errors[0].endswith(
+        "missing the IF's condition before THEN; expected IF x > 0 THEN"
+    )
+    assert report.summary() == "2 errors in 2 of 4 items"
+
+
+def test_a_file_that_cannot_be_read(tmp_path):
+    report = check(tmp_path / "missing.st")
+    assert report.errors[0].startswith(f"{tmp_path / 'missing.st'}: cannot read it")
+    assert report.summary() == "1 error in 1 of 1 item"
+
+
+@pytest.mark.parametrize(
+    ("machine", "program", "items"),
+    [
+        ("gantry", "gantry_demo.st", 4),
+        ("flying_shear", "flying_shear_demo.st", 3),
+        ("press", "press_twincat", 2),
+    ],
+)
+def test_the_demos_check_clean(machine, program, items, capsys):
+    """The machine's axes, I/O and own blocks (the flying shear's FS_CutGauge) bind."""
+    assert cli.main(["check", machine, str(EXAMPLES / program)]) == 0
+    captured = capsys.readouterr()
+    assert (captured.out, captured.err) == (f"no errors in {items} items\n", "")
+
+
+def test_the_command_reports_every_error_and_fails(tmp_path, capsys):
+    """``python -m scenes check gantry a.st b.st``: the errors of both files on standard error,
+    one summary, exit status 1 (for a CI job or a pre-commit hook)."""
+    bad = tmp_path / "m.st"
+    bad.write_text(SOURCE)
+    good = tmp_path / "ok.st"
+    good.write_text("PROGRAM Main\nVAR n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\n")
+    assert cli.main(["check", "gantry", str(bad), str(good)]) == 1
+    captured = capsys.readouterr()
+    assert captured.err.splitlines()[0] == f"{bad}:4:9: unexpected ';'; expected an expression"
+    assert len(captured.err.splitlines()) == 4
+    assert captured.out == "4 errors in 4 of 6 items\n"
