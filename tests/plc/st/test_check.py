@@ -1,16 +1,13 @@
-"""Checking a program without running it (``python -m scenes check``, :mod:`plc.st.check`):
-every item's error, one ``file:line:column`` line each, a syntax error in one POU hiding none
-in another, and a summary; the exit status says whether there were errors."""
+"""Checking a program without running it (:mod:`plc.st.check`): every item's error, one
+``file:line:column`` line each, a syntax error in one POU hiding none in another, and a
+summary (the command: tests/scenes/test_check_command.py)."""
 
 from __future__ import annotations
 
 import shutil
 from pathlib import Path
 
-import pytest
-
-from plc.st.check import check, check_source
-from scenes.tools import cli
+from plc.st.check import Report, check, check_source
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "st"
 
@@ -96,30 +93,35 @@ def test_a_file_that_cannot_be_read(tmp_path):
     assert report.summary() == "1 error in 1 of 1 item"
 
 
-@pytest.mark.parametrize(
-    ("machine", "program", "items"),
-    [
-        ("gantry", "gantry_demo.st", 4),
-        ("flying_shear", "flying_shear_demo.st", 3),
-        ("press", "press_twincat", 2),
-    ],
-)
-def test_the_demos_check_clean(machine, program, items, capsys):
-    """The machine's axes, I/O and own blocks (the flying shear's FS_CutGauge) bind."""
-    assert cli.main(["check", machine, str(EXAMPLES / program)]) == 0
-    captured = capsys.readouterr()
-    assert (captured.out, captured.err) == (f"no errors in {items} items\n", "")
+def test_a_source_without_a_program():
+    report = check_source(
+        "FUNCTION_BLOCK FB\nVAR y : INT; END_VAR\ny := 1;\nEND_FUNCTION_BLOCK\n", "m.st"
+    )
+    assert report.errors == ["m.st:1:1: no PROGRAM in the file; expected a PROGRAM ... END_PROGRAM"]
 
 
-def test_the_command_reports_every_error_and_fails(tmp_path, capsys):
-    """``python -m scenes check gantry a.st b.st``: the errors of both files on standard error,
-    one summary, exit status 1 (for a CI job or a pre-commit hook)."""
-    bad = tmp_path / "m.st"
-    bad.write_text(SOURCE)
-    good = tmp_path / "ok.st"
-    good.write_text("PROGRAM Main\nVAR n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\n")
-    assert cli.main(["check", "gantry", str(bad), str(good)]) == 1
-    captured = capsys.readouterr()
-    assert captured.err.splitlines()[0] == f"{bad}:4:9: unexpected ';'; expected an expression"
-    assert len(captured.err.splitlines()) == 4
-    assert captured.out == "4 errors in 4 of 6 items\n"
+def test_a_syntax_error_in_a_block_a_program_calls():
+    """The block's declarations go on: the program's call of it is no error."""
+    source = (
+        "FUNCTION_BLOCK FB\nVAR_INPUT y : INT; END_VAR\ny := ;\nEND_FUNCTION_BLOCK\n"
+        "PROGRAM P\nVAR f : FB; END_VAR\nf(y := 2);\nEND_PROGRAM\n"
+    )
+    report = check_source(source, "m.st")
+    assert report.errors == ["m.st:3:6: unexpected ';'; expected an expression"]
+    assert report.summary() == "1 error in 1 of 2 items"
+
+
+def test_a_mapping_onto_no_axis(tmp_path):
+    program = EXAMPLES / "manual_move.st"
+    report = check(program, {"X": None}, {"Pohon.Ax1": "Q"})
+    assert report.errors == [
+        f"{program}: the mapping Pohon.Ax1 -> 'Q' names no axis; expected one of X"
+    ]
+    assert check(program, {"X": None}, {"Pohon.Ax1": "X"}).errors == []
+
+
+def test_reports_add_up():
+    report = Report(["a"], 2, 1)
+    report.add(Report(["b", "c"], 3, 2))
+    assert (report.errors, report.summary()) == (["a", "b", "c"], "3 errors in 3 of 5 items")
+    assert Report([], 2, 0).summary() == "no errors in 2 items"
