@@ -394,7 +394,8 @@ def _syntax_error(
     error: lark.UnexpectedInput, text: str, filename: str, lines_before: int
 ) -> STError:
     """The message of a syntax error in ``text``: a part of a statement left out
-    (:mod:`~plc.st.frontend.missing`), a keyword used as a name
+    (:mod:`~plc.st.frontend.missing`), a statement left open
+    (:mod:`~plc.st.frontend.unclosed`), a keyword used as a name
     (:mod:`~plc.st.frontend.reserved`), a ``;`` missing at the end of a line
     (:func:`~plc.st.frontend.wording.missing_semicolon`), else what the parser met and what it
     expected."""
