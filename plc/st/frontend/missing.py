@@ -8,6 +8,7 @@ from __future__ import annotations
 __all__ = ["missing_part"]
 
 import re
+import string
 
 from plc.st.errors import place
 from plc.st.frontend.unclosed import code_only
@@ -24,6 +25,8 @@ _PARTS = {
 }
 """(the word before the gap, the word after it): what is missing, a statement that has it."""
 
+_WORD_CHARACTERS = string.ascii_letters + string.digits + "_"
+"""What a word is made of (the parser may stop within one: its start is before)."""
 _LAST = re.compile(r"(\w+|:=|\S)\s*\Z")
 _FOR_START = re.compile(r"\bFOR\s+\w+\s*\Z", re.I)
 
@@ -41,9 +44,7 @@ def missing_part(
         word: the text the parser did not expect there.
         lines_before: the lines before ``text`` in its file (for the line named).
     """
-    start = position
-    while start > 0 and (text[start - 1].isalnum() or text[start - 1] == "_"):
-        start -= 1
+    start = len(text[:position].rstrip(_WORD_CHARACTERS))
     after = re.match(r"\w+", text[start:])
     met = after[0].upper() if after else word
     code = code_only(text[:start])
@@ -51,16 +52,16 @@ def missing_part(
     before = last[1].upper() if last else ""
     found = _PARTS.get((before, met))
     if found is None and last is not None and before == ":=":
-        found = _assigned(code[: last.start()], met)
+        found = _assigned(code[: last.start()])
     if found is None:
         return None
     line, column = place(text, start)
     return line + lines_before, column, f"missing {found[0]}; expected {found[1]}"
 
 
-def _assigned(before: str, met: str) -> tuple[str, str] | None:
-    """What is missing after a ``:=`` (``before`` the code before it) where ``met`` follows:
-    a FOR's start value (``x := ;`` keeps its own message: an expression expected at ``;``)."""
-    if met == "TO" and _FOR_START.search(before):
+def _assigned(before: str) -> tuple[str, str] | None:
+    """What is missing after a ``:=`` (``before`` the code before it): a FOR's start value
+    (``x := ;`` keeps its own message: an expression expected at ``;``)."""
+    if _FOR_START.search(before):
         return "the FOR's start value after ':='", "FOR n := 1 TO 10 DO"
     return None

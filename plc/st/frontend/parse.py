@@ -293,8 +293,8 @@ _INPUTS = frozenset({"param_assignment", "input_param_assignment"})
 
 
 def _name(node: Any) -> str:
-    """The text of a name's tree (``variable_name``)."""
-    return "".join(str(t) for t in node.scan_values(lambda v: isinstance(v, lark.Token)))
+    """The text of a name's tree (``variable_name``: its IDENTIFIER)."""
+    return str(node.children[0])
 
 
 def _configuration_pragmas(items: list[Any], comments: list[lark.Token]) -> None:

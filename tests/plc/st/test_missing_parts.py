@@ -6,6 +6,7 @@ from __future__ import annotations
 import pytest
 
 import plc.st
+from plc.st.frontend.missing import missing_part
 
 DECLARED = "PROGRAM p\nVAR t : TON; n : INT; x : INT; END_VAR\n"
 
@@ -49,6 +50,10 @@ CASES = [
         "3:6: missing the CASE's selector before OF; expected CASE step OF",
     ),
     # an assignment without its value keeps its message: an expression at the ';'
+    (
+        "FOR n := DO x := 1; END_FOR;",
+        f"3:10: missing the FOR's start value after ':='; expected {FOR}",
+    ),
     ("x := ;", "3:6: unexpected ';'; expected an expression"),
     # (* a comment *) between the keywords is no part of the statement
     ("IF (* none *) THEN x := 1; END_IF;", "3:15: missing the IF's condition before THEN"),
@@ -75,3 +80,25 @@ def test_an_input_without_its_value_is_named(call, message):
         plc.st.compile_source(f"{DECLARED}{call}\nEND_PROGRAM\n", "m.st")
     name = message.split()[3]
     assert str(error.value) == f"m.st:{message}; expected {name} := value, or no {name} := at all"
+
+
+def test_an_input_without_its_value_in_a_later_item():
+    """The input's line counts the items before it (each item is parsed on its own)."""
+    block = "FUNCTION_BLOCK FB\nVAR_INPUT a : INT; END_VAR\nEND_FUNCTION_BLOCK\n"
+    source = f"{block}{DECLARED}t(IN := , PT := T#1S);\nEND_PROGRAM\n"
+    with pytest.raises(plc.st.STError) as error:
+        plc.st.compile_source(source, "m.st")
+    assert str(error.value).startswith("m.st:6:3: the input IN has no value")
+
+
+def test_the_part_is_found_within_the_word_the_parser_stopped_in():
+    """The parser stops at the ``HEN`` of ``THEN`` (``T#...``): the message names THEN's place,
+    the first line of the text unless lines come before it."""
+    assert missing_part("IF THEN", 4, "HEN") == (
+        1,
+        4,
+        "missing the IF's condition before THEN; expected IF x > 0 THEN",
+    )
+    assert missing_part("IF THEN", 4, "HEN", lines_before=2)[:2] == (3, 4)
+    assert missing_part("CASE_x OF", 7, "OF") is None
+    assert missing_part("IF x THEN", 5, "THEN") is None
