@@ -49,11 +49,11 @@ CASES = [
         "CASE OF 1: x := 1; END_CASE;",
         "3:6: missing the CASE's selector before OF; expected CASE step OF",
     ),
-    # an assignment without its value keeps its message: an expression at the ';'
     (
         "FOR n := DO x := 1; END_FOR;",
         f"3:10: missing the FOR's start value after ':='; expected {FOR}",
     ),
+    # an assignment without its value keeps its message: an expression at the ';'
     ("x := ;", "3:6: unexpected ';'; expected an expression"),
     # (* a comment *) between the keywords is no part of the statement
     ("IF (* none *) THEN x := 1; END_IF;", "3:15: missing the IF's condition before THEN"),
