@@ -14,6 +14,7 @@ from __future__ import annotations
 
 __all__ = ["Report", "check", "check_source"]
 
+import dataclasses
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -121,13 +122,13 @@ def check_source(
             trees[index] = tree
     while trees:
         try:
-            translated(_whole(trees, source, filename, set_aside), filename, axes, mapping, blocks)
+            translated(_whole(trees, set_aside), filename, axes, mapping, blocks)
         except STError as error:
             failing = _item_of(error, filename, parsed)
             if not _follows(error, set_aside):
                 errors += error.lines
                 failed.add(-1 if failing is None else failing)
-            if failing is None or failing not in trees:
+            if failing not in trees:
                 break  # an error of the whole source: the last
             interface = None if failing in cut else _interface(parsed[failing][0], filename, error)
             if interface is None:
@@ -141,15 +142,12 @@ def check_source(
     return Report(errors, len(parsed), len(failed))
 
 
-def _whole(
-    trees: dict[int, tf.SourceCode], source: str, filename: str, set_aside: set[str]
-) -> tf.SourceCode:
+def _whole(trees: dict[int, tf.SourceCode], set_aside: set[str]) -> tf.SourceCode:
     """The items of ``trees`` as one source (an empty PROGRAM in place of those set aside)."""
-    first = next(iter(trees.values()))
     items = [item for tree in trees.values() for item in tree.items]
     if set_aside and not any(isinstance(item, tf.Program) for item in items):
         items += _stand_in().items  # the blocks and functions left are checked still
-    return tf.SourceCode(items, Path(filename), source, first.line_map, first.meta)
+    return dataclasses.replace(next(iter(trees.values())), items=items)
 
 
 _POU = re.compile(r"\s*(PROGRAM|FUNCTION_BLOCK|FUNCTION)\b", re.I)

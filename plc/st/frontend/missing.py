@@ -49,10 +49,12 @@ def missing_part(
     met = after[0].upper() if after else word
     code = code_only(text[:start])
     last = _LAST.search(code)
-    before = last[1].upper() if last else ""
-    found = _PARTS.get((before, met))
-    if found is None and last is not None and before == ":=":
-        found = _assigned(code[: last.start()])
+    if last is None:
+        return None
+    before = last[1].upper()
+    found = _PARTS.get((before, met)) or (
+        _assigned(code[: last.start()]) if before == ":=" else None
+    )
     if found is None:
         return None
     line, column = place(text, start)

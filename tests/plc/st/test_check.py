@@ -7,6 +7,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
+from plc.st import External
 from plc.st.check import Report, check, check_source
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "st"
@@ -90,6 +91,7 @@ def test_a_twincat_project_names_its_files(tmp_path):
 def test_a_file_that_cannot_be_read(tmp_path):
     report = check(tmp_path / "missing.st")
     assert report.errors[0].startswith(f"{tmp_path / 'missing.st'}: cannot read it")
+    assert report.errors[0].endswith("; expected a UTF-8 ST file")
     assert report.summary() == "1 error in 1 of 1 item"
 
 
@@ -125,3 +127,51 @@ def test_reports_add_up():
     report.add(Report(["b", "c"], 3, 2))
     assert (report.errors, report.summary()) == (["a", "b", "c"], "3 errors in 3 of 5 items")
     assert Report([], 2, 0).summary() == "no errors in 2 items"
+
+
+def test_syntax_errors_in_two_items_and_their_users():
+    """FB_A's declarations and FB_B's body cannot be read: both errors; Main, which declares
+    an FB_A, gives no ``unknown type 'FB_A'``, and its call of FB_B is checked."""
+    source = (
+        "FUNCTION_BLOCK FB_A\nVAR_INPUT x : ; END_VAR\nEND_FUNCTION_BLOCK\n"
+        "FUNCTION_BLOCK FB_B\nVAR_INPUT y : INT; END_VAR\ny := ;\nEND_FUNCTION_BLOCK\n"
+        "PROGRAM Main\nVAR a : FB_A; b : FB_B; END_VAR\nb(y := TRUE);\nEND_PROGRAM\n"
+    )
+    report = check_source(source, "m.st")
+    assert [e.split(": ")[0] for e in report.errors] == ["m.st:2:15", "m.st:6:6"]
+    assert report.summary() == "2 errors in 2 of 3 items"
+
+
+def test_a_block_without_declarations_and_an_error_in_its_body():
+    source = (
+        "FUNCTION_BLOCK FB\ny := ;\nEND_FUNCTION_BLOCK\n"
+        "PROGRAM Main\nVAR n : INT; END_VAR\nn := m;\nEND_PROGRAM\n"
+    )
+    report = check_source(source, "m.st")
+    assert [e.split(": ")[0] for e in report.errors] == ["m.st:2:6", "m.st:6:6"]
+
+
+def test_an_error_on_the_first_line_of_an_item():
+    """The error is the item's own (``FUNCTION F : NoType``), not the one before it."""
+    source = (
+        "FUNCTION_BLOCK FB\nVAR n : INT; END_VAR\nn := 1;\nEND_FUNCTION_BLOCK\n"
+        "FUNCTION F : NoType\nF := 1;\nEND_FUNCTION\n"
+        "PROGRAM Main\nVAR f : FB; END_VAR\nf();\nEND_PROGRAM\n"
+    )
+    report = check_source(source, "m.st")
+    assert len(report.errors) == 1 and report.errors[0].startswith("m.st:5:")
+    assert report.summary() == "1 error in 1 of 3 items"
+
+
+def test_the_machines_own_blocks():
+    """A block type the machine offers (:class:`plc.st.External`) is known to the check."""
+    source = "PROGRAM Main\nVAR g : FS_Gauge; END_VAR\ng(Index := 1);\nEND_PROGRAM\n"
+    gauge = External(lambda: None, {"Index": ("DINT", "input"), "Count": ("DINT", "output")})
+    assert check_source(source, "m.st", blocks={"FS_Gauge": gauge}).errors == []
+    assert check_source(source, "m.st").errors[0].startswith("m.st:2:")
+
+
+def test_a_twincat_project_without_errors():
+    report = check(EXAMPLES / "gantry_twincat", {"X": None, "Y": None, "Z": None})
+    assert (report.errors, report.summary()) == ([], "no errors in 4 items")
+    assert check(EXAMPLES / "gantry_twincat").errors != []  # no axes: X is unknown
