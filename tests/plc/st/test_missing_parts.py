@@ -99,7 +99,8 @@ def test_the_part_is_found_within_the_word_the_parser_stopped_in():
         4,
         "missing the IF's condition before THEN; expected IF x > 0 THEN",
     )
-    assert missing_part("IF THEN", 4, "HEN", lines_before=2)[:2] == (3, 4)
+    later = missing_part("IF THEN", 4, "HEN", lines_before=2)
+    assert later is not None and later[:2] == (3, 4)
     assert missing_part("CASE_x OF", 7, "OF") is None
     assert missing_part("IF x THEN", 5, "THEN") is None
     assert missing_part("THEN", 1, "HEN") is None  # nothing before it
