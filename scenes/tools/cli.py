@@ -1,6 +1,8 @@
 """Command line: ``python -m scenes list`` lists the machines; ``python -m scenes run NAME`` runs
 a machine's demo program headless and prints its steps, its blocks' output edges, the final
-positions and states, the machine's signals and the demo's results;
+positions and states, the machine's signals and the demo's results; ``python -m scenes check
+NAME PROGRAM...`` checks ST programs for the machine without running them (every error, then
+a summary; exit status 1 on errors);
 ``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
 ``python -m scenes cam TABLE.csv`` (or ``--cut-length L --circumference C``, the rotary knife's
 cam) plots a cam table's profile as PNG (see :mod:`scenes.tools.cam_plot`);
@@ -16,7 +18,7 @@ is wrong; expected ...``, and the exit status 2."""
 
 from __future__ import annotations
 
-__all__ = ["machine_blocks", "main", "run", "st_task", "sweep"]
+__all__ = ["check", "machine_blocks", "main", "run", "st_task", "sweep"]
 
 import argparse
 import os
@@ -157,6 +159,23 @@ def machine_blocks(scene: scenes.Scene) -> dict[str, plc.st.External]:
     return blocks
 
 
+def check(name: str, programs: Sequence[str], maps: Sequence[str] = ()) -> int:
+    """Check the ST programs ``programs`` for machine ``name`` without running them
+    (:mod:`plc.st.check`): each error on standard error, then the summary; 1 if one had an
+    error. The machine is built for its axes, I/O and blocks, and not run."""
+    from plc.st.check import Report, check
+
+    scene = scenes.load(name, trace_every=0)
+    mapping = dict(m.partition("=")[::2] for m in maps)
+    report = Report()
+    for program in programs:
+        report.add(check(program, scene.axes, mapping, machine_blocks(scene)))
+    for error in report.errors:
+        print(error, file=sys.stderr)
+    print(report.summary())
+    return 1 if report.errors else 0
+
+
 def st_task(path: str) -> plc.st.Task | None:
     """The TASK an ST file (or a TwinCAT project, a PLCopen XML file) declares (its INTERVAL
     is the PLC period of the scene built for it).
@@ -243,6 +262,24 @@ def main(argv: list[str] | None = None) -> int:
         default=300.0,
         help="simulated seconds at most (default 300); a program's BOOL done ends the run",
     )
+    check_parser = sub.add_parser(
+        "check",
+        help="check ST programs for a machine without running them (every error, a summary)",
+    )
+    check_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
+    check_parser.add_argument(
+        "programs",
+        nargs="+",
+        metavar="PROGRAM",
+        help="an ST file, a TwinCAT folder or source file, a PLCopen .xml",
+    )
+    check_parser.add_argument(
+        "--map",
+        action="append",
+        default=[],
+        metavar="NAME=AXIS",
+        help="bind Pohon.Ax1=X (an axis) or Knife=S.DO0 (I/O)",
+    )
     sub.add_parser("list", help="list the machines")
     plot_parser = sub.add_parser("plot", help="plot a trace file as PNG and HTML")
     plot_parser.add_argument("trace", help="a trace written by trace.to_csv or streamed (.npy)")
@@ -298,6 +335,8 @@ def _command(args: argparse.Namespace) -> int:
         return _bridge(args)
     if args.command == "circle":
         return _circle(args)
+    if args.command == "check":
+        return check(args.name, args.programs, args.map)
     if args.command == "list":
         width = max(len(n) for n in scenes.MACHINES)
         for name in sorted(scenes.MACHINES):

@@ -3,7 +3,7 @@ constants are folded so that a literal costs nothing at run time."""
 
 from __future__ import annotations
 
-__all__ = ["E", "Expressions", "const", "literal_code"]
+__all__ = ["E", "Expressions", "const", "duration_ns", "literal_code"]
 
 import math
 import re
@@ -448,6 +448,11 @@ def _bare_name(node: Any) -> str | None:
     if isinstance(node, tf.EnumeratedValue) and node.type_name is None and "." not in node.name:
         return str(node.name)
     return None
+
+
+def duration_ns(node: Any) -> int:
+    """A TIME literal in ns (where a fraction of a ms shows)."""
+    return _duration(node, 1_000_000)
 
 
 def _duration(node: Any, scale: int) -> int:

@@ -7,7 +7,7 @@ CONFIGURATION, several types per TYPE block, REF_TO, ...) by :mod:`plc.st.fronte
 
 from __future__ import annotations
 
-__all__ = ["jobs", "parse", "parse_kept", "parser"]
+__all__ = ["jobs", "parse", "parse_each", "parse_kept", "parse_piece", "parser"]
 
 import dataclasses
 import importlib.resources
@@ -26,6 +26,7 @@ from blark import util
 
 from plc.st.errors import STError, place
 from plc.st.frontend import chunks, grammar, lalr, tree_cache
+from plc.st.frontend.missing import missing_part
 from plc.st.frontend.reserved import reserved_name
 from plc.st.frontend.unclosed import unclosed
 from plc.st.frontend.wording import missing_semicolon, terminal_words
@@ -85,6 +86,30 @@ def parse(source: str, filename: str) -> tf.SourceCode:
     for tree in trees:
         items += tree.items
     return tf.SourceCode(items, Path(filename), source, trees[0].line_map, trees[0].meta)
+
+
+def parse_each(source: str, filename: str) -> list[tuple[chunks.Chunk, tf.SourceCode | STError]]:
+    """Each item of ``source`` (:func:`_pieces`) parsed on its own, in this process: its tree,
+    or its syntax error (a mistake in one item hides none in another)."""
+    parsed: list[tuple[chunks.Chunk, tf.SourceCode | STError]] = []
+    for c in _pieces(source):
+        try:
+            parsed.append((c, parse_piece(c, filename)))
+        except STError as error:
+            parsed.append((c, error))
+    return parsed
+
+
+def parse_piece(piece: chunks.Chunk, filename: str) -> tf.SourceCode:
+    """One piece of a source parsed (from the cache, else by the LALR parser, else by the
+    Earley parser), its positions where it stands in the file.
+
+    Raises:
+        STError: a syntax error in it.
+    """
+    name = tree_cache.key(piece.text, filename, _parser_identity())
+    work = (piece.text, filename, piece.line, piece.offset, name)
+    return _kept(work) or _parse_fast(*work) or parse_kept(*work)
 
 
 def _pieces(source: str) -> list[chunks.Chunk]:
@@ -236,6 +261,7 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
             tree = parser().parse(cleaned, start="iec_source")
     except lark.UnexpectedInput as error:
         raise _syntax_error(error, cleaned, filename, lines_before) from None
+    _no_empty_input(tree, filename, lines_before)
     transformer = grammar.Transformer(comments=comments, fn=filename, source_code=source)
     result: Any = transformer.transform(tree)
     if isinstance(result, tf.SourceCode):  # a TYPE block of several types: one item each
@@ -246,6 +272,29 @@ def _parse(source: str, filename: str, lines_before: int = 0, fast: bool = False
         where = f"{filename}:{lines_before + 1}:1"
         raise STError.at(where, "no program", "PROGRAM, FUNCTION_BLOCK or FUNCTION")
     return result
+
+
+def _no_empty_input(tree: lark.Tree[Any], filename: str, lines_before: int) -> None:
+    """Raises STError at a call's input given no value (``TON(IN := , PT := T#1s)``): the
+    grammar takes it, no translation could."""
+    for node in tree.iter_subtrees():
+        if node.data in _INPUTS and len(node.children) == 2 and node.children[1] is None:
+            name = node.children[0]
+            where = f"{filename}:{name.meta.line + lines_before}:{name.meta.column}"
+            raise STError.at(
+                where,
+                f"the input {_name(name)} has no value",
+                f"{_name(name)} := value, or no {_name(name)} := at all",
+            )
+
+
+_INPUTS = frozenset({"param_assignment", "input_param_assignment"})
+"""The grammar's rules of a call's input (``IN := value``; its value may be left out)."""
+
+
+def _name(node: Any) -> str:
+    """The text of a name's tree (``variable_name``: its IDENTIFIER)."""
+    return str(node.children[0])
 
 
 def _configuration_pragmas(items: list[Any], comments: list[lark.Token]) -> None:
@@ -344,14 +393,16 @@ def _is_assignment(node: Any) -> bool:
 def _syntax_error(
     error: lark.UnexpectedInput, text: str, filename: str, lines_before: int
 ) -> STError:
-    """The message of a syntax error in ``text``: a statement left open
+    """The message of a syntax error in ``text``: a part of a statement left out
+    (:mod:`~plc.st.frontend.missing`), a statement left open
     (:mod:`~plc.st.frontend.unclosed`), a keyword used as a name
     (:mod:`~plc.st.frontend.reserved`), a ``;`` missing at the end of a line
     (:func:`~plc.st.frontend.wording.missing_semicolon`), else what the parser met and what it
     expected."""
     position, word, expected = _met(error, text)
     found = (
-        unclosed(text, position, word, expected, lines_before)
+        missing_part(text, position, word, lines_before)
+        or unclosed(text, position, word, expected, lines_before)
         or reserved_name(text, position, word, expected, lines_before)
         or missing_semicolon(text, position, expected, lines_before)
     )

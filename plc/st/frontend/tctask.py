@@ -7,7 +7,7 @@ for messages (``PlcTask.TcTTO:5:1``)."""
 
 from __future__ import annotations
 
-__all__ = ["SUFFIX", "configuration"]
+__all__ = ["SUFFIX", "WHOLE_MS", "configuration"]
 
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -18,6 +18,12 @@ from plc.st.frontend.xmltree import read_xml
 SUFFIX = ".tctto"
 """A TwinCAT task file (case-insensitive)."""
 
+WHOLE_MS = (
+    "a task's cycle is a whole number of ms here (TIME is held in ms, and a PLC cycle is a "
+    "multiple of the machine's servo cycle of 1 ms)"
+)
+"""Why a task's cycle time of a fraction of a ms is refused (a TASK's INTERVAL too)."""
+
 _EXPECTED = "a TwinCAT task (<TcPlcObject><Task Name=...><CycleTime>)"
 
 
@@ -26,7 +32,7 @@ def configuration(files: list[Path]) -> list[tuple[str, int, str]]:
     text) per line.
 
     Raises:
-        STError: a file that is no TwinCAT task, a task without a cycle time in whole µs
+        STError: a file that is no TwinCAT task, a task without a cycle time in whole ms
             (``file:line``).
     """
     lines: list[tuple[str, int, str]] = []
@@ -61,10 +67,14 @@ def _interval(where: str, cycle: ET.Element | None) -> str:
     """A task's ``<CycleTime>`` [µs] as a TIME literal (``T#10ms``).
 
     Raises:
-        STError: none, or not a whole number of µs above 0.
+        STError: none, or not a whole number of µs above 0, or not of whole ms
+            (:data:`WHOLE_MS`).
     """
     text = (cycle.text or "").strip() if cycle is not None else ""
     if not text.isdigit() or int(text) == 0:
         shown = f"<CycleTime>{text}</CycleTime>" if cycle is not None else "no <CycleTime>"
         raise STError.at(where, f"a task with {shown}", "its cycle time in µs, <CycleTime>2000")
+    if int(text) % 1000:
+        problem = f"a task with <CycleTime>{text}</CycleTime> ({int(text) / 1000:g} ms)"
+        raise STError.at(where, f"{problem}: {WHOLE_MS}", "a multiple of 1000 µs, <CycleTime>1000")
     return f"T#{int(text) / 1000:g}ms"

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 __all__ = [
     "STProgram",
+    "check_mapping",
     "compile_source",
     "from_source",
     "load",
@@ -24,6 +25,7 @@ __all__ = [
     "restart",
     "stopped",
     "stored",
+    "translated",
     "variables",
 ]
 
@@ -328,17 +330,36 @@ def compile_source(
         STError: a syntax or type error (``file:line:column: ...``), or a mapping onto an axis
             the machine lacks.
     """
-    axes = dict(axes or {})
-    for key, axis in (mapping or {}).items():
+    check_mapping(filename, axes or {}, mapping or {})
+    return translated(parse(source, filename), filename, axes, mapping, blocks)
+
+
+def check_mapping(filename: str, axes: Mapping[str, Any], mapping: Mapping[str, str]) -> None:
+    """Raises STError where ``mapping`` binds a name onto an axis ``axes`` lacks."""
+    for key, axis in mapping.items():
         if axis not in axes and not (axis.startswith("%") or "." in axis):
             raise STError.at(
                 filename,
                 f"the mapping {key} -> {axis!r} names no axis",
                 f"one of {', '.join(axes) or 'no axes'}",
             )
+
+
+def translated(
+    tree: Any,
+    filename: str,
+    axes: Mapping[str, Any] | None = None,
+    mapping: Mapping[str, str] | None = None,
+    blocks: Mapping[str, External] | None = None,
+) -> Module:
+    """A parsed source (``tf.SourceCode``) translated, as :func:`compile_source`.
+
+    Raises:
+        STError: a type error or an unknown name (``file:line:column: ...``).
+    """
+    axes = dict(axes or {})
     unit = Unit(filename, {a: a for a in axes}, dict(mapping or {}), channels=channels(axes))
     unit.types.update({n.upper(): b.block_type(n) for n, b in (blocks or {}).items()})
-    tree = parse(source, filename)
     try:
         return translate(tree, unit)
     except STError:

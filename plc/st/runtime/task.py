@@ -26,8 +26,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import blark.transform as tf
 import lark
 
+from plc.st.codegen.expressions import duration_ns
+from plc.st.frontend.tctask import WHOLE_MS
 from plc.st.semantics import types as T  # noqa: N812
 from plc.st.semantics.declarations import STErrorAt, constant_of
 from plc.st.semantics.scope import Unit
@@ -139,6 +142,10 @@ def _task(unit: Unit, node: lark.Tree[Any]) -> Task:
             unit, node, f"TASK {name} without INTERVAL", "a cyclic task, INTERVAL := T#2ms"
         )
     value = constant_of(unit, interval)
+    if isinstance(interval, tf.Duration) and duration_ns(interval) % 1_000_000:
+        raise STErrorAt(
+            unit, node, f"TASK {name} INTERVAL {interval}: {WHOLE_MS}", "T#1ms, T#2ms, ..."
+        )
     if value.type is not T.TIME or not value.value > 0:
         raise STErrorAt(unit, node, f"TASK {name} INTERVAL {interval}", "a TIME > 0, T#2ms")
     watchdog = None

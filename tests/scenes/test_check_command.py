@@ -1,0 +1,43 @@
+"""``python -m scenes check NAME PROGRAM...``: ST programs checked for a machine without
+running them (:mod:`plc.st.check`): every error on standard error, one summary on standard
+output, the exit status 1 on errors (for a CI job or a pre-commit hook)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from scenes.tools import cli
+from tests.plc.st.test_check import SOURCE
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "st"
+
+
+@pytest.mark.parametrize(
+    ("machine", "program", "items"),
+    [
+        ("gantry", "gantry_demo.st", 4),
+        ("flying_shear", "flying_shear_demo.st", 3),
+        ("press", "press_twincat", 2),
+    ],
+)
+def test_the_demos_check_clean(machine, program, items, capsys):
+    """The machine's axes, I/O and own blocks (the flying shear's FS_CutGauge) bind."""
+    assert cli.main(["check", machine, str(EXAMPLES / program)]) == 0
+    captured = capsys.readouterr()
+    assert (captured.out, captured.err) == (f"no errors in {items} items\n", "")
+
+
+def test_the_command_reports_every_error_and_fails(tmp_path, capsys):
+    """``python -m scenes check gantry a.st b.st``: the errors of both files on standard error,
+    one summary, exit status 1 (for a CI job or a pre-commit hook)."""
+    bad = tmp_path / "m.st"
+    bad.write_text(SOURCE)
+    good = tmp_path / "ok.st"
+    good.write_text("PROGRAM Main\nVAR n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\n")
+    assert cli.main(["check", "gantry", str(bad), str(good)]) == 1
+    captured = capsys.readouterr()
+    assert captured.err.splitlines()[0] == f"{bad}:4:9: unexpected ';'; expected an expression"
+    assert len(captured.err.splitlines()) == 4
+    assert captured.out == "4 errors in 4 of 6 items\n"
