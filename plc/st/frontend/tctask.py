@@ -58,7 +58,8 @@ def configuration(files: list[Path]) -> list[tuple[str, int, str]]:
 
 
 def _interval(where: str, cycle: ET.Element | None) -> str:
-    """A task's ``<CycleTime>`` [µs] as a TIME literal (``T#10ms``).
+    """A task's ``<CycleTime>`` [µs] as a duration literal: a TIME (``T#10ms``), an LTIME
+    where it is no whole number of ms (``LTIME#2500us``: a TIME is in whole ms).
 
     Raises:
         STError: none, or not a whole number of µs above 0.
@@ -67,4 +68,5 @@ def _interval(where: str, cycle: ET.Element | None) -> str:
     if not text.isdigit() or int(text) == 0:
         shown = f"<CycleTime>{text}</CycleTime>" if cycle is not None else "no <CycleTime>"
         raise STError.at(where, f"a task with {shown}", "its cycle time in µs, <CycleTime>2000")
-    return f"T#{int(text) / 1000:g}ms"
+    micros = int(text)
+    return f"T#{micros // 1000}ms" if micros % 1000 == 0 else f"LTIME#{micros}us"

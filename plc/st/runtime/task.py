@@ -3,7 +3,8 @@ name(INTERVAL := T#2ms)`` and ``PROGRAM instance WITH task : type`` give the PRO
 its scan period (:class:`Task`); :func:`task_of` reads them from the parsed file.
 
 One program instance runs (the one the configuration names, or the one asked for); its task's
-INTERVAL is its period. A task without INTERVAL (event-triggered, ``SINGLE :=``) is refused.
+INTERVAL is its period (a TIME in whole ms, an LTIME for a fraction of one: ``LTIME#2500us``).
+A task without INTERVAL (event-triggered, ``SINGLE :=``) is refused.
 ``WATCHDOG := T#50ms`` bounds the wall time of one scan (default :data:`WATCHDOG`): a loop
 (WHILE, REPEAT, FOR) still running after it stops the program with a run-time fault.
 """
@@ -139,7 +140,7 @@ def _task(unit: Unit, node: lark.Tree[Any]) -> Task:
             unit, node, f"TASK {name} without INTERVAL", "a cyclic task, INTERVAL := T#2ms"
         )
     value = constant_of(unit, interval)
-    if value.type is not T.TIME or not value.value > 0:
+    if value.type not in (T.TIME, T.LTIME) or not value.value > 0:
         raise STErrorAt(unit, node, f"TASK {name} INTERVAL {interval}", "a TIME > 0, T#2ms")
     watchdog = None
     if "WATCHDOG" in settings:
@@ -148,7 +149,8 @@ def _task(unit: Unit, node: lark.Tree[Any]) -> Task:
             where = settings["WATCHDOG"]
             raise STErrorAt(unit, where, f"TASK {name} WATCHDOG {where}", "a TIME > 0, T#50ms")
         watchdog = limit.value / 1000.0
-    return Task(str(name), value.value / 1000.0, "", unit.where(node), watchdog)
+    seconds = value.value / (1e9 if value.type is T.LTIME else 1e3)
+    return Task(str(name), seconds, "", unit.where(node), watchdog)
 
 
 def ticks(task: Task, period: float) -> int:
