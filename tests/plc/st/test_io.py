@@ -97,6 +97,14 @@ def test_a_task_the_scene_cannot_run_names_the_task_line(scene):
     assert "an integer multiple of 2 ms" in str(raised.value)
 
 
+@pytest.mark.parametrize(("interval", "every"), [("LTIME#2500us", 5), ("LTIME#2ms", 4)])
+def test_an_interval_of_a_fraction_of_a_ms_is_an_ltime(interval, every):
+    """A TIME is in whole ms (T#2.5ms is 2 ms): LTIME#2500us is a 2.5 ms task, every fifth
+    scan of a 0.5 ms PLC."""
+    prog = plc.st.from_source(task(interval), period=0.0005)
+    assert prog.every == every
+
+
 def test_a_task_without_interval_or_of_an_unknown_program_is_refused():
     no_interval = task("T#4ms").replace("INTERVAL := T#4ms, ", "")
     with pytest.raises(plc.st.STError, match=r"t\.st:9:5: TASK cyclic without INTERVAL"):
