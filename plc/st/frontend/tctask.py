@@ -26,8 +26,8 @@ def configuration(files: list[Path]) -> list[tuple[str, int, str]]:
     text) per line.
 
     Raises:
-        STError: a file that is no TwinCAT task, a task without a cycle time in whole µs
-            (``file:line``).
+        STError: a file that is no TwinCAT task, a task without a cycle time in whole µs,
+            a program call without the program's name (``file:line``).
     """
     lines: list[tuple[str, int, str]] = []
     calls: list[tuple[str, int, str]] = []
@@ -46,6 +46,9 @@ def configuration(files: list[Path]) -> list[tuple[str, int, str]]:
         lines.append((str(file), where, f"TASK {name} ({', '.join(settings)});"))
         for call in task.iterfind("PouCall/Name"):
             program = (call.text or "").strip()
+            if not program:
+                where = f"{file}:{tree.line(call)}"
+                raise STError.at(where, "a <PouCall> with no program", "<Name>MAIN</Name>")
             calls.append(
                 (str(file), tree.line(call), f"PROGRAM {program} WITH {name} : {program};")
             )

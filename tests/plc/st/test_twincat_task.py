@@ -136,9 +136,15 @@ def test_a_cycle_time_of_a_fraction_of_a_millisecond(tmp_path, cycle, interval, 
     assert prog.nScans == 2
 
 
-def test_a_task_without_a_name_is_named_after_its_file(tmp_path):
-    """``<Task Name="">`` (or none) in FastTask.TcTTO: the task is FastTask."""
-    _project(tmp_path, TASK.replace('Name="PlcTask" ', 'Name="  " '))
+def test_a_task_is_named_by_its_name_else_by_its_file(tmp_path):
+    """``<Task Name="Motion">`` in PlcTask.TcTTO is the task Motion; ``<Task Name="">`` (or
+    none) in FastTask.TcTTO the task FastTask."""
+    _project(tmp_path, TASK.replace('Name="PlcTask" ', 'Name=" Motion " '))
+    task = cli.st_task(str(tmp_path))
+    assert task is not None and (task.name, task.program) == ("Motion", "MAIN")
+    (tmp_path / "PlcTask.TcTTO").write_text(
+        OBJECT.format(TASK.replace('Name="PlcTask" ', 'Name="  " '))
+    )
     (tmp_path / "PlcTask.TcTTO").rename(tmp_path / "FastTask.TcTTO")
     task = cli.st_task(str(tmp_path))
     assert task is not None and (task.name, task.program) == ("FastTask", "MAIN")
@@ -199,11 +205,21 @@ CYCLE = "; expected its cycle time in µs, <CycleTime>2000"
             OBJECT.format(TASK.replace("20000", "")),
             "PlcTask.TcTTO:5: a task with <CycleTime></CycleTime>" + CYCLE,
         ),
+        (
+            OBJECT.format(TASK.replace("<Name>MAIN</Name>", "<Name> </Name>")),
+            "PlcTask.TcTTO:8: a <PouCall> with no program; expected <Name>MAIN</Name>",
+        ),
+        (
+            OBJECT.format(TASK.replace("</CycleTime>", "")),
+            "PlcTask.TcTTO:11:5: not well-formed XML (mismatched tag); expected a TwinCAT task "
+            "(<TcPlcObject><Task Name=...><CycleTime>)",
+        ),
     ],
 )
 def test_a_task_file_that_is_no_task_is_refused_at_its_line(tmp_path, content, message):
-    """A .TcTTO of another kind of object, or a task with no cycle time, a zero one or an
-    empty one: one message at its line, saying what would be right."""
+    """A .TcTTO of another kind of object, a task with no cycle time, a zero one or an empty
+    one, a program call without its program, a file that is no XML: one message at its line,
+    saying what would be right."""
     _project(tmp_path)
     (tmp_path / "PlcTask.TcTTO").write_text(content)
     with pytest.raises(plc.st.STError) as error:
