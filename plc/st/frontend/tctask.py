@@ -47,8 +47,8 @@ def configuration(files: list[Path]) -> list[tuple[str, int, str]]:
         for call in task.iterfind("PouCall/Name"):
             program = (call.text or "").strip()
             if not program:
-                where = f"{file}:{tree.line(call)}"
-                raise STError.at(where, "a <PouCall> with no program", "<Name>MAIN</Name>")
+                call_at = f"{file}:{tree.line(call)}"
+                raise STError.at(call_at, "a <PouCall> with no program", "<Name>MAIN</Name>")
             calls.append(
                 (str(file), tree.line(call), f"PROGRAM {program} WITH {name} : {program};")
             )
