@@ -210,6 +210,10 @@ CYCLE = "; expected its cycle time in µs, <CycleTime>2000"
             "PlcTask.TcTTO:8: a <PouCall> with no program; expected <Name>MAIN</Name>",
         ),
         (
+            OBJECT.format(TASK.replace("<Name>MAIN</Name>", "<Name/>")),
+            "PlcTask.TcTTO:8: a <PouCall> with no program; expected <Name>MAIN</Name>",
+        ),
+        (
             OBJECT.format(TASK.replace("</CycleTime>", "")),
             "PlcTask.TcTTO:11:5: not well-formed XML (mismatched tag); expected a TwinCAT task "
             "(<TcPlcObject><Task Name=...><CycleTime>)",
