@@ -72,6 +72,26 @@ TYPE Item : STRUCT v : REAL; n : INT; END_STRUCT; END_TYPE
     assert [(i.v, i.n) for i in prog.items] == [(5.0, 3), (1.5, 4)]
 
 
+def test_structure_initialisers_the_full_parser_may_read_two_ways():
+    """In an array of structures (read by the full parser, whose grammar lets ``:=`` be an
+    operator too): three elements, a nested structure and a nested one of one element each
+    give each member its value, the others their default."""
+    source = """
+TYPE P3 : STRUCT x : LREAL; y : LREAL; z : LREAL; END_STRUCT; END_TYPE
+TYPE Seg : STRUCT a : P3; n : INT; END_STRUCT; END_TYPE
+""" + program(
+        "pts : ARRAY[1..2] OF P3 := [(x := 1.0, y := 2.0, z := 3.0), (z := 4.0)];"
+        "segs : ARRAY[1..2] OF Seg := [(a := (x := 7.0, y := 8.0), n := 9), (a := (z := 5.0))];"
+        "s : Seg := (a := (x := 6.0));",
+        "",
+    )
+    prog = run(source)
+    assert [(p.x, p.y, p.z) for p in prog.pts] == [(1.0, 2.0, 3.0), (0.0, 0.0, 4.0)]
+    segs = [(g.a.x, g.a.y, g.a.z, g.n) for g in prog.segs]
+    assert segs == [(7.0, 8.0, 0.0, 9), (0.0, 0.0, 5.0, 0)]
+    assert (prog.s.a.x, prog.s.a.z, prog.s.n) == (6.0, 0.0, 0)
+
+
 def test_two_types_in_one_type_block():
     source = """
 TYPE
