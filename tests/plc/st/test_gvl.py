@@ -105,8 +105,8 @@ END_PROGRAM
 
 
 def test_the_lists_of_a_configuration_and_of_its_resource_keep_their_attributes():
-    """A CONFIGURATION's and its RESOURCE's VAR_GLOBAL, each after its two attribute lines:
-    named and qualified_only as at the top of a file."""
+    """A CONFIGURATION's and its RESOURCE's VAR_GLOBAL, each after its two attributes (one
+    written over two lines): named and qualified_only as at the top of a file."""
     source = """PROGRAM t
 VAR a : INT; END_VAR
 GVL_B.speed := GVL_B.speed * 10;
@@ -117,8 +117,9 @@ CONFIGURATION c
 {attribute 'gvl' := 'GVL_C'}
 VAR_GLOBAL speed : INT := 1; END_VAR
 RESOURCE r ON PLC
-{attribute 'qualified_only'}
 {attribute 'gvl' := 'GVL_B'}
+{attribute
+    'qualified_only'}
 VAR_GLOBAL speed : INT := 2; END_VAR
 TASK cyclic(INTERVAL := T#10ms);
 PROGRAM main WITH cyclic : t;
