@@ -32,8 +32,8 @@ def configuration(files: list[Path]) -> list[tuple[str, int, str]]:
     text) per line.
 
     Raises:
-        STError: a file that is no TwinCAT task, a task without a cycle time in whole ms
-            (``file:line``).
+        STError: a file that is no TwinCAT task, a task without a cycle time in whole ms,
+            a program call without the program's name (``file:line``).
     """
     lines: list[tuple[str, int, str]] = []
     calls: list[tuple[str, int, str]] = []
@@ -52,6 +52,9 @@ def configuration(files: list[Path]) -> list[tuple[str, int, str]]:
         lines.append((str(file), where, f"TASK {name} ({', '.join(settings)});"))
         for call in task.iterfind("PouCall/Name"):
             program = (call.text or "").strip()
+            if not program:
+                call_at = f"{file}:{tree.line(call)}"
+                raise STError.at(call_at, "a <PouCall> with no program", "<Name>MAIN</Name>")
             calls.append(
                 (str(file), tree.line(call), f"PROGRAM {program} WITH {name} : {program};")
             )
@@ -77,4 +80,4 @@ def _interval(where: str, cycle: ET.Element | None) -> str:
     if int(text) % 1000:
         problem = f"a task with <CycleTime>{text}</CycleTime> ({int(text) / 1000:g} ms)"
         raise STError.at(where, f"{problem}: {WHOLE_MS}", "a multiple of 1000 µs, <CycleTime>1000")
-    return f"T#{int(text) / 1000:g}ms"
+    return f"T#{int(text) // 1000}ms"

@@ -73,16 +73,17 @@ _OPERATORS = frozenset(["'**'"])
 
 def terminal_words(terminal: str, literal: str) -> str:
     """A terminal of the grammar as a message says it: ``literal`` (its text, quoted) where it
-    has one, else a word for it (``an operator``, ``a number``; "" for a comment)."""
+    has one, else a word for it (``an operator``, ``a number``; "" for a comment): every
+    terminal of the grammar without a text has its words in ``_WORDS``."""
     if literal in _OPERATORS:
         return _OPERATOR
     if literal:
         return literal
-    return _WORDS.get(terminal.upper(), "a " + terminal.lower().replace("_", " "))
+    return _WORDS[terminal.upper()]
 
 
 def missing_semicolon(
-    text: str, position: int, expected: set[str], lines_before: int = 0
+    text: str, position: int, expected: set[str], lines_before: int
 ) -> tuple[int, int, str] | None:
     """The missing ``;`` a syntax error at ``position`` of ``text`` is: (the line and column
     where it belongs, the message), or None where the error is another (the parser could

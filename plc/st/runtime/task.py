@@ -3,7 +3,8 @@ name(INTERVAL := T#2ms)`` and ``PROGRAM instance WITH task : type`` give the PRO
 its scan period (:class:`Task`); :func:`task_of` reads them from the parsed file.
 
 One program instance runs (the one the configuration names, or the one asked for); its task's
-INTERVAL is its period. A task without INTERVAL (event-triggered, ``SINGLE :=``) is refused.
+INTERVAL is its period (a TIME of whole ms).
+A task without INTERVAL (event-triggered, ``SINGLE :=``) is refused.
 ``WATCHDOG := T#50ms`` bounds the wall time of one scan (default :data:`WATCHDOG`): a loop
 (WHILE, REPEAT, FOR) still running after it stops the program with a run-time fault.
 """

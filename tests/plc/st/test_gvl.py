@@ -104,6 +104,35 @@ END_PROGRAM
     )
 
 
+def test_the_lists_of_a_configuration_and_of_its_resource_keep_their_attributes():
+    """A CONFIGURATION's and its RESOURCE's VAR_GLOBAL, each after its two attributes (one
+    written over two lines): named and qualified_only as at the top of a file."""
+    source = """PROGRAM t
+VAR a : INT; END_VAR
+GVL_B.speed := GVL_B.speed * 10;
+a := GVL_C.speed + GVL_B.speed;
+END_PROGRAM
+CONFIGURATION c
+{attribute 'qualified_only'}
+{attribute 'gvl' := 'GVL_C'}
+VAR_GLOBAL speed : INT := 1; END_VAR
+RESOURCE r ON PLC
+{attribute 'gvl' := 'GVL_B'}
+{attribute
+    'qualified_only'}
+VAR_GLOBAL speed : INT := 2; END_VAR
+TASK cyclic(INTERVAL := T#10ms);
+PROGRAM main WITH cyclic : t;
+END_RESOURCE
+END_CONFIGURATION
+"""
+    assert run(source).a == 21
+    assert refused(source.replace("a := GVL_C", "a := speed + GVL_C")) == (
+        "iec.st:4:6: speed is declared in GVL_C, GVL_B with {attribute 'qualified_only'}: "
+        "write GVL_C.speed or GVL_B.speed"
+    )
+
+
 WRONG = (
     AXES
     + """{attribute 'gvl' := 'GVL_Limits'}

@@ -72,6 +72,51 @@ TYPE Item : STRUCT v : REAL; n : INT; END_STRUCT; END_TYPE
     assert [(i.v, i.n) for i in prog.items] == [(5.0, 3), (1.5, 4)]
 
 
+SEGMENTS = """
+TYPE P3 : STRUCT x : LREAL; y : LREAL; z : LREAL; END_STRUCT; END_TYPE
+TYPE P4 : STRUCT w : LREAL; x : LREAL; y : LREAL; z : LREAL; END_STRUCT; END_TYPE
+TYPE Seg : STRUCT a : P3; n : INT; END_STRUCT; END_TYPE
+"""
+"""Points of three and four members, a segment of a point (the declarations on line 7)."""
+
+
+def test_structure_initialisers_the_full_parser_may_read_two_ways():
+    """In an array of structures (read by the full parser, whose grammar lets ``:=`` be an
+    operator too): three elements, a nested structure and a nested one of one element each
+    give each member its value, the others their default."""
+    source = SEGMENTS + program(
+        "pts : ARRAY[1..2] OF P3 := [(x := 1.0, y := 2.0, z := 3.0), (z := 4.0)];"
+        "quads : ARRAY[1..2] OF P4 := [(w := 0.5, x := 1.0, y := 2.0, z := 3.0), (y := 1.5)];"
+        "segs : ARRAY[1..2] OF Seg := [(a := (x := 7.0, y := 8.0), n := 9), (a := (z := 5.0))];"
+        "s : Seg := (a := (x := 6.0));",
+        "",
+    )
+    prog = run(source)
+    assert [(p.x, p.y, p.z) for p in prog.pts] == [(1.0, 2.0, 3.0), (0.0, 0.0, 4.0)]
+    quads = [(q.w, q.x, q.y, q.z) for q in prog.quads]
+    assert quads == [(0.5, 1.0, 2.0, 3.0), (0.0, 0.0, 1.5, 0.0)]
+    segs = [(g.a.x, g.a.y, g.a.z, g.n) for g in prog.segs]
+    assert segs == [(7.0, 8.0, 0.0, 9), (0.0, 0.0, 5.0, 0)]
+    assert (prog.s.a.x, prog.s.a.z, prog.s.n) == (6.0, 0.0, 0)
+
+
+@pytest.mark.parametrize(
+    "declaration",
+    [
+        "pts : ARRAY[1..2] OF P3 := [(x := 1.0, y := 2.0, q := 3.0), (z := 4.0)];",
+        "segs : ARRAY[1..2] OF Seg := [(n := 1), (a := (q := 5.0))];",
+        "segs : ARRAY[1..2] OF Seg := [(n := 1, a := (x := 1.0, q := 5.0)), (n := 2)];",
+    ],
+)
+def test_a_member_a_structure_lacks_is_named_where_it_is_written(declaration):
+    """A member the structure has not, third of three, alone in a nested structure or second
+    in one: refused at its own line and column."""
+    column = declaration.index("q :=") + 1
+    assert refused(SEGMENTS + program(declaration, "")) == (
+        f"iec.st:7:{column}: P3 has no field 'q'; expected a field"
+    )
+
+
 def test_two_types_in_one_type_block():
     source = """
 TYPE

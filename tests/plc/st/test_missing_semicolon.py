@@ -10,6 +10,7 @@ import re
 import pytest
 
 import plc.st
+from plc.st.frontend import parse as st_parse
 from tests.plc.st.iec import refused
 from tests.plc.st.test_projects import _pou
 
@@ -105,3 +106,63 @@ def test_a_semicolon_the_statement_may_go_without_is_not_reported_missing():
     source = source.replace("done := nCount >= 10;", "VAR x : INT; END_VAR")
     message = refused(source, "small_time.st")
     assert message.startswith("small_time.st:13:1: unexpected 'VAR'; expected "), message
+
+
+BODY = SMALL_TIME.replace("fPos + 2.5\n", "fPos + 2.5;\n")
+"""SMALL_TIME with every ';' in place."""
+
+
+@pytest.mark.parametrize(
+    ("source", "message"),
+    [
+        (
+            "TYPE Pos : STRUCT\n    x : LREAL;\nEND_STRUCT\nfSpeed\nEND_TYPE\n" + BODY,
+            "4:1: unexpected 'fSpeed'; expected 'END_TYPE', ';'",
+        ),
+        (
+            "TYPE Mode : (Idle, Run)\nfSpeed\nEND_TYPE\n" + BODY,
+            "2:1: unexpected 'fSpeed'; expected 'END_TYPE', ':=', ';', a type",
+        ),
+        (
+            "TYPE Mode : (Idle, Run);\nEND_TYPE\nfSpeed\n" + BODY,
+            "3:1: unexpected 'fSpeed'; expected ';', 'ACTION', 'CONFIGURATION', 'FUNCTION', "
+            "'FUNCTION_BLOCK', 'INTERFACE', 'METHOD', 'PROGRAM'",
+        ),
+    ],
+)
+def test_a_semicolon_a_type_may_go_without_is_not_reported_missing(source, message):
+    """A ';' after END_STRUCT, after a type's declaration before END_TYPE or after END_TYPE
+    may be left out: a stray word on the next line is reported as itself, with what may come
+    there (END_TYPE first), not as a ';' missing on the line before."""
+    assert refused(source, "types.st") == f"types.st:{message}"
+
+
+def test_a_word_on_the_line_of_the_statement_is_reported_as_itself():
+    """Two statements on one line, the first without its ';': the second's first word is
+    unexpected where it stands (no line ends there for a ';' to be missing at)."""
+    source = BODY.replace("done := nCount >= 10;", "done := nCount >= 10 nCount := 0;")
+    assert refused(source, "small_time.st") == (
+        "small_time.st:13:22: unexpected 'nCount'; expected ':=', ';', an operator"
+    )
+
+
+def test_a_source_that_ends_inside_a_statement_ends_there():
+    """The file ends after a statement without its ';' and a comment (END_PROGRAM missing
+    too): the message is the end of the source, at the end of its last line, and what the
+    statement could go on with."""
+    source = BODY.replace("END_PROGRAM\n", "nCount := 1\n(* the last\n   count *)\n")
+    assert refused(source, "small_time.st") == (
+        "small_time.st:16:12: unexpected end of the source; expected ':=', ';', an operator"
+    )
+
+
+def test_every_terminal_a_message_may_expect_has_words():
+    """Whatever a message may list of what was expected (any terminal of the grammar), it is
+    its quoted text or words, never a rule name (``ADD_OPERATOR``), and none is missing."""
+    for terminal in st_parse.parser().terminals:
+        if terminal.name.startswith("__"):
+            continue  # an unnamed pattern (%I*): left out of the list
+        word = st_parse._word(terminal.name)
+        unquoted = re.sub(r"'[^']*'", "", word)
+        assert not re.search(r"\w+_\w+", unquoted), (terminal.name, word)
+        assert word or terminal.name in ("WS", "SINGLE_LINE_COMMENT", "MULTI_LINE_COMMENT")

@@ -79,6 +79,7 @@ BLOCK = "FUNCTION_BLOCK f\nVAR_INPUT a : INT; END_VAR\na := 1;\nEND_FUNCTION_BLO
     ("body", "message"),
     [
         ("x := ;\nEND_PROGRAM\n", "7:6: unexpected ';'; expected an expression"),
+        ("x := 1\nx := 2;\nEND_PROGRAM\n", "7:7: missing ';' at the end of line 7"),
         (
             "x := 1;\n",
             f"7:8: unexpected end of the source; expected 'END_PROGRAM', {STATEMENTS}",
@@ -91,7 +92,8 @@ BLOCK = "FUNCTION_BLOCK f\nVAR_INPUT a : INT; END_VAR\na := 1;\nEND_FUNCTION_BLO
 )
 def test_an_error_in_a_later_item_names_its_line_in_the_file(body, message):
     """The items parse one by one: an error in the PROGRAM after a FUNCTION_BLOCK names the
-    file's line, an unexpected end the end of the file's last line."""
+    file's line (a missing ';' in its place and in its words), an unexpected end the end of the
+    file's last line."""
     with pytest.raises(plc.st.STError) as error:
         plc.st.from_source(BLOCK + DECLARED + body, filename="two.st")
     assert str(error.value) == f"two.st:{message}"

@@ -7,6 +7,7 @@ from __future__ import annotations
 import pytest
 
 import plc.st
+from plc.st.frontend.project import read_project
 from scenes.tools import cli
 from tests.plc.st.test_projects import OBJECT, _pou
 
@@ -96,3 +97,133 @@ def test_a_task_that_cannot_run_is_refused_at_its_line(tmp_path, old, new, messa
     with pytest.raises(plc.st.STError) as error:
         plc.st.load(tmp_path, period=0.02)
     assert str(error.value).startswith(str(tmp_path / message))
+
+
+def test_the_task_becomes_the_configuration_of_the_project(tmp_path):
+    """The task's cycle time, priority and program call are the project's CONFIGURATION, each
+    line cited at the line of the .TcTTO it comes from (the TASK at its <CycleTime>, the
+    PROGRAM at its <Name>)."""
+    _project(tmp_path)
+    project = read_project(tmp_path)
+    source = project.source.splitlines()
+    start = source.index("CONFIGURATION TwinCAT")
+    assert source[start:] == [
+        "CONFIGURATION TwinCAT",
+        "RESOURCE PLC ON PLC",
+        "TASK PlcTask (INTERVAL := T#20ms, PRIORITY := 20);",
+        "PROGRAM MAIN WITH PlcTask : MAIN;",
+        "END_RESOURCE",
+        "END_CONFIGURATION",
+    ]
+    task_file = tmp_path / "PlcTask.TcTTO"
+    cited = [project.where(start + 1 + n) for n in range(6)]
+    assert cited == [f"{task_file}:{line}" for line in (5, 5, 5, 8, 5, 5)]
+
+
+@pytest.mark.parametrize(("cycle", "interval", "every"), [("\n      4000\n    ", 0.004, 2)])
+def test_a_cycle_time_written_over_lines(tmp_path, cycle, interval, every):
+    """<CycleTime>4000</CycleTime> written over lines, as an editor may, is a 4 ms task: on a
+    2 ms PLC MAIN runs every second scan."""
+    _project(tmp_path, TASK.replace("20000", cycle))
+    task = cli.st_task(str(tmp_path))
+    assert task is not None and task.interval == pytest.approx(interval, rel=1e-12)
+    prog = plc.st.load(tmp_path, period=0.002)
+    assert prog.every == every
+    for _ in range(every * 2):
+        prog()
+    assert prog.nScans == 2
+
+
+def test_a_task_is_named_by_its_name_else_by_its_file(tmp_path):
+    """``<Task Name="Motion">`` in PlcTask.TcTTO is the task Motion; ``<Task Name="">`` (or
+    none) in FastTask.TcTTO the task FastTask."""
+    _project(tmp_path, TASK.replace('Name="PlcTask" ', 'Name=" Motion " '))
+    task = cli.st_task(str(tmp_path))
+    assert task is not None and (task.name, task.program) == ("Motion", "MAIN")
+    (tmp_path / "PlcTask.TcTTO").write_text(
+        OBJECT.format(TASK.replace('Name="PlcTask" ', 'Name="  " '))
+    )
+    (tmp_path / "PlcTask.TcTTO").rename(tmp_path / "FastTask.TcTTO")
+    task = cli.st_task(str(tmp_path))
+    assert task is not None and (task.name, task.program) == ("FastTask", "MAIN")
+    (tmp_path / "FastTask.TcTTO").write_text(OBJECT.format(TASK.replace('Name="PlcTask" ', "")))
+    task = cli.st_task(str(tmp_path))
+    assert task is not None and task.name == "FastTask"
+
+
+@pytest.mark.parametrize(
+    ("priority", "setting"),
+    [("<Priority> 7 </Priority>", ", PRIORITY := 7"), ("<Priority>high</Priority>", ""), ("", "")],
+)
+def test_the_priority_of_the_task(tmp_path, priority, setting):
+    """A task's <Priority> (a whole number) is its PRIORITY; one that is no number, or none,
+    is left out (the task keeps its interval)."""
+    _project(tmp_path, TASK.replace("<Priority>20</Priority>", priority))
+    assert f"TASK PlcTask (INTERVAL := T#20ms{setting});\n" in read_project(tmp_path).source
+    assert plc.st.load(tmp_path, period=0.01).every == 2
+
+
+def test_tasks_of_two_files_each_cite_their_own_file(tmp_path):
+    """A second task file whose call names a program the project lacks is refused at the line
+    of that call in that file."""
+    _project(tmp_path)
+    slow = TASK.replace("PlcTask", "SlowTask").replace("<Name>MAIN", "<Name>Mian")
+    (tmp_path / "SlowTask.TcTTO").write_text(OBJECT.format(slow))
+    with pytest.raises(plc.st.STError) as error:
+        plc.st.load(tmp_path, period=0.01)
+    assert str(error.value).startswith(
+        f"{tmp_path / 'SlowTask.TcTTO'}:8:1: no PROGRAM Mian; expected MAIN"
+    )
+    source = read_project(tmp_path).source
+    assert "TASK PlcTask (INTERVAL := T#20ms, PRIORITY := 20);\n" in source
+    assert "TASK SlowTask (INTERVAL := T#20ms, PRIORITY := 20);\n" in source
+
+
+NOT_A_TASK = (
+    "PlcTask.TcTTO:2: no <Task> in it; expected a TwinCAT task "
+    "(<TcPlcObject><Task Name=...><CycleTime>)"
+)
+CYCLE = "; expected its cycle time in µs, <CycleTime>2000"
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (OBJECT.format(TASK).replace("TcPlcObject", "TcProject"), NOT_A_TASK),
+        (OBJECT.format(TASK.replace("<Task ", "<Job ").replace("</Task>", "</Job>")), NOT_A_TASK),
+        (
+            OBJECT.format(TASK.replace("<CycleTime>20000</CycleTime>", "")),
+            "PlcTask.TcTTO:3: a task with no <CycleTime>" + CYCLE,
+        ),
+        (
+            OBJECT.format(TASK.replace("20000", "0")),
+            "PlcTask.TcTTO:5: a task with <CycleTime>0</CycleTime>" + CYCLE,
+        ),
+        (
+            OBJECT.format(TASK.replace("20000", "")),
+            "PlcTask.TcTTO:5: a task with <CycleTime></CycleTime>" + CYCLE,
+        ),
+        (
+            OBJECT.format(TASK.replace("<Name>MAIN</Name>", "<Name> </Name>")),
+            "PlcTask.TcTTO:8: a <PouCall> with no program; expected <Name>MAIN</Name>",
+        ),
+        (
+            OBJECT.format(TASK.replace("<Name>MAIN</Name>", "<Name/>")),
+            "PlcTask.TcTTO:8: a <PouCall> with no program; expected <Name>MAIN</Name>",
+        ),
+        (
+            OBJECT.format(TASK.replace("</CycleTime>", "")),
+            "PlcTask.TcTTO:11:5: not well-formed XML (mismatched tag); expected a TwinCAT task "
+            "(<TcPlcObject><Task Name=...><CycleTime>)",
+        ),
+    ],
+)
+def test_a_task_file_that_is_no_task_is_refused_at_its_line(tmp_path, content, message):
+    """A .TcTTO of another kind of object, a task with no cycle time, a zero one or an empty
+    one, a program call without its program, a file that is no XML: one message at its line,
+    saying what would be right."""
+    _project(tmp_path)
+    (tmp_path / "PlcTask.TcTTO").write_text(content)
+    with pytest.raises(plc.st.STError) as error:
+        plc.st.load(tmp_path, period=0.01)
+    assert str(error.value) == str(tmp_path / message)
