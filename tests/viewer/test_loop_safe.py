@@ -13,7 +13,6 @@ from typing import Any
 
 import pytest
 import viser
-
 from viser.infra._async_message_buffer import AsyncMessageBuffer
 
 from viewer.serving.loop_safe import LoopSafeEvent, install

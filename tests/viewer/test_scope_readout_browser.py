@@ -89,17 +89,16 @@ def test_every_cell_of_the_read_out_of_eight_long_channels_is_whole(
     assert len(CHANNELS) == MAX_CHANNELS and set(CHANNELS) <= set(names)
     page, mine = new_page(browser, cell, *size)
     try:
-        assert mine.scope is not None
-        mine.scope.show_channels(CHANNELS)
-        wait_for(lambda: mine.scope.recording.names == CHANNELS, 10.0, "the eight channels")
+        scope = mine.scope
+        assert scope is not None
+        scope.show_channels(CHANNELS)
+        wait_for(lambda: scope.recording.names == CHANNELS, 10.0, "the eight channels")
         wait_for(
             lambda: sum("[" in c for c in read_out(page)["cells"]) == len(CHANNELS),
             30.0,
             "the eight channels in the read-out",
         )
-        wait_for(
-            lambda: "—" not in "".join(read_out(page)["cells"]), 30.0, "values at A and B"
-        )
+        wait_for(lambda: "—" not in "".join(read_out(page)["cells"]), 30.0, "values at A and B")
         page.evaluate(SHOW)
         page.screenshot(path=str(tmp_path / f"readout-{size[0]}x{size[1]}.png"))
         found = read_out(page)
