@@ -85,3 +85,21 @@ def test_no_pcs_without_a_tool_site_a_model_or_its_data() -> None:
     assert frames([group], model, None) == ()
     assert len(frames([group], model, data)) == 1
     assert frames([group], None, data) == ()  # the model gone (another scene loading)
+
+
+def test_each_group_with_a_pcs_is_drawn_whatever_the_groups_before_it() -> None:
+    """Groups without kinematics, with a PCS that has no finite origin, or without a PCS are
+    left out; a group after them with a PCS is drawn."""
+    machine = make_machine("ABCEFHJKMNP")
+    plain = build_group(machine, "JK")  # no kinematic transformation
+    broken, bare, good = (build_group(machine, names) for names in ("ABC", "EFH", "MNP"))
+    for group in (broken, bare, good):
+        kin = mcl.MC_SetKinTransform()
+        kin(AxesGroup=group, Execute=True, KinTransform=DELTA)
+        assert kin.Done
+    plain.kin.frame = ProductFrame(tool_point(good))
+    broken.kin.frame = ProductFrame([math.nan, 0.0, 0.0])
+    good.kin.frame = ProductFrame(tool_point(good))
+    model, data = model_with("tool")
+    (view,) = ProductFrames()([plain, broken, bare, good], model, data)
+    np.testing.assert_allclose(view.origin, EFFECTOR, atol=1e-9)
