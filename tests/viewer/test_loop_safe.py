@@ -13,8 +13,9 @@ from typing import Any
 
 import pytest
 import viser
+from viser.infra._async_message_buffer import AsyncMessageBuffer
 
-from viewer.serving.loop_safe import LoopSafeEvent
+from viewer.serving.loop_safe import LoopSafeEvent, install
 
 
 class WaiterAddedMeanwhile(deque[Any]):
@@ -27,13 +28,20 @@ class WaiterAddedMeanwhile(deque[Any]):
         yield from items
 
 
-def set_in_a_thread(event: asyncio.Event) -> BaseException | None:
-    """Call ``event.set()`` in a thread of its own (no event loop); what it raised."""
+def set_in_a_thread(event: asyncio.Event, on_a_loop: bool = False) -> BaseException | None:
+    """Call ``event.set()`` in a thread of its own (with an event loop of its own running:
+    ``on_a_loop``, as a GUI callback run by ``asyncio.run``); what it raised."""
     raised: list[BaseException] = []
+
+    async def on_its_loop() -> None:
+        event.set()
 
     def run() -> None:
         try:
-            event.set()
+            if on_a_loop:
+                asyncio.run(on_its_loop())
+            else:
+                event.set()
         except BaseException as exc:  # reported to the test
             raised.append(exc)
 
@@ -68,8 +76,9 @@ def test_asyncio_s_event_set_off_the_loop_breaks_when_the_loop_adds_a_waiter(
     assert isinstance(raised, RuntimeError) and "mutated during iteration" in str(raised)
 
 
+@pytest.mark.parametrize("on_a_loop", [False, True], ids=["no loop", "another loop"])
 def test_the_viewer_s_event_set_off_the_loop_only_raises_the_flag_and_the_loop_wakes(
-    loop: asyncio.AbstractEventLoop,
+    loop: asyncio.AbstractEventLoop, on_a_loop: bool
 ) -> None:
     event = LoopSafeEvent()
 
@@ -81,7 +90,7 @@ def test_the_viewer_s_event_set_off_the_loop_only_raises_the_flag_and_the_loop_w
         threading.Event().wait(0.001)
     waiters = event._waiters
     event._waiters = WaiterAddedMeanwhile(waiters)
-    assert set_in_a_thread(event) is None  # off the loop: the waiters are not touched
+    assert set_in_a_thread(event, on_a_loop) is None  # off the loop: waiters not touched
     assert event.is_set() and not waiting.done()
     event._waiters = waiters
     loop.call_soon_threadsafe(event.set)  # what viser's push does next
@@ -95,3 +104,24 @@ def test_every_buffer_of_a_viewer_s_server_gets_the_safe_event() -> None:
         assert isinstance(buffer.message_event, LoopSafeEvent)
     finally:
         server.stop()
+
+
+def test_install_gives_each_buffer_made_after_it_the_safe_event_once(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Installed on a buffer class as viser makes it: each new buffer is made as before (its
+    arguments passed on) and gets the safe event; installing again changes nothing."""
+    made: list[tuple[Any, ...]] = []
+
+    def plain(self: AsyncMessageBuffer, *args: Any, **kwargs: Any) -> None:
+        made.append((self, args, kwargs))
+        self.message_event = asyncio.Event()
+
+    monkeypatch.setattr(AsyncMessageBuffer, "__init__", plain)
+    install()
+    once = AsyncMessageBuffer.__init__
+    install()
+    assert AsyncMessageBuffer.__init__ is once and once is not plain
+    buffer = AsyncMessageBuffer("loop", persistent_messages=True)  # type: ignore[arg-type]
+    assert made == [(buffer, ("loop",), {"persistent_messages": True})]
+    assert isinstance(buffer.message_event, LoopSafeEvent)

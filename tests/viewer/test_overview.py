@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from types import MappingProxyType, SimpleNamespace
+from typing import cast
 
 import pytest
 import viser
@@ -232,3 +234,69 @@ def test_the_name_column_is_as_wide_as_the_longest_name_with_its_unit() -> None:
     assert f'<col style="width:{width:.2f}em">' in overview_html(Session("cell").snapshot)
     gantry = list(Session("gantry").snapshot.axes.values())
     assert overview.name_width(gantry) == overview.NAME_WIDTH  # "X mm": the narrowest column
+
+
+def shown(**changes: object) -> tuple[str, dict[str, str]]:
+    """The overview of the gantry with its X axis' view changed as given: the table and X's
+    cells."""
+    session = Session("gantry")
+    snapshot = session.snapshot
+    axes = dict(snapshot.axes)
+    axes["X"] = dataclasses.replace(axes["X"], **changes)  # type: ignore[arg-type]
+    changed = dataclasses.replace(snapshot, axes=MappingProxyType(axes))
+    return overview_html(changed), row(cast(Session, SimpleNamespace(snapshot=changed)), "X")
+
+
+def test_each_value_has_its_digits_its_tooltip_and_set_points_read_grey() -> None:
+    page, cells = shown(
+        position=12.34567,
+        set_position=-0.0001,
+        velocity=0.25,
+        set_velocity=-3.14159,
+        volts=1.2345,
+        following_error=0.0012345,
+        peak_following_error=-0.0025,
+    )
+    assert (cells["position"], cells["set_position"]) == ("12.346", "0.000")  # no −0.000
+    assert (cells["velocity"], cells["set_velocity"]) == ("0.25", "-3.14")
+    assert cells["output"] == "12.3"  # % of ±10 V
+    assert (cells["following_error"], cells["peak_following_error"]) == ("1.2", "-2.5")  # µm
+    values = re.search(r'<tr data-axis="X" data-line="values">(.*?)</tr>', page)
+    set_points = re.search(r'<tr data-axis="X" data-line="set">(.*?)</tr>', page)
+    assert values is not None and set_points is not None
+    for field, _, line, tip in VALUE_COLUMNS:
+        own = (values, set_points)[line][1]
+        assert re.search(rf'data-field="{field}" title="{re.escape(tip)}"', own), field
+    for field, _, line, _ in VALUE_COLUMNS:  # set points and peak grey, actual values not
+        style = re.search(rf'data-field="{field}"[^>]*style="([^"]*)"', page)
+        assert style is not None and ("color:#78909c" in style[1]) == (line == 1), field
+    assert "XX" not in page  # nothing between the cells
+
+
+def test_an_axis_in_another_unit_shows_its_following_error_with_four_decimals() -> None:
+    """Axes in mm and in another unit: each following error carries its own unit."""
+    _, cells = shown(unit="rev", following_error=0.0012345, peak_following_error=0.5)
+    assert (cells["following_error"], cells["peak_following_error"]) == ("0.0012 rev", "0.5000 rev")
+
+
+def test_without_a_drive_both_following_errors_read_a_dash() -> None:
+    _, cells = shown(has_drive=False, following_error=0.5, peak_following_error=0.5)
+    assert cells["following_error"] == cells["peak_following_error"] == cells["output"] == "—"
+
+
+def test_the_error_text_names_the_error_and_the_last_refused_command() -> None:
+    _, cells = shown(error_id=0, last_error="not powered", last_error_kind="Refused")
+    assert cells["error_text"] == "refused: not powered"
+    _, cells = shown(error_id=17, error="following error", last_error="", last_error_kind="")
+    assert cells["error_text"] == "17 following error"
+    _, cells = shown(
+        error_id=17, error="following error", last_error="x", last_error_kind="Aborted"
+    )
+    assert cells["error_text"] == "17 following error · aborted: x"
+
+
+def test_only_the_in_position_lamp_names_the_window() -> None:
+    page, _ = shown(in_position_window=0.005)
+    lamps = dict(re.findall(r'<div data-field="(\w+)" title="([^"]*)"', page))
+    assert lamps["in_position"].endswith(" (±5.0 µm)")
+    assert all("±" not in tip for field, tip in lamps.items() if field != "in_position")

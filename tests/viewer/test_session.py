@@ -515,6 +515,39 @@ def test_panels_answer_a_state_change_within_a_frame_then_keep_their_rate(
     assert len(later) <= 13
 
 
+def test_the_prompt_refresh_ends_0_25_s_after_the_last_state_change(
+    server: viser.ViserServer, session: Session, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """At 8 frames/s with panels at 4 Hz: every frame refreshes the panels in the 0.25 s after
+    an axis' state, ErrorID or power last changed; the frame 0.25 s after it is back at the
+    panel rate (0.125 s since the last refresh: not yet due). Times in eighths of a second,
+    exact in binary."""
+    wall = FakeClock()
+    monkeypatch.setattr(app_module, "time", SimpleNamespace(monotonic=wall, perf_counter=wall))
+    app = ViewerApp(session, server, fps=8.0, panel_hz=4.0)
+    states: list[tuple[Any, ...]] = []
+    refreshed: list[bool] = []
+    times: list[float] = []
+    for k in range(16):
+        if k == 2:
+            session.requests("X").set_power(True)
+        before = app.panel_updates
+        session.advance(5)
+        app.frame()
+        axes = session.snapshot.axes.values()
+        states.append(tuple((a.state, a.error_id, a.powered) for a in axes))
+        refreshed.append(app.panel_updates > before)
+        times.append(wall.now)
+        wall.now += 0.125
+    assert view(session).powered
+    changed = max(k for k in range(1, 16) if states[k] != states[k - 1])
+    assert changed <= 12
+    assert all(refreshed[changed : changed + 2])  # 0 and 0.125 s after the change
+    assert times[changed + 2] - times[changed] == app_module.PROMPT_S
+    assert not refreshed[changed + 2]  # 0.25 s after: the prompt is over, 4 Hz not yet due
+    assert refreshed[changed + 3]  # 0.25 s after the last refresh
+
+
 def test_switch_geoms_light_up_from_the_plant_inputs(server: viser.ViserServer) -> None:
     session = Session("gantry", overrides={"start": {"X": 1.007}})  # beyond the LIM+ trip
     app = ViewerApp(session, server)

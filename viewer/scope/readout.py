@@ -77,23 +77,30 @@ def readout(
 
 
 def readout_html(r: Readout) -> str:
-    """The read-out table: channel, last value, A, B, B−A (each in its unit, rounded to its
-    resolution; a value never wraps: in a narrow panel the table scrolls sideways); then Δt and
-    1/Δt."""
-    cell = '<td style="text-align:right;font-family:monospace;white-space:nowrap">'
-    rows = "".join(
-        f"<tr><td>{html.escape(h)}</td>{cell}{html.escape(d.text(last))}</td>"
-        f"{cell}{html.escape(d.text(a))}</td>{cell}{html.escape(d.text(b))}</td>"
-        f"{cell}{html.escape(d.text(b - a))}</td></tr>"
-        for h, d, last, a, b in zip(r.headers, r.displays, r.last, r.at_a, r.at_b, strict=True)
+    """The read-out table, whole in a 300 px column: per channel a row with its name and unit,
+    then a row of its last value and its values at A, at B and B − A (numbers in that unit,
+    rounded to its resolution); then the cursors' times, Δt and 1/Δt."""
+    number = '<td style="text-align:right;font-family:monospace;white-space:nowrap">'
+    name = (
+        '<tr style="border-top:1px solid rgba(128,128,128,0.3)">'
+        '<td colspan="4" style="overflow-wrap:anywhere;padding-top:2px">'
     )
-    head = '<th style="text-align:right;white-space:nowrap">'
+    rows = "".join(
+        f"{name}{html.escape(h)}</td></tr><tr>"
+        + "".join(f"{number}{html.escape(format_value(v, d.resolution))}</td>" for v in values)
+        + "</tr>"
+        for h, d, *values in zip(
+            r.headers, r.displays, r.last, r.at_a, r.at_b, r.at_b - r.at_a, strict=True
+        )
+    )
+    part = '<span style="white-space:nowrap">'
+    head = "".join(f'<th style="text-align:right">{c}</th>' for c in ("last", "A", "B", "B−A"))
     return (
-        '<div style="overflow-x:auto"><table style="font-size:0.75em;width:100%">'
-        f'<tr><th style="text-align:left">channel</th>{head}last</th>'
-        f"{head}A = {r.a:.4f} s</th>{head}B = {r.b:.4f} s</th>{head}B−A</th></tr>{rows}"
-        "</table></div>"
-        f"<div>Δt = {r.dt * 1e3:.3f} ms, 1/Δt = {_number(r.rate)} Hz</div>"
+        '<table style="font-size:0.75em;width:100%;border-collapse:collapse">'
+        f"<tr>{head}</tr>{rows}</table>"
+        f'<div style="font-size:0.85em">{part}A = {r.a:.4f} s</span>, '
+        f"{part}B = {r.b:.4f} s</span>, {part}Δt = {r.dt * 1e3:.3f} ms</span>, "
+        f"{part}1/Δt = {_number(r.rate)} Hz</span></div>"
     )
 
 
