@@ -101,7 +101,7 @@ def test_the_cup_lifts_a_part_only_once_the_vacuum_holds_it(run) -> None:
 
 def test_the_vacuum_is_shut_at_every_place_until_it_has_let_the_part_go(run) -> None:
     """At every place the valve closes once the cup has come down, and stays shut
-    :data:`VACUUM_OFF` (less a scan) before it opens for the next leg's grip: the cup vents and
+    :data:`VACUUM_OFF` (to within a scan) before it opens for the next leg's grip: the cup vents and
     lets the part go; the cup does not rise meanwhile (it may still settle)."""
     _, program, samples = run
     times = np.array([t for t, *_ in samples])
@@ -114,7 +114,8 @@ def test_the_vacuum_is_shut_at_every_place_until_it_has_let_the_part_go(run) -> 
         again = opened[opened > start]
         end = again[0] if len(again) else len(times) - 1
         print(f"place {k}: valve shut {1000.0 * (times[end] - times[start]):.1f} ms")
-        assert times[end] - times[start] >= VACUUM_OFF - 0.0015, k
+        if k + 1 < len(closed):  # the last place: the cycle has ended, the valve stays shut
+            assert times[end] - times[start] == pytest.approx(VACUUM_OFF, abs=0.0015), k
         assert cup[end][2] - cup[start][2] < 0.2, (k, cup[start], cup[end])
 
 
