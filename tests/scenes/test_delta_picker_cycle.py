@@ -13,24 +13,29 @@ import pytest
 import scenes
 from scenes.machines.delta_picker import VacuumGripper
 from scenes.machines.delta_picker.cycle import PLACES, StandardCycle, Z, prepare
-from scenes.machines.delta_picker.demo import CLEAR, VACUUM_ON
+from scenes.machines.delta_picker.demo import CLEAR, VACUUM_OFF, VACUUM_ON
 
 CYCLES = 3
 
 
 @pytest.fixture(scope="module")
-def run() -> tuple[scenes.Scene, StandardCycle, list[tuple[float, np.ndarray, np.ndarray]]]:
-    """The cycle run ``CYCLES`` times; every scan's time, cup (the model's site) and part 0's
-    centre [mm, world]."""
+def run() -> tuple[scenes.Scene, StandardCycle, list[tuple[float, np.ndarray, np.ndarray, bool]]]:
+    """The cycle run ``CYCLES`` times; every scan's time, cup (the model's site), part 0's
+    centre [mm, world] and whether the vacuum valve is open."""
     scene = scenes.load("delta_picker", trace_every=0)
     group = prepare(scene)
     program = StandardCycle(scene, group, CYCLES)
     tool = scene.model.site(scene.model_name("tool")).id
     gripper = scene.device("vacuum", VacuumGripper)
-    samples: list[tuple[float, np.ndarray, np.ndarray]] = []
+    samples: list[tuple[float, np.ndarray, np.ndarray, bool]] = []
     scene.runtime.observers.append(
         lambda t: samples.append(
-            (t, 1000.0 * scene.data.site_xpos[tool], 1000.0 * gripper.part_position(0))
+            (
+                t,
+                1000.0 * scene.data.site_xpos[tool],
+                1000.0 * gripper.part_position(0),
+                gripper.on,
+            )
         )
     )
     scene.run(program, until=lambda: program.done or bool(program.error), timeout=30.0)
@@ -50,7 +55,7 @@ def test_every_pick_grips_the_part_and_every_place_leaves_it_there(run) -> None:
     # the cup on the part's top face, within 0.5 mm of its centre (the part laid at the first
     # place, then where the cycle put it), at every grip
     assert all(g.error < 0.5 and abs(g.height) < 2.0 for g in gripper.grips), gripper.grips
-    times = np.array([t for t, _, _ in samples])
+    times = np.array([t for t, *_ in samples])
     for k in range(len(program.legs)):
         # the part released at the other place: there at the next grip, or at rest at the end
         if k + 1 < len(gripper.grips):
@@ -66,8 +71,8 @@ def test_the_cup_never_stops_between_lift_off_and_set_down(run) -> None:
     comes down on, the cup (the model's site) keeps moving faster than 0.2 m/s (stopping at
     a corner, it came to rest there)."""
     _, program, samples = run
-    times = np.array([t for t, _, _ in samples])
-    cup = np.array([c for _, c, _ in samples])
+    times = np.array([t for t, *_ in samples])
+    cup = np.array([c for _, c, *_ in samples])
     low = float(cup[:, 2].min())
     for start, end in program.legs:
         window = (times >= start) & (times <= end)
@@ -86,12 +91,32 @@ def test_the_cup_lifts_a_part_only_once_the_vacuum_holds_it(run) -> None:
     (:data:`VACUUM_ON` after the valve opened, less a scan; the cup may still settle onto the
     part meanwhile)."""
     scene, _, samples = run
-    times = np.array([t for t, _, _ in samples])
-    cup = np.array([c for _, c, _ in samples])
+    times = np.array([t for t, *_ in samples])
+    cup = np.array([c for _, c, *_ in samples])
     for grip in scene.device("vacuum", VacuumGripper).grips:
         k0 = int(np.searchsorted(times, grip.time))
         k1 = int(np.searchsorted(times, grip.time + VACUUM_ON - 0.003))
         assert cup[k1][2] - cup[k0][2] < 0.2, (grip.time, cup[k0], cup[k1])
+
+
+def test_the_vacuum_is_shut_at_every_place_until_it_has_let_the_part_go(run) -> None:
+    """At every place the valve closes once the cup has come down, and stays shut
+    :data:`VACUUM_OFF` (to within a scan) before it opens for the next leg's grip: the cup vents and
+    lets the part go; the cup does not rise meanwhile (it may still settle)."""
+    _, program, samples = run
+    times = np.array([t for t, *_ in samples])
+    cup = np.array([c for _, c, *_ in samples])
+    valve = np.array([on for *_, on in samples])
+    closed = np.nonzero(valve[:-1] & ~valve[1:])[0] + 1  # first scans with the valve shut
+    opened = np.nonzero(~valve[:-1] & valve[1:])[0] + 1
+    assert len(closed) == len(program.legs) == 2 * CYCLES
+    for k, start in enumerate(closed):
+        again = opened[opened > start]
+        end = again[0] if len(again) else len(times) - 1
+        print(f"place {k}: valve shut {1000.0 * (times[end] - times[start]):.1f} ms")
+        if k + 1 < len(closed):  # the last place: the cycle has ended, the valve stays shut
+            assert times[end] - times[start] == pytest.approx(VACUUM_OFF, abs=0.0015), k
+        assert cup[end][2] - cup[start][2] < 0.2, (k, cup[start], cup[end])
 
 
 def test_a_move_refused_stops_the_cycle_with_its_error() -> None:

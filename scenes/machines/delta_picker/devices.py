@@ -131,8 +131,8 @@ class PhotoEye:
         """Measure a part's lateral position when it cuts the beam (once per pass: a part the
         feeder lays on the belt again is measured again when it comes back)."""
         body, lead, y = self._cut()
-        if body < 0 or lead < 0.0:
-            self._seen = -1  # the beam is free
+        if lead < 0.0:
+            self._seen = -1  # the beam is free (no part is near it: lead -1)
         elif body != self._seen:
             self._seen = body
             self.lateral.append(1000.0 * y)
