@@ -5,9 +5,11 @@ two pages' scopes independent of each other)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from contextlib import nullcontext
+from html.parser import HTMLParser
 from types import SimpleNamespace
 from typing import cast
 
@@ -35,8 +37,15 @@ from viewer.scope.capture import (
     threshold_trigger,
 )
 from viewer.scope.panel import FREEZE, RUN, SINGLE, PageScope, plot_rows
-from viewer.scope.readout import MAX_POINTS, aligned, decimate, readout, recording_csv
-from viewer.scope.units import auto_range, display_of, settled_range
+from viewer.scope.readout import (
+    MAX_POINTS,
+    aligned,
+    decimate,
+    readout,
+    readout_html,
+    recording_csv,
+)
+from viewer.scope.units import auto_range, display_of, format_value, settled_range
 from viewer.serving.security import BoundedLog, GuiGate
 from viewer.sim.recorder import Ring
 from viewer.sim.session import HISTORY_SAMPLE, SCOPE_SECONDS, Session
@@ -171,6 +180,77 @@ def test_the_cursors_read_each_channel_and_find_the_peak() -> None:
     assert r.at_b[0] == pytest.approx(-10.0, abs=1e-3)
     assert r.dt == pytest.approx(0.5, abs=DT) and r.rate == pytest.approx(2.0, rel=0.01)
     assert recording.peak("not a channel") is None
+
+
+class _Table(HTMLParser):
+    """The read-out as a page shows it: the table's rows of cells (text, tag and style) and
+    the line under it, its parts that never break inside."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.rows: list[list[tuple[str, str, dict[str, str]]]] = []
+        self.parts: list[str] = []
+        self._cell: tuple[str, dict[str, str]] | None = None
+        self._text = ""
+        self._part = False
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        if tag == "tr":
+            self.rows.append([])
+        elif tag in ("td", "th"):
+            self._cell, self._text = (tag, {k: v or "" for k, v in attrs}), ""
+        elif tag == "span" and ("style", "white-space:nowrap") in attrs:
+            self._part, self._text = True, ""
+
+    def handle_data(self, data: str) -> None:
+        self._text += data
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag in ("td", "th") and self._cell is not None:
+            self.rows[-1].append((self._text, *self._cell))
+            self._cell = None
+        elif tag == "span" and self._part:
+            self.parts.append(self._text)
+            self._part = False
+
+
+def test_the_readout_reads_each_channel_under_its_name_in_four_columns() -> None:
+    """Each channel's name and unit on a row of its own across the table, then its last value
+    and its values at A, at B and B − A right-aligned in monospace that never wraps; under the
+    table A, B, Δt [ms] and 1/Δt, each part whole."""
+    recording = recorded(sine_ring(), 0.0, 1.0, 0.0)
+    r = readout(recording, 0.25, 0.55)
+    table = _Table()
+    table.feed(readout_html(r))
+    header, *rows = table.rows
+    assert [(text, tag) for text, tag, _ in header] == [
+        ("last", "th"),
+        ("A", "th"),
+        ("B", "th"),
+        ("B−A", "th"),
+    ]
+    assert len(rows) == 2 * len(CHANNELS)
+    for k, (name_row, value_row) in enumerate(zip(rows[::2], rows[1::2], strict=True)):
+        ((name, tag, attrs),) = name_row
+        assert (name, tag, attrs["colspan"]) == (r.headers[k], "td", "4")
+        assert "overflow-wrap:anywhere" in attrs["style"]
+        expected = (r.last[k], r.at_a[k], r.at_b[k], r.at_b[k] - r.at_a[k])
+        shown = [text for text, _, _ in value_row]
+        assert shown == [format_value(v, r.displays[k].resolution) for v in expected]
+        for _, tag, attrs in value_row:
+            assert tag == "td" and "white-space:nowrap" in attrs["style"]
+            assert "text-align:right" in attrs["style"] and "monospace" in attrs["style"]
+    assert rows[0][0][0] == "X position [mm]"
+    assert table.parts == ["A = 0.2500 s", "B = 0.5500 s", "Δt = 300.000 ms", "1/Δt = 3.333 Hz"]
+
+
+def test_the_readout_of_an_empty_recording_has_no_last_value() -> None:
+    """A recording without samples yet: every channel's last value is not a number (shown as
+    none), one per channel."""
+    recording = recorded(sine_ring(), 0.0, 1.0, 0.0)
+    empty = dataclasses.replace(recording, t=recording.t[:0], values=recording.values[:, :0])
+    r = readout(empty, 0.25, 0.75)
+    assert r.last.shape == (len(CHANNELS),) and np.isnan(r.last).all()
 
 
 def test_decimation_keeps_every_peak_and_bounds_the_points() -> None:
