@@ -190,6 +190,8 @@ class _Table(HTMLParser):
         super().__init__()
         self.rows: list[list[tuple[str, str, dict[str, str]]]] = []
         self.parts: list[str] = []
+        self.stray = ""
+        """Text outside the cells and the parts (only the separators between parts)."""
         self._cell: tuple[str, dict[str, str]] | None = None
         self._text = ""
         self._part = False
@@ -203,6 +205,8 @@ class _Table(HTMLParser):
             self._part, self._text = True, ""
 
     def handle_data(self, data: str) -> None:
+        if self._cell is None and not self._part:
+            self.stray += data
         self._text += data
 
     def handle_endtag(self, tag: str) -> None:
@@ -219,9 +223,11 @@ def test_the_readout_reads_each_channel_under_its_name_in_four_columns() -> None
     and its values at A, at B and B − A right-aligned in monospace that never wraps; under the
     table A, B, Δt [ms] and 1/Δt, each part whole."""
     recording = recorded(sine_ring(), 0.0, 1.0, 0.0)
-    r = readout(recording, 0.25, 0.55)
+    r = readout(recording, 0.25, 0.55, titles={"X position": "carriage X"})
+    assert np.array_equal(r.last, recording.values[:, -1])
     table = _Table()
     table.feed(readout_html(r))
+    assert table.stray.replace(",", "").strip() == ""
     header, *rows = table.rows
     assert [(text, tag) for text, tag, _ in header] == [
         ("last", "th"),
@@ -240,7 +246,7 @@ def test_the_readout_reads_each_channel_under_its_name_in_four_columns() -> None
         for _, tag, attrs in value_row:
             assert tag == "td" and "white-space:nowrap" in attrs["style"]
             assert "text-align:right" in attrs["style"] and "monospace" in attrs["style"]
-    assert rows[0][0][0] == "X position [mm]"
+    assert [row[0][0] for row in rows[::2]] == ["carriage X [mm]", "X error [0/1]"]
     assert table.parts == ["A = 0.2500 s", "B = 0.5500 s", "Δt = 300.000 ms", "1/Δt = 3.333 Hz"]
 
 
