@@ -365,6 +365,8 @@ class Expressions:
         """A binary operation with its IEC result type (a comparison with a value of an
         enumeration reads a bare name on the other side as that enumeration's value)."""
         op = str(node.op).upper()
+        if op == ":=":  # IF t.Q := TRUE THEN
+            raise self.error(node, "':=' assigns; a comparison is '='")
         a = self.expr(node.left)
         b = self.expr_as(node.right, a.type) if op in _COMPARE else self.expr(node.right)
         if op in _COMPARE and isinstance(b.type, T.EnumType) and a.type != b.type:

@@ -151,7 +151,26 @@ def _read_file(project: Project, file: Path) -> None:
     else:
         name = tree_cache.key(content, "TwinCAT", Path(__file__).read_bytes())
         lines = tree_cache.cached(name, lambda: _file_lines(file), "lines")
+    first = len(project.origins) + 1
     project.add(lines, str(file))
+    if content is not None:
+        written = content.encode("latin-1").decode("utf-8", "replace").splitlines()
+        for index, (number, text) in enumerate(lines, first):
+            column = _cdata_column(written[number - 1] if number <= len(written) else "", text)
+            if column > 1:
+                project.columns[index] = column
+
+
+_CDATA = "<![CDATA["
+
+
+def _cdata_column(written: str, text: str) -> int:
+    """The column ``text`` begins at in its file's line ``written``: after ``<![CDATA[`` where
+    it begins there (``<ST><![CDATA[IF ...``), else 1."""
+    start = written.find(_CDATA) + len(_CDATA)
+    if start >= len(_CDATA) and text and written[start:].startswith(text):
+        return start + 1
+    return 1
 
 
 def _file_lines(file: Path) -> list[tuple[int, str]]:
