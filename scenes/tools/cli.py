@@ -1,8 +1,8 @@
 """Command line: ``python -m scenes list`` lists the machines; ``python -m scenes run NAME`` runs
 a machine's demo program headless and prints its steps, its blocks' output edges, the final
 positions and states, the machine's signals and the demo's results; ``python -m scenes check
-NAME PROGRAM...`` checks ST programs for the machine without running them (every error, then
-a summary; exit status 1 on errors);
+NAME PROGRAM...`` checks ST programs for the machine without running them (each item's first
+error, then a summary; exit status 1 on errors);
 ``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
 ``python -m scenes cam TABLE.csv`` (or ``--cut-length L --circumference C``, the rotary knife's
 cam) plots a cam table's profile as PNG (see :mod:`scenes.tools.cam_plot`);
@@ -291,7 +291,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     check_parser = sub.add_parser(
         "check",
-        help="check ST programs for a machine without running them (every error, a summary)",
+        help="check ST programs for a machine without running them (each item's first error)",
     )
     check_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
     check_parser.add_argument(

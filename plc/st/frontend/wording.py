@@ -86,6 +86,10 @@ def terminal_words(terminal: str, literal: str) -> str:
     return _WORDS[terminal.upper()]
 
 
+_CASE_LABEL = re.compile(r"[\w#.+-]+(?:\s*(?:,|\.\.)\s*[\w#.+-]+)*\s*:(?!=)")
+"""A CASE label (``PowerOn:``, ``1, 2:``, ``3..5:``) where the parser met its first word."""
+
+
 def missing_semicolon(
     text: str, position: int, expected: set[str], lines_before: int
 ) -> tuple[int, int, str] | None:
@@ -101,6 +105,8 @@ def missing_semicolon(
         lines_before: the lines before ``text`` in its file (for the lines named).
     """
     optional = "IDENTIFIER" in expected or any(n.startswith("_") for n in expected)
+    if optional and _CASE_LABEL.match(text, position):
+        optional = False  # the next CASE label: the statement before it lacks its ';'
     if "SEMICOLON" not in expected or optional or position >= len(text):
         return None
     before = code_only(text[:position]).rstrip()
