@@ -112,3 +112,14 @@ def test_a_missing_semicolon_before_a_case_label(label):
         "END_CASE\nEND_PROGRAM\n"
     )
     assert refused(source, "a.st") == "a.st:6:20: missing ';' at the end of line 6"
+
+
+def test_an_axis_of_another_name_without_its_mapping():
+    """``examples/st/manual_move.st`` moves ``Pohon.Ax1``: without its mapping the message
+    says how to bind it."""
+    program = EXAMPLES / "manual_move.st"
+    assert check(program, GANTRY).errors == [
+        f"{program}:15:11: unknown variable 'Pohon'; expected a declared variable, or a mapping "
+        "of Pohon.Ax1 onto an axis (--map Pohon.Ax1=X)"
+    ]
+    assert check(program, GANTRY, {"Pohon.Ax1": "X"}).errors == []
