@@ -78,3 +78,10 @@ def test_a_missing_program_is_a_command_line_mistake(tmp_path, capsys):
         f"{missing}: no such file or folder; expected an ST file, a TwinCAT folder or source "
         "file, a PLCopen .xml\n",
     )
+
+
+def test_a_program_with_its_map_checks_clean(capsys):
+    """``--map Pohon.Ax1=X``: ``examples/st/manual_move.st`` binds its axis."""
+    program = str(EXAMPLES / "manual_move.st")
+    assert cli.main(["check", "gantry", program, "--map", "Pohon.Ax1=X"]) == 0
+    assert capsys.readouterr().out == "no errors in 1 item\n"

@@ -151,26 +151,16 @@ def _read_file(project: Project, file: Path) -> None:
     else:
         name = tree_cache.key(content, "TwinCAT", Path(__file__).read_bytes())
         lines = tree_cache.cached(name, lambda: _file_lines(file), "lines")
-    first = len(project.origins) + 1
+    if content is not None:  # a line's column in the file (after <ST><![CDATA[ on its first)
+        written = dict(enumerate(_utf8(content).splitlines(), 1))
+        for index, (number, text) in enumerate(lines, len(project.origins) + 1):
+            project.columns[index] = max(written.get(number, "").find(text), 0) + 1
     project.add(lines, str(file))
-    if content is not None:
-        written = content.encode("latin-1").decode("utf-8", "replace").splitlines()
-        for index, (number, text) in enumerate(lines, first):
-            column = _cdata_column(written[number - 1] if number <= len(written) else "", text)
-            if column > 1:
-                project.columns[index] = column
 
 
-_CDATA = "<![CDATA["
-
-
-def _cdata_column(written: str, text: str) -> int:
-    """The column ``text`` begins at in its file's line ``written``: after ``<![CDATA[`` where
-    it begins there (``<ST><![CDATA[IF ...``), else 1."""
-    start = written.find(_CDATA) + len(_CDATA)
-    if start >= len(_CDATA) and text and written[start:].startswith(text):
-        return start + 1
-    return 1
+def _utf8(content: str) -> str:
+    """A file's text read as latin-1 (:func:`_read_file`), as UTF-8 (a byte that is none: �)."""
+    return content.encode("latin-1").decode("utf-8", "replace")
 
 
 def _file_lines(file: Path) -> list[tuple[int, str]]:

@@ -117,7 +117,7 @@ def missing_semicolon(
     return line, column, f"missing ';' at the end of line {line}"
 
 
-_TARGET = re.compile(r"(\w+(?:\s*\.\s*\w+|\[[^\]\n]*\])*)\s*\Z")
+_TARGET = re.compile(r"(\w+(?:\s*\.\s*\w+|\[[^\]\n]*\]|\^)*)\s*\Z")
 """The variable a statement begins with, at the end of the text before its ``=``."""
 
 

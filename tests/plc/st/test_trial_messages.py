@@ -59,7 +59,10 @@ def test_a_column_on_the_next_line_stays(tmp_path):
 
 
 def _program(body: str) -> str:
-    return f"PROGRAM P\nVAR t : TIME; n : INT; x : TON; END_VAR\n{body}\nEND_PROGRAM\n"
+    return (
+        "PROGRAM P\nVAR t : TIME; n : INT; x : TON; p : REF_TO INT; END_VAR\n"
+        f"{body}\nEND_PROGRAM\n"
+    )
 
 
 @pytest.mark.parametrize(
@@ -89,7 +92,12 @@ def test_a_task_interval_in_micros():
 
 @pytest.mark.parametrize(
     ("statement", "column", "target"),
-    [("n = n + 1;", 3, "n"), ("x.PT = T#1s;", 6, "x.PT"), ("  n  = 2;", 6, "n")],
+    [
+        ("n = n + 1;", 3, "n"),
+        ("x.PT = T#1s;", 6, "x.PT"),
+        ("  n  = 2;", 6, "n"),
+        ("p^ = 3;", 4, "p^"),
+    ],
 )
 def test_equals_written_for_an_assignment(statement, column, target):
     assert refused(_program(statement), "a.st") == (
@@ -123,3 +131,22 @@ def test_an_axis_of_another_name_without_its_mapping():
         "of Pohon.Ax1 onto an axis (--map Pohon.Ax1=X)"
     ]
     assert check(program, GANTRY, {"Pohon.Ax1": "X"}).errors == []
+
+
+def test_a_time_of_another_unit_keeps_its_message():
+    assert refused(_program("t := T#5y;"), "a.st") == (
+        "a.st:3:9: unexpected 'y'; expected 'd', 'h', 'm', 'ms', 's'"
+    )
+
+
+def test_the_messages_in_the_second_item_of_a_check():
+    """Each item is parsed on its own: the lines named are the file's."""
+    block = "FUNCTION_BLOCK FB\nVAR n : INT; END_VAR\nn := 1;\nEND_FUNCTION_BLOCK\n"
+    report = check_source(
+        block + _program("t := T#500us;") + block.replace("FB", "FC").replace(":=", "="), "a.st"
+    )
+    assert report.errors == [
+        "a.st:7:6: T#500us: a TIME is held in whole ms here; expected T#1ms, or LTIME#500us "
+        "for a duration in µs",
+        "a.st:11:3: '=' compares; an assignment is ':=' (n := ...)",
+    ]
