@@ -60,8 +60,7 @@ def test_a_column_on_the_next_line_stays(tmp_path):
 
 def _program(body: str) -> str:
     return (
-        "PROGRAM P\nVAR t : TIME; n : INT; x : TON; p : REF_TO INT; END_VAR\n"
-        f"{body}\nEND_PROGRAM\n"
+        f"PROGRAM P\nVAR t : TIME; n : INT; x : TON; p : REF_TO INT; END_VAR\n{body}\nEND_PROGRAM\n"
     )
 
 
