@@ -1,5 +1,5 @@
-"""Check an ST program without running it, as an IDE's "Check all objects": every error it can
-find, one ``file:line:column: ...`` line each, and a summary (``2 errors in 2 of 5 items``).
+"""Check an ST program without running it, as an IDE's "Check all objects": the first error of
+each item, one ``file:line:column: ...`` line each, and a summary (``2 errors in 2 of 5 items``).
 
 A source is cut into its items (each PROGRAM, FUNCTION_BLOCK, FUNCTION, TYPE, VAR_GLOBAL and
 CONFIGURATION, :mod:`plc.st.frontend.chunks`), and each item is parsed on its own: a syntax

@@ -1,8 +1,8 @@
 """Command line: ``python -m scenes list`` lists the machines; ``python -m scenes run NAME`` runs
 a machine's demo program headless and prints its steps, its blocks' output edges, the final
 positions and states, the machine's signals and the demo's results; ``python -m scenes check
-NAME PROGRAM...`` checks ST programs for the machine without running them (every error, then
-a summary; exit status 1 on errors);
+NAME PROGRAM...`` checks ST programs for the machine without running them (each item's first
+error, then a summary; exit status 1 on errors);
 ``python -m scenes plot TRACE`` plots a recorded trace (.csv or .npy) as PNG and HTML;
 ``python -m scenes cam TABLE.csv`` (or ``--cut-length L --circumference C``, the rotary knife's
 cam) plots a cam table's profile as PNG (see :mod:`scenes.tools.cam_plot`);
@@ -62,7 +62,7 @@ def run(
         else plc.st.load(
             st_program,
             scene,
-            mapping=dict(m.partition("=")[::2] for m in maps),
+            mapping=_mapping(maps, scene.axes),
             program=pou,
             blocks=machine_blocks(scene),
         )
@@ -165,8 +165,11 @@ def check(name: str, programs: Sequence[str], maps: Sequence[str] = ()) -> int:
     error. The machine is built for its axes, I/O and blocks, and not run."""
     from plc.st.check import Report, check
 
+    for program in programs:
+        if not Path(program).exists():
+            raise UserError.at(program, "", "no such file or folder", _PROGRAMS)
     scene = scenes.load(name, trace_every=0)
-    mapping = dict(m.partition("=")[::2] for m in maps)
+    mapping = _mapping(maps, scene.axes)
     report = Report()
     for program in programs:
         report.add(check(program, scene.axes, mapping, machine_blocks(scene)))
@@ -174,6 +177,30 @@ def check(name: str, programs: Sequence[str], maps: Sequence[str] = ()) -> int:
         print(error, file=sys.stderr)
     print(report.summary())
     return 1 if report.errors else 0
+
+
+_PROGRAMS = "an ST file, a TwinCAT folder or source file, a PLCopen .xml"
+"""What a PROGRAM of ``check`` (and ``--program`` of ``run``) is."""
+
+
+def _mapping(maps: Sequence[str], axes: dict[str, Any]) -> dict[str, str]:
+    """The ``--map NAME=AXIS`` options as a mapping; one without its NAME, ``=`` or AXIS, or
+    naming no axis of ``axes``, is a mistake on the command line (UserError: exit status 2)."""
+    from plc.st.runtime.program import check_mapping
+
+    mapping: dict[str, str] = {}
+    for option in maps:
+        key, equals, target = option.partition("=")
+        if not (key and equals and target):
+            raise UserError.at(
+                f"--map {option}", "", "not NAME=AXIS", "Pohon.Ax1=X (an axis) or Knife=S.DO0 (I/O)"
+            )
+        mapping[key] = target
+    try:
+        check_mapping("--map", axes, mapping)
+    except plc.st.STError as error:
+        raise UserError(str(error)) from None
+    return mapping
 
 
 def st_task(path: str) -> plc.st.Task | None:
@@ -264,14 +291,14 @@ def main(argv: list[str] | None = None) -> int:
     )
     check_parser = sub.add_parser(
         "check",
-        help="check ST programs for a machine without running them (every error, a summary)",
+        help="check ST programs for a machine without running them (each item's first error)",
     )
     check_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
     check_parser.add_argument(
         "programs",
         nargs="+",
         metavar="PROGRAM",
-        help="an ST file, a TwinCAT folder or source file, a PLCopen .xml",
+        help=_PROGRAMS,
     )
     check_parser.add_argument(
         "--map",

@@ -204,7 +204,7 @@ class Expressions:
                 value = tf.EnumeratedValue(head.name, node.elements[0].field.name, None)
                 value.meta = node.meta
                 return self.enum_literal(value)
-        return self._selected(self.name(head), node.elements)
+        return self._selected(self.name(head, dotted), node.elements)
 
     def _selected(self, current: E, elements: list[Any]) -> E:
         """``current`` then its field selections and subscripts ``elements``."""
@@ -262,8 +262,10 @@ class Expressions:
             parts.append(str(element.field.name))
         return ".".join(parts)
 
-    def name(self, node: tf.SimpleVariable) -> E:
-        """A simple name: a variable, a constant, an enumeration value or a bound axis."""
+    def name(self, node: tf.SimpleVariable, dotted: str | None = None) -> E:
+        """A simple name: a variable, a constant, an enumeration value or a bound axis
+        (``dotted``: the name of fields it begins, ``Pohon.Ax1``, for the message where it is
+        none)."""
         name = str(node.name)
         var = self.scope.get(name)
         if var is not None:
@@ -286,7 +288,10 @@ class Expressions:
             return E("_f.NULL", T.NULL)
         close = nearest(name, [*self.scope.names(), *self.unit.enum_names()])
         hint = f" (did you mean {', '.join(close)}?)" if close else ""
-        raise self.error(node, f"unknown variable {name!r}{hint}", "a declared variable")
+        expected = "a declared variable"
+        if dotted is not None and not close:  # Pohon.Ax1: an axis of another name
+            expected += f", or a mapping of {dotted} onto an axis (--map {dotted}=X)"
+        raise self.error(node, f"unknown variable {name!r}{hint}", expected)
 
     def field(self, base: E, element: tf.FieldSelector) -> E:
         """``base.field`` of a STRUCT or a block's member; ``base.3``, ``base.%B1`` a part."""
@@ -365,6 +370,8 @@ class Expressions:
         """A binary operation with its IEC result type (a comparison with a value of an
         enumeration reads a bare name on the other side as that enumeration's value)."""
         op = str(node.op).upper()
+        if op == ":=":  # IF t.Q := TRUE THEN
+            raise self.error(node, "':=' assigns; a comparison is '='")
         a = self.expr(node.left)
         b = self.expr_as(node.right, a.type) if op in _COMPARE else self.expr(node.right)
         if op in _COMPARE and isinstance(b.type, T.EnumType) and a.type != b.type:

@@ -29,7 +29,12 @@ from plc.st.frontend import chunks, grammar, lalr, tree_cache
 from plc.st.frontend.missing import missing_part
 from plc.st.frontend.reserved import reserved_name
 from plc.st.frontend.unclosed import unclosed
-from plc.st.frontend.wording import missing_semicolon, terminal_words
+from plc.st.frontend.wording import (
+    equals_as_assignment,
+    micros_in_time,
+    missing_semicolon,
+    terminal_words,
+)
 
 _STARTS = ["iec_source"]
 _WORD = re.compile(r"\w+|\S")
@@ -405,6 +410,8 @@ def _syntax_error(
         or unclosed(text, position, word, expected, lines_before)
         or reserved_name(text, position, word, expected, lines_before)
         or missing_semicolon(text, position, expected, lines_before)
+        or equals_as_assignment(text, position, word, expected, lines_before)
+        or micros_in_time(text, position, word, lines_before)
     )
     if found is not None:
         return STError(f"{filename}:{found[0]}:{found[1]}: {found[2]}")

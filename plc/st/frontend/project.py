@@ -151,7 +151,16 @@ def _read_file(project: Project, file: Path) -> None:
     else:
         name = tree_cache.key(content, "TwinCAT", Path(__file__).read_bytes())
         lines = tree_cache.cached(name, lambda: _file_lines(file), "lines")
+    if content is not None:  # a line's column in the file (after <ST><![CDATA[ on its first)
+        written = dict(enumerate(_utf8(content).splitlines(), 1))
+        for index, (number, text) in enumerate(lines, len(project.origins) + 1):
+            project.columns[index] = max(written.get(number, "").find(text), 0) + 1
     project.add(lines, str(file))
+
+
+def _utf8(content: str) -> str:
+    """A file's text read as latin-1 (:func:`_read_file`), as UTF-8 (a byte that is none: �)."""
+    return content.encode("latin-1").decode("utf-8", "replace")
 
 
 def _file_lines(file: Path) -> list[tuple[int, str]]:

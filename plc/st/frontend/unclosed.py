@@ -34,9 +34,13 @@ _LABEL = re.compile(r"\s*(?:\.\.\s*[\w#.+-]+\s*)?(?:,[^:;]*)?:(?!=)")
 """What follows a CASE label's first value: ``..high``, more values, then ``:``."""
 
 
+_NOT_BREAK = re.compile(r"[^\n]")
+
+
 def code_only(text: str) -> str:
-    """``text`` with its strings, comments and pragmas blanked (each character a space)."""
-    return _OPAQUE.sub(lambda m: " " * len(m[0]), text)
+    """``text`` with its strings, comments and pragmas blanked (each character a space, each
+    line break kept: a line counted in it is the line in ``text``)."""
+    return _OPAQUE.sub(lambda m: _NOT_BREAK.sub(" ", m[0]), text)
 
 
 def unclosed(

@@ -5,8 +5,12 @@ at the place the ``;`` belongs, and the grammar's terminals a message lists are 
 
 from __future__ import annotations
 
-__all__ = ["missing_semicolon", "terminal_words"]
+__all__ = ["equals_as_assignment", "micros_in_time", "missing_semicolon", "terminal_words"]
 
+import re
+
+from plc.st.errors import place
+from plc.st.frontend.tctask import WHOLE_MS
 from plc.st.frontend.unclosed import code_only
 
 _OPERATOR = "an operator"
@@ -82,6 +86,10 @@ def terminal_words(terminal: str, literal: str) -> str:
     return _WORDS[terminal.upper()]
 
 
+_CASE_LABEL = re.compile(r"[\w#.+-]+(?:\s*(?:,|\.\.)\s*[\w#.+-]+)*\s*:(?!=)")
+"""A CASE label (``PowerOn:``, ``1, 2:``, ``3..5:``) where the parser met its first word."""
+
+
 def missing_semicolon(
     text: str, position: int, expected: set[str], lines_before: int
 ) -> tuple[int, int, str] | None:
@@ -97,6 +105,8 @@ def missing_semicolon(
         lines_before: the lines before ``text`` in its file (for the lines named).
     """
     optional = "IDENTIFIER" in expected or any(n.startswith("_") for n in expected)
+    if optional and _CASE_LABEL.match(text, position):
+        optional = False  # the next CASE label: the statement before it lacks its ';'
     if "SEMICOLON" not in expected or optional or position >= len(text):
         return None
     before = code_only(text[:position]).rstrip()
@@ -105,3 +115,47 @@ def missing_semicolon(
     line = before.count("\n") + 1 + lines_before
     column = len(before) - (before.rfind("\n") + 1) + 1
     return line, column, f"missing ';' at the end of line {line}"
+
+
+_TARGET = re.compile(r"(\w+(?:\s*\.\s*\w+|\[[^\]\n]*\]|\^)*)\s*\Z")
+"""The variable a statement begins with, at the end of the text before its ``=``."""
+
+
+def equals_as_assignment(
+    text: str, position: int, word: str, expected: set[str], lines_before: int
+) -> tuple[int, int, str] | None:
+    """``nVisited = nVisited + 1;``: a ``=`` where the parser could take the ``:=`` of an
+    assignment (the line and column of the ``=``, the message), else None."""
+    if word != "=" or "ASSIGNMENT" not in expected:
+        return None
+    target = _TARGET.search(code_only(text[:position]))
+    name = target[1] if target else "x"
+    line, column = place(text, position)
+    return line + lines_before, column, f"'=' compares; an assignment is ':=' ({name} := ...)"
+
+
+_TIME_BEFORE = re.compile(
+    r"(?P<interval>\bINTERVAL\s*:=\s*)?(?P<literal>\b(?:TIME|T)#[\w.+-]*)\Z", re.I
+)
+"""A TIME literal (a task's INTERVAL) up to the unit the parser did not take."""
+
+
+def micros_in_time(
+    text: str, position: int, word: str, lines_before: int
+) -> tuple[int, int, str] | None:
+    """``T#500us``: a TIME literal in µs or ns, which TIME (held in whole ms here) cannot hold
+    (the line and column of the literal, the message), else None."""
+    unit = word.lower()
+    found = _TIME_BEFORE.search(text[:position]) if unit in ("us", "ns") else None
+    if found is None:
+        return None
+    value = found["literal"] + word
+    line, column = place(text, found.start("literal"))
+    if found["interval"]:
+        problem = f"INTERVAL := {value}: {WHOLE_MS}"
+        right = "T#1ms, T#2ms, ..."
+    else:
+        problem = f"{value}: a TIME is held in whole ms here"
+        duration = "µs" if unit == "us" else "ns"
+        right = f"T#1ms, or LTIME#{value.partition('#')[2]} for a duration in {duration}"
+    return line + lines_before, column, f"{problem}; expected {right}"

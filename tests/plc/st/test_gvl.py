@@ -190,7 +190,7 @@ def _twincat(folder, body_axis: str) -> None:
 
 def test_a_twincat_gvl_with_qualified_only_binds_its_axes(tmp_path):
     """A .TcGVL with ``{attribute 'qualified_only'}`` (its name the GVL's): the .TcPOU moves X
-    through ``GVL_Axes.X``; the bare ``X`` is refused at its line in the .TcPOU."""
+    through ``GVL_Axes.X``; the bare ``X`` is refused at its line and column in the .TcPOU."""
     _twincat(tmp_path, "power(Axis := GVL_Axes.X")
     prog, scene = _moved(lambda s: plc.st.load(tmp_path, s))
     assert prog.done and not prog.error, prog.error
@@ -199,7 +199,7 @@ def test_a_twincat_gvl_with_qualified_only_binds_its_axes(tmp_path):
     with pytest.raises(plc.st.STError) as error:
         plc.st.load(tmp_path, scenes.load("gantry"))
     assert str(error.value) == (
-        f"{tmp_path / 'Main.TcPOU'}:8:15: X is declared in GVL_Axes with "
+        f"{tmp_path / 'Main.TcPOU'}:8:34: X is declared in GVL_Axes with "
         "{attribute 'qualified_only'}: write GVL_Axes.X"
     )
 

@@ -231,7 +231,8 @@ def test_other_errors_inside_an_if_keep_their_message(body):
 
 
 def test_an_open_if_in_a_twincat_pou_names_its_file_and_line(tmp_path):
-    """In a .TcPOU the IF's place is its line in that file."""
+    """In a .TcPOU the IF's place is its line and column in that file (after
+    ``      <ST><![CDATA[``)."""
     (tmp_path / "main.TcPOU").write_text(
         _pou("main", "PROGRAM main\nVAR a : BOOL; x : INT; END_VAR\n", "IF a THEN\n  x := 1;\n")
     )
@@ -239,7 +240,7 @@ def test_an_open_if_in_a_twincat_pou_names_its_file_and_line(tmp_path):
         plc.st.load(tmp_path)
     path = tmp_path / "main.TcPOU"
     assert str(error.value) == (
-        f"{path}:8:1: IF at 8:1 has no END_IF; expected END_IF before 'END_PROGRAM' at 9:1"
+        f"{path}:8:20: IF at 8:20 has no END_IF; expected END_IF before 'END_PROGRAM' at 9:1"
     )
 
 
@@ -330,4 +331,4 @@ def test_the_viewer_names_the_choice_when_a_file_has_two_programs(tmp_path):
     assert error.startswith(f"{tmp_path / 'two.st'}:1:1: 2 PROGRAMs (Main at 1:1, Test at 6:1)")
     error = catalog.translate(scene, folder)
     main, test = folder / "Main.TcPOU", folder / "Test.TcPOU"
-    assert error.startswith(f"{main}:4:1: 2 PROGRAMs (Main at 4:1, Test at {test}:4:1)")
+    assert error.startswith(f"{main}:4:27: 2 PROGRAMs (Main at 4:27, Test at {test}:4:27)")
