@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import itertools
 import time
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 import imageio.v3 as iio
 import mujoco
@@ -46,6 +46,8 @@ if TYPE_CHECKING:
     from playwright.sync_api import Browser
 
 __all__ = ["browser"]  # the Chromium fixture of the browser tests, used here too
+
+Handle = TypeVar("Handle", bound=viser.SceneNodeHandle)
 
 MACHINES_WITH_MODELS = ("gantry", "flying_shear", "press", "rotary_cutter", "cell")
 
@@ -311,6 +313,13 @@ def test_a_click_on_the_magenta_block_names_it_on_that_page(browser: Browser) ->
         v.close()
 
 
+def node(server: viser.ViserServer, name: str, kind: type[Handle]) -> Handle:
+    """The scene node ``name`` of the server, of handle type ``kind``."""
+    handle = server.scene.get_handle_by_name(name)
+    assert isinstance(handle, kind), (name, handle)
+    return handle
+
+
 def test_a_mark_s_nodes_show_its_arrow_label_and_lines_as_drawn(server: viser.ViserServer) -> None:
     """A slide along −z with its joint off its turned body's origin and a hinge about +x,
     moved away from their start: each frame sits at its joint's anchor carried by the part
@@ -330,7 +339,6 @@ def test_a_mark_s_nodes_show_its_arrow_label_and_lines_as_drawn(server: viser.Vi
     data.qpos[:] = (0.3, 0.7)
     mujoco.mj_kinematics(model, data)
     marks.update(data.xpos, data.xquat, {})
-    scene = server.scene
     slide, hinge = marks.axes
     s, h = model.joint("s").id, model.joint("h").id
     np.testing.assert_allclose(marks.anchor("S"), data.xanchor[s] + 0.3 * data.xaxis[s])
@@ -343,21 +351,22 @@ def test_a_mark_s_nodes_show_its_arrow_label_and_lines_as_drawn(server: viser.Vi
     np.testing.assert_allclose(marks.label_position("S"), head + 0.005 * e, atol=1e-7)
     tail, head = marks.arrow("H")
     assert np.linalg.norm(head - tail) == pytest.approx(0.035, rel=1e-6)
-    axis_line = scene.get_handle_by_name("/axis_marks/1/axis")
+    axis_line = node(server, "/axis_marks/1/axis", viser.LineSegmentsHandle)
     height = hinge.face + 0.01
-    np.testing.assert_allclose(axis_line.points, [[[0, 0, 0], [0, 0, height + 0.05]]], atol=1e-7)
-    assert scene.get_handle_by_name("/axis_marks").show_axes is False
-    arc = scene.get_handle_by_name("/axis_marks/1/arc")
+    along = np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, height + 0.05]]])
+    np.testing.assert_allclose(np.asarray(axis_line.points, np.float64), along, atol=1e-7)
+    assert node(server, "/axis_marks", viser.FrameHandle).show_axes is False
+    arc = node(server, "/axis_marks/1/arc", viser.LineSegmentsHandle)
     lines = {"arc": arc, "axis": axis_line}
     for k in (0, 1):
-        assert scene.get_handle_by_name(f"/axis_marks/{k}").show_axes is False
-        arrow = scene.get_handle_by_name(f"/axis_marks/{k}/arrow")
+        assert node(server, f"/axis_marks/{k}", viser.FrameHandle).show_axes is False
+        arrow = node(server, f"/axis_marks/{k}/arrow", viser.ArrowsHandle)
         assert (arrow.shaft_radius, arrow.head_radius, arrow.head_length) == pytest.approx(
             (0.005, 0.013, 0.02)
         )
-        label = scene.get_handle_by_name(f"/axis_marks/labels/{k}/label")
+        label = node(server, f"/axis_marks/labels/{k}/label", viser.LabelHandle)
         assert label.depth_test is False and label.anchor == "bottom-left"
-        leader = scene.get_handle_by_name(f"/axis_marks/labels/{k}/leader")
+        leader = node(server, f"/axis_marks/labels/{k}/leader", viser.LineSegmentsHandle)
         assert leader.visible is False
         lines[f"leader {k}"] = leader
     widths = {name: (line.thickness, line.thickness_units) for name, line in lines.items()}
