@@ -23,7 +23,7 @@ import mcl
 import mcl.faults
 import scenes
 from plc.operator.hmi import Move
-from tests.viewer.test_axis_mark_geometry import offset_joints
+from tests.viewer.test_axis_mark_geometry import offset_joints, two_slides
 from tests.viewer.test_browser import browser, wait_for
 from tests.viewer.test_session import FakeClock, run, view
 from viewer.pages.app import ViewerApp
@@ -398,3 +398,18 @@ def test_labels_stay_at_their_tips_unless_a_lift_step_is_given(server: viser.Vis
     marks.update(data.xpos, data.xquat, {})
     np.testing.assert_allclose(marks.label_position("T"), marks.label_position("S"))
     assert marks.leader("S") is None and marks.leader("T") is None
+
+
+def test_labels_are_lifted_for_the_width_of_the_text_they_show(server: viser.ViserServer) -> None:
+    """Two labels side by side seen from the front, 110 px apart: "B + (back)" is 75 px wide,
+    so "A + (ahead)" to its right stays at its tip, with no leader line."""
+    model = two_slides()
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    axes = axis_joints(model, [("B", "b"), ("A", "a")])
+    front = (np.array([0.0, -10.0, 0.0]), np.zeros(3))
+    marks = AxisMarks(server, model, axes, length=0.1, step=0.05, cameras=[front], focal=770.0)
+    marks.update(data.xpos, data.xquat, {})
+    np.testing.assert_allclose(marks.label_position("A"), [0.715, 0.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(marks.label_position("B"), [-0.715, 0.0, 0.0], atol=1e-9)
+    assert marks.leader("A") is None and marks.leader("B") is None
