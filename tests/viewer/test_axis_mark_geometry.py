@@ -13,12 +13,14 @@ import pytest
 
 from viewer.view3d.axis_marks import (
     ARC_SEGMENTS,
+    LABEL_LIFT,
     LABEL_LINE,
     MAX_ARROW,
     MIN_ARROW,
     AxisJoint,
     _hinge_arc,
     axis_joints,
+    label_slots,
     labels_overlap,
     mark_length,
     quat_z_to,
@@ -120,3 +122,60 @@ def test_labels_overlap_within_their_width_and_line_height_and_a_margin() -> Non
     assert not labels_overlap(a, (50.0, 30.0 - 1.3 * LABEL_LINE - 0.1), widths)
     assert not labels_overlap(a, (50.0 + 100 + MARGIN, 30.0), widths)  # just clear
     assert not labels_overlap(a, (50.0, 30.0 + 1.3 * LABEL_LINE), widths)
+
+
+def offset_joints() -> mujoco.MjModel:
+    """A part on a slide along −z whose joint sits off its body's origin (body turned 30° about
+    z), and a wheel on a hinge about +x above its part: the extents depend on the anchor, on
+    the geoms' lower corners and on the part's full body name."""
+    return mujoco.MjModel.from_xml_string(
+        """<mujoco><worldbody>
+        <body name="rig/table/slider" pos="0.2 0.1 0.3" euler="0 0 30">
+          <joint name="s" type="slide" pos="0.05 0.02 0.01" axis="0 0 -1"/>
+          <geom type="box" size="0.1 0.2 0.3" pos="0 0.05 -0.1"/></body>
+        <body name="wheel" pos="0 0 1"><joint name="h" type="hinge" axis="1 0 0" pos="0 0 0.1"/>
+          <geom type="box" size="0.1 0.05 0.2" pos="0.1 0 -0.3"/></body>
+        </worldbody></mujoco>"""
+    )
+
+
+def test_extents_are_measured_from_the_joint_s_anchor_to_every_corner() -> None:
+    """The slide's part reaches 0.41 m along −z below an anchor 0.01 m above the body's origin
+    (its box's lower face); the wheel's part lies below its hinge, 0.6 m from the axis at its
+    lower corners. An axis without a joint listed first does not hide the axes after it, and
+    a part is named by the last piece of its body's name."""
+    slide, hinge = axis_joints(offset_joints(), [("N", ""), ("S", "s"), ("H", "h")])
+    assert (slide.axis, slide.part, hinge.axis, hinge.part) == ("S", "slider", "H", "wheel")
+    assert slide.reach == pytest.approx(0.41) and slide.face == pytest.approx(0.41)
+    assert hinge.face == pytest.approx(0.2)
+    assert hinge.reach == pytest.approx(math.hypot(0.05, 0.6))
+
+
+def test_a_label_is_lifted_by_the_fewest_steps_that_clear_the_labels_before_it() -> None:
+    """Three labels at one tip, seen from the front 100 m away (focal 1000 px): one step of
+    4 m up lifts a label clear of the one below, so the first stays, the second rises one step,
+    the third two. Seen along the lifting direction no step ever clears them: a label rises
+    at most four steps per label, then stays there."""
+    tip = np.zeros(3)
+    front = (np.array([0.0, -100.0, 0.0]), np.zeros(3))
+    assert label_slots([tip] * 3, ["X + (a)"] * 3, 4.0, [front], 1000.0) == [0, 1, 2]
+    assert label_slots([tip] * 3, ["X + (a)"] * 3, 0.0, [front], 1000.0) == [0, 0, 0]
+    along_lift = (-10.0 * LABEL_LIFT, np.zeros(3))
+    assert label_slots([tip] * 2, ["X + (a)"] * 2, 4.0, [along_lift], 100.0) == [0, 8]
+
+
+def test_a_camera_looking_nearly_down_has_the_y_axis_up_on_screen() -> None:
+    """A camera off the origin (the norm of its view ray is not that of eye + target), and one
+    looking nearly straight down, tilted a little toward +y: a point on the screen's up line
+    (+y made square to the view) is drawn straight above the centre at its pinhole height."""
+    eye, target = np.array([1.0, -9.0, 11.0]), np.array([1.0, 1.0, 1.0])
+    drawn = screen_points([np.array([1.0, 1.0, 2.0])], eye, target, 100.0)
+    np.testing.assert_allclose(drawn, [(0.0, 100.0 / 19.0)], atol=1e-9)  # 1/√2 up, 19/√2 deep
+    eye, target = np.array([0.0, -0.5, 10.0]), np.zeros(3)
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    up = np.array([0.0, 1.0, 0.0]) - forward[1] * forward
+    up /= np.linalg.norm(up)
+    point = target + 2.0 * up
+    depth = float((point - eye) @ forward)
+    drawn = screen_points([point], eye, target, 100.0)
+    np.testing.assert_allclose(drawn, [(0.0, 100.0 * 2.0 / depth)], atol=1e-9)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import itertools
 import time
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 import imageio.v3 as iio
 import mujoco
@@ -23,6 +23,7 @@ import mcl
 import mcl.faults
 import scenes
 from plc.operator.hmi import Move
+from tests.viewer.test_axis_mark_geometry import offset_joints, two_slides
 from tests.viewer.test_browser import browser, wait_for
 from tests.viewer.test_session import FakeClock, run, view
 from viewer.pages.app import ViewerApp
@@ -45,6 +46,8 @@ if TYPE_CHECKING:
     from playwright.sync_api import Browser
 
 __all__ = ["browser"]  # the Chromium fixture of the browser tests, used here too
+
+Handle = TypeVar("Handle", bound=viser.SceneNodeHandle)
 
 MACHINES_WITH_MODELS = ("gantry", "flying_shear", "press", "rotary_cutter", "cell")
 
@@ -308,3 +311,105 @@ def test_a_click_on_the_magenta_block_names_it_on_that_page(browser: Browser) ->
     finally:
         context.close()
         v.close()
+
+
+def node(server: viser.ViserServer, name: str, kind: type[Handle]) -> Handle:
+    """The scene node ``name`` of the server, of handle type ``kind``."""
+    handle = server.scene.get_handle_by_name(name)
+    assert isinstance(handle, kind), (name, handle)
+    return handle
+
+
+def test_a_mark_s_nodes_show_its_arrow_label_and_lines_as_drawn(server: viser.ViserServer) -> None:
+    """A slide along −z with its joint off its turned body's origin and a hinge about +x,
+    moved away from their start: each frame sits at its joint's anchor carried by the part
+    (no axes triad drawn), the slide's arrow starts a tenth of its length beyond the part and
+    is one length long along +axis, the hinge's arrow head is 0.35 lengths long and its axis
+    line runs from the anchor half a length beyond the arc; the label sits a twentieth of a
+    length beyond the head, drawn over the parts; the arrow is 0.05 lengths thick with a head
+    0.13 lengths wide and 0.2 long, the lines 3 (arc), 1.5 (axis) and 1 px (leader) wide. In
+    error the hinge's arc and arrow turn red, and green again when the error is gone."""
+    model = offset_joints()
+    data = mujoco.MjData(model)
+    marks = AxisMarks(server, model, axis_joints(model, [("S", "s"), ("H", "h")]), length=0.1)
+    for axis in ("S", "H"):  # before the first pose: the label beyond the head as drawn
+        tail, head = marks.arrow(axis)
+        expected = head + 0.005 * marks.direction(axis)
+        np.testing.assert_allclose(marks.label_position(axis), expected, atol=1e-7)
+    data.qpos[:] = (0.3, 0.7)
+    mujoco.mj_kinematics(model, data)
+    marks.update(data.xpos, data.xquat, {})
+    slide, hinge = marks.axes
+    s, h = model.joint("s").id, model.joint("h").id
+    np.testing.assert_allclose(marks.anchor("S"), data.xanchor[s] + 0.3 * data.xaxis[s])
+    np.testing.assert_allclose(marks.anchor("H"), data.xanchor[h], atol=1e-9)
+    e = data.xaxis[s]
+    np.testing.assert_allclose(marks.direction("S"), e, atol=1e-9)
+    tail, head = marks.arrow("S")
+    np.testing.assert_allclose(tail, marks.anchor("S") + (slide.reach + 0.01) * e, atol=1e-7)
+    np.testing.assert_allclose(head - tail, 0.1 * e, atol=1e-7)
+    np.testing.assert_allclose(marks.label_position("S"), head + 0.005 * e, atol=1e-7)
+    tail, head = marks.arrow("H")
+    assert np.linalg.norm(head - tail) == pytest.approx(0.035, rel=1e-6)
+    axis_line = node(server, "/axis_marks/1/axis", viser.LineSegmentsHandle)
+    height = hinge.face + 0.01
+    along = np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, height + 0.05]]])
+    np.testing.assert_allclose(np.asarray(axis_line.points, np.float64), along, atol=1e-7)
+    assert node(server, "/axis_marks", viser.FrameHandle).show_axes is False
+    arc = node(server, "/axis_marks/1/arc", viser.LineSegmentsHandle)
+    lines = {"arc": arc, "axis": axis_line}
+    for k in (0, 1):
+        assert node(server, f"/axis_marks/{k}", viser.FrameHandle).show_axes is False
+        arrow = node(server, f"/axis_marks/{k}/arrow", viser.ArrowsHandle)
+        assert (arrow.shaft_radius, arrow.head_radius, arrow.head_length) == pytest.approx(
+            (0.005, 0.013, 0.02)
+        )
+        label = node(server, f"/axis_marks/labels/{k}/label", viser.LabelHandle)
+        assert label.depth_test is False and label.anchor == "bottom-left"
+        leader = node(server, f"/axis_marks/labels/{k}/leader", viser.LineSegmentsHandle)
+        assert leader.visible is False
+        lines[f"leader {k}"] = leader
+    widths = {name: (line.thickness, line.thickness_units) for name, line in lines.items()}
+    assert widths == {
+        "arc": (3.0, "screen"),
+        "axis": (1.5, "screen"),
+        "leader 0": (1.0, "screen"),
+        "leader 1": (1.0, "screen"),
+    }
+    assert tuple(np.asarray(arc.colors).reshape(-1, 3)[0]) == MARK_COLOR
+    marks.update(data.xpos, data.xquat, {"H": 17})
+    assert tuple(np.asarray(arc.colors).reshape(-1, 3)[0]) == MARK_ERROR_COLOR
+    assert marks.arrow_color("H") == MARK_ERROR_COLOR and marks.arrow_color("S") == MARK_COLOR
+    marks.update(data.xpos, data.xquat, {})
+    assert tuple(np.asarray(arc.colors).reshape(-1, 3)[0]) == MARK_COLOR
+    with pytest.raises(KeyError, match=r"no mark of axis 'Q'; marked: \['S', 'H'\]"):
+        marks.anchor("Q")
+
+
+def test_labels_stay_at_their_tips_unless_a_lift_step_is_given(server: viser.ViserServer) -> None:
+    """Two marks of one joint put their labels on one spot in every camera; given the cameras
+    but no lift step, neither label is lifted and no leader line is drawn."""
+    model = offset_joints()
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    axes = axis_joints(model, [("S", "s"), ("T", "s")])
+    camera = (np.array([3.0, -4.0, 2.0]), np.zeros(3))
+    marks = AxisMarks(server, model, axes, length=0.1, cameras=[camera], focal=500.0)
+    marks.update(data.xpos, data.xquat, {})
+    np.testing.assert_allclose(marks.label_position("T"), marks.label_position("S"))
+    assert marks.leader("S") is None and marks.leader("T") is None
+
+
+def test_labels_are_lifted_for_the_width_of_the_text_they_show(server: viser.ViserServer) -> None:
+    """Two labels side by side seen from the front, 110 px apart: "B + (back)" is 75 px wide,
+    so "A + (ahead)" to its right stays at its tip, with no leader line."""
+    model = two_slides()
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    axes = axis_joints(model, [("B", "b"), ("A", "a")])
+    front = (np.array([0.0, -10.0, 0.0]), np.zeros(3))
+    marks = AxisMarks(server, model, axes, length=0.1, step=0.05, cameras=[front], focal=770.0)
+    marks.update(data.xpos, data.xquat, {})
+    np.testing.assert_allclose(marks.label_position("A"), [0.715, 0.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(marks.label_position("B"), [-0.715, 0.0, 0.0], atol=1e-9)
+    assert marks.leader("A") is None and marks.leader("B") is None

@@ -224,7 +224,7 @@ def label_slots(
     """Steps of ``step`` [m] (along :data:`LABEL_LIFT`) each label is lifted by so that no two
     overlap as any of the ``cameras`` ((eye, target) [m], ``focal`` length [px]) draws them;
     the first label stays at its tip, a later one gets the fewest steps that clear the labels
-    before it."""
+    before it (at most four steps per label: one that no lift clears stays there)."""
     if step <= 0.0 or not cameras:
         return [0] * len(tips)
     widths = [LABEL_CHAR * len(t) for t in texts]
