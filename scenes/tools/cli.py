@@ -255,10 +255,9 @@ def sweep(
     return 1 if failed else 0
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Parse the command line and run the command."""
-    parser = argparse.ArgumentParser(prog="python -m scenes", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
+def _program_parsers(sub: Any) -> None:
+    """The commands ``run`` (a demo or an ST program, headless) and ``check`` (ST programs
+    translated, not run)."""
     run_parser = sub.add_parser("run", help="run a machine's demo program headless")
     run_parser.add_argument("name", choices=sorted(scenes.MACHINES), help="the machine")
     run_parser.add_argument(
@@ -276,13 +275,7 @@ def main(argv: list[str] | None = None) -> int:
         metavar="PROGRAM",
         help="the PROGRAM to run where the file has several (default: its TASK's, or its only one)",
     )
-    run_parser.add_argument(
-        "--map",
-        action="append",
-        default=[],
-        metavar="NAME=AXIS",
-        help="bind Pohon.Ax1=X (an axis) or Knife=S.DO0 (I/O)",
-    )
+    _map_option(run_parser)
     run_parser.add_argument(
         "--timeout",
         type=float,
@@ -300,13 +293,25 @@ def main(argv: list[str] | None = None) -> int:
         metavar="PROGRAM",
         help=_PROGRAMS,
     )
-    check_parser.add_argument(
+    _map_option(check_parser)
+
+
+def _map_option(parser: argparse.ArgumentParser) -> None:
+    """The ``--map`` option of a command that binds a program's names to the machine."""
+    parser.add_argument(
         "--map",
         action="append",
         default=[],
         metavar="NAME=AXIS",
         help="bind Pohon.Ax1=X (an axis) or Knife=S.DO0 (I/O)",
     )
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse the command line and run the command."""
+    parser = argparse.ArgumentParser(prog="python -m scenes", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    _program_parsers(sub)
     sub.add_parser("list", help="list the machines")
     plot_parser = sub.add_parser("plot", help="plot a trace file as PNG and HTML")
     plot_parser.add_argument("trace", help="a trace written by trace.to_csv or streamed (.npy)")
