@@ -8,10 +8,15 @@ __all__ = ["DEVICES", "MACHINE"]
 from scenes.definition import DeviceFactory, MachineDef, ScopeDefaults, Signal
 from scenes.machines.delta_picker.axes import AXES, DELTA
 from scenes.machines.delta_picker.demo import Demo
-from scenes.machines.delta_picker.devices import Feeder, PhotoEye, VacuumGripper
+from scenes.machines.delta_picker.devices import Belt, Feeder, PhotoEye, VacuumGripper
 from scenes.scene import Scene
 
-DEVICES: dict[str, DeviceFactory] = {"vacuum": VacuumGripper, "feeder": Feeder, "eye": PhotoEye}
+DEVICES: dict[str, DeviceFactory] = {
+    "belt": Belt,
+    "vacuum": VacuumGripper,
+    "feeder": Feeder,
+    "eye": PhotoEye,
+}
 """The machine's Python devices by name (each ``(model, data, prefix) -> device``)."""
 
 

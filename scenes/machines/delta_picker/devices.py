@@ -8,13 +8,14 @@
 - The photo eye: a beam across the belt that sees the parts' bodies (:class:`PhotoEye`), the
   touch probe of the conveyor ``C``; a light curtain beside it measures each part's lateral
   position.
-- The feeder: parts taken from the tray come back on the belt at random spacing and lateral
-  position (:class:`Feeder`).
+- The belt: its top run stays over the conveyor's frame while the belt moves (:class:`Belt`).
+- The feeder: parts taken from the tray, and parts that fell off the belt's end, come back on the
+  belt at random spacing and lateral position (:class:`Feeder`).
 """
 
 from __future__ import annotations
 
-__all__ = ["BEAM", "Feeder", "Grip", "PhotoEye", "VacuumGripper"]
+__all__ = ["BEAM", "Belt", "Feeder", "Grip", "PhotoEye", "VacuumGripper"]
 
 import math
 from collections.abc import Mapping
@@ -47,6 +48,8 @@ TAKEN = 1.0
 """The outfeed takes a part away this long after it came to rest in the tray [s]."""
 CHECK = 0.01
 """How often the outfeed looks at the tray [s]."""
+FALLEN = 0.1
+"""A part whose centre lies this far below the belt's top has fallen off the belt [m]."""
 
 
 def _random(j: int) -> tuple[float, float]:
@@ -236,13 +239,51 @@ class VacuumGripper:
         del self.grips[int(state[3]) :]
 
 
+class Belt:
+    """The conveyor's top run: the collision box ``belt_geom`` of the body on the slide ``C``
+    is held where the conveyor's frame is (its place at C = 0) however far the belt has moved,
+    so the belt never runs out and a part that rides past its end falls off there. The parts
+    ride on it at the body's velocity: friction acts on the velocity of the body at the contact,
+    not on where the box lies in it. The box is hidden (group 3); the static ``belt_top_run``
+    shows it.
+
+    Args:
+        model, data: the compiled model and its data.
+        prefix: the machine's name prefix in the model.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, prefix: str = "") -> None:
+        self._q = int(model.joint(f"{prefix}C").qposadr[0])
+        self._pos = model.geom_pos[int(model.geom(f"{prefix}belt_geom").id)]
+        """The box's place in its body (a view into the model) [m]."""
+        self._home = float(self._pos[0]) + float(data.qpos[self._q])
+        """Its place in the body when C is 0 [m]."""
+        self._data = data
+        self._place()
+
+    def _place(self) -> None:
+        """Put the box back by the distance the belt has moved."""
+        self._pos[0] = self._home - self._data.qpos[self._q]
+
+    def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Hold the box in place for the coming step."""
+        self._place()
+
+    def get_state(self) -> npt.NDArray[np.float64]:
+        return np.zeros(0)
+
+    def set_state(self, state: npt.NDArray[np.float64]) -> None:
+        self._place()  # the plant restored C's position before
+
+
 class Feeder:
-    """The infeed and outfeed: a part at rest in the tray for :data:`TAKEN` is taken away and
-    comes back on the belt as the next part of the infeed, moving with the belt, its centre a
-    random :data:`SPACING` behind the part laid before it (never less than :data:`UPSTREAM`
-    before the photo eye) and a random lateral offset within ±:data:`LATERAL` of the centre
-    line (seeded by its sequence number; the model's parts start at ``part_x``, each with its
-    lateral offset).
+    """The infeed and outfeed: a part at rest in the tray for :data:`TAKEN` is taken away, a
+    part that fell off the belt (:data:`FALLEN` below its top: off its end, not picked) is
+    taken from the bin under it, and each comes back on the belt as the next part of the
+    infeed, moving with the belt, its centre a random :data:`SPACING` behind the part laid
+    before it (never less than :data:`UPSTREAM` before the photo eye) and a random lateral
+    offset within ±:data:`LATERAL` of the centre line (seeded by its sequence number; the
+    model's parts start at ``part_x``, each with its lateral offset).
 
     Args:
         model, data: the compiled model and its data.
@@ -277,6 +318,8 @@ class Feeder:
         self._last = eye_x - min(part_x)
         """Belt coordinate at which the centre of the part laid last reaches the eye [m]."""
         self._origin = [np.array(model.body_pos[body]) for _, _, body in self._parts]
+        self.fallen = 0
+        """Parts taken from under the belt."""
 
     def _in_tray(self, data: mujoco.MjData, body: int, dof: int) -> bool:
         """Part ``body`` lies still over the tray."""
@@ -286,23 +329,31 @@ class Feeder:
         return all(abs(qvel[dof + i]) < 1e-3 for i in range(6))
 
     def before_step(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-        """Every :data:`CHECK` [s]: take away a part at rest in the tray for TAKEN and lay it on
-        the belt as the next one."""
+        """Every :data:`CHECK` [s]: take away a part at rest in the tray for TAKEN, or one that
+        fell off the belt, and lay it on the belt as the next one."""
         t = float(data.time)
         if t < self._due:
             return
         self._due = t + CHECK
-        for k, (q, dof, body) in enumerate(self._parts):
+        for k, (_, dof, body) in enumerate(self._parts):
+            if data.xpos[body][2] < self.belt_top - FALLEN:
+                self.fallen += 1
+                self._lay_next(data, k)
+                continue
             if not self._in_tray(data, body, dof):
                 self.rest[k] = -1.0
                 continue
             if self.rest[k] < 0.0:
                 self.rest[k] = t
             if t - self.rest[k] >= TAKEN:
-                self.next[k] = self.laid
-                self.laid += 1
-                self._lay(data, k, q, dof, body)
-                self.rest[k] = -1.0
+                self._lay_next(data, k)
+
+    def _lay_next(self, data: mujoco.MjData, k: int) -> None:
+        """Lay part ``k`` on the belt as the next part of the infeed."""
+        self.next[k] = self.laid
+        self.laid += 1
+        self._lay(data, k, *self._parts[k])
+        self.rest[k] = -1.0
 
     def _lay(self, data: mujoco.MjData, k: int, q: int, dof: int, body: int) -> None:
         """Put part ``k`` on the belt as the next of the infeed, at the belt's speed."""
@@ -320,7 +371,8 @@ class Feeder:
         data.qvel[dof] = data.qvel[self._belt_v]
 
     def get_state(self) -> npt.NDArray[np.float64]:
-        return np.array([*self.next, *self.rest, self._due, self.laid, self._last], dtype=float)
+        state = [*self.next, *self.rest, self._due, self.laid, self._last, self.fallen]
+        return np.array(state, dtype=float)
 
     def set_state(self, state: npt.NDArray[np.float64]) -> None:
         n = len(self._parts)
@@ -329,3 +381,4 @@ class Feeder:
         self._due = float(state[2 * n])
         self.laid = int(state[2 * n + 1])
         self._last = float(state[2 * n + 2])
+        self.fallen = int(state[2 * n + 3])
