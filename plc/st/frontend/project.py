@@ -11,8 +11,9 @@ A POU's METHODs, ACTIONs and PROPERTYs (TwinCAT's object-oriented extensions) ar
 
 from __future__ import annotations
 
-__all__ = ["SUFFIXES", "Project", "is_project", "read_project"]
+__all__ = ["SUFFIXES", "Project", "is_project", "read_project", "read_source"]
 
+import codecs
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,6 +39,12 @@ _CITED = re.compile(r" at (\d+):(\d+)\b")
 
 _CITED_LINE = re.compile(r" line (\d+)\b")
 """A line a message names in the same text (``missing ';' at the end of line 11``)."""
+
+_DECLARED = re.compile(rb"""(?:\xef\xbb\xbf)?<\?xml[^>]*?\sencoding\s*=\s*["']([A-Za-z0-9._:-]+)""")
+"""An XML declaration's encoding (``<?xml version="1.0" encoding="utf-8"?>``)."""
+
+_XML_EXPECTED = 'UTF-8, or the encoding it is written in named by <?xml ... encoding="..."?>'
+"""What a TwinCAT file's bytes should be."""
 
 _WHERE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<column>\d+): ", re.MULTILINE)
 
@@ -106,6 +113,40 @@ def is_project(path: Path) -> bool:
     return path.is_dir() or path.suffix.lower() in (*SUFFIXES, ".xml")
 
 
+def read_source(file: Path, expected: str = "a UTF-8 ST file") -> str:
+    """The text of a user's source ``file``: UTF-8 (a byte order mark left out), or for a file
+    that begins with an XML declaration the encoding it names (UTF-8 if none); ``expected``
+    says in a message what the file should be.
+
+    Raises:
+        STError: the file cannot be read (``file: cannot read it (why); expected ...``); a byte
+            that is not of its encoding (``file:line:column: cannot read it (byte 0xE4 is not
+            UTF-8); expected ...``); an encoding Python does not know (``file:1:1``).
+    """
+    try:
+        data = file.read_bytes()
+    except OSError as error:
+        raise STError.at(str(file), f"cannot read it ({error})", expected) from None
+    declared = _DECLARED.match(data)
+    encoding = declared[1].decode("ascii") if declared else "utf-8"
+    try:
+        utf8 = codecs.lookup(encoding).name == "utf-8"
+    except LookupError:
+        raise STError.at(
+            f"{file}:1:1", f"cannot read it (an encoding unknown here: {encoding})", expected
+        ) from None
+    if utf8:
+        data, encoding = data.removeprefix(codecs.BOM_UTF8), "UTF-8"
+    try:
+        return data.decode(encoding)
+    except UnicodeDecodeError as error:
+        before = data[: error.start]
+        line = before.count(b"\n") + 1
+        column = len(before[before.rfind(b"\n") + 1 :].decode(encoding, "replace")) + 1
+        problem = f"cannot read it (byte 0x{data[error.start]:02X} is not {encoding})"
+        raise STError.at(f"{file}:{line}:{column}", problem, expected) from None
+
+
 def read_project(path: Path) -> Project:
     """The project of a TwinCAT source file or of every one in a folder (its sub-folders too),
     or of a PLCopen XML file (:mod:`plc.st.frontend.plcopen`).
@@ -142,25 +183,13 @@ def _read_file(project: Project, file: Path) -> None:
     reading TwinCAT's XML takes longer than loading the kept lines."""
     from plc.st.frontend import tree_cache
 
-    try:
-        content = file.read_bytes().decode("latin-1")  # any bytes: only a key
-    except OSError:
-        content = None
-    if content is None:
-        lines = _file_lines(file)
-    else:
-        name = tree_cache.key(content, "TwinCAT", Path(__file__).read_bytes())
-        lines = tree_cache.cached(name, lambda: _file_lines(file), "lines")
-    if content is not None:  # a line's column in the file (after <ST><![CDATA[ on its first)
-        written = dict(enumerate(_utf8(content).splitlines(), 1))
-        for index, (number, text) in enumerate(lines, len(project.origins) + 1):
-            project.columns[index] = max(written.get(number, "").find(text), 0) + 1
+    text = read_source(file, _XML_EXPECTED)
+    name = tree_cache.key(text, "TwinCAT", Path(__file__).read_bytes())
+    lines = tree_cache.cached(name, lambda: _file_lines(file), "lines")
+    written = dict(enumerate(text.splitlines(), 1))  # a line's column in the file (after
+    for index, (number, code) in enumerate(lines, len(project.origins) + 1):  # <![CDATA[)
+        project.columns[index] = max(written.get(number, "").find(code), 0) + 1
     project.add(lines, str(file))
-
-
-def _utf8(content: str) -> str:
-    """A file's text read as latin-1 (:func:`_read_file`), as UTF-8 (a byte that is none: �)."""
-    return content.encode("latin-1").decode("utf-8", "replace")
 
 
 def _file_lines(file: Path) -> list[tuple[int, str]]:
