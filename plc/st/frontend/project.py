@@ -18,7 +18,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from plc.st.errors import STError, indefinite
+from plc.st.errors import STError, indefinite, place
 from plc.st.frontend import tctask
 from plc.st.semantics.gvl import NAME_PRAGMA
 
@@ -114,8 +114,7 @@ def is_project(path: Path) -> bool:
 
 
 def read_source(file: Path, expected: str = "a UTF-8 ST file") -> str:
-    """The text of a user's source ``file``: UTF-8 (a byte order mark left out), or for a file
-    that begins with an XML declaration the encoding it names (UTF-8 if none); ``expected``
+    """The text of a user's source ``file`` in its encoding (:func:`_encoding`); ``expected``
     says in a message what the file should be.
 
     Raises:
@@ -127,24 +126,28 @@ def read_source(file: Path, expected: str = "a UTF-8 ST file") -> str:
         data = file.read_bytes()
     except OSError as error:
         raise STError.at(str(file), f"cannot read it ({error})", expected) from None
-    declared = _DECLARED.match(data)
-    encoding = declared[1].decode("ascii") if declared else "utf-8"
-    try:
-        utf8 = codecs.lookup(encoding).name == "utf-8"
-    except LookupError:
-        raise STError.at(
-            f"{file}:1:1", f"cannot read it (an encoding unknown here: {encoding})", expected
-        ) from None
-    if utf8:
-        data, encoding = data.removeprefix(codecs.BOM_UTF8), "UTF-8"
+    encoding = _encoding(data)
     try:
         return data.decode(encoding)
+    except LookupError:
+        problem = f"cannot read it (an encoding unknown here: {encoding})"
+        raise STError.at(f"{file}:1:1", problem, expected) from None
     except UnicodeDecodeError as error:
-        before = data[: error.start]
-        line = before.count(b"\n") + 1
-        column = len(before[before.rfind(b"\n") + 1 :].decode(encoding, "replace")) + 1
-        problem = f"cannot read it (byte 0x{data[error.start]:02X} is not {encoding})"
+        before = error.object[: error.start].decode(error.encoding, "replace")
+        line, column = place(before, len(before))
+        name = {"utf-8-sig": "UTF-8", "utf-16": "UTF-16"}.get(encoding, encoding)
+        problem = f"cannot read it (byte 0x{error.object[error.start]:02X} is not {name})"
         raise STError.at(f"{file}:{line}:{column}", problem, expected) from None
+
+
+def _encoding(data: bytes) -> str:
+    """The encoding of a source file's bytes: UTF-16 after its byte order mark, else the one
+    an XML declaration at its start names, else UTF-8 (a byte order mark first left out)."""
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return "utf-16"
+    declared = _DECLARED.match(data)
+    name = declared[1].decode("ascii") if declared else "utf-8"
+    return "utf-8-sig" if name.lower().replace("_", "-") in ("utf-8", "utf8") else name
 
 
 def read_project(path: Path) -> Project:

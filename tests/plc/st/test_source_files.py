@@ -44,11 +44,13 @@ def test_a_file_not_in_utf8_gives_one_message_at_its_first_foreign_byte(entry, t
         assert capsys.readouterr().err.splitlines() == [expected]
 
 
-def test_the_same_file_in_utf8_with_or_without_a_byte_order_mark_runs(tmp_path):
-    """UTF-8 as most editors save it, and as Windows editors do (a byte order mark first)."""
+def test_the_same_file_in_utf8_with_or_without_a_byte_order_mark_or_in_utf16_runs(tmp_path):
+    """UTF-8 as most editors save it, and as Windows editors do (a byte order mark first, or
+    UTF-16 after its byte order mark)."""
     for name, data in [
         ("plain.st", PROGRAM.encode()),
         ("bom.st", b"\xef\xbb\xbf" + PROGRAM.encode()),
+        ("utf16.st", PROGRAM.encode("utf-16")),
     ]:
         path = tmp_path / name
         path.write_bytes(data)
@@ -67,18 +69,21 @@ POU = _pou(
 
 
 def test_a_twincat_file_is_read_in_the_encoding_its_xml_declaration_names(tmp_path):
-    """Declared ISO-8859-1 and saved so, the POU reads as in UTF-8: the same message at the
-    same column (the ä one character, not a byte the UTF-8 reading could not place)."""
-    utf8, latin1 = tmp_path / "utf8" / "Main.TcPOU", tmp_path / "latin1" / "Main.TcPOU"
+    """Declared ISO-8859-1 and saved so (or UTF-16 with its byte order mark), the POU reads as
+    in UTF-8: the same message at the same column (the ä one character, not a byte the UTF-8
+    reading could not place)."""
+    utf8, latin1, utf16 = (tmp_path / name / "Main.TcPOU" for name in ("utf8", "latin1", "utf16"))
     for path, data in [
         (utf8, POU.encode()),
         (latin1, POU.replace('encoding="utf-8"', 'encoding="ISO-8859-1"').encode("latin-1")),
+        (utf16, POU.replace('encoding="utf-8"', 'encoding="utf-16"').encode("utf-16")),
     ]:
         path.parent.mkdir()
         path.write_bytes(data)
     problem = ":10:41: unexpected ';'; expected an expression"
     assert check(utf8).errors == [f"{utf8}{problem}"]
     assert check(latin1).errors == [f"{latin1}{problem}"]
+    assert check(utf16).errors == [f"{utf16}{problem}"]
 
 
 def test_a_twincat_file_not_in_its_declared_encoding_gives_one_message(tmp_path):
