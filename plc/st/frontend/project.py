@@ -133,9 +133,9 @@ def read_source(file: Path, expected: str = "a UTF-8 ST file") -> str:
         problem = f"cannot read it (an encoding unknown here: {encoding})"
         raise STError.at(f"{file}:1:1", problem, expected) from None
     except UnicodeDecodeError as error:
-        before = error.object[: error.start].decode(error.encoding, "replace")
+        before = error.object[: error.start].decode(error.encoding)  # the bytes that are
         line, column = place(before, len(before))
-        name = {"utf-8-sig": "UTF-8", "utf-16": "UTF-16"}.get(encoding, encoding)
+        name = "UTF-8" if encoding == "utf-8-sig" else encoding.upper()
         problem = f"cannot read it (byte 0x{error.object[error.start]:02X} is not {name})"
         raise STError.at(f"{file}:{line}:{column}", problem, expected) from None
 

@@ -99,3 +99,25 @@ def test_a_twincat_file_not_in_its_declared_encoding_gives_one_message(tmp_path)
     with pytest.raises(plc.st.STError) as raised:
         plc.st.load(path)
     assert str(raised.value) == expected
+
+
+@pytest.mark.parametrize(
+    ("encoding", "data", "problem"),
+    [
+        ("windows-1252", b"\x81", "6:16: cannot read it (byte 0x81 is not WINDOWS-1252)"),
+        ("x-unknown", b"a", "1:1: cannot read it (an encoding unknown here: x-unknown)"),
+    ],
+)
+def test_a_twincat_file_in_an_encoding_that_cannot_read_it_gives_one_message(
+    encoding, data, problem, tmp_path
+):
+    """A byte its declared encoding has no character for (0x81 in windows-1252), or an
+    encoding Python does not know: one message, naming the encoding."""
+    path = tmp_path / "Main.TcPOU"
+    text = POU.replace('encoding="utf-8"', f'encoding="{encoding}"').replace("zählt", "counts")
+    path.write_bytes(text.replace("Zähler", "Z#hler").encode().replace(b"#", data))
+    expected = (
+        f"{path}:{problem}; expected UTF-8, or the encoding it is written in named by "
+        '<?xml ... encoding="..."?>'
+    )
+    assert check(path).errors == [expected]
