@@ -106,13 +106,16 @@ def test_a_twincat_file_not_in_its_declared_encoding_gives_one_message(tmp_path)
     [
         ("windows-1252", b"\x81", "6:16: cannot read it (byte 0x81 is not WINDOWS-1252)"),
         ("x-unknown", b"a", "1:1: cannot read it (an encoding unknown here: x-unknown)"),
+        ("UTF8", b"\xe4", "6:16: cannot read it (byte 0xE4 is not UTF-8)"),
+        ("utf_8", b"\xe4", "6:16: cannot read it (byte 0xE4 is not UTF-8)"),
     ],
 )
 def test_a_twincat_file_in_an_encoding_that_cannot_read_it_gives_one_message(
     encoding, data, problem, tmp_path
 ):
-    """A byte its declared encoding has no character for (0x81 in windows-1252), or an
-    encoding Python does not know: one message, naming the encoding."""
+    """A byte its declared encoding has no character for (0x81 in windows-1252; a Latin-1 ä in
+    UTF-8, however the declaration spells it), or an encoding Python does not know: one
+    message, naming the encoding."""
     path = tmp_path / "Main.TcPOU"
     text = POU.replace('encoding="utf-8"', f'encoding="{encoding}"').replace("zählt", "counts")
     path.write_bytes(text.replace("Zähler", "Z#hler").encode().replace(b"#", data))
