@@ -6,7 +6,11 @@ lines (``git diff`` of the working tree against the merge base with ``main``, or
 mutate the changed lines (``--modules`` names the modules: whole, or with ``--base`` only their
 changed lines; ``--functions`` keeps the mutants of the named functions); mutmut runs the chosen
 tests once to record which tests call which function, then each mutant against those that call
-its function. Browser tests are left out.
+its function. A fixture wider than a test (``scope="module"``) runs only in the setup of the first
+test that uses it, so mutmut alone would credit what it calls to that test only: the plugin
+tests/mutate_fixtures.py credits it to every test that uses the fixture, and counts the fixture's
+time in theirs (mutmut's timeout for a mutant, which counts as a kill, is a multiple of its tests'
+times). Browser tests are left out.
 The report gives, per module and in total, the killed / survived / no-test / timeout counts,
 the kill rate and every mutant not caught, as ``file:line: before → after``.
 
@@ -49,6 +53,10 @@ KILLED = ("killed", "timeout")
 
 ESCAPED = ("survived", "no tests")
 """Verdicts that count as escaped: the tests passed, or none of them runs the mutated code."""
+
+PLUGIN = "mutate_fixtures.py"
+"""The pytest plugin (beside this file) that credits a wide fixture's calls to all its tests;
+copied to the top of mutmut's copy of the project, where pytest finds it."""
 
 T = TypeVar("T")
 
@@ -269,12 +277,13 @@ def prepare(
     others = [e.name for e in entries if e.name not in packages and e.name != "pyproject.toml"]
     links = [str(p.relative_to(root)) for pkg in packages for p in (root / pkg).rglob("*")]
     links = [p for p in links if (root / p).is_symlink()]  # not copied by mutmut's own walk
+    shutil.copy(Path(__file__).with_name(PLUGIN), scratch / PLUGIN)
     config = {
         "source_paths": list(packages),
         "only_mutate": list(modules),
-        "also_copy": others + links,
+        "also_copy": [*others, *links, PLUGIN],
         "pytest_add_cli_args_test_selection": ["-m", "not browser", *tests],
-        "pytest_add_cli_args": ["-p", "no:xdist"],
+        "pytest_add_cli_args": ["-p", "no:xdist", "-p", PLUGIN.removesuffix(".py")],
     }
     table = "\n".join(f"{key} = {json.dumps(value)}" for key, value in config.items())
     text = (root / "pyproject.toml").read_text()

@@ -3,6 +3,7 @@ touched, which test files exercise a module, and a real mutmut run over the chan
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 from pathlib import Path
@@ -182,3 +183,47 @@ def test_functions_named_keep_only_their_mutants(project):
     assert mutate.in_functions("xǁCutterǁ_boundary", ["Cutter._boundary"])
     assert not mutate.in_functions("xǁCutterǁ_boundary", ["Other._boundary", "boundary"])
     assert not mutate.in_functions("x_double", ["clamp"])
+
+
+TEST_WIDE = """\
+import time
+
+import pytest
+
+from pkg.calc import double
+
+
+@pytest.fixture(scope="module")
+def doubled():
+    time.sleep(0.3)
+    return double(3)
+
+
+def test_the_fixture_gives_a_number(doubled):
+    assert isinstance(doubled, int)
+
+
+def test_three_doubled_is_six(doubled):
+    assert doubled == 6
+"""
+
+
+def test_a_module_fixture_s_calls_go_to_every_test_that_uses_it(project, capsys):
+    """The fixture calls ``double`` in the setup of the first test, which cannot tell a wrong
+    double; the second test, which can, runs against its mutants too, and both are timed with
+    the fixture's 0.3 s (mutmut times only a test's call)."""
+    write(project, {"tests/test_calc.py": TEST_WIDE})
+
+    args = ["--modules", "pkg/calc.py", "--functions", "double", "--packages", "pkg"]
+    assert mutate.main(args, root=project) == 0
+
+    out = capsys.readouterr().out
+    total = next(line.split() for line in out.splitlines() if line.startswith("total"))
+    assert total[1:] == ["2", "0", "0", "0", "0", "100.0", "%"]  # 2 / x and 3 * x
+    stats = json.loads((project / mutate.SCRATCH / "mutants/mutmut-stats.json").read_text())
+    tests = {
+        f"tests/test_calc.py::test_{name}"
+        for name in ("the_fixture_gives_a_number", "three_doubled_is_six")
+    }
+    assert set(stats["tests_by_mangled_function_name"]["pkg.calc.x_double"]) == tests
+    assert all(stats["duration_by_test"][test] >= 0.3 for test in tests)

@@ -27,7 +27,7 @@ import blark.transform as tf
 from plc.st.errors import STError
 from plc.st.frontend.chunks import Chunk
 from plc.st.frontend.parse import parse, parse_each, parse_piece
-from plc.st.frontend.project import is_project, read_project
+from plc.st.frontend.project import is_project, read_project, read_source
 from plc.st.frontend.unclosed import code_only
 from plc.st.runtime.external import External
 from plc.st.runtime.program import check_mapping, translated
@@ -78,13 +78,7 @@ def check(
     try:
         check_mapping(str(file), axes or {}, mapping or {})
         if not is_project(file):
-            try:
-                source = file.read_text(encoding="utf-8")
-            except (OSError, UnicodeDecodeError) as error:
-                raise STError.at(
-                    str(file), f"cannot read it ({error})", "a UTF-8 ST file"
-                ) from None
-            return check_source(source, str(file), axes, mapping, blocks)
+            return check_source(read_source(file), str(file), axes, mapping, blocks)
         project = read_project(file)
     except STError as error:
         return Report(error.lines, 1, 1)

@@ -10,10 +10,11 @@ import math
 import numpy as np
 import pytest
 
+import mcl
 import scenes
 from scenes.machines.delta_picker import VacuumGripper
 from scenes.machines.delta_picker.cycle import PLACES, StandardCycle, Z, prepare
-from scenes.machines.delta_picker.demo import CLEAR, VACUUM_OFF, VACUUM_ON
+from scenes.machines.delta_picker.demo import CLEAR, VACUUM_OFF, VACUUM_ON, Demo
 
 CYCLES = 3
 
@@ -131,3 +132,37 @@ def test_a_move_refused_stops_the_cycle_with_its_error() -> None:
     assert across.Error and across.ErrorID
     assert program.error == f"MC_MoveLinearAbsolute ErrorID {across.ErrorID}"
     assert not program.legs and not program.done
+
+
+def test_prepare_lays_part_0_at_rest_on_the_first_place() -> None:
+    """Part 0, laid by :func:`prepare`, lies centred on the first place (the belt's centre
+    line) to within 0.02 mm, and stays there."""
+    scene = scenes.load("delta_picker", trace_every=0)
+    prepare(scene)
+    gripper = scene.device("vacuum", VacuumGripper)
+    scene.run(lambda: None, timeout=0.05)
+    laid = 1000.0 * gripper.part_position(0)
+    scene.run(lambda: None, timeout=0.05)
+    x, y = PLACES[0]
+    assert abs(laid[0] - x) < 0.02 and abs(laid[1] - y) < 0.02, laid
+    assert np.allclose(1000.0 * gripper.part_position(0), laid, atol=0.01)
+
+
+def test_prepare_fails_with_the_demo_s_error() -> None:
+    """An arm in another group cannot be homed: :func:`prepare` raises the error the demo
+    gives, as the demo words it."""
+
+    def sabotaged() -> scenes.Scene:
+        scene = scenes.load("delta_picker", trace_every=0)
+        add = mcl.MC_AddAxisToGroup(AxesGroup=mcl.AxesGroup("other"), Axis=scene.axes["A1"])
+        add(Execute=True)
+        assert add.Done
+        return scene
+
+    scene = sabotaged()
+    demo = Demo(scene)
+    scene.run(demo, until=lambda: bool(demo.error), timeout=1.0)
+    assert demo.error
+    with pytest.raises(RuntimeError) as raised:
+        prepare(sabotaged())
+    assert str(raised.value) == demo.error

@@ -11,13 +11,14 @@ A POU's METHODs, ACTIONs and PROPERTYs (TwinCAT's object-oriented extensions) ar
 
 from __future__ import annotations
 
-__all__ = ["SUFFIXES", "Project", "is_project", "read_project"]
+__all__ = ["SUFFIXES", "Project", "is_project", "read_project", "read_source"]
 
+import codecs
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from plc.st.errors import STError, indefinite
+from plc.st.errors import STError, indefinite, place
 from plc.st.frontend import tctask
 from plc.st.semantics.gvl import NAME_PRAGMA
 
@@ -38,6 +39,12 @@ _CITED = re.compile(r" at (\d+):(\d+)\b")
 
 _CITED_LINE = re.compile(r" line (\d+)\b")
 """A line a message names in the same text (``missing ';' at the end of line 11``)."""
+
+_DECLARED = re.compile(rb"""(?:\xef\xbb\xbf)?<\?xml[^>]*?\sencoding\s*=\s*["']([A-Za-z0-9._:-]+)""")
+"""An XML declaration's encoding (``<?xml version="1.0" encoding="utf-8"?>``)."""
+
+_XML_EXPECTED = 'UTF-8, or the encoding it is written in named by <?xml ... encoding="..."?>'
+"""What a TwinCAT file's bytes should be."""
 
 _WHERE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<column>\d+): ", re.MULTILINE)
 
@@ -106,6 +113,43 @@ def is_project(path: Path) -> bool:
     return path.is_dir() or path.suffix.lower() in (*SUFFIXES, ".xml")
 
 
+def read_source(file: Path, expected: str = "a UTF-8 ST file") -> str:
+    """The text of a user's source ``file`` in its encoding (:func:`_encoding`); ``expected``
+    says in a message what the file should be.
+
+    Raises:
+        STError: the file cannot be read (``file: cannot read it (why); expected ...``); a byte
+            that is not of its encoding (``file:line:column: cannot read it (byte 0xE4 is not
+            UTF-8); expected ...``); an encoding Python does not know (``file:1:1``).
+    """
+    try:
+        data = file.read_bytes()
+    except OSError as error:
+        raise STError.at(str(file), f"cannot read it ({error})", expected) from None
+    encoding = _encoding(data)
+    try:
+        return data.decode(encoding)
+    except LookupError:
+        problem = f"cannot read it (an encoding unknown here: {encoding})"
+        raise STError.at(f"{file}:1:1", problem, expected) from None
+    except UnicodeDecodeError as error:
+        before = error.object[: error.start].decode(error.encoding)  # the bytes that are
+        line, column = place(before, len(before))
+        name = "UTF-8" if encoding == "utf-8-sig" else encoding.upper()
+        problem = f"cannot read it (byte 0x{error.object[error.start]:02X} is not {name})"
+        raise STError.at(f"{file}:{line}:{column}", problem, expected) from None
+
+
+def _encoding(data: bytes) -> str:
+    """The encoding of a source file's bytes: UTF-16 after its byte order mark, else the one
+    an XML declaration at its start names, else UTF-8 (a byte order mark first left out)."""
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return "utf-16"
+    declared = _DECLARED.match(data)
+    name = declared[1].decode("ascii") if declared else "utf-8"
+    return "utf-8-sig" if name.lower().replace("_", "-") in ("utf-8", "utf8") else name
+
+
 def read_project(path: Path) -> Project:
     """The project of a TwinCAT source file or of every one in a folder (its sub-folders too),
     or of a PLCopen XML file (:mod:`plc.st.frontend.plcopen`).
@@ -142,25 +186,13 @@ def _read_file(project: Project, file: Path) -> None:
     reading TwinCAT's XML takes longer than loading the kept lines."""
     from plc.st.frontend import tree_cache
 
-    try:
-        content = file.read_bytes().decode("latin-1")  # any bytes: only a key
-    except OSError:
-        content = None
-    if content is None:
-        lines = _file_lines(file)
-    else:
-        name = tree_cache.key(content, "TwinCAT", Path(__file__).read_bytes())
-        lines = tree_cache.cached(name, lambda: _file_lines(file), "lines")
-    if content is not None:  # a line's column in the file (after <ST><![CDATA[ on its first)
-        written = dict(enumerate(_utf8(content).splitlines(), 1))
-        for index, (number, text) in enumerate(lines, len(project.origins) + 1):
-            project.columns[index] = max(written.get(number, "").find(text), 0) + 1
+    text = read_source(file, _XML_EXPECTED)
+    name = tree_cache.key(text, "TwinCAT", Path(__file__).read_bytes())
+    lines = tree_cache.cached(name, lambda: _file_lines(file), "lines")
+    written = dict(enumerate(text.splitlines(), 1))  # a line's column in the file (after
+    for index, (number, code) in enumerate(lines, len(project.origins) + 1):  # <![CDATA[)
+        project.columns[index] = max(written.get(number, "").find(code), 0) + 1
     project.add(lines, str(file))
-
-
-def _utf8(content: str) -> str:
-    """A file's text read as latin-1 (:func:`_read_file`), as UTF-8 (a byte that is none: �)."""
-    return content.encode("latin-1").decode("utf-8", "replace")
 
 
 def _file_lines(file: Path) -> list[tuple[int, str]]:

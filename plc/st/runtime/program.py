@@ -41,7 +41,7 @@ from typing import Any
 from plc.st.codegen.translate import Module, translate
 from plc.st.errors import STError, nearest
 from plc.st.frontend.parse import parse
-from plc.st.frontend.project import is_project, read_project
+from plc.st.frontend.project import is_project, read_project, read_source
 from plc.st.runtime import functions as F  # noqa: N812
 from plc.st.runtime.external import External
 from plc.st.runtime.io import channels
@@ -397,11 +397,7 @@ def load(
     file = Path(path)
     if is_project(file):
         return _load_project(file, machine, mapping, program, period, blocks)
-    try:
-        source = file.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
-    return from_source(source, machine, mapping, program, str(file), period, blocks)
+    return from_source(read_source(file), machine, mapping, program, str(file), period, blocks)
 
 
 def _load_project(

@@ -187,15 +187,11 @@ def task_of_file(path: str | Path) -> Task | None:
             project's at its file and line).
     """
     from plc.st.errors import STError
-    from plc.st.frontend.project import is_project, read_project
+    from plc.st.frontend.project import is_project, read_project, read_source
 
     file = Path(path)
     if not is_project(file):
-        try:
-            source = file.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise STError.at(str(file), f"cannot read it ({error})", "a UTF-8 ST file") from None
-        return declared_task(source, str(file))
+        return declared_task(read_source(file), str(file))
     project = read_project(file)
     generated = f"{file.name}.st"
     try:
