@@ -166,6 +166,12 @@ def demo(belt_speed: float | None = None, picks: int | None = None) -> dict[str,
     start = time.perf_counter()
     scene.run(scan, until=ended, timeout=3600.0)
     wall = time.perf_counter() - start
+    if not gripper.grips:
+        speed = program.run.Velocity  # type: ignore[attr-defined]
+        raise SystemExit(
+            f"the demo picked no part at a belt speed of {speed:g} mm/s: "
+            f"{program.error or program.step}; belt speeds are in mm/s, e.g. --speeds 200,500,1000"
+        )
     errors = [g.error for g in gripper.grips]
     rows = program.results  # type: ignore[attr-defined]
     picked = [row for row in rows if row["picked"]]
@@ -214,8 +220,10 @@ def summary(run: dict[str, Any]) -> str:
 def main() -> None:
     """Print the benchmark as JSON, then each belt speed's figures as text."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--picks", type=int, default=40)
-    parser.add_argument("--speeds", default="200,500,1000")
+    parser.add_argument(
+        "--speeds", default="200,500,1000", help="belt speeds [mm/s], comma-separated"
+    )
+    parser.add_argument("--picks", type=int, default=40, help="picks per belt speed")
     parser.add_argument("--tracking-only", action="store_true", help="only the belt speeds")
     parser.add_argument("--cycles", type=int, default=20)
     parser.add_argument("--cycle-only", action="store_true", help="only the standard cycle")
