@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import scenes
-from scenes.machines.delta_picker.devices import FALLEN, Feeder
+from scenes.machines.delta_picker.devices import FALLEN, Belt, Feeder
 
 PARTS = range(8)
 
@@ -128,3 +128,77 @@ def test_a_restored_state_puts_the_belt_back(line: Line) -> None:
     for k in PARTS:
         assert line.centre(k)[2] == pytest.approx(line.on_belt(), abs=0.001)
         assert line.centre(k)[0] - before[k][0] == pytest.approx(moved, abs=0.0005)
+
+
+def test_a_belt_made_with_the_belt_run_on_holds_the_box_at_its_place(line: Line) -> None:
+    """A Belt device built while the belt stands 2 m on puts the box where it is at C = 0."""
+    model, data = line.scene.model, line.scene.data
+    carrier = model.geom(line.scene.model_name("belt_geom")).id
+    line.run(0.01)
+    home = np.array(data.geom_xpos[carrier])
+    line.put_belt(2.0)
+    Belt(model, data, line.scene.model_name(""))
+    line.run(0.01)
+    assert np.allclose(data.geom_xpos[carrier], home, atol=1e-6)
+
+
+def put_in_tray(line: Line, k: int, x: float) -> None:
+    """Part ``k`` at rest on the tray, its centre at MCS ``x`` [m]."""
+    model, data = line.scene.model, line.scene.data
+    joint = model.joint(line.scene.model_name(f"part{k}_x"))
+    q, dof = int(joint.qposadr[0]), int(joint.dofadr[0])
+    centre = line.centre(k)
+    data.qpos[q] += x - centre[0]
+    data.qpos[q + 1] += 0.155 - centre[1]  # the tray's top is as high as the belt's
+    data.qvel[dof : dof + 6] = 0.0
+
+
+def test_a_part_resting_in_the_tray_a_second_is_laid_on_the_infeed(line: Line) -> None:
+    """Parts 0 and 1 put in the tray: 0.95 s later both still lie there; 1.05 s later both are
+    on the belt before the eye, as the next two parts, part 0 first."""
+    laid = line.feeder.laid
+    put_in_tray(line, 0, -0.1)
+    put_in_tray(line, 1, 0.1)
+    line.run(0.95)
+    assert line.feeder.laid == laid
+    assert all(line.centre(k)[1] == pytest.approx(0.155, abs=0.002) for k in (0, 1))
+    line.run(0.1)
+    assert line.feeder.laid == laid + 2 and line.feeder.next[:2] == [laid, laid + 1]
+    assert line.feeder.fallen == 0
+    line.run(0.05)
+    for k in (0, 1):
+        centre = line.centre(k)
+        assert centre[0] < line.feeder.eye_x - 0.3
+        assert centre[2] == pytest.approx(line.on_belt(), abs=0.001)
+    assert line.centre(1)[0] < line.centre(0)[0]  # laid after it: further upstream
+
+
+def test_parts_that_fell_together_are_all_laid_again(line: Line) -> None:
+    """Parts 2 and 3 dropped off the belt's side at once: both are laid again, counted."""
+    model, data = line.scene.model, line.scene.data
+    laid = line.feeder.laid
+    for k in (2, 3):
+        q = int(model.joint(line.scene.model_name(f"part{k}_x")).qposadr[0])
+        data.qpos[q + 1] += 0.5  # off the belt's side, onto the floor
+    line.run(0.5)
+    assert line.feeder.fallen == 2 and line.feeder.laid == laid + 2
+    assert sorted(line.feeder.next[2:4]) == [laid, laid + 1]
+    assert all(line.centre(k)[2] == pytest.approx(line.on_belt(), abs=0.001) for k in (2, 3))
+
+
+def test_the_feeders_state_is_restored_whole(line: Line) -> None:
+    """The feeder's sequence numbers, rest times, parts laid, last place and fallen count after
+    a part fell and another rests in the tray, saved, changed and restored: as saved."""
+    model, data = line.scene.model, line.scene.data
+    q = int(model.joint(line.scene.model_name("part2_x")).qposadr[0])
+    data.qpos[q + 1] += 0.5
+    put_in_tray(line, 0, 0.0)
+    line.run(0.5)
+    feeder = line.feeder
+    saved = feeder.get_state()
+    before = (list(feeder.next), list(feeder.rest), feeder.laid, feeder._last, feeder.fallen)
+    assert before[4] == 1 and before[1][0] > 0.0
+    feeder.next, feeder.rest = [0] * 8, [-1.0] * 8
+    feeder.laid, feeder._last, feeder.fallen = 0, 0.0, 0
+    feeder.set_state(saved)
+    assert (feeder.next, feeder.rest, feeder.laid, feeder._last, feeder.fallen) == before
