@@ -7,11 +7,12 @@ constant command), so that it can stand kilometres on without its axis seeing th
 
 from __future__ import annotations
 
+import mujoco
 import numpy as np
 import pytest
 
 import scenes
-from scenes.machines.delta_picker.devices import FALLEN, Belt, Feeder
+from scenes.machines.delta_picker.devices import FALLEN, SPACING, Belt, Feeder
 
 PARTS = range(8)
 
@@ -134,12 +135,11 @@ def test_a_belt_made_with_the_belt_run_on_holds_the_box_at_its_place(line: Line)
     """A Belt device built while the belt stands 2 m on puts the box where it is at C = 0."""
     model, data = line.scene.model, line.scene.data
     carrier = model.geom(line.scene.model_name("belt_geom")).id
-    line.run(0.01)
     home = np.array(data.geom_xpos[carrier])
     line.put_belt(2.0)
-    Belt(model, data, line.scene.model_name(""))
-    line.run(0.01)
-    assert np.allclose(data.geom_xpos[carrier], home, atol=1e-6)
+    Belt(model, data, line.scene.model_name(""))  # it places the box as it is made
+    mujoco.mj_kinematics(model, data)
+    assert np.allclose(data.geom_xpos[carrier], home, atol=1e-9)
 
 
 def put_in_tray(line: Line, k: int, x: float) -> None:
@@ -154,8 +154,10 @@ def put_in_tray(line: Line, k: int, x: float) -> None:
 
 
 def test_a_part_resting_in_the_tray_a_second_is_laid_on_the_infeed(line: Line) -> None:
-    """Parts 0 and 1 put in the tray: 0.95 s later both still lie there; 1.05 s later both are
-    on the belt before the eye, as the next two parts, part 0 first."""
+    """Parts 0 and 1 put in the tray half a second on: 0.95 s later both still lie there; 1.05 s
+    later both are on the belt before the eye, as the next two parts, part 0 first, a random
+    spacing (at least 240 mm) behind the model's last part."""
+    line.run(0.5)
     laid = line.feeder.laid
     put_in_tray(line, 0, -0.1)
     put_in_tray(line, 1, 0.1)
@@ -171,6 +173,7 @@ def test_a_part_resting_in_the_tray_a_second_is_laid_on_the_infeed(line: Line) -
         assert centre[0] < line.feeder.eye_x - 0.3
         assert centre[2] == pytest.approx(line.on_belt(), abs=0.001)
     assert line.centre(1)[0] < line.centre(0)[0]  # laid after it: further upstream
+    assert line.centre(0)[0] <= line.centre(7)[0] - SPACING[0] + 0.001
 
 
 def test_parts_that_fell_together_are_all_laid_again(line: Line) -> None:

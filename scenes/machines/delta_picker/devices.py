@@ -256,8 +256,8 @@ class Belt:
         self._q = int(model.joint(f"{prefix}C").qposadr[0])
         self._pos = model.geom_pos[int(model.geom(f"{prefix}belt_geom").id)]
         """The box's place in its body (a view into the model) [m]."""
-        self._home = float(self._pos[0]) + float(data.qpos[self._q])
-        """Its place in the body when C is 0 [m]."""
+        self._home = float(self._pos[0])
+        """Its place in the body when C is 0: the model's [m]."""
         self._data = data
         self._place()
 
