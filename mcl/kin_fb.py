@@ -3,11 +3,12 @@ Part 4 v2.0, beyond the Teco library).
 
 A group whose members are the joints of a robot gets its kinematics with MC_SetKinTransform (a
 :class:`mcl.kinematics.KinTransform`, e.g. :class:`mcl.delta_kinematics.DeltaKinematics`); from
-then on MC_MoveLinear* and MC_MoveCircular* in MCS (or PCS, which coincides with MCS) move the
-tool point on their path in the machine's Cartesian frame [mm], MC_MoveDirect* and any move in
-ACS move the joints, and MC_GroupReadActualPosition reports either (:mod:`mcl.group_kinematics`).
-A target or a point of a path the kinematics refuses gives ``EWorkspace`` 24 or ``ESingular`` 25;
-a joint it would drive beyond its SW limit ``Ecil`` 8. The identity (a plain
+then on MC_MoveLinear* and MC_MoveCircular* in MCS, or in PCS (the MCS until a product
+coordinate system is set: :mod:`mcl.tracking`), move the tool point on their path in the
+machine's Cartesian frame [mm], MC_MoveDirect* and any move in ACS move the joints, and
+MC_GroupReadActualPosition reports either (:mod:`mcl.group_kinematics`). A target or a point of
+a path the kinematics refuses gives ``EWorkspace`` 24 or ``ESingular`` 25; a joint it would
+drive beyond its SW limit ``Ecil`` 8. The identity (a plain
 :class:`~mcl.kinematics.KinTransform`) takes the transformation away.
 
 PLCopen leaves MC_KIN_REF, the description of a kinematics, to the vendor: besides a

@@ -230,7 +230,11 @@ ENUM_MEANING: dict[str, str] = {
     "TMMaxCornerDeviation": "deviate at most TransitionParameter[0] from the path",
     "ACS": "the axes' coordinates (without a kinematic transformation the same as MCS)",
     "MCS": "the machine's Cartesian coordinates (through MC_SetKinTransform's kinematics)",
-    "PCS": "the product's coordinates (no product transformation offered: the machine's)",
+    "PCS": (
+        "the product's coordinates: the MCS until MC_SetCoordinateTransform, "
+        "MC_SetCartesianTransform, MC_TrackConveyorBelt or MC_TrackRotaryTable sets a product "
+        "coordinate system"
+    ),
 }
 """Meaning of the BufferMode, Direction, SwitchMode and ExecutionMode values (hand-written,
 optional)."""
